@@ -1,0 +1,77 @@
+"""Base plates -> the on-axis magnetic scalar potential Phi0(z) (thesis eqs. 2.2.8-2.2.11).
+
+Every axisymmetric plate is described by Phi0(z), the potential on the z axis, as a sympy expression
+in the height `Z` and the plate's parameter symbols (named `plate_<key>`, the names that
+derive/scene.py resolves to SI values). The off-axis field follows from Phi0 alone by the Laplace
+expansion of derive/field.py (thesis eq. 2.2.6).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import sympy as sp
+
+from .symbols import Z
+
+
+def plate_symbol(key: str) -> sp.Symbol:
+    """The symbol of a plate parameter; its value comes from Scene.params['plate_<key>']."""
+    return sp.Symbol(f"plate_{key}", real=True)
+
+
+@dataclass(frozen=True)
+class Plate:
+    """A base plate: its on-axis potential and parameters.
+
+    phi0:     Phi0(z) (thesis eq. 2.2.6 with r = 0), linear in the strength symbol.
+    symbols:  the plate's parameter symbols, in the order they enter the parameter vector.
+    derivs:   optional callable k -> Phi_k(z) in a better-conditioned form than differentiating
+              phi0 k times (a plate may supply cancellation-free forms).
+    """
+
+    kind: str
+    phi0: sp.Expr
+    symbols: tuple[sp.Symbol, ...]
+    derivs: Callable[[int], sp.Expr] | None = None
+
+    def phi_derivs(self, kmax: int) -> list[sp.Expr]:
+        """[Phi_0, ..., Phi_kmax], Phi_k = d^k Phi0 / dz^k (thesis eq. 2.2.6 and after)."""
+        out = [self.phi0]
+        for k in range(1, kmax + 1):
+            out.append(self.derivs(k) if self.derivs else sp.diff(out[-1], Z))
+        return out
+
+
+def annulus_phi0(a: sp.Expr, w: sp.Expr, rho: sp.Expr) -> sp.Expr:
+    """Thin annulus of outer radius a, hole w, dipole density rho (thesis eq. 2.2.11):
+
+        Phi0(z) = 2 pi rho z (1/sqrt(z^2 + w^2) - 1/sqrt(z^2 + a^2)).
+    """
+    return 2 * sp.pi * rho * Z * (1 / sp.sqrt(Z**2 + w**2) - 1 / sp.sqrt(Z**2 + a**2))
+
+
+def disk_phi0(a: sp.Expr, rho: sp.Expr) -> sp.Expr:
+    """Thin disk (thesis eq. 2.2.11 with w = 0, for z > 0): Phi0 = 2 pi rho (1 - z/sqrt(z^2+a^2))."""
+    return 2 * sp.pi * rho * (1 - Z / sp.sqrt(Z**2 + a**2))
+
+
+def _annulus(plate: dict) -> Plate:
+    a, w, rho = plate_symbol("a"), plate_symbol("w"), plate_symbol("rho")
+    return Plate("annulus", annulus_phi0(a, w, rho), (a, w, rho))
+
+
+def _disk(plate: dict) -> Plate:
+    a, rho = plate_symbol("a"), plate_symbol("rho")
+    return Plate("disk", disk_phi0(a, rho), (a, rho))
+
+
+BUILDERS: dict[str, Callable[[dict], Plate]] = {
+    "annulus": _annulus,
+    "disk": _disk,
+}
+
+
+def build_plate(plate: dict) -> Plate:
+    """The Plate for a validated scene's [plate] table (see derive/scene.py)."""
+    return BUILDERS[plate["kind"]](plate)

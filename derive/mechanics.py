@@ -1,0 +1,103 @@
+"""Lagrangian, Legendre transform and Hamilton's equations of the levitron (thesis 2.3).
+
+L = T - U with T from derive/kinematics.py (thesis eq. 2.1.14) and the potential energy
+U = m g z - mu n.B(r) (thesis eq. 2.2.1, with n the symmetry axis in space components; see
+docs/errata.md for why n = R_bs e_z and not the thesis's R e_z).
+The momenta p = dL/dqdot (thesis eqs. 2.3.2-2.3.7) are solved for the velocities (2.3.8), and
+H = p.qdot - L (2.3.9) is formed by that actual Legendre transform; Hamilton's equations
+qdot = dH/dp, pdot = -dH/dq (2.3.10-2.3.16) follow by differentiation.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+
+import sympy as sp
+
+from . import field as fieldmod
+from .kinematics import ROTATIONS, Rotation, kinetic_energy
+from .symbols import X, Y, Z, g, m, mu
+from .trig import trig_reduce
+
+
+@dataclass(frozen=True)
+class HamiltonianSystem:
+    """The full 12-D model in one coordinate set.
+
+    q, qdot, p:  coordinates (x, y, z, 3 angles), velocities, conjugate momenta.
+    L, H, U:     Lagrangian, Hamiltonian, potential energy (Phi(k, z) kept abstract).
+    momenta:     dL/dqdot in terms of (q, qdot)           (thesis eqs. 2.3.2-2.3.7)
+    qdot_of_p:   the velocities in terms of (q, p)         (thesis eq. 2.3.8)
+    rhs:         d(q, p)/dt = (dH/dp, -dH/dq)              (thesis eqs. 2.3.10-2.3.16)
+    """
+
+    rotation: Rotation
+    order: int
+    q: tuple
+    qdot: tuple
+    p: tuple
+    L: sp.Expr
+    U: sp.Expr
+    momenta: sp.Matrix
+    qdot_of_p: sp.Matrix
+    H: sp.Expr
+    rhs: sp.Matrix
+
+    @property
+    def state(self) -> tuple:
+        return tuple(self.q) + tuple(self.p)
+
+    @property
+    def state_names(self) -> list[str]:
+        return [str(v) for v in self.state]
+
+
+def potential_energy(rot: Rotation, B: sp.Matrix) -> sp.Expr:
+    """U = m g z - mu n.B (thesis eq. 2.2.1 with n = R_bs e_z)."""
+    return m * g * Z - mu * (rot.n.T * B)[0, 0]
+
+
+def legendre(L: sp.Expr, q, qdot, p, keep: str = "cos") -> tuple[sp.Matrix, sp.Matrix, sp.Expr]:
+    """Momenta, velocities in terms of momenta, and H = p.qdot - L (thesis eqs. 2.3.2-2.3.9).
+
+    L is quadratic in qdot (L = qdot^T M(q) qdot / 2 + ...), so p = dL/dqdot is linear in qdot and
+    is solved exactly; the result is substituted back, not assumed.
+    """
+    momenta = sp.Matrix([sp.diff(L, v) for v in qdot])
+    M = momenta.jacobian(qdot)
+    assert all(sp.diff(e, v) == 0 for e in M for v in qdot), "L must be quadratic in the velocities"
+    rest = (momenta - M * sp.Matrix(qdot)).applyfunc(sp.expand)
+    assert rest == sp.zeros(len(qdot), 1), "no gyroscopic (velocity-linear) terms expected in L"
+    angles = [a for a in q if a.free_symbols & set(q) and a not in (X, Y, Z)]
+    simp = lambda e: trig_reduce(e, angles, keep)  # noqa: E731
+    Minv = (M.adjugate() / M.det()).applyfunc(simp)
+    qdot_of_p = (Minv * sp.Matrix(p)).applyfunc(sp.expand)
+    H_raw = (sp.Matrix(p).T * qdot_of_p)[0, 0] - L.xreplace(dict(zip(qdot, qdot_of_p)))
+    return momenta, qdot_of_p, _quadratic_form(H_raw, p, simp)
+
+
+def _quadratic_form(H: sp.Expr, p, simp) -> sp.Expr:
+    """Write H as sum_ij c_ij p_i p_j + U with every coefficient simplified on its own."""
+    poly = sp.Poly(sp.expand(H), *p)
+    terms = []
+    for powers, coeff in sorted(poly.terms(), key=lambda t: t[0], reverse=True):
+        mono = sp.Mul(*[pi**k for pi, k in zip(p, powers)])
+        terms.append((simp(coeff) if any(powers) else coeff) * mono)
+    return sp.Add(*terms)
+
+
+@lru_cache(maxsize=None)
+def hamiltonian_system(coords: str = "tait-bryan", order: int = 2) -> HamiltonianSystem:
+    """The full model in `coords` ("tait-bryan" or "euler-zxz") with the field expanded to `order`."""
+    rot = ROTATIONS[coords]()
+    pos = (X, Y, Z)
+    vel = sp.symbols("x_dot y_dot z_dot", real=True)
+    q = pos + tuple(rot.angles)
+    qdot = tuple(vel) + tuple(rot.rates)
+    p = tuple(sp.Symbol(f"p_{v}", real=True) for v in q)
+    T = kinetic_energy(rot, vel)
+    U = potential_energy(rot, fieldmod.field(order))
+    L = T - U
+    momenta, qdot_of_p, H = legendre(L, q, qdot, p, rot.keep)
+    rhs = sp.Matrix([sp.diff(H, pi) for pi in p] + [-sp.diff(H, qi) for qi in q])
+    return HamiltonianSystem(rot, order, q, qdot, p, L, U, momenta, qdot_of_p, H, rhs)

@@ -1,0 +1,279 @@
+"""Scenes: read a TOML file, apply `--set` overrides, validate, and resolve the parameters to SI.
+
+Pure Python (no sympy): both derive/ and runtime/ use it. A scene names a physical set-up
+(DESIGN.md, "Scenes"); every problem is reported as one `SceneError` line that names the key,
+says what is wrong and how to fix it.
+
+Parameter conventions (DESIGN.md, "Physics conventions"): U = m g z - mu n.B, B = -grad(phi).
+The thesis's thin annulus (thesis eq. 2.2.11) has Phi0 = 2 pi rho z (...), and only mu*rho enters
+the dynamics; `plate.murho` keeps that parametrisation. In SI the annulus is a dipole layer of
+density D (A) with rho = mu0 D / (4 pi).
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable
+
+MU0 = 1.25663706212e-6  # vacuum permeability, N/A^2 (CODATA 2018)
+SCENES_DIR = Path(__file__).resolve().parent.parent / "scenes"
+
+NEEDS = ("reduced", "full", "linear")
+COORDINATES = ("tait-bryan", "euler-zxz")
+
+
+class SceneError(ValueError):
+    """A scene is wrong; the message names the key, what is wrong and how to fix it."""
+
+
+# ---------------------------------------------------------------- small validators
+
+def _number(section: dict, key: str, where: str, *, positive: bool = False, nonzero: bool = False,
+            default: float | None = None, required: bool = True) -> float | None:
+    if key not in section:
+        if default is not None or not required:
+            return default
+        raise SceneError(f"{where}.{key} is missing: add `{key} = <number>` to [{where}]"
+                         if where else f"{key} is missing: add `{key} = <number>` to the scene")
+    value = section[key]
+    name = f"{where}.{key}" if where else key
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise SceneError(f"{name} = {value!r} is not a number: write e.g. `{key} = 0.1`")
+    value = float(value)
+    if not math.isfinite(value):
+        raise SceneError(f"{name} = {value} is not finite: give a finite number")
+    if positive and value <= 0:
+        raise SceneError(f"{name} = {value} must be positive: give a value > 0")
+    if nonzero and value == 0:
+        raise SceneError(f"{name} = 0 must be nonzero: give the signed value")
+    return value
+
+
+def _check_keys(section: dict, allowed: set[str], where: str) -> None:
+    unknown = sorted(set(section) - allowed)
+    if unknown:
+        raise SceneError(f"[{where}] has unknown key `{unknown[0]}`: allowed keys are "
+                         f"{', '.join(sorted(allowed))}")
+
+
+# ---------------------------------------------------------------- plates
+# Each kind: the keys it allows and a resolver that returns its SI parameters (name -> value),
+# given the plate table and the top's moment (None when not given). Parameter names are those of
+# the symbols in derive/geometry.py; "mu" may be returned too when the plate fixes it (murho).
+
+PlateResolver = Callable[[dict, "float | None"], dict]
+
+
+@dataclass(frozen=True)
+class PlateKind:
+    keys: frozenset
+    resolve: PlateResolver
+    doc: str
+
+
+def _strength_rho(plate: dict, moment: float | None, where: str = "plate") -> dict:
+    """The dipole-layer strength rho (T m) of a thin plate, from murho or dipole_density."""
+    has_murho, has_d = "murho" in plate, "dipole_density" in plate
+    if has_murho == has_d:
+        raise SceneError(f"[{where}] needs exactly one of `murho` (thesis units, mu*rho) or "
+                         "`dipole_density` (A, SI): give one of them")
+    if has_murho:
+        murho = _number(plate, "murho", where, nonzero=True)
+        if moment is None:
+            # Only mu*rho enters the dynamics; a nominal |mu| = 1 A m^2 with the sign of an
+            # upright top over a field that points up (DESIGN.md) keeps rho's sign physical.
+            return {"mu": -1.0, "rho": -murho, "moment_nominal": 1.0}
+        return {"rho": murho / moment}
+    if moment is None:
+        raise SceneError(f"[{where}] dipole_density needs [top] moment (A m^2): add it")
+    dens = _number(plate, "dipole_density", where, nonzero=True)
+    return {"rho": MU0 * dens / (4.0 * math.pi)}
+
+
+def _resolve_annulus(plate: dict, moment: float | None) -> dict:
+    a = _number(plate, "radius", "plate", positive=True)
+    w = _number(plate, "hole", "plate", default=0.0)
+    if w < 0:
+        raise SceneError(f"plate.hole = {w} is negative: give 0 <= hole < radius")
+    if w >= a:
+        raise SceneError(f"plate.hole = {w} is not smaller than plate.radius = {a}: "
+                         "make the hole smaller than the plate")
+    out = _strength_rho(plate, moment)
+    out.update({"a": a, "w": w})
+    return out
+
+
+def _resolve_disk(plate: dict, moment: float | None) -> dict:
+    a = _number(plate, "radius", "plate", positive=True)
+    out = _strength_rho(plate, moment)
+    out["a"] = a
+    return out
+
+
+PLATE_KINDS: dict[str, PlateKind] = {
+    "annulus": PlateKind(frozenset({"kind", "radius", "hole", "murho", "dipole_density"}),
+                         _resolve_annulus, "thin annulus, thesis eq. 2.2.11"),
+    "disk": PlateKind(frozenset({"kind", "radius", "murho", "dipole_density"}),
+                      _resolve_disk, "thin disk (annulus without hole)"),
+}
+
+
+# ---------------------------------------------------------------- the scene
+
+@dataclass
+class Scene:
+    """A validated scene with its parameters resolved to SI."""
+
+    name: str
+    path: Path | None
+    data: dict
+    params: dict[str, float]            # m, g, A, C, mu, plate parameters (SI)
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def plate_kind(self) -> str:
+        return self.data["plate"]["kind"]
+
+    @property
+    def needs(self) -> tuple[str, ...]:
+        return tuple(self.data["model"]["needs"])
+
+    @property
+    def coordinates(self) -> str:
+        return self.data["model"]["coordinates"]
+
+    @property
+    def field_spec(self) -> dict:
+        return dict(self.data["field"])
+
+    def canonical(self) -> str:
+        """The scene as canonical JSON (sorted keys): what the generated code depends on."""
+        return json.dumps(self.data, sort_keys=True, separators=(",", ":"))
+
+    def scene_hash(self) -> str:
+        return hashlib.sha256(self.canonical().encode()).hexdigest()
+
+
+def parse_override(text: str) -> tuple[list[str], Any]:
+    """`section.key=value` -> (["section", "key"], value); value parsed as a TOML value."""
+    if "=" not in text:
+        raise SceneError(f"--set {text!r} has no '=': write --set section.key=value")
+    key, raw = text.split("=", 1)
+    path = [p.strip() for p in key.strip().split(".")]
+    if not all(path):
+        raise SceneError(f"--set {text!r}: the key {key!r} is malformed; write e.g. top.mass=0.03")
+    try:
+        value = tomllib.loads(f"v = {raw.strip()}")["v"]
+    except tomllib.TOMLDecodeError:
+        value = raw.strip()  # a bare word, e.g. --set plate.kind=disk
+    return path, value
+
+
+def find_scene_file(name_or_path: str | Path) -> Path:
+    p = Path(name_or_path)
+    if p.suffix == ".toml" or p.exists():
+        if not p.exists():
+            raise SceneError(f"scene file {p} does not exist: give a path to a .toml file or a "
+                             f"name from {SCENES_DIR}")
+        return p
+    candidate = SCENES_DIR / f"{name_or_path}.toml"
+    if candidate.exists():
+        return candidate
+    known = ", ".join(sorted(q.stem for q in SCENES_DIR.glob("*.toml")))
+    raise SceneError(f"unknown scene {name_or_path!r}: use one of {known} or a path to a .toml file")
+
+
+def load_scene(name_or_path: str | Path, overrides: list[str] | tuple[str, ...] = ()) -> Scene:
+    """Read, override, validate and resolve a scene (DESIGN.md, "Scenes")."""
+    path = find_scene_file(name_or_path)
+    try:
+        data = tomllib.loads(path.read_text())
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"{path}: not valid TOML ({exc}); fix the syntax") from None
+    for text in overrides:
+        keys, value = parse_override(text)
+        node = data
+        for k in keys[:-1]:
+            node = node.setdefault(k, {})
+            if not isinstance(node, dict):
+                raise SceneError(f"--set {text!r}: {k!r} is not a section")
+        node[keys[-1]] = value
+    data.setdefault("name", path.stem)
+    return validate(data, path)
+
+
+def validate(data: dict, path: Path | None = None) -> Scene:
+    """Check every key and resolve the parameters; raises SceneError on the first problem."""
+    _check_keys(data, {"name", "g", "top", "plate", "field", "model", "description"}, "scene")
+    for section in ("top", "plate"):
+        if section not in data or not isinstance(data[section], dict):
+            raise SceneError(f"the scene has no [{section}] section: add it (see DESIGN.md)")
+    data.setdefault("field", {"order": 2})
+    data.setdefault("model", {})
+    g = _number(data, "g", "", positive=True, default=9.81)
+    data["g"] = g
+
+    top = data["top"]
+    _check_keys(top, {"mass", "A", "C", "moment"}, "top")
+    m = _number(top, "mass", "top", positive=True)
+    A = _number(top, "A", "top", positive=True)
+    C = _number(top, "C", "top", positive=True)
+    if C > 2 * A * (1 + 1e-12):
+        raise SceneError(f"top.C = {C} exceeds 2*top.A = {2 * A}: no rigid body has an axial moment "
+                         "larger than the sum of the two transverse ones; check which is A and which C")
+    moment = _number(top, "moment", "top", nonzero=True, required=False)
+
+    plate = data["plate"]
+    kind = plate.get("kind")
+    if kind not in PLATE_KINDS:
+        raise SceneError(f"plate.kind = {kind!r} is unknown: use one of {', '.join(PLATE_KINDS)}")
+    spec = PLATE_KINDS[kind]
+    _check_keys(plate, set(spec.keys), "plate")
+    resolved = dict(spec.resolve(plate, moment))
+    notes = []
+    mu = resolved.pop("mu", moment)
+    if resolved.pop("moment_nominal", None) is not None:
+        notes.append("top.moment not given: only mu*rho (plate.murho) is physical; fields are "
+                     "reported for a nominal moment of -1 A m^2")
+    if mu is None:
+        raise SceneError("[top] moment is missing: add `moment = <A m^2>` (signed, along the axis)")
+
+    fld = data["field"]
+    _check_keys(fld, {"order", "tolerance", "radius"}, "field")
+    if "order" in fld:
+        order = fld["order"]
+        if isinstance(order, bool) or not isinstance(order, int) or order < 2 or order % 2:
+            raise SceneError(f"field.order = {order!r} must be an even integer >= 2 "
+                             "(the expansion of thesis eq. 2.2.6 has even powers of r only)")
+        if order > 12:
+            raise SceneError(f"field.order = {order} is above 12: use field.tolerance instead")
+    elif "tolerance" in fld:
+        _number(fld, "tolerance", "field", positive=True)
+        _number(fld, "radius", "field", positive=True)
+    else:
+        raise SceneError("[field] needs `order` (even, >= 2) or `tolerance` and `radius`")
+
+    model = data["model"]
+    _check_keys(model, {"needs", "coordinates"}, "model")
+    needs = model.setdefault("needs", ["reduced", "full", "linear"])
+    if not isinstance(needs, list) or not needs or any(n not in NEEDS for n in needs):
+        raise SceneError(f"model.needs = {needs!r}: give a non-empty list drawn from {list(NEEDS)}")
+    if "linear" in needs and "full" not in needs:
+        raise SceneError("model.needs has 'linear' without 'full': the linearisation is that of the "
+                         "full model; add \"full\"")
+    model["needs"] = [n for n in NEEDS if n in needs]  # canonical order
+    coords = model.setdefault("coordinates", "tait-bryan")
+    if coords not in COORDINATES:
+        raise SceneError(f"model.coordinates = {coords!r}: use one of {list(COORDINATES)}")
+
+    name = data.get("name")
+    if not isinstance(name, str) or not name.replace("_", "").replace("-", "").isalnum():
+        raise SceneError(f"name = {name!r}: use letters, digits, '-' and '_' only")
+
+    params = {"m": m, "g": g, "A": A, "C": C, "mu": float(mu)}
+    params.update({f"plate_{k}": float(v) for k, v in resolved.items()})
+    return Scene(name=name, path=path, data=data, params=params, notes=notes)

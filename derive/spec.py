@@ -1,0 +1,78 @@
+"""What derive emits for a scene: the parts its `model.needs` lists, and their functions.
+
+"Model only what a scene needs": a scene that asks for the reduced model gets the 4-D functions
+(thesis eq. 3.2.12) and the on-axis potential, never the 12-D ones.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from . import field as fieldmod
+from .geometry import Plate
+from .mechanics import hamiltonian_system
+from .reduction import reduced_system
+from .symbols import PHYSICAL, Phi, X, Y, Z
+
+
+@dataclass(frozen=True)
+class Function:
+    """One generated function: out = f(in, p), all symbolic (Phi(k, z) still abstract)."""
+
+    name: str
+    inputs: tuple           # the symbols of `in`, in order
+    outputs: tuple          # sympy expressions, flattened row-major
+    shape: tuple            # shape of the output (for documentation)
+    doc: str
+
+
+@dataclass
+class ModelSpec:
+    scene: str
+    plate: Plate
+    order: int
+    coordinates: str
+    params: tuple                       # parameter symbols in vector order
+    parts: dict = field(default_factory=dict)   # part name -> {"states": [...], "functions": [...]}
+    functions: list = field(default_factory=list)
+
+    @property
+    def kmax(self) -> int:
+        """Highest Phi_k the on-axis function returns: order + 2 (>= 4 for the stability analysis)."""
+        return self.order + 2
+
+
+def _part_functions(prefix: str, state, rhs: sp.Matrix, H: sp.Expr, with_jac: bool, what: str):
+    funcs = [
+        Function(f"{prefix}_rhs", tuple(state), tuple(rhs), (len(state),),
+                 f"{what}: Hamilton's equations d(state)/dt"),
+        Function(f"{prefix}_energy", tuple(state), (H,), (1,), f"{what}: the Hamiltonian (energy)"),
+    ]
+    if with_jac:
+        J = rhs.jacobian(sp.Matrix(state))
+        funcs.append(Function(f"{prefix}_jac", tuple(state), tuple(J), J.shape,
+                              f"{what}: Jacobian d rhs / d state, row-major"))
+    return funcs
+
+
+def build_spec(scene_name: str, plate: Plate, order: int, coordinates: str, needs) -> ModelSpec:
+    spec = ModelSpec(scene_name, plate, order, coordinates, tuple(PHYSICAL) + tuple(plate.symbols))
+    if "reduced" in needs:
+        red = reduced_system(order)
+        spec.parts["reduced"] = {"states": red.state_names, "equations": "thesis eq. 3.2.12"}
+        spec.functions += _part_functions("reduced", red.state, red.rhs, red.H, True,
+                                          "reduced model on the invariant set (thesis 3.2.12)")
+    if "full" in needs:
+        full = hamiltonian_system(coordinates, order)
+        spec.parts["full"] = {"states": full.state_names,
+                              "equations": "thesis eqs. 2.3.9-2.3.16 (" + coordinates + ")"}
+        spec.functions += _part_functions("full", full.state, full.rhs, full.H, "linear" in needs,
+                                          f"full 12-D model, {coordinates} angles (thesis 2.3)")
+    spec.functions.append(Function(
+        "onaxis", (Z,), tuple(Phi(k, Z) for k in range(spec.kmax + 1)), (spec.kmax + 1,),
+        "on-axis potential and its derivatives Phi_0..Phi_K (thesis eq. 2.2.6)"))
+    B = fieldmod.field(order)
+    spec.functions.append(Function("field", (X, Y, Z), tuple(B), (3,),
+                                   f"B = -grad(phi), expansion to order {order} (thesis eq. 2.2.7)"))
+    return spec

@@ -1,0 +1,35 @@
+"""The symbols that every derive module shares: positions, physical parameters, Phi_k(z).
+
+One place for names, so that the mechanics, the field and the emitters agree on them.
+"""
+from __future__ import annotations
+
+import sympy as sp
+
+X, Y, Z = sp.symbols("x y z", real=True)
+
+# Physical parameters, in the order they open the parameter vector (plate parameters follow).
+m, g, A, C, mu = sp.symbols("m g A C mu", real=True)
+PHYSICAL = (m, g, A, C, mu)
+
+
+class Phi(sp.Function):
+    """Phi(k, z) = d^k Phi0 / dz^k, the k-th derivative of the on-axis potential (thesis eq. 2.2.6).
+
+    Kept abstract through the mechanics so that one derivation serves every axisymmetric plate;
+    d/dz Phi(k, z) = Phi(k + 1, z). The emitters replace Phi(k, z) by the plate's expressions.
+    """
+
+    nargs = 2
+    is_real = True
+
+    def fdiff(self, argindex=2):
+        if argindex != 2:
+            raise sp.ArgumentIndexError(self, argindex)
+        k, z = self.args
+        return Phi(k + 1, z)
+
+
+def phi_orders(expr: sp.Basic) -> set[int]:
+    """The orders k of every Phi(k, z) in expr."""
+    return {int(f.args[0]) for f in expr.atoms(Phi)}

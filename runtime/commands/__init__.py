@@ -1,0 +1,6 @@
+"""The `levitron` subcommands, one module each (protocol in docs/INTERFACES.md)."""
+
+COMMANDS = (
+    "derive",
+    "info",
+)

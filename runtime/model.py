@@ -1,0 +1,221 @@
+"""Load a generated model: compile and cache its C, load its CasADi functions (no sympy here).
+
+    model = load_model(scene)        # derives first (in a subprocess) if generated/ is missing or stale
+    part = model.part("full")        # "reduced" | "full"
+    part.rhs(x), part.energy(x), part.jac(x)          # backend="c" (default) or "casadi"
+
+The C library is model.c compiled together with the hand-written runtime/csrc/*.c (integrators),
+cached by content hash (runtime/cbuild.py).
+"""
+from __future__ import annotations
+
+import ctypes
+import json
+import shutil
+import subprocess
+import sys
+from functools import cached_property
+from pathlib import Path
+
+import numpy as np
+
+from derive.inputs import input_hash
+from derive.scene import SCENES_DIR, Scene
+
+from .cbuild import cache_dir, compile_shared
+from .errors import UserError
+
+ROOT = Path(__file__).resolve().parent.parent
+GENERATED = ROOT / "generated"
+CSRC = Path(__file__).resolve().parent / "csrc"
+
+_DOUBLE_P = ctypes.POINTER(ctypes.c_double)
+LEV_FN = ctypes.CFUNCTYPE(None, _DOUBLE_P, _DOUBLE_P, _DOUBLE_P)
+
+NEEDS_OF_PART = {"reduced": "reduced", "full": "full"}
+
+
+class MissingPart(UserError):
+    """The scene's model lacks a part that a command needs."""
+
+
+def _ptr(a: np.ndarray):
+    return a.ctypes.data_as(_DOUBLE_P)
+
+
+def generated_dir(scene: Scene, overrides=()) -> Path:
+    """Where the scene's model lives: generated/<name>/ for a scene of scenes/ as written,
+    else a folder in the cache keyed by the input hash (so overrides never touch generated/)."""
+    own = scene.path is not None and Path(scene.path).resolve().parent == SCENES_DIR.resolve()
+    if own:
+        base = GENERATED / scene.name
+        if not overrides or _manifest_hash(base) == input_hash(scene.data):
+            return base
+    return cache_dir() / "derived" / f"{scene.name}-{input_hash(scene.data)[:16]}"
+
+
+def _manifest_hash(folder: Path) -> str | None:
+    try:
+        return json.loads((folder / "manifest.json").read_text()).get("input_hash")
+    except (FileNotFoundError, json.JSONDecodeError):
+        return None
+
+
+def ensure_generated(scene: Scene, overrides=()) -> Path:
+    """The scene's generated folder, derived first (python -m derive, a subprocess) if stale."""
+    out = generated_dir(scene, overrides)
+    if _manifest_hash(out) == input_hash(scene.data):
+        return out
+    cmd = [sys.executable, "-m", "derive", str(scene.path), "--out", str(out.parent)]
+    for o in overrides:
+        cmd += ["--set", o]
+    print(f"levitron: deriving the model of scene '{scene.name}' (its generated code is missing "
+          f"or stale) ...", file=sys.stderr)
+    res = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, check=False)
+    if res.returncode != 0:
+        raise UserError(f"derive failed for scene '{scene.name}': {res.stderr.strip()}")
+    if out.name != scene.name:   # derive writes <out.parent>/<name>; move it to its hashed folder
+        src = out.parent / scene.name
+        if out.exists():
+            shutil.rmtree(out)
+        src.rename(out)
+    return out
+
+
+class Part:
+    """One part ("reduced" or "full") of a loaded model."""
+
+    def __init__(self, model: "Model", name: str):
+        self.model = model
+        self.name = name
+        info = model.manifest["parts"][name]
+        self.states: list[str] = list(info["states"])
+        self.params: list[str] = list(model.manifest["parameters"])
+        self.nx = len(self.states)
+
+    @property
+    def p(self) -> np.ndarray:
+        return self.model.p
+
+    def has(self, kind: str) -> bool:
+        return f"{self.name}_{kind}" in self.model.manifest["functions"]
+
+    def c_function(self, kind: str):
+        """The ctypes function pointer of `<part>_<kind>` (signature: in, p, out)."""
+        return self.model.c_function(f"{self.name}_{kind}")
+
+    def casadi(self, kind: str):
+        return self.model.casadi(f"{self.name}_{kind}")
+
+    def _call(self, kind, x, p, backend):
+        return self.model.call(f"{self.name}_{kind}", x, p, backend)
+
+    def rhs(self, x, p=None, backend: str = "c") -> np.ndarray:
+        """d state / dt (thesis eqs. 2.3.10-2.3.16, or the reduced 4-D system after eq. 3.2.12)."""
+        return self._call("rhs", x, p, backend)
+
+    def energy(self, x, p=None, backend: str = "c") -> float:
+        """The Hamiltonian (thesis eq. 2.3.9 / 3.2.12)."""
+        return float(self._call("energy", x, p, backend)[0])
+
+    def jac(self, x, p=None, backend: str = "c") -> np.ndarray:
+        if not self.has("jac"):
+            raise MissingPart(f"scene '{self.model.scene.name}' has no Jacobian of the {self.name} "
+                              f"model: add \"linear\" to model.needs")
+        return self._call("jac", x, p, backend).reshape(self.nx, self.nx)
+
+    def index(self, state_name: str) -> int:
+        return self.states.index(state_name)
+
+
+class Model:
+    """A generated model with its scene's parameter values."""
+
+    def __init__(self, scene: Scene, folder: Path):
+        self.scene = scene
+        self.folder = Path(folder)
+        self.manifest = json.loads((self.folder / "manifest.json").read_text())
+        names = self.manifest["parameters"]
+        missing = [n for n in names if n not in scene.params]
+        if missing:
+            raise UserError(f"scene '{scene.name}' gives no value for parameter {missing[0]}: "
+                            "re-derive the model (make derive)")
+        self.p = np.array([scene.params[n] for n in names], dtype=float)
+        self._casadi = {}
+        self._parts = {}
+
+    # ---- parts
+    @property
+    def parts(self) -> list[str]:
+        return list(self.manifest["parts"])
+
+    def part(self, name: str) -> Part:
+        if name not in self.manifest["parts"]:
+            raise MissingPart(f"scene '{self.scene.name}' has no {name} model (model.needs = "
+                              f"{self.scene.needs}): add \"{NEEDS_OF_PART.get(name, name)}\" to "
+                              "model.needs in the scene")
+        if name not in self._parts:
+            self._parts[name] = Part(self, name)
+        return self._parts[name]
+
+    def param(self, name: str) -> float:
+        return float(self.p[self.manifest["parameters"].index(name)])
+
+    # ---- C backend
+    @cached_property
+    def library_path(self) -> Path:
+        sources = [self.folder / "model.c"] + sorted(CSRC.glob("*.c"))
+        return compile_shared(sources, include_dirs=(self.folder, CSRC))
+
+    @cached_property
+    def lib(self) -> ctypes.CDLL:
+        return ctypes.CDLL(str(self.library_path))
+
+    def c_function(self, name: str):
+        if name not in self.manifest["functions"]:
+            raise MissingPart(f"scene '{self.scene.name}' has no generated function {name}")
+        fn = getattr(self.lib, name)
+        fn.argtypes = [_DOUBLE_P, _DOUBLE_P, _DOUBLE_P]
+        fn.restype = None
+        return fn
+
+    # ---- CasADi backend
+    def casadi(self, name: str):
+        import casadi as ca
+        if name not in self._casadi:
+            info = self.manifest["functions"].get(name)
+            if info is None:
+                raise MissingPart(f"scene '{self.scene.name}' has no generated function {name}")
+            self._casadi[name] = ca.Function.load(str(self.folder / info["casadi"]))
+        return self._casadi[name]
+
+    # ---- evaluation
+    def call(self, name: str, x, p=None, backend: str = "c") -> np.ndarray:
+        info = self.manifest["functions"].get(name)
+        if info is None:
+            raise MissingPart(f"scene '{self.scene.name}' has no generated function {name}")
+        x = np.ascontiguousarray(x, dtype=float).reshape(-1)
+        p = self.p if p is None else np.ascontiguousarray(p, dtype=float)
+        if x.size != info["n_in"] or p.size != len(self.manifest["parameters"]):
+            raise ValueError(f"{name}: expected {info['n_in']} inputs and "
+                             f"{len(self.manifest['parameters'])} parameters, got {x.size}, {p.size}")
+        if backend == "c":
+            out = np.empty(info["n_out"])
+            self.c_function(name)(_ptr(x), _ptr(p), _ptr(out))
+            return out
+        if backend == "casadi":
+            return np.asarray(self.casadi(name)(x, p), dtype=float).reshape(-1)
+        raise UserError(f"unknown backend {backend!r}: use 'c' or 'casadi'")
+
+    def onaxis(self, z, p=None, backend: str = "c") -> np.ndarray:
+        """[Phi_0, ..., Phi_K](z) of the plate (thesis eq. 2.2.6 and eqs. 2.2.12-2.2.14)."""
+        return self.call("onaxis", [float(z)], p, backend)
+
+    def field(self, xyz, p=None, backend: str = "c") -> np.ndarray:
+        """B(x, y, z) from the model's expansion (thesis eq. 2.2.7)."""
+        return self.call("field", xyz, p, backend)
+
+
+def load_model(scene: Scene, overrides=()) -> Model:
+    """The loaded model of a scene (derived first if needed). `overrides` are the --set strings."""
+    return Model(scene, ensure_generated(scene, overrides))
