@@ -1,0 +1,102 @@
+/* Generic ODE integrators over the generated model functions (thesis 3.1).
+ *
+ * Every generated model function has the one signature
+ *     void NAME(const double *in, const double *p, double *out);
+ * (docs/INTERFACES.md).  The systems are autonomous: d state/dt = rhs(state, p).
+ *
+ * Methods (lev_integrate's `method`):
+ *   LEV_EULER        explicit Euler, fixed step                      (thesis 3.1.2)
+ *   LEV_RK4          classical Runge-Kutta 4, fixed step             (thesis 3.1.3-3.1.4)
+ *   LEV_DOP853       Dormand-Prince 8(5,3), adaptive, dense output   (Hairer, Norsett, Wanner I, II.10)
+ *   LEV_GAUSS4       2-stage Gauss-Legendre collocation, order 4, symplectic, fixed step
+ *   LEV_MIDPOINT     implicit midpoint rule (1-stage Gauss), order 2, symplectic, fixed step
+ *   LEV_DOP853_FIXED the 8th-order DOP853 formula at a fixed step (for order tests)
+ *
+ * Thread safety: there is no global mutable state.  All memory is provided by the caller
+ * (`work`, of lev_work_bytes(method, n) bytes, 16-byte aligned; the output buffers), so any
+ * number of runs may proceed concurrently on different buffers.
+ */
+#ifndef LEVITRON_INTEGRATORS_H
+#define LEVITRON_INTEGRATORS_H
+
+#include <stddef.h>
+
+typedef void (*lev_fn)(const double *in, const double *p, double *out);
+
+enum lev_method {
+    LEV_EULER = 0,
+    LEV_RK4 = 1,
+    LEV_DOP853 = 2,
+    LEV_GAUSS4 = 3,
+    LEV_MIDPOINT = 4,
+    LEV_DOP853_FIXED = 5
+};
+
+enum lev_status {
+    LEV_COMPLETED = 0,       /* reached t_end */
+    LEV_LEFT_BOX = 1,        /* the state left the box (event); x is the state at the exit */
+    LEV_NONFINITE = 2,       /* the right-hand side produced inf/nan; x is the last finite state */
+    LEV_STEP_UNDERFLOW = 3,  /* the adaptive step fell below 10 ulp of t */
+    LEV_MAX_STEPS = 4,       /* max_steps steps were taken before t_end */
+    LEV_NO_CONVERGENCE = 5,  /* the implicit stage equations did not converge */
+    LEV_BAD_INPUT = 6        /* invalid options (see lev_status_message) */
+};
+
+typedef struct {
+    int n;              /* state dimension */
+    lev_fn rhs;         /* d state/dt, n -> n */
+    lev_fn jac;         /* d rhs/d state, row-major n x n; NULL: fixed-point iteration (gauss) */
+    lev_fn energy;      /* a scalar invariant monitored after every step; NULL: none */
+    const double *p;    /* parameter vector passed to every call */
+} lev_system;
+
+typedef struct {
+    double t0, t_end;
+    double h;           /* fixed step (rounded so that an integer number of steps ends at t_end);
+                           DOP853: first step, 0 = automatic */
+    double rtol, atol;  /* DOP853 local error control: |err_k| <= atol_k + rtol |x_k| (RMS norm) */
+    const double *atol_v; /* per-component absolute tolerances (n), or NULL: atol for all */
+    double h_max;       /* DOP853 largest step; 0 = unlimited */
+    long max_steps;     /* 0 = unlimited */
+    int box_on;         /* 1: stop when the state leaves the box */
+    int ix, iy, iz;     /* indices of x, y, z in the state; -1 if absent */
+    double z_lo, z_hi;  /* the box in z (absolute heights) */
+    double r_max;       /* the box radially: sqrt(x^2 + y^2) <= r_max (inf disables) */
+    const double *t_out;/* DOP853: record samples at these ascending times (dense output); or NULL */
+    long n_out;
+    long every;         /* otherwise: record every `every`-th step (and the first and last state) */
+    long max_samples;   /* capacity of out_t (max_samples) and out_x (max_samples * n) */
+    int max_iter;       /* implicit methods: iteration limit per step, 0 = default */
+} lev_options;
+
+typedef struct {
+    int status;
+    long steps;          /* accepted steps */
+    long rejected;       /* rejected steps (DOP853) */
+    long rhs_evals;
+    long jac_evals;
+    long energy_evals;
+    long iterations;     /* implicit methods: total Newton / fixed-point iterations */
+    long n_samples;      /* samples written */
+    long dropped;        /* samples that did not fit into the buffers */
+    double t_final;      /* time of the returned state */
+    double h_last;       /* the last step size used */
+    double energy0;      /* energy at t0 (if monitored) */
+    double energy_max_dev; /* max |H(t) - H(t0)| over all accepted steps */
+} lev_stats;
+
+/* Bytes of `work` that lev_integrate needs for this method and dimension. */
+size_t lev_work_bytes(int method, int n);
+
+/* Integrate from opt->t0 to opt->t_end.  x: initial state in, final state out.
+ * out_t / out_x / out_e (may be NULL) receive the samples; returns st->status. */
+int lev_integrate(int method, const lev_system *sys, const lev_options *opt, double *x,
+                  void *work, double *out_t, double *out_x, double *out_e, lev_stats *st);
+
+/* A one-line message for a status code. */
+const char *lev_status_message(int status);
+
+/* Nanoseconds per call of f(x, p, out) measured in C over `reps` calls (clock_gettime). */
+double lev_time_fn(lev_fn f, const double *x, const double *p, int n_out, long reps);
+
+#endif
