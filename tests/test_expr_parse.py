@@ -1,0 +1,162 @@
+"""The safe formula parser of `plate.kind = "expression"` scenes (derive/expr_parse.py, issue 5).
+
+Hostile input is refused with an ExpressionError that quotes the offending part; the formulas the
+built-in geometries produce (thesis eq. 2.2.11 and the other kinds) are accepted and parse back to
+the same function (round trip sympy -> str -> parse, compared at random points).
+"""
+from __future__ import annotations
+
+import random
+import time
+
+import pytest
+import sympy as sp
+
+from derive.expr_parse import ExpressionError, check_name, parse_expression
+
+NAMES = ["z", "a", "w", "rho", "t"]
+
+HOSTILE = [
+    # (formula, a fragment the error message must quote or contain)
+    ("__import__('os').system('ls')", "__import__"),
+    ("().__class__.__bases__[0].__subclasses__()", "__"),
+    ("z.real", "z.real"),
+    ("a.__class__", "a.__class__"),
+    ("z[0]", "z[0]"),
+    ("open('/etc/passwd')", "open"),
+    ("eval('1')", "eval"),
+    ("exec('x=1')", "exec"),
+    ("sympify('z')", "sympify"),
+    ("lambda: 1", "lambda"),
+    ("[z for z in (1, 2)]", "comprehension"),
+    ("(z for z in (1, 2))", "comprehension"),
+    ("'abc'", "str"),
+    ("b'abc'", "bytes"),
+    ("f'{z}'", "strings"),
+    ("sqrt(z, evaluate=False)", "keyword"),
+    ("sqrt(*z)", "unpacking"),
+    ("sqrt(z, z)", "takes 1 argument"),
+    ("import os", "not a formula"),
+    ("z; z", "not a formula"),
+    ("x = 1", "not a formula"),
+    ("(y := 2)", ":="),
+    ("z if z > 0 else a", "conditionals"),
+    ("z > 0", "comparisons"),
+    ("z and a", "and/or"),
+    ("unknown_name * z", "unknown_name"),
+    ("_private", "'_'"),
+    ("foo(z)", "foo"),
+    ("sqrt", "is a function"),
+    ("z ^ 2", "use ** for powers"),
+    ("z % 2", "Mod"),
+    ("z // 2", "FloorDiv"),
+    ("~z", "Invert"),
+    ("9**9**9", "exponent"),
+    ("z**1000", "exponent"),
+    ("(2**4000)**100", "exponent"),
+    ("(2**100)**100", "power too large"),
+    ("z**pi", "rational"),
+    ("1j * z", "complex"),
+    ("True + z", "bool"),
+    ("None", "NoneType"),
+    ("1e999", "not finite"),
+    ("1" * 60, "longer than"),
+    ("z + " * 600 + "z", "characters long"),
+    ("(" * 100 + "z" + ")" * 100, "nests brackets"),
+    ("-" * 500 + "z", "deeper"),
+    ("sqrt(" * 61 + "z" + ")" * 61, "nests"),
+    ("1/0", "division by zero"),
+    ("sqrt(-1)", "not real"),
+    ("log(0)", "not real"),
+    ("", "empty"),
+    ("z\x00", "NUL"),
+    ("z +", "not a formula"),
+    ("{1: 2}", "dicts"),
+    ("(z, a)", "tuples"),
+    ("...", "ellipsis"),
+]
+
+
+@pytest.mark.parametrize("text,fragment", HOSTILE, ids=[repr(h[0])[:40] for h in HOSTILE])
+def test_hostile_input_refused(text, fragment):
+    start = time.perf_counter()
+    with pytest.raises(ExpressionError) as info:
+        parse_expression(text, NAMES)
+    assert time.perf_counter() - start < 1.0, "refusal must be cheap"
+    assert fragment.lower() in str(info.value).lower(), str(info.value)
+    assert isinstance(info.value, ValueError)
+
+
+def test_enough_hostile_cases():
+    assert len(HOSTILE) >= 20
+
+
+def test_error_quotes_offending_part():
+    with pytest.raises(ExpressionError, match=r"'os\.path'"):
+        parse_expression("z + os.path", NAMES)
+    with pytest.raises(ExpressionError, match=r"'bogus'"):
+        parse_expression("sqrt(z**2 + bogus**2)", NAMES)
+
+
+@pytest.mark.parametrize("name", ["sqrt", "pi", "E", "_x", "__class__", "1a", "a-b", ""])
+def test_bad_parameter_names(name):
+    with pytest.raises(ExpressionError):
+        check_name(name)
+
+
+def test_accepts_arithmetic_and_functions():
+    z, a = sp.symbols("z a", real=True)
+    got = parse_expression("1e-3*z + 0.5*a**2 - -z/2 + (z)", {"z": z, "a": a})
+    assert sp.simplify(got - (sp.Rational(1, 1000) * z + a**2 / 2 + z / 2 + z)) == 0
+    text = ("sqrt(z) + exp(z) + log(z) + sin(z) + cos(z) + tan(z) + atan(z) + atan2(z, a) + sinh(z)"
+            " + cosh(z) + tanh(z) + asinh(z) + acosh(a) + atanh(z) + abs(z) + Abs(a) + pi + E")
+    expr = parse_expression(text, {"z": z, "a": a})
+    val = float(expr.subs({z: 0.3, a: 1.7}))
+    import math
+    want = (math.sqrt(.3) + math.exp(.3) + math.log(.3) + math.sin(.3) + math.cos(.3) + math.tan(.3)
+            + math.atan(.3) + math.atan2(.3, 1.7) + math.sinh(.3) + math.cosh(.3) + math.tanh(.3)
+            + math.asinh(.3) + math.acosh(1.7) + math.atanh(.3) + .3 + 1.7 + math.pi + math.e)
+    assert val == pytest.approx(want, rel=1e-14)
+
+
+def test_long_flat_sum_is_not_deep():
+    expr = parse_expression("+".join(["z"] * 500), NAMES)
+    assert expr == 500 * sp.Symbol("z", real=True)
+
+
+def test_decimal_literals_exact():
+    assert parse_expression("0.1", NAMES) == sp.Rational(1, 10)
+    assert parse_expression("1e-3", NAMES) == sp.Rational(1, 1000)
+
+
+def _builtin_formulas():
+    """Every on-axis formula the built-in geometries produce (Phi0 and a few Phi_k)."""
+    from derive import plates_extra  # noqa: F401  (registers the extra kinds)
+    return plates_extra.example_formulas()
+
+
+def _roundtrip(expr: sp.Expr, rng: random.Random):
+    names = {s.name: s for s in expr.free_symbols}
+    back = parse_expression(str(expr), names)
+    f1 = sp.lambdify(list(names.values()), expr, "mpmath")
+    f2 = sp.lambdify(list(names.values()), back, "mpmath")
+    for _ in range(5):
+        vals = [rng.uniform(0.2, 2.0) for _ in names]
+        v1, v2 = complex(f1(*vals)), complex(f2(*vals))
+        assert abs(v1 - v2) <= 1e-12 * max(abs(v1), 1e-300), (str(expr), v1, v2)
+
+
+def test_roundtrip_builtin_geometries():
+    rng = random.Random(5)
+    formulas = _builtin_formulas()
+    assert len(formulas) >= 8
+    from derive.expr_parse import MAX_LENGTH
+    tried = 0
+    for label, expr in formulas:
+        if len(str(expr)) > MAX_LENGTH:
+            # only higher derivatives of the rectangle, which no scene would type in
+            assert "Phi0" not in label and "bz" not in label, label
+            continue
+        _roundtrip(expr, rng)
+        tried += 1
+    assert tried >= 30
