@@ -27,6 +27,7 @@ No sympy here (DESIGN.md).
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Callable, Sequence
@@ -192,42 +193,98 @@ def transverse_stable_exact(c: RayCoefficients, sigma: float) -> bool:
 
 # ------------------------------------------------------------------ route "discriminant"
 
-def critical_s(c: RayCoefficients) -> list[float]:
-    """Positive roots s = 1/sigma^2 of the ray cubic (3.3.13), sorted, each certified by an exact sign
-    change of the cubic across [s(1 - d), s(1 + d)], d = 64 eps (double roots, where the cubic
-    touches zero without a sign change, separate nothing and are dropped).
+def _exact_sign(ints: Sequence[int], x: float) -> int:
+    """Sign of sum_k ints[k] x^k, exactly (x a double, i.e. a dyadic rational)."""
+    n, d = Fraction(x).as_integer_ratio()
+    k = len(ints) - 1
+    v = sum(a * n ** i * d ** (k - i) for i, a in enumerate(ints))
+    return (v > 0) - (v < 0)
 
-    The float coefficients are the exact ones correctly rounded (no cancellation error), so the
-    roots carry only their own condition number."""
-    ints, _ = ray_cubic_int(c)
+
+def positive_roots(ints: Sequence[int]) -> list[float]:
+    """All positive roots of the integer polynomial sum_k ints[k] s^k of degree <= 3 at which it
+    changes sign, to full double precision, isolated robustly.
+
+    The positive axis is cut at the positive zeros of the derivative (so the polynomial is monotone
+    on each piece) and at a Cauchy bound; a piece holds a root iff the exact signs at its ends differ
+    (exact integer arithmetic, so two nearly merged roots near a band edge are neither lost nor
+    invented); the root is then found by brentq on a rescaled float copy and its bracket narrowed
+    by exact bisection until it is two ulps wide.
+    """
+    from scipy.optimize import brentq
+
+    ints = list(ints)
     while ints and ints[-1] == 0:
         ints.pop()
+    while ints and ints[0] == 0:      # a root at s = 0 is not positive
+        ints.pop(0)
     if len(ints) < 2:
         return []
-    big = max(abs(v) for v in ints)
-    af = np.array([v / big for v in ints])[::-1]  # highest first, correctly rounded int division
-    dp = np.polyder(af)
-    out = []
-    for r in np.roots(af):
-        if abs(r.imag) > 1e-6 * abs(r) or r.real <= 0:
+    deg = len(ints) - 1
+    # rescale s = S u so that the float coefficients are O(1) whatever the units
+    ratio = Fraction(abs(ints[0]), abs(ints[-1]))   # product of the roots' magnitudes
+    S = 2.0 ** ((ratio.numerator.bit_length() - ratio.denominator.bit_length()) / deg)
+    exact = [a * Fraction(S) ** k for k, a in enumerate(ints)]
+    big = max(abs(v) for v in exact)
+    b = np.array([float(v / big) for v in exact])
+    cuts = [0.0]
+    db = np.array([k * b[k] for k in range(1, deg + 1)])      # derivative, low -> high
+    if len(db) > 1:
+        for r in np.roots(db[::-1]):
+            if abs(r.imag) <= 1e-12 * abs(r) and r.real > 0:
+                cuts.append(float(r.real))
+    bound = 1.0 + float(np.max(np.abs(b[:-1] / b[-1])))
+    cuts.append(2.0 * bound)
+    cuts = sorted(set(cuts))
+    f = lambda u: float(np.polyval(b[::-1], u))
+    roots = []
+    for lo, hi in zip(cuts, cuts[1:]):
+        s_lo, s_hi = (lo * S if lo > 0 else 0.0), hi * S
+        sg_lo = _exact_sign(ints, s_lo) if s_lo > 0 else (1 if ints[0] > 0 else -1)
+        sg_hi = _exact_sign(ints, s_hi)
+        if sg_lo == 0 and s_lo > 0:
+            roots.append(float(s_lo))
             continue
-        s = float(r.real)
-        for _ in range(6):  # Newton polish
-            fp = np.polyval(dp, s)
-            if fp == 0:
+        if sg_hi == 0 or sg_lo == sg_hi:
+            continue
+        try:
+            u = brentq(f, lo, hi, xtol=1e-300, rtol=4 * EPS, maxiter=200)
+        except ValueError:           # float signs disagree with the exact ones: bisect exactly
+            u = 0.5 * (lo + hi)
+        # walk from the float root towards the sign change with doubling steps until the exact
+        # signs bracket it (the polynomial is monotone on the piece), then bisect exactly
+        x = min(max(u * S, s_lo), s_hi)
+        sx = _exact_sign(ints, x)
+        if sx == 0:
+            roots.append(float(x))
+            continue
+        w = 2 * np.spacing(x)
+        a, z = s_lo, s_hi
+        for _ in range(1100):
+            y = min(x + w, s_hi) if sx == sg_lo else max(x - w, s_lo)
+            sy = _exact_sign(ints, y) if s_lo < y < s_hi else (sg_hi if y >= s_hi else sg_lo)
+            if sy != sx:
+                a, z = (x, y) if x < y else (y, x)
                 break
-            step = np.polyval(af, s) / fp
-            s -= step
-            if abs(step) <= EPS * abs(s):
-                break
-        signs = []
-        for x in (s * (1 - 64 * EPS), s * (1 + 64 * EPS)):
-            n, d = Fraction(x).as_integer_ratio()
-            k = len(ints) - 1
-            signs.append(sum(a * n ** i * d ** (k - i) for i, a in enumerate(ints)))
-        if signs[0] == 0 or signs[1] == 0 or (signs[0] > 0) != (signs[1] > 0):
-            out.append(s)
-    return sorted(set(out))
+            x, w = y, 2 * w
+        while z - a > 2 * np.spacing(z):
+            mid = 0.5 * (a + z)
+            sm = _exact_sign(ints, mid)
+            if sm == 0:
+                a = z = mid
+            elif sm == sg_lo:
+                a = mid
+            else:
+                z = mid
+        roots.append(float(0.5 * (a + z)))
+    return sorted(roots)
+
+
+def critical_s(c: RayCoefficients) -> list[float]:
+    """Positive roots s = 1/sigma^2 of the ray cubic G(s c)/s^3 (thesis 3.3.13) at which it changes
+    sign, sorted (see `positive_roots`: exact isolation, full precision)."""
+    ints, _ = ray_cubic_int(c)
+    return positive_roots(ints)
 
 
 def spin_intervals_discriminant(c: RayCoefficients) -> list[tuple[float, float]]:
@@ -398,3 +455,178 @@ def spin_intervals_eigen(jac: Callable[[float], np.ndarray], sigma_scale: float,
 def growth_rate(J: np.ndarray) -> float:
     """The largest real part of the eigenvalues of J (the e-folding rate of the fastest mode)."""
     return float(np.max(np.linalg.eigvals(J).real))
+
+
+# ----------------------------------------------------------------------- one scene, both routes
+
+class FastC:
+    """Call a generated C function `void f(const double *in, const double *p, double *out)` with
+    preallocated buffers (the ctypes marshalling of Model.call costs more than the function)."""
+
+    def __init__(self, fn, n_in: int, n_out: int, p: np.ndarray):
+        import ctypes
+        dp = ctypes.POINTER(ctypes.c_double)
+        self._fn = fn
+        self._in = np.zeros(n_in)
+        self._out = np.zeros(n_out)
+        self._p = np.ascontiguousarray(p, dtype=float).copy()
+        self._args = tuple(a.ctypes.data_as(dp) for a in (self._in, self._p, self._out))
+
+    def __call__(self, x) -> np.ndarray:
+        self._in[:] = x
+        self._fn(*self._args)
+        return self._out.copy()
+
+
+def model_onaxis(model, p: np.ndarray | None = None) -> Callable[[float], np.ndarray]:
+    """z -> [Phi_0..Phi_K](z) of a loaded model (its generated `onaxis`), fast."""
+    info = model.manifest["functions"]["onaxis"]
+    f = FastC(model.c_function("onaxis"), info["n_in"], info["n_out"], model.p if p is None else p)
+    return lambda z: f([z])
+
+
+def model_callables(model, p: np.ndarray | None = None) -> tuple[Callable, Callable, list[str]]:
+    """(onaxis(z), full_jac(state), full states) of a loaded runtime.model.Model, fast; p: a
+    parameter vector other than the scene's (order: model.manifest["parameters"])."""
+    p = model.p if p is None else p
+    funcs = model.manifest["functions"]
+    onaxis = model_onaxis(model, p)
+    part = model.part("full")
+    jinfo = funcs["full_jac"]
+    jfast = FastC(part.c_function("jac"), jinfo["n_in"], jinfo["n_out"], p)
+    n = part.nx
+    return onaxis, (lambda x: jfast(x).reshape(n, n)), list(part.states)
+
+
+@dataclass
+class StabilityResult:
+    z_s: float | None
+    spin_interval: tuple[float, float] | None
+    discriminant: list[tuple[float, float]]
+    eigenvalues: list[tuple[float, float]] | None
+    approximations: dict
+    reason: str | None
+    routes_agree: bool | None
+    timings: dict
+
+    def as_dict(self) -> dict:
+        def pair(iv):
+            return None if iv is None else [float(iv[0]), float(iv[1])]
+
+        def first(ivs):
+            return pair(ivs[0]) if ivs else None
+
+        si = pair(self.spin_interval)
+        hz = None if si is None else [v / (2 * math.pi) for v in si]
+        rpm = None if hz is None else [v * 60 for v in hz]
+        return {
+            "z_s": self.z_s,
+            "spin_interval": si,
+            "spin_interval_hz": hz,
+            "spin_interval_rpm": rpm,
+            "routes": {"discriminant": first(self.discriminant),
+                       "eigenvalues": first(self.eigenvalues) if self.eigenvalues is not None else None},
+            "all_intervals": {"discriminant": [pair(v) for v in self.discriminant],
+                              "eigenvalues": None if self.eigenvalues is None
+                              else [pair(v) for v in self.eigenvalues]},
+            "routes_agree": self.routes_agree,
+            "approximations": self.approximations,
+            "reason": self.reason,
+            "timings_s": self.timings,
+        }
+
+
+def relative_gap(a: Sequence[tuple[float, float]], b: Sequence[tuple[float, float]]) -> float:
+    """Largest relative difference between matching interval end points (inf if counts differ)."""
+    if len(a) != len(b):
+        return math.inf
+    gap = 0.0
+    for (a0, a1), (b0, b1) in zip(a, b):
+        for u, v in ((a0, b0), (a1, b1)):
+            if u != v:
+                gap = max(gap, abs(u - v) / max(abs(u), abs(v)))
+    return gap
+
+
+def analyse(onaxis: Callable[[float], Sequence[float]], m: float, g: float, A: float, C: float,
+            mu: float, scale: float, full_jac: Callable[[np.ndarray], np.ndarray] | None = None,
+            states: Sequence[str] | None = None, z_s: float | None = None,
+            agree_rtol: float = 1e-6) -> StabilityResult:
+    """Spin interval of linear stability at the stable height, by both routes (thesis 3.3).
+
+    z_s: the vertically stable equilibrium (the lowest if several; thesis 3.3.3), found here unless
+    given. full_jac(state) -> 12x12 is the generated model's Jacobian (route "eigenvalues" on the
+    full model); without it the 8-D matrix `transverse_matrix` is used. The reported spin_interval is
+    the exact route's ("discriminant"); routes_agree says whether the eigenvalue route matches it to
+    agree_rtol. Approximations: thesis 3.3.22/3.3.23 at z_c for the top that hovers there.
+    """
+    from . import equilibrium as eqm
+
+    timings = {}
+    t0 = time.perf_counter()
+    zs_grid = eqm.z_grid(scale, 1e-3, 1e3, 24)
+    table = np.array([np.asarray(onaxis(float(z)), float)[:4] for z in zs_grid])
+    eqs = eqm.vertical_equilibria(onaxis, m, g, mu, scale, (zs_grid, table))
+    z_c, max_mass = eqm.critical_height(onaxis, g, mu, scale, (zs_grid, table))
+    timings["equilibria"] = time.perf_counter() - t0
+
+    approximations = {"sigma1": None, "sigma2": None, "z_c": z_c, "mass_at_z_c": max_mass,
+                      "g21": None, "note": "thesis eqs. 3.3.22/3.3.23 (printed as squares) at z_c, "
+                                           "for the top of mass m(z_c) that hovers there; rad/s"}
+    if z_c is not None and max_mass is not None and max_mass > 0:
+        ph = onaxis(z_c)
+        approximations.update(thesis_approximations(ph[1], ph[2], g, max_mass, A, C))
+        for k in ("sigma1", "sigma2"):
+            v = approximations[k]
+            approximations[k + "_hz"] = None if v is None else v / (2 * math.pi)
+
+    if z_s is None:
+        stable = [e for e in eqs if e.vertically_stable]
+        if not eqs:
+            why = (f"no equilibrium: the top (m = {m:.6g}) is too heavy for the plate, which holds at "
+                   f"most {max_mass:.6g} (at z_c = {z_c:.6g})" if max_mass and z_c is not None else
+                   f"no equilibrium: m g + mu Phi_2(z) has no root for z > 0 (the field cannot "
+                   f"hold a top of mass {m:.6g} with this moment)")
+            return StabilityResult(None, None, [], None, approximations, why, None, timings)
+        if not stable:
+            return StabilityResult(None, None, [], None, approximations,
+                                   "no vertically stable equilibrium: at every root of m g + mu "
+                                   "Phi_2 = 0 mu Phi_3 <= 0 (thesis 3.3.3)", None, timings)
+        z_s = stable[0].z
+    ph = np.asarray(onaxis(z_s), float)
+    t0 = time.perf_counter()
+    c = RayCoefficients.from_physics(ph[1], ph[2], ph[3], m, A, C, mu)
+    disc = [iv for iv in spin_intervals_discriminant(c)]
+    timings["discriminant"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    if full_jac is not None:
+        st = list(states)
+
+        def jac(sig):
+            return transverse_block(full_jac(full_equilibrium_state(st, z_s, C, sig)), st)
+    else:
+        def jac(sig):
+            return transverse_matrix(ph[1], ph[2], ph[3], m, A, C, mu, sig)
+    rho = C / A
+    sigma_scale = math.sqrt(abs(mu * ph[1]) / A) / rho if ph[1] != 0 else 1.0
+    probes = [math.sqrt(a * b) for a, b in disc if 0 < a and b < math.inf]
+    eig = spin_intervals_eigen(jac, sigma_scale, probes)
+    timings["eigenvalues"] = time.perf_counter() - t0
+
+    vertical = mu * ph[3] > 0
+    bounded = [iv for iv in disc if iv[1] < math.inf and iv[0] > 0]
+    agree = relative_gap(disc, eig) <= agree_rtol
+    reason = None
+    interval = None
+    if not vertical:
+        reason = f"z_s = {z_s:.6g} is not vertically stable (mu Phi_3 = {mu * ph[3]:.3g} <= 0, thesis 3.3.3)"
+    elif not bounded:
+        reason = (f"at z_s = {z_s:.6g} the top is vertically stable but no spin rate makes it "
+                  "linearly stable: N(t) (thesis 3.3.11) never has four real roots; the height is "
+                  "outside the stable band (see `levitron equilibrium`)")
+    else:
+        interval = bounded[0]
+        if len(bounded) > 1:
+            reason = f"{len(bounded)} disjoint spin intervals; spin_interval is the lowest"
+    return StabilityResult(z_s, interval, disc, eig, approximations, reason, agree, timings)

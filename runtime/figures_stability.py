@@ -1,0 +1,162 @@
+"""The thesis's figures of section 3.3, redrawn from a loaded model (matplotlib, Agg).
+
+* fig. 3.5: the equilibrium condition (thesis 3.3.2): m g (green) against -mu Phi_2(z) (red), left
+  without the hole, right with it; intersections are the equilibria.
+* fig. 3.6: the same forces at larger z: gravity (blue), magnetic force with hole (red), without
+  hole (green).
+* fig. 3.7: the critical spin rates against g21 at g31 = 0 (thesis 3.3.16-3.3.23): the exact roots of
+  L(l) and the thesis's small-g21 approximations, for the top that hovers at z_c.
+
+"Without the hole" is the same annulus model with plate_w = 0 (the thin disk, thesis eq. 2.2.11 with
+w = 0); plates without a hole parameter draw one panel. No sympy here.
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from . import equilibrium as eqm
+from . import linear
+
+
+def _params(model) -> dict:
+    return {n: float(v) for n, v in zip(model.manifest["parameters"], model.p)}
+
+
+def _onaxis(model, p):
+    return linear.model_onaxis(model, p)
+
+
+def _variants(model) -> list[tuple[str, np.ndarray]]:
+    names = list(model.manifest["parameters"])
+    out = []
+    if "plate_w" in names and model.p[names.index("plate_w")] > 0:
+        p0 = model.p.copy()
+        p0[names.index("plate_w")] = 0.0
+        out.append(("without hole", p0))
+        out.append((f"with hole (w = {model.p[names.index('plate_w')]:.3g})", model.p.copy()))
+    else:
+        out.append(("plate", model.p.copy()))
+    return out
+
+
+def figure_3_5(model, path: Path) -> Path:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    P = _params(model)
+    scale = eqm.length_scale(P)
+    m, g, mu = P["m"], P["g"], P["mu"]
+    variants = _variants(model)
+    fig, axes = plt.subplots(1, len(variants), figsize=(5.2 * len(variants), 4), squeeze=False)
+    z = np.linspace(0.02 * scale, 2.0 * scale, 600)
+    for ax, (label, p) in zip(axes[0], variants):
+        on = _onaxis(model, p)
+        force = np.array([-mu * on(float(zz))[2] for zz in z])
+        ax.plot(z, force, "r-", label=r"$-\mu\Phi_2(z)$")
+        ax.axhline(m * g, color="g", label=r"$m g$")
+        for e in eqm.vertical_equilibria(on, m, g, mu, scale):
+            if e.z <= z[-1]:
+                ax.plot([e.z], [m * g], "ko" if e.vertically_stable else "kx")
+                ax.annotate(f"{e.z:.4g}", (e.z, m * g), textcoords="offset points", xytext=(4, 6))
+        top = 1.15 * max(float(force.max()), m * g)
+        ax.set_ylim(max(float(force.min()), -0.5 * top), top)   # the deep dip near the hole is cut
+        ax.set_xlabel("z")
+        ax.set_ylabel("force")
+        ax.set_title(f"equilibrium condition (thesis 3.3.2): {label}")
+        ax.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def figure_3_6(model, path: Path) -> Path:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    P = _params(model)
+    scale = eqm.length_scale(P)
+    m, g, mu = P["m"], P["g"], P["mu"]
+    z = np.linspace(1.0 * scale, 4.0 * scale, 400)
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.axhline(m * g, color="b", label="gravitational force m g")
+    colours = {"without hole": "g"}
+    for label, p in _variants(model):
+        on = _onaxis(model, p)
+        ax.plot(z, [-mu * on(float(zz))[2] for zz in z], colours.get(label, "r"),
+                label=f"magnetic force, {label}")
+    ax.set_xlabel("z")
+    ax.set_ylabel("force")
+    ax.set_title("forces at larger z (thesis fig. 3.6)")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def critical_spins_g31_zero(g21: np.ndarray, g: float, A: float, C: float, m: float) -> np.ndarray:
+    """Exact critical rates at g31 = 0: roots l of L(l) (thesis 3.3.16, corrected) mapped by
+    sigma^2 = g / (2 rho^2 l g21 alpha) (3.3.21). Returns (len(g21), 2) [lower, upper], NaN where
+    g21^2 > 1/12 (no real roots, 3.3.15)."""
+    rho, alpha = C / A, math.sqrt(A / m)
+    out = np.full((len(g21), 2), np.nan)
+    for i, x in enumerate(g21):
+        a = linear.l_cubic(x, 0.0)          # a0 + a1 l + a2 l^2 + a3 l^3, a0 = 0 at g31 = 0
+        roots = np.roots(a[::-1][:-1])      # divide by l
+        roots = np.sort(roots[np.abs(roots.imag) <= 1e-9 * np.abs(roots)].real)
+        roots = roots[roots > 0]
+        if len(roots) == 2:
+            out[i] = np.sqrt(g / (2 * rho ** 2 * roots[::-1] * x * alpha))
+    return out
+
+
+def figure_3_7(model, path: Path) -> Path:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    P = _params(model)
+    g, A, C, mu = P["g"], P["A"], P["C"], P["mu"]
+    scale = eqm.length_scale(P)
+    on = _onaxis(model, model.p)
+    z_c, m_c = eqm.critical_height(on, g, mu, scale)
+    m = m_c if m_c else P["m"]
+    rho, alpha = C / A, math.sqrt(A / m)
+    x = np.linspace(1e-3, 1 / math.sqrt(12) * (1 - 1e-9), 400)
+    exact = critical_spins_g31_zero(x, g, A, C, m)
+    s1 = np.sqrt(g / (2 * rho ** 2 * 0.25 * x * alpha))                 # l1 ~ 1/4 (3.3.17)
+    s2 = np.sqrt(g / (2 * rho ** 2 * (27 / 4) * x ** 2 * x * alpha))    # l2 ~ 27 g21^2/4 (3.3.18)
+    hz = 1 / (2 * math.pi)
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    ax.semilogy(x, exact[:, 0] * hz, "b-", label=r"$\sigma_1$ exact (roots of $L$)")
+    ax.semilogy(x, exact[:, 1] * hz, "r-", label=r"$\sigma_2$ exact")
+    ax.semilogy(x, s1 * hz, "b--", label=r"$\sigma_1$, $l_1 \approx 1/4$ (3.3.22)")
+    ax.semilogy(x, s2 * hz, "r--", label=r"$\sigma_2$, $l_2 \approx 27 g_{21}^2/4$ (3.3.23)")
+    if z_c is not None:
+        ph = on(z_c)
+        g21c = -alpha * ph[2] / (2 * ph[1])
+        ax.axvline(g21c, color="k", lw=0.8, ls=":", label=f"this plate at z_c: g21 = {g21c:.3g}")
+    ax.set_xlabel(r"$g_{21}$ ($g_{31} = 0$)")
+    ax.set_ylabel("critical spin rate (Hz)")
+    ax.set_title(f"critical spin rates (thesis fig. 3.7), m = {m:.3g}")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def make_figures(outdir, model) -> list[Path]:
+    """Draw thesis figures 3.5, 3.6 and 3.7 for the model's scene into outdir; returns the paths."""
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    name = model.scene.name
+    return [figure_3_5(model, outdir / f"{name}_fig3_5_equilibrium.png"),
+            figure_3_6(model, outdir / f"{name}_fig3_6_forces.png"),
+            figure_3_7(model, outdir / f"{name}_fig3_7_critical_spins.png")]
