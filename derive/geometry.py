@@ -28,12 +28,22 @@ class Plate:
     symbols:  the plate's parameter symbols, in the order they enter the parameter vector.
     derivs:   optional callable k -> Phi_k(z) in a better-conditioned form than differentiating
               phi0 k times (a plate may supply cancellation-free forms).
+    field3d:  for a plate without axial symmetry (kind "rectangle"): callable (x, y, z) -> B as a
+              sympy Matrix (3x1), exact; the full model must use it instead of the expansion.
+              phi0 is then its exact on-axis potential (used by `onaxis` and the reduced model).
+    potential3d: likewise (x, y, z) -> phi with B = -grad(phi).
     """
 
     kind: str
     phi0: sp.Expr
     symbols: tuple[sp.Symbol, ...]
     derivs: Callable[[int], sp.Expr] | None = None
+    field3d: Callable[[sp.Expr, sp.Expr, sp.Expr], sp.Matrix] | None = None
+    potential3d: Callable[[sp.Expr, sp.Expr, sp.Expr], sp.Expr] | None = None
+
+    @property
+    def axisymmetric(self) -> bool:
+        return self.field3d is None
 
     def phi_derivs(self, kmax: int) -> list[sp.Expr]:
         """[Phi_0, ..., Phi_kmax], Phi_k = d^k Phi0 / dz^k (thesis eq. 2.2.6 and after)."""
@@ -73,5 +83,11 @@ BUILDERS: dict[str, Callable[[dict], Plate]] = {
 
 
 def build_plate(plate: dict) -> Plate:
-    """The Plate for a validated scene's [plate] table (see derive/scene.py)."""
-    return BUILDERS[plate["kind"]](plate)
+    """The Plate for a validated scene's [plate] table (see derive/scene.py).
+
+    All kinds, with the annulus and disk in their cancellation-free forms (same Phi0 and Phi_k as
+    `_annulus`/`_disk`, rearranged: derive/onaxis.py), come from derive/plates_extra.py (issue 5),
+    imported here because it builds on this module.
+    """
+    from .plates_extra import BUILDERS as ALL_BUILDERS
+    return ALL_BUILDERS[plate["kind"]](plate)

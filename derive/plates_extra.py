@@ -14,13 +14,12 @@ cancellation-free form (derive/onaxis.py). Parameter names per kind (SI):
   expression   the names of [plate.params]
   rectangle    side_x, side_y and either thickness, magnetization (a block magnet) or rho (thin)
 
-The rectangle is not axisymmetric: `Plate3D.field3d(x, y, z)` gives its exact B as sympy
+The rectangle is not axisymmetric: `Plate.field3d(x, y, z)` gives its exact B as sympy
 expressions (for the full model), and phi0 its exact on-axis potential (for the on-axis functions
 and the reduced model, exact there because its 4-fold symmetry makes the r^2 terms isotropic).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Callable
 
 import sympy as sp
@@ -32,14 +31,6 @@ from .scene import MU0, SceneError
 from .symbols import Z
 
 MU0_SYM = sp.Float(MU0)
-
-
-@dataclass(frozen=True)
-class Plate3D(Plate):
-    """A plate without axial symmetry: field3d(x, y, z) -> B (sympy Matrix 3x1), exact."""
-
-    field3d: Callable[[sp.Expr, sp.Expr, sp.Expr], sp.Matrix] | None = None
-    potential3d: Callable[[sp.Expr, sp.Expr, sp.Expr], sp.Expr] | None = None
 
 
 def _sym(prefix: str, key: str) -> sp.Symbol:
@@ -186,7 +177,7 @@ def rectangle_block_potential(x, y, z, hx, hy, t, mag):
                             - _charged_face_potential(x, y, z + t, hx, hy))
 
 
-def rectangle(table: dict, prefix: str = "") -> Plate3D:
+def rectangle(table: dict, prefix: str = "") -> Plate:
     """A uniformly magnetised rectangular plate centred on the z axis, sides side_x, side_y: a block
     magnet (thickness > 0, magnetization) with its top face in z = 0, or a thin dipole layer
     (thickness = 0, rho). Exact 3-D field in closed form, no axisymmetric expansion."""
@@ -204,7 +195,7 @@ def rectangle(table: dict, prefix: str = "") -> Plate3D:
         fld = lambda x, y, z: rectangle_thin_field(x, y, z, hx, hy, rho)  # noqa: E731
         symbols = (sx, sy, rho)
     phi0 = pot(x0, y0, Z)
-    return Plate3D("rectangle", phi0, symbols, lambda k: sp.diff(phi0, Z, k), fld, pot)
+    return Plate("rectangle", phi0, symbols, lambda k: sp.diff(phi0, Z, k), fld, pot)
 
 
 def compound(table: dict, prefix: str = "") -> Plate:
@@ -216,7 +207,7 @@ def compound(table: dict, prefix: str = "") -> Plate:
     def phis(k: int) -> sp.Expr:
         return sp.Add(*[phi_k(p, k) for p in parts])
 
-    if any(isinstance(p, Plate3D) for p in parts):
+    if any(p.field3d is not None for p in parts):
         raise SceneError("plate.parts: a rectangle cannot be a part of a compound plate yet; use it "
                          "alone")
     return Plate("compound", phis(0), symbols, phis)

@@ -121,6 +121,12 @@ PLATE_KINDS: dict[str, PlateKind] = {
                       _resolve_disk, "thin disk (annulus without hole)"),
 }
 
+# Issue 5: loop, ring_magnet, rectangle, expression, compound (pure Python, derive/plate_kinds.py).
+from .plate_kinds import EXTRA_PLATE_KINDS  # noqa: E402  (after the helpers it uses)
+
+PLATE_KINDS.update({kind: PlateKind(frozenset(keys), fn, doc)
+                    for kind, (keys, fn, doc) in EXTRA_PLATE_KINDS.items()})
+
 
 # ---------------------------------------------------------------- the scene
 
