@@ -188,3 +188,26 @@ def test_generated_model_onaxis_matches_closed_form():
     for z in (0.02, 0.0762, 0.1, 0.157, 0.4):
         want, got = np.array(on(z)), np.asarray(fast(z))[:5]
         assert np.allclose(got, want, rtol=1e-12, atol=1e-13 * np.abs(want).max())
+
+
+def test_equilibrium_command_thesis_scene(tmp_path):
+    """`levitron equilibrium thesis`: the contract's keys, no NaN, the band and the reason why the
+    thesis's top is not in it; --plot writes a picture."""
+    import argparse
+    import json
+    from runtime.cbuild import CompileError
+    from runtime.errors import UserError
+    from runtime.cli import _clean
+    try:
+        from runtime.commands import equilibrium as cmd
+        args = argparse.Namespace(scene="thesis", set=[], json=True, plot=str(tmp_path / "eq.png"))
+        out = json.loads(json.dumps(_clean(cmd.run(args)), allow_nan=False))
+    except (ImportError, OSError, UserError, CompileError) as exc:
+        pytest.skip(f"generated thesis model not available: {exc}")
+    assert [e["vertically_stable"] for e in out["equilibria"]] == [False, True]
+    assert abs(out["equilibria"][0]["z"] - 0.0762) < 1e-6     # the scene's murho has 8 digits
+    assert out["z_c"] > 0 and out["max_mass"] > 0.0284
+    lo, hi = out["stable_band"]["z"]
+    assert lo == pytest.approx(out["z_c"], rel=1e-9) and hi < out["equilibria"][1]["z"]
+    assert out["adiabatic_band"] is not None and "outside the stable band" in out["reason"]
+    assert (tmp_path / "eq.png").stat().st_size > 1000

@@ -282,9 +282,48 @@ def test_nonlinear_growth_rate_outside_the_interval(thesis_model):
         x0 = x_eq.copy()
         x0[ix] = r0
         t_end = math.log(1e6) / gamma
-        out = _simulate(thesis_model, p, states, x0, t_end, 1e-12, box, 4000)
+        out = _simulate(thesis_model, p, states, x0, t_end, 1e-11, box, 4000)
         r = np.hypot(out.X[:, ix], out.X[:, iy])
         sel = (r > 1e2 * r0) & (r < 1e5 * r0)
         assert sel.sum() > 50
         rate = np.polyfit(out.t[sel], np.log(r[sel]), 1)[0]
         assert abs(rate / gamma - 1) < 0.2, (sig, rate, gamma)
+
+
+# ---------------------------------------------------------------- the command
+
+def _run_stability(sets):
+    import argparse
+    import json
+    from runtime.commands import stability as cmd
+    from runtime.cli import _clean
+    args = argparse.Namespace(scene="thesis", set=sets, json=True, height=None)
+    out = _clean(cmd.run(args))
+    text = json.dumps(out, allow_nan=False)      # never NaN or inf in the JSON
+    return json.loads(text)
+
+
+def test_stability_command_thesis_scene(thesis_model):
+    """`levitron stability thesis`: z_s, spin_interval null with a reason (the top hovers outside the
+    stable band), both routes null, the approximations at z_c as rates with Hz beside."""
+    out = _run_stability([])
+    for key in ("z_s", "spin_interval", "routes", "approximations"):
+        assert key in out
+    assert out["spin_interval"] is None and out["reason"]
+    assert out["routes"] == {"discriminant": None, "eigenvalues": None}
+    a = out["approximations"]
+    assert a["sigma1"] > 0 and a["sigma2"] > a["sigma1"]
+    assert a["sigma1_hz"] == pytest.approx(a["sigma1"] / (2 * math.pi), rel=1e-15)
+
+
+def test_stability_command_inside_the_band(thesis_model):
+    """With a 51.5 g top the command reports the interval in rad/s with Hz and rpm beside, both
+    routes agreeing to 1e-6."""
+    out = _run_stability(["top.mass=0.0515"])
+    lo, hi = out["spin_interval"]
+    assert 0 < lo < hi
+    assert out["spin_interval_hz"] == pytest.approx([lo / (2 * math.pi), hi / (2 * math.pi)], rel=1e-15)
+    assert out["spin_interval_rpm"] == pytest.approx([30 * lo / math.pi, 30 * hi / math.pi], rel=1e-15)
+    d, e = out["routes"]["discriminant"], out["routes"]["eigenvalues"]
+    assert linear.relative_gap([tuple(d)], [tuple(e)]) <= 1e-6
+    assert out["eigen_source"].startswith("full_jac")
