@@ -209,7 +209,11 @@ def analyse(onaxis: OnAxis, m: float, g: float, A: float, C: float, mu: float,
     stable, adiabatic = [], []
     if ok.any():
         i0, i1 = max(int(np.argmax(ok)) - 1, 0), min(len(zs) - int(np.argmax(ok[::-1])), len(zs) - 1)
-        fine = np.geomspace(zs[i0], zs[i1], 400)
+        fine = np.geomspace(zs[i0], zs[i1], 300)
+        if z_c is not None and zs[i0] <= z_c <= zs[i1]:
+            # a band opens at z_c (there g31 = 0; thesis 3.3.15) and is typically a few % wide:
+            # sample that stretch densely so that a narrow band is not stepped over
+            fine = np.union1d(fine, np.geomspace(z_c, min(1.5 * z_c, zs[i1]), 200))
         stable = _bands(lambda z: spin_stabilisable(phis_at(z), g, A, C, mu), onaxis, fine, g, mu)
         adiabatic = _bands(lambda z: adiabatic_trap(phis_at(z), g, mu), onaxis, fine, g, mu)
     return EquilibriumReport(eqs, z_c, max_mass, stable, adiabatic)
