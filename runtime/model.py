@@ -143,6 +143,7 @@ class Model:
         self.p = np.array([scene.params[n] for n in names], dtype=float)
         self._casadi = {}
         self._parts = {}
+        self._cfuncs = {}
 
     # ---- parts
     @property
@@ -172,11 +173,14 @@ class Model:
         return ctypes.CDLL(str(self.library_path))
 
     def c_function(self, name: str):
-        if name not in self.manifest["functions"]:
-            raise MissingPart(f"scene '{self.scene.name}' has no generated function {name}")
-        fn = getattr(self.lib, name)
-        fn.argtypes = [_DOUBLE_P, _DOUBLE_P, _DOUBLE_P]
-        fn.restype = None
+        fn = self._cfuncs.get(name)
+        if fn is None:
+            if name not in self.manifest["functions"]:
+                raise MissingPart(f"scene '{self.scene.name}' has no generated function {name}")
+            fn = getattr(self.lib, name)
+            fn.argtypes = [_DOUBLE_P, _DOUBLE_P, _DOUBLE_P]
+            fn.restype = None
+            self._cfuncs[name] = fn
         return fn
 
     # ---- CasADi backend
@@ -196,7 +200,7 @@ class Model:
             raise MissingPart(f"scene '{self.scene.name}' has no generated function {name}")
         x = np.ascontiguousarray(x, dtype=float).reshape(-1)
         p = self.p if p is None else np.ascontiguousarray(p, dtype=float)
-        if x.size != info["n_in"] or p.size != len(self.manifest["parameters"]):
+        if x.size != info["n_in"] or p.size != self.p.size:
             raise ValueError(f"{name}: expected {info['n_in']} inputs and "
                              f"{len(self.manifest['parameters'])} parameters, got {x.size}, {p.size}")
         if backend == "c":

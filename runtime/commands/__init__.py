@@ -3,4 +3,7 @@
 COMMANDS = (
     "derive",
     "info",
+    "field",
+    "equilibrium",
+    "stability",
 )

@@ -1,0 +1,63 @@
+"""Bad scenes fail with one line naming the key and the fix, exit code 2, and touch nothing."""
+import hashlib
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from derive.build import GENERATED
+
+ROOT = Path(__file__).resolve().parent.parent
+GOOD = (ROOT / "scenes" / "thesis.toml").read_text()
+
+
+def _snapshot(folder: Path) -> dict:
+    return {p.relative_to(folder).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
+            for p in sorted(folder.rglob("*")) if p.is_file()}
+
+
+CASES = [
+    ("missing mass", GOOD.replace("mass = 0.0284", ""), "top.mass is missing"),
+    ("unknown key", GOOD.replace("[top]", "[top]\ncolour = 1"), "unknown key `colour`"),
+    ("negative mass", GOOD.replace("mass = 0.0284", "mass = -0.0284"), "top.mass = -0.0284 must be positive"),
+    ("negative inertia", GOOD.replace("A = 2.2e-6", "A = -2.2e-6"), "top.A"),
+    ("hole too big", GOOD.replace("hole = 0.03", "hole = 0.10"), "plate.hole = 0.1 is not smaller than plate.radius"),
+    ("odd order", GOOD.replace("order = 2", "order = 3"), "field.order = 3 must be an even integer"),
+    ("order below 2", GOOD.replace("order = 2", "order = 0"), "field.order = 0"),
+    ("unknown plate", GOOD.replace('kind = "annulus"', 'kind = "pyramid"'), "plate.kind = 'pyramid' is unknown"),
+    ("bad toml", GOOD + "\n[[[", "not valid TOML"),
+    ("impossible inertia", GOOD.replace("C = 1.32e-6", "C = 9e-6"), "top.C"),
+]
+
+
+@pytest.mark.parametrize("label,text,message", CASES, ids=[c[0] for c in CASES])
+def test_bad_scene_is_refused_cleanly(tmp_path, label, text, message):
+    scene = tmp_path / "bad.toml"
+    scene.write_text(text)
+    cache = tmp_path / "cache"
+    before = _snapshot(GENERATED)
+    env = dict(os.environ, LEVITRON_CACHE=str(cache))
+    for cmd in (["-m", "runtime.cli", "info", str(scene)], ["-m", "derive", str(scene)]):
+        res = subprocess.run([sys.executable, *cmd], cwd=ROOT, env=env, capture_output=True, text=True)
+        assert res.returncode == 2, (cmd, res.stdout, res.stderr)
+        lines = res.stderr.strip().splitlines()
+        assert len(lines) == 1, res.stderr
+        assert message in lines[0], lines[0]
+        assert res.stdout == ""
+    assert _snapshot(GENERATED) == before
+    derived = cache / "derived"
+    assert not derived.exists() or not any(derived.iterdir())
+
+
+def test_bad_override_is_refused():
+    res = subprocess.run([sys.executable, "-m", "runtime.cli", "info", "thesis", "--set", "top.mass"],
+                         cwd=ROOT, capture_output=True, text=True)
+    assert res.returncode == 2 and "has no '='" in res.stderr
+
+
+def test_unknown_scene_names_the_known_ones():
+    res = subprocess.run([sys.executable, "-m", "runtime.cli", "info", "nosuchscene"],
+                         cwd=ROOT, capture_output=True, text=True)
+    assert res.returncode == 2 and "thesis" in res.stderr
