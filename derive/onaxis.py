@@ -39,12 +39,10 @@ import sympy as sp
 
 
 @lru_cache(maxsize=None)
-def _fn_terms(n: int) -> tuple[tuple[int, int, int], ...]:
-    """d^n/dz^n (z^2 + S)^(-3/2) = sum c z^m r^-p: the tuple of (c, m, p), by the product rule.
-
-    d/dz (z^m r^-p) = m z^(m-1) r^-p - p z^(m+1) r^-(p+2).
-    """
-    terms = {(0, 3): 1}
+def power_terms(n: int, p0: int) -> tuple[tuple[int, int, int], ...]:
+    """d^n/dz^n r^-p0 (r = sqrt(z^2 + S)) = sum c z^m r^-p: the tuple of (c, m, p), by the product
+    rule d/dz (z^m r^-p) = m z^(m-1) r^-p - p z^(m+1) r^-(p+2)."""
+    terms = {(0, p0): 1}
     for _ in range(n):
         new: dict[tuple[int, int], int] = {}
         for (m, p), c in terms.items():
@@ -53,6 +51,16 @@ def _fn_terms(n: int) -> tuple[tuple[int, int, int], ...]:
             new[(m + 1, p + 2)] = new.get((m + 1, p + 2), 0) - c * p
         terms = {k: v for k, v in new.items() if v}
     return tuple(sorted((c, m, p) for (m, p), c in terms.items()))
+
+
+def _fn_terms(n: int) -> tuple[tuple[int, int, int], ...]:
+    """d^n/dz^n (z^2 + S)^(-3/2) = sum c z^m r^-p (see `power_terms`)."""
+    return power_terms(n, 3)
+
+
+def derivative_of_power(n: int, z: sp.Expr, r: sp.Expr, p0: int) -> sp.Expr:
+    """d^n/dz^n r^-p0 with r = sqrt(z^2 + S) given, as the sum of `power_terms`."""
+    return sp.Add(*[c * z**m / r**p for c, m, p in power_terms(n, p0)])
 
 
 def f_n(n: int, z: sp.Expr, r: sp.Expr) -> sp.Expr:

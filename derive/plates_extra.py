@@ -177,10 +177,59 @@ def rectangle_block_potential(x, y, z, hx, hy, t, mag):
                             - _charged_face_potential(x, y, z + t, hx, hy))
 
 
+def rect_solid_angle(w, hx, hy):
+    """Solid angle of the rectangle |x| <= hx, |y| <= hy seen from (0, 0, w), w > 0:
+    Omega = 4 atan(hx hy / (w sqrt(hx^2 + hy^2 + w^2))) (the disk's is 2 pi (1 - w/sqrt(w^2+a^2)))."""
+    return 4 * sp.atan(hx * hy / (w * sp.sqrt(hx**2 + hy**2 + w**2)))
+
+
+def rect_solid_angle_d1(w, hx, hy):
+    """d Omega / dw = -4 hx hy (hx^2 + hy^2 + 2 w^2) / ((hx^2 + w^2)(hy^2 + w^2) R), R = sqrt(hx^2+hy^2+w^2)
+    (sum of positive terms: no cancellation)."""
+    R = sp.sqrt(hx**2 + hy**2 + w**2)
+    return -4 * hx * hy * (hx**2 + hy**2 + 2 * w**2) / ((hx**2 + w**2) * (hy**2 + w**2) * R)
+
+
+def rect_solid_angle_derivative(k: int, w, hx, hy):
+    """d^k Omega / dw^k for k >= 1, by partial fractions and the Leibniz rule:
+    (s2 + 2 w^2)/((hx^2 + w^2)(hy^2 + w^2)) = 1/(hx^2 + w^2) + 1/(hy^2 + w^2), so
+    Omega' = -4 hx hy sum_{h = hx, hy} (h^2 + w^2)^-1 R^-1, and
+    d^n [(h^2 + w^2)^-1 R^-1] = sum_j binom(n, j) d^j (h^2+w^2)^-1 d^(n-j) R^-1, each factor a short
+    sum (derive/onaxis.power_terms) -- much smaller than differentiating the quotient directly."""
+    n = k - 1
+    R = sp.sqrt(hx**2 + hy**2 + w**2)
+    total = 0
+    for h in (hx, hy):
+        rh = sp.sqrt(h**2 + w**2)
+        total += sp.Add(*[sp.binomial(n, j) * onaxis.derivative_of_power(j, w, rh, 2)
+                          * onaxis.derivative_of_power(n - j, w, R, 1) for j in range(n + 1)])
+    return -4 * hx * hy * total
+
+
+def rect_solid_angle_difference(z, t, hx, hy):
+    """Omega(z) - Omega(z + t) without cancellation for t << z: with p = c/(z R1), q = c/(u R2),
+    c = hx hy, u = z + t, atan p - atan q = atan((p - q)/(1 + p q)) (p, q > 0) and
+    u R2 - z R1 = t (z + u)(s2 + z^2 + u^2)/(u R2 + z R1), s2 = hx^2 + hy^2."""
+    c = hx * hy
+    s2 = hx**2 + hy**2
+    u = z + t
+    R1 = sp.sqrt(s2 + z**2)
+    R2 = sp.sqrt(s2 + u**2)
+    num = c * t * (z + u) * (s2 + z**2 + u**2)
+    den = (u * R2 + z * R1) * (z * R1 * u * R2 + c**2)
+    return 4 * sp.atan(num / den)
+
+
 def rectangle(table: dict, prefix: str = "") -> Plate:
     """A uniformly magnetised rectangular plate centred on the z axis, sides side_x, side_y: a block
     magnet (thickness > 0, magnetization) with its top face in z = 0, or a thin dipole layer
-    (thickness = 0, rho). Exact 3-D field in closed form, no axisymmetric expansion."""
+    (thickness = 0, rho). Exact 3-D field in closed form (field3d), no axisymmetric expansion.
+
+    On the axis (for `onaxis` and the reduced model) compact forms: thin layer Phi0 = rho Omega(z)
+    (thesis eq. 2.2.10 over a rectangle), Phi_k = rho Omega^(k)(z); block Phi_1 = -(mu0 M / 4 pi)
+    [Omega(z) - Omega(z+t)] (B_z = H_z of the two charged faces), Phi0 = (mu0 M/4 pi)[G(z) - G(z+t)]
+    with G(w) = int int dA / R (G' = -Omega), and Phi_k = -(mu0 M/4 pi)[Omega^(k-1)(z) - Omega^(k-1)(z+t)].
+    """
     sx, sy = _sym(prefix, "side_x"), _sym(prefix, "side_y")
     hx, hy = sx / 2, sy / 2
     x0, y0 = sp.Integer(0), sp.Integer(0)
@@ -189,13 +238,23 @@ def rectangle(table: dict, prefix: str = "") -> Plate:
         pot = lambda x, y, z: rectangle_block_potential(x, y, z, hx, hy, t, mag)  # noqa: E731
         fld = lambda x, y, z: rectangle_block_field(x, y, z, hx, hy, t, mag)  # noqa: E731
         symbols = (sx, sy, t, mag)
+        k0 = MU0_SYM * mag / (4 * sp.pi)
+
+        def derivs(k: int) -> sp.Expr:
+            if k == 1:
+                return -k0 * rect_solid_angle_difference(Z, t, hx, hy)
+            return -k0 * (rect_solid_angle_derivative(k - 1, Z, hx, hy)
+                          - rect_solid_angle_derivative(k - 1, Z + t, hx, hy))
     else:
         rho = _sym(prefix, "rho")
         pot = lambda x, y, z: rectangle_thin_potential(x, y, z, hx, hy, rho)  # noqa: E731
         fld = lambda x, y, z: rectangle_thin_field(x, y, z, hx, hy, rho)  # noqa: E731
         symbols = (sx, sy, rho)
+
+        def derivs(k: int) -> sp.Expr:
+            return rho * rect_solid_angle_derivative(k, Z, hx, hy)
     phi0 = pot(x0, y0, Z)
-    return Plate("rectangle", phi0, symbols, lambda k: sp.diff(phi0, Z, k), fld, pot)
+    return Plate("rectangle", phi0, symbols, derivs, fld, pot)
 
 
 def compound(table: dict, prefix: str = "") -> Plate:

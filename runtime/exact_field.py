@@ -35,7 +35,7 @@ sheet's edges). `singular` in the docstrings names these sets.
 from __future__ import annotations
 
 import math
-from typing import Callable, Iterable, Mapping
+from typing import Callable, Mapping
 
 import numpy as np
 
@@ -371,45 +371,45 @@ def rect_loop_field(points, side_x: float, side_y: float, current: float, z0: fl
 
 # ---------------------------------------------------------------- scenes
 
-def _strength_d(get: Callable[[str], float | None]) -> float:
+def _dipole_density(rho: float) -> float:
     """Dipole density D (A) of a thin plate from its resolved rho (T m): rho = mu0 D / (4 pi)."""
-    return 4 * math.pi * get("rho") / MU0
+    return 4 * math.pi * rho / MU0
 
 
-def plate_field(kind: str, params: Mapping[str, float], points, prefix: str = "plate_") -> np.ndarray | None:
-    """The exact B (N, 3) of a scene's plate, or None when its kind has no closed form here.
+def plate_field(plate: Mapping, params: Mapping[str, float], points, prefix: str = "plate_") -> np.ndarray | None:
+    """The exact B (N, 3) of a scene's plate, or None when its kind has no closed form here
+    (expression plates).
 
-    `params` is Scene.params (SI; the plate's parameters named `plate_<name>`); `kind` the plate
-    kind. Compound plates name their parts' parameters `plate_p<i>_<name>` and list kinds in
-    params as well (see derive/geometry.py); pass `parts` through `compound_field` instead.
+    `plate` is the scene's [plate] table (Scene.data["plate"]: its kind and, for compound plates,
+    its parts), `params` Scene.params (SI, the plate's parameters named `plate_<name>`, a compound
+    plate's part i `plate_p<i>_<name>`; derive/plate_kinds.py). Thin plates given by `murho` without
+    a top moment use the nominal moment of Scene.notes, as the model does.
     """
     def get(name: str) -> float:
         return float(params[prefix + name])
 
+    def has(name: str) -> bool:
+        return (prefix + name) in params
+
     pts = _points(points)
+    kind = plate["kind"]
     if kind in ("annulus", "disk"):
-        w = get("w") if (prefix + "w") in params else 0.0
-        return annulus_field(pts, get("a"), w, _strength_d(get))
+        return annulus_field(pts, get("a"), get("w") if has("w") else 0.0, _dipole_density(get("rho")))
     if kind == "loop":
         return loop_field(pts, get("a"), get("current"))
     if kind == "ring_magnet":
-        return ring_magnet_field(pts, get("r_out"), get("r_in"), get("thickness"),
-                                 get("magnetization"))
+        return ring_magnet_field(pts, get("r_out"), get("r_in") if has("r_in") else 0.0,
+                                 get("thickness"), get("magnetization"))
     if kind == "rectangle":
-        if get("thickness") > 0:
-            return block_field(pts, get("side_x"), get("side_y"), get("thickness"),
-                               get("magnetization"))
-        return rect_loop_field(pts, get("side_x"), get("side_y"), _strength_d(get))
+        if has("thickness"):
+            return block_field(pts, get("side_x"), get("side_y"), get("thickness"), get("magnetization"))
+        return rect_loop_field(pts, get("side_x"), get("side_y"), _dipole_density(get("rho")))
+    if kind == "compound":
+        total = np.zeros((len(pts), 3))
+        for i, part in enumerate(plate["parts"]):
+            b = plate_field(part, params, pts, f"{prefix}p{i}_")
+            if b is None:
+                return None
+            total += b
+        return total
     return None
-
-
-def compound_field(parts: Iterable[tuple[str, Mapping[str, float], str]], points) -> np.ndarray | None:
-    """Sum of parts' exact fields; parts are (kind, params, prefix). None if any part has none."""
-    pts = _points(points)
-    total = np.zeros((len(pts), 3))
-    for kind, params, prefix in parts:
-        b = plate_field(kind, params, pts, prefix)
-        if b is None:
-            return None
-        total += b
-    return total

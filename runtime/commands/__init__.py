@@ -6,4 +6,5 @@ COMMANDS = (
     "field",
     "equilibrium",
     "stability",
+    "simulate",
 )

@@ -1,0 +1,65 @@
+"""`levitron field SCENE --at X,Y,Z ...`: B from the model's expansion and the exact B.
+
+B is the generated `field` function (the Laplace expansion of thesis eqs. 2.2.6-2.2.7 to the
+scene's order, or the exact 3-D field for a rectangular plate once derive emits it); B_exact is the
+closed form of runtime/exact_field.py (current loops by complete elliptic integrals, ring magnets
+after Derby & Olbert 2010, rectangles after Furlani 2001), or null where the plate has none
+(expression plates) or the point is singular (on a current filament).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .. import exact_field
+from ..errors import UserError
+from .common import model_of
+
+NAME = "field"
+HELP = "magnetic field at points: the model's expansion and the exact closed form"
+
+
+def add_arguments(parser) -> None:
+    parser.add_argument("--at", action="append", default=[], metavar="X,Y,Z",
+                        help="a point in metres (repeatable), e.g. --at 0,0,0.1")
+
+
+def parse_point(text: str) -> list[float]:
+    parts = text.split(",")
+    try:
+        xyz = [float(v) for v in parts]
+    except ValueError:
+        xyz = []
+    if len(xyz) != 3 or not all(math.isfinite(v) for v in xyz):
+        raise UserError(f"--at {text!r} is not a point: give three numbers X,Y,Z in metres, "
+                        "e.g. --at 0,0,0.1")
+    return xyz
+
+
+def run(args) -> dict:
+    if not args.at:
+        raise UserError("no point given: add --at X,Y,Z (metres, repeatable), e.g. --at 0,0,0.1")
+    points = np.array([parse_point(t) for t in args.at])
+    model = model_of(args)
+    scene = model.scene
+    exact = exact_field.plate_field(scene.data["plate"], scene.params, points)
+    out = []
+    for i, r in enumerate(points):
+        B = model.field(r)
+        entry = {"r": r.tolist(), "B": B.tolist(), "B_exact": None}
+        if exact is not None and np.all(np.isfinite(exact[i])):
+            entry["B_exact"] = exact[i].tolist()
+            scale = float(np.linalg.norm(exact[i]))
+            if scale > 0:
+                entry["relative_difference"] = float(np.linalg.norm(B - exact[i])) / scale
+        if r[2] <= 0:
+            entry["note"] = "z <= 0: at or below the plate's (top) face, outside the model's domain"
+        out.append(entry)
+    result = {"scene": scene.name, "plate": model.manifest.get("plate"),
+              "field_order": model.manifest.get("field_order"), "points": out}
+    if exact is None:
+        result["exact"] = "no closed form for this plate kind"
+    if scene.notes:
+        result["notes"] = scene.notes
+    return result
