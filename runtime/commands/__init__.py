@@ -6,5 +6,6 @@ COMMANDS = (
     "field",
     "equilibrium",
     "stability",
+    "optimize",
     "simulate",
 )
