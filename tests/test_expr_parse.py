@@ -160,3 +160,10 @@ def test_roundtrip_builtin_geometries():
         _roundtrip(expr, rng)
         tried += 1
     assert tried >= 30
+
+
+def test_scene_validation_reserves_the_parser_names():
+    """derive/plate_kinds.py (pure Python) refuses the same parameter names as the parser."""
+    from derive.expr_parse import CONSTANTS, FUNCTIONS
+    from derive.plate_kinds import RESERVED_NAMES
+    assert RESERVED_NAMES == set(FUNCTIONS) | set(CONSTANTS) | {"z"}
