@@ -1,0 +1,367 @@
+"""One trajectory of the top from its stable hover height (DESIGN.md `simulate`; thesis 3.1-3.3).
+
+The initial state: the centre of mass at (offset, 0, z_s), where z_s is the vertically stable root
+of m g + mu Phi_2(z) = 0 (thesis eqs. 3.3.2-3.3.3, from runtime.equilibrium); the symmetry axis
+n tilted by `tilt` rad towards +y, n = (0, sin tilt, cos tilt) (phi = tilt in the Tait-Bryan
+angles of thesis 3.2.2; phi = pi, theta = tilt in the z-x-z Euler angles of 2.1.9); at rest except
+for the spin: angular velocity omega = spin * n, i.e. a right-handed spin of `spin` rad/s about n
+(zeta_dot = -spin in Tait-Bryan angles, where omega_3 = -(zeta_dot + phi_dot sin vartheta),
+thesis 3.2.9; psi_dot = +spin in z-x-z angles, 2.1.10). The momenta are built from these
+velocities through the model's own Legendre map: the coordinate rows of the generated rhs are
+dq/dt = M(q)^-1 p (thesis eq. 2.3.8), linear in p, so p = M(q) qdot is solved from that map.
+With Tait-Bryan angles this gives p_zeta = C (zeta_dot + phi_dot sin vartheta) = -C omega_3.
+
+The run stops when the top leaves a box that scales with the hover height (default half-width
+z_s / 2 in z and radially; scenes may be dimensionless, so never a fixed length).
+
+Conserved quantities (Noether): the energy H (thesis 2.3.9 / 3.2.11), p_zeta (zeta is cyclic) and
+the z-component of the total angular momentum L_z = x p_y - y p_x + sum_a p_a d a/d alpha, where
+d a/d alpha is the change of the angles under a rotation of the whole top by alpha about the lab z
+axis (R_bs -> Q_z(alpha) R_bs), computed here from the rotation matrices of derive/kinematics.py.
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+
+from runtime.errors import UserError
+from runtime.integrate import Box, FIXED_STEP, Result, integrate
+
+
+# ---------------------------------------------------------------- rotations (numpy mirrors of
+# derive/kinematics.py: passive elementary matrices of thesis eqs. 2.1.6-2.1.8 and 3.2.3-3.2.5)
+
+def _rx(a):
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[1, 0, 0], [0, c, s], [0, -s, c]])
+
+
+def _ry(a):
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
+
+
+def _rz(a):
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[c, s, 0], [-s, c, 0], [0, 0, 1]])
+
+
+ANGLES = {"tait-bryan": ("phi", "vartheta", "zeta"), "euler-zxz": ("phi", "theta", "psi")}
+SPIN_ANGLE = {"tait-bryan": "zeta", "euler-zxz": "psi"}
+TILT_ANGLE = {"tait-bryan": "phi", "euler-zxz": "theta"}
+
+
+def coordinates_of(part) -> str | None:
+    """"tait-bryan", "euler-zxz" (full models) or None (the reduced model)."""
+    names = set(part.states)
+    for name, angles in ANGLES.items():
+        if set(angles) <= names:
+            return name
+    return None
+
+
+def _drx(a):
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[0, 0, 0], [0, -s, c], [0, -c, -s]])
+
+
+def _dry(a):
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[-s, 0, c], [0, 0, 0], [-c, 0, -s]])
+
+
+def _drz(a):
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[-s, c, 0], [-c, -s, 0], [0, 0, 0]])
+
+
+def _factors(coords: str, angles: Sequence[float]):
+    """R_bs as a product of three elementary matrices (and their derivatives), in order."""
+    a, b, c = angles
+    if coords == "tait-bryan":       # Rx(phi) Ry(vartheta) Rz(zeta)
+        return [(_rx(a), _drx(a)), (_ry(b), _dry(b)), (_rz(c), _drz(c))]
+    # (R3(psi) R2(theta) R1(phi))^T = R1(phi)^T R2(theta)^T R3(psi)^T
+    return [(_rz(a).T, _drz(a).T), (_rx(b).T, _drx(b).T), (_rz(c).T, _drz(c).T)]
+
+
+def rotation_bs(coords: str, angles: Sequence[float]) -> np.ndarray:
+    """Body -> space rotation: Rx(phi) Ry(vartheta) Rz(zeta) (thesis 3.2.2), or
+    (R3(psi) R2(theta) R1(phi))^T (thesis 2.1.9)."""
+    f = _factors(coords, angles)
+    return f[0][0] @ f[1][0] @ f[2][0]
+
+
+def rotation_bs_derivatives(coords: str, angles: Sequence[float]) -> list[np.ndarray]:
+    """d R_bs / d angle_i, analytic (product rule)."""
+    f = _factors(coords, angles)
+    return [f[0][1] @ f[1][0] @ f[2][0], f[0][0] @ f[1][1] @ f[2][0], f[0][0] @ f[1][0] @ f[2][1]]
+
+
+def tilt_of(part, X: np.ndarray) -> np.ndarray:
+    """Angle between the symmetry axis n = R_bs e_z and the vertical, for each state row."""
+    coords = coordinates_of(part)
+    X = np.atleast_2d(X)
+    if coords is None:
+        return np.zeros(len(X))
+    idx = [part.states.index(a) for a in ANGLES[coords]]
+    nz = np.array([rotation_bs(coords, row[idx])[2, 2] for row in X])
+    return np.arccos(np.clip(nz, -1.0, 1.0))
+
+
+def angle_generator_z(coords: str, angles: Sequence[float]) -> np.ndarray:
+    """d angles / d alpha under R_bs -> Q_z(alpha) R_bs (active rotation about the lab z axis):
+    least squares of dR = sum_i dR/da_i da_i = K R, K = [[0,-1,0],[1,0,0],[0,0,0]]."""
+    ang = np.asarray(angles, float)
+    R = rotation_bs(coords, ang)
+    K = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
+    cols = [d.ravel() for d in rotation_bs_derivatives(coords, ang)]
+    sol, *_ = np.linalg.lstsq(np.array(cols).T, (K @ R).ravel(), rcond=None)
+    return sol
+
+
+def angular_momentum_z(part, x: np.ndarray) -> float:
+    """L_z = x p_y - y p_x + sum_a p_a (d a / d alpha): conserved by the axially symmetric field."""
+    s = list(part.states)
+    coords = coordinates_of(part)
+    if coords is None:   # reduced model: the top spins about the vertical; zeta is a -z rotation
+        return -float(x[s.index("p_zeta")]) if "p_zeta" in s else float("nan")
+    lz = x[s.index("x")] * x[s.index("p_y")] - x[s.index("y")] * x[s.index("p_x")]
+    names = ANGLES[coords]
+    gen = angle_generator_z(coords, [x[s.index(a)] for a in names])
+    return float(lz + sum(gen[i] * x[s.index("p_" + a)] for i, a in enumerate(names)))
+
+
+# ---------------------------------------------------------------- initial state
+
+def coordinate_names(part) -> list[str]:
+    return [s for s in part.states if not s.startswith("p_")]
+
+
+def momenta_from_velocities(part, q: np.ndarray, qdot: np.ndarray, p=None) -> np.ndarray:
+    """Solve dq/dt = M(q)^-1 p (the coordinate rows of the generated rhs, linear in p) for p."""
+    s = list(part.states)
+    coords = coordinate_names(part)
+    ic = [s.index(c) for c in coords]
+    ip = [s.index("p_" + c) for c in coords]
+    base = np.zeros(len(s))
+    base[ic] = q
+    f0 = part.rhs(base, p)[ic]
+    cols = []
+    for k in ip:
+        e = base.copy()
+        e[k] = 1.0
+        cols.append(part.rhs(e, p)[ic] - f0)
+    Minv = np.array(cols).T
+    return np.linalg.solve(Minv, np.asarray(qdot, float) - f0)
+
+
+def initial_state(part, z_s: float, spin: float, tilt: float = 0.0, offset: float = 0.0,
+                  p=None) -> np.ndarray:
+    """The state of the module docstring, in the part's state order."""
+    s = list(part.states)
+    coords = coordinate_names(part)
+    q = np.zeros(len(coords))
+    qdot = np.zeros(len(coords))
+    q[coords.index("z")] = z_s
+    kind = coordinates_of(part)
+    if kind is None:
+        if tilt != 0.0 or offset != 0.0:
+            raise UserError("the reduced model keeps the top upright on the axis: use tilt = offset "
+                            "= 0, or simulate the full model (--part full)")
+        qdot[coords.index("zeta")] = -spin        # as Tait-Bryan on the invariant set: omega_3 = -zeta_dot
+    else:
+        q[coords.index("x")] = offset
+        angles = [0.0, 0.0, 0.0]
+        if kind == "tait-bryan":
+            angles[0] = tilt                      # n = (0, sin tilt, cos tilt)
+        else:
+            angles[0], angles[1] = math.pi, tilt  # n = R1(pi)^T R2(tilt)^T e_z = (0, sin, cos)
+        for a, v in zip(ANGLES[kind], angles):
+            q[coords.index(a)] = v
+        n = rotation_bs(kind, angles)[:, 2]
+        if not np.allclose(n, [0.0, math.sin(tilt), math.cos(tilt)], atol=1e-15, rtol=0):
+            raise AssertionError(f"tilt convention broken: n = {n}")
+        # the spin angle's rate that gives omega . n = spin, omega = vee(dR/da R^T) a_dot
+        ispin = ANGLES[kind].index(SPIN_ANGLE[kind])
+        W = rotation_bs_derivatives(kind, angles)[ispin] @ rotation_bs(kind, angles).T
+        along = float(np.dot([W[2, 1], W[0, 2], W[1, 0]], n))    # = +1 or -1
+        qdot[coords.index(SPIN_ANGLE[kind])] = spin / along
+    x = np.zeros(len(s))
+    for c, v in zip(coords, q):
+        x[s.index(c)] = v
+    for c, v in zip(coords, momenta_from_velocities(part, q, qdot, p)):
+        x[s.index("p_" + c)] = v
+    return x
+
+
+def hover_height(model, p: np.ndarray | None = None) -> float:
+    """The vertically stable equilibrium z_s (the lowest if several; thesis eqs. 3.3.2-3.3.3)."""
+    from runtime import equilibrium as eqm
+    pv = model.p if p is None else p
+    names = list(model.manifest["parameters"])
+    m, g, mu = (float(pv[names.index(k)]) for k in ("m", "g", "mu"))
+    onaxis = lambda z: model.onaxis(z, pv)
+    eqs = eqm.vertical_equilibria(onaxis, m, g, mu, eqm.length_scale(model.scene.params))
+    stable = [e.z for e in eqs if e.vertically_stable]
+    if not stable:
+        raise UserError(f"scene '{model.scene.name}' has no vertically stable hover height "
+                        f"(equilibria: {[round(e.z, 6) for e in eqs]}); change top.mass or the plate "
+                        "(see `levitron equilibrium`)")
+    return min(stable)
+
+
+def state_scales(part, z_s: float, spin: float, pvals: dict) -> np.ndarray:
+    """Magnitudes of the state components (for tolerances and errors): lengths z_s, angles 1 rad,
+    linear momenta m sqrt(g z_s), angular momenta max(C |spin|, A sqrt(g / z_s))."""
+    m, g, A, C = pvals["m"], pvals["g"], pvals["A"], pvals["C"]
+    out = []
+    for name in part.states:
+        if name in ("x", "y", "z"):
+            out.append(z_s)
+        elif name in ("p_x", "p_y", "p_z"):
+            out.append(m * math.sqrt(g * z_s))
+        elif name.startswith("p_"):
+            out.append(max(C * abs(spin), A * math.sqrt(g / z_s)))
+        else:
+            out.append(1.0)
+    return np.array(out)
+
+
+def default_box(part, z_s: float, half_width: float | None = None) -> Box:
+    """|z - z_s| <= b and sqrt(x^2 + y^2) <= b, b = z_s / 2 unless given."""
+    b = 0.5 * z_s if half_width is None else float(half_width)
+    if not (b > 0 and math.isfinite(b)):
+        raise UserError(f"box half-width {half_width} must be a positive length (m)")
+    s = list(part.states)
+    ix = s.index("x") if "x" in s else -1
+    iy = s.index("y") if "y" in s else -1
+    return Box(iz=s.index("z"), z_lo=z_s - b, z_hi=z_s + b, ix=ix, iy=iy,
+               r_max=b if ix >= 0 else math.inf)
+
+
+def default_step(spin: float, pvals: dict, z_s: float, stiffness: float) -> float:
+    """A fixed step resolving the fastest motion: the spin period, the nutation period 2 pi A /
+    (C |spin|) and the vertical bounce 2 pi sqrt(m / U''), 100 steps each."""
+    periods = [2 * math.pi * math.sqrt(pvals["m"] / stiffness) if stiffness > 0 else math.inf]
+    if spin:
+        periods += [2 * math.pi / abs(spin), 2 * math.pi * pvals["A"] / (pvals["C"] * abs(spin))]
+    per = min(periods)
+    return per / 100 if math.isfinite(per) else z_s / 100
+
+
+def simulate(model, spin: float, tilt: float = 0.0, offset: float = 0.0, t_end: float = 1.0,
+             integrator: str = "dop853", tol: float | None = 1e-9, box: float | None = None,
+             plot: str | Path | None = None, part: str = "full", h: float | None = None,
+             n_out: int = 2000, params: dict | None = None) -> dict:
+    """Run one trajectory and answer DESIGN.md's `simulate` keys (plus details).
+
+    box: the half-width of the box (m), default z_s / 2. params: parameter values overriding the
+    scene's for this run (names of manifest.json `parameters`)."""
+    pt = model.part(part)
+    names = list(model.manifest["parameters"])
+    p = model.p.copy()
+    for k, v in (params or {}).items():
+        if k not in names:
+            raise UserError(f"unknown parameter {k!r}; the model's parameters are {names}")
+        p[names.index(k)] = float(v)
+    pvals = {k: float(p[names.index(k)]) for k in names}
+    for label, v in (("spin", spin), ("tilt", tilt), ("offset", offset)):
+        if v is None or not math.isfinite(v):
+            raise UserError(f"--{label} must be a finite number")
+    if integrator in FIXED_STEP and h is not None and h <= 0:
+        raise UserError(f"step {h} must be positive; pass e.g. --step 1e-4")
+    z_s = hover_height(model, p)
+    stiffness = pvals["mu"] * float(model.onaxis(z_s, p)[3])
+    bx = default_box(pt, z_s, box)
+    if integrator in FIXED_STEP and h is None:
+        h = default_step(spin, pvals, z_s, stiffness)
+    x0 = initial_state(pt, z_s, spin, tilt, offset, p)
+    if bx.excess(x0) > 0:
+        raise UserError(f"the initial state is already outside the box (offset {offset} m vs half-width "
+                        f"{bx.z_hi - z_s:.4g} m); pass a smaller --offset or a larger --box")
+    scale = state_scales(pt, z_s, spin, pvals)
+    res = integrate(pt, x0, t_end, method=integrator, tol=tol, h=h, p=p, box=bx, n_out=n_out,
+                    scale=scale, monitor_energy=integrator in ("dop853", "rk4", "euler", "gauss4",
+                                                               "midpoint"))
+    return summarize(pt, res, x0, p, z_s, bx, spin, tilt, offset, t_end, integrator, tol, h, plot)
+
+
+def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, integrator, tol, h,
+              plot) -> dict:
+    s = list(pt.states)
+    X = res.X
+    H = res.energy if res.energy is not None else np.array([pt.energy(x, p) for x in X])
+    H0 = pt.energy(x0, p)
+    names = list(pt.model.manifest["parameters"]) if hasattr(pt, "model") else []
+    pv = dict(zip(names, p))
+    terms = abs(H0)
+    if names:
+        terms = max(terms, pv["m"] * abs(pv["g"]) * z_s + 0.5 * pv["C"] * spin ** 2)
+    drift = np.abs(H - H0) / terms
+    z = X[:, s.index("z")]
+    r = np.hypot(X[:, s.index("x")], X[:, s.index("y")]) if "x" in s else np.zeros(len(X))
+    exc = np.sqrt(r ** 2 + (z - z_s) ** 2)
+    tilt_t = tilt_of(pt, X)
+    lz0, lz1 = angular_momentum_z(pt, x0), angular_momentum_z(pt, res.x_final)
+    pz = ([float(x0[s.index("p_zeta")]), float(res.x_final[s.index("p_zeta")])]
+          if "p_zeta" in s else None)
+    out = {
+        "levitating": res.status == "completed",
+        "t_survived": res.t_final,
+        "max_excursion": float(exc.max()),
+        "energy_drift": float(drift.max()),
+        "rhs_evals": res.rhs_evals,
+        "wall_s": res.wall_s,
+        "final_state": {k: float(v) for k, v in zip(s, res.x_final)},
+        "status": res.status,
+        "message": res.message,
+        "z_s": z_s,
+        "spin": {"rad_s": spin, "hz": spin / (2 * math.pi), "rpm": spin * 60 / (2 * math.pi)},
+        "tilt": tilt, "offset": offset, "t_end": t_end,
+        "integrator": integrator, "backend": res.backend,
+        "tol": tol if integrator not in FIXED_STEP else None,
+        "step": h if integrator in FIXED_STEP else None,
+        "box": {"z": [bx.z_lo, bx.z_hi], "r_max": bx.r_max if math.isfinite(bx.r_max) else None},
+        "max_height_deviation": float(np.abs(z - z_s).max()),
+        "max_radial_offset": float(r.max()),
+        "max_tilt": float(tilt_t.max()),
+        "energy_drift_final": float((H[-1] - H0) / terms) if len(H) else None,
+        "energy_scale": terms,
+        "conserved": {
+            "energy": [float(H0), float(pt.energy(res.x_final, p))],
+            "L_z": [lz0, lz1],
+            "p_zeta": pz,
+        },
+        "part": pt.name if hasattr(pt, "name") else None,
+        "coordinates": coordinates_of(pt),
+        "plot": None,
+    }
+    if plot:
+        out["plot"] = str(draw(res.t, z - z_s, r, tilt_t, plot, out))
+    return out
+
+
+def draw(t, dz, r, tilt, path, info) -> Path:
+    """Height above z_s, radial offset and tilt against time (matplotlib, Agg)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig, ax = plt.subplots(3, 1, sharex=True, figsize=(7, 7))
+    ax[0].plot(t, dz * 1e3)
+    ax[0].set_ylabel("z - z_s (mm)")
+    ax[1].plot(t, r * 1e3)
+    ax[1].set_ylabel("radial offset (mm)")
+    ax[2].plot(t, np.degrees(tilt))
+    ax[2].set_ylabel("tilt (deg)")
+    ax[2].set_xlabel("t (s)")
+    ax[0].set_title(f"spin {info['spin']['rad_s']:g} rad/s, z_s = {info['z_s'] * 1e3:.2f} mm: "
+                    f"{info['status']} (t = {info['t_survived']:.3g} s)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path

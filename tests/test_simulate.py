@@ -1,0 +1,219 @@
+"""`simulate` on the generated models: the initial state (thesis 3.2.9, 3.3.2), the hard cases of
+issue 3 (axis within 1e-6 rad of vertical in both coordinate sets, a 100 s run at 200 rad/s with
+its conserved quantities, a top that falls off), the JSON contract and bad options."""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from derive.scene import load_scene
+from runtime.errors import UserError
+from runtime.integrate import integrate
+from runtime.model import load_model
+from runtime.simulate import (ANGLES, angular_momentum_z, coordinates_of, default_box, hover_height,
+                              initial_state, rotation_bs, simulate, state_scales)
+
+ROOT = Path(__file__).resolve().parent.parent
+DESIGN_KEYS = ("levitating", "t_survived", "max_excursion", "energy_drift", "rhs_evals", "wall_s",
+               "final_state")
+
+
+@pytest.fixture(scope="module")
+def model():
+    return load_model(load_scene("thesis"))
+
+
+@pytest.fixture(scope="module")
+def zxz_model(tmp_path_factory):
+    """The thesis scene in the z-x-z Euler angles of thesis 2.1.9 (derived into the cache)."""
+    text = (ROOT / "scenes" / "thesis.toml").read_text()
+    text = text.replace('coordinates = "tait-bryan"', 'coordinates = "euler-zxz"')
+    text = text.replace('name = "thesis"', 'name = "thesis-zxz"')
+    assert 'coordinates = "euler-zxz"' in text
+    path = tmp_path_factory.mktemp("scenes") / "thesis-zxz.toml"
+    path.write_text(text)
+    return load_model(load_scene(str(path)))
+
+
+def heavy_top(model) -> dict:
+    """Parameters of a top inside the stable band of the thesis plate (runtime.equilibrium: band
+    9.95-11.02 cm) that 200 rad/s stabilises: m = 51.4 g, A and C eight times the thesis's."""
+    names = list(model.manifest["parameters"])
+    pv = dict(zip(names, model.p))
+    return {"m": 0.0514, "A": 8 * pv["A"], "C": 8 * pv["C"]}
+
+
+def pvec(model, over):
+    names = list(model.manifest["parameters"])
+    p = model.p.copy()
+    for k, v in over.items():
+        p[names.index(k)] = v
+    return p
+
+
+def nvec(part, x):
+    kind = coordinates_of(part)
+    return rotation_bs(kind, [x[part.states.index(a)] for a in ANGLES[kind]])[:, 2]
+
+
+def test_eq_3_3_2_hover_height(model):
+    """z_s solves m g + mu Phi_2(z) = 0 (3.3.2), relative to the size m g of its terms, and is
+    vertically stable, mu Phi_3 > 0 (3.3.3)."""
+    z_s = hover_height(model)
+    m, g, mu = model.param("m"), model.param("g"), model.param("mu")
+    ph = model.onaxis(z_s)
+    assert abs(m * g + mu * ph[2]) < 1e-12 * m * g
+    assert mu * ph[3] > 0
+
+
+def test_eq_3_2_9_initial_state_spin_and_momenta(model):
+    """omega = spin n: the spin angle's rate is -spin (omega_3 = -(zeta_dot + phi_dot sin
+    vartheta), 3.2.9), p_zeta = -C omega_3, the velocities of the generated rhs are exactly the
+    requested ones, and the energy is U + C spin^2 / 2."""
+    part = model.part("full")
+    z_s, spin, tilt = hover_height(model), 200.0, 0.3
+    x0 = initial_state(part, z_s, spin, tilt, 1e-3)
+    s = part.states
+    C = model.param("C")
+    assert x0[s.index("p_zeta")] == pytest.approx(-C * spin, rel=1e-14)
+    qdot = part.rhs(x0)[[s.index(c) for c in s if not c.startswith("p_")]]
+    expect = np.zeros(6)
+    expect[s.index("zeta")] = -spin
+    np.testing.assert_allclose(qdot, expect, atol=1e-12 * spin)
+    at_rest = initial_state(part, z_s, 0.0, tilt, 1e-3)
+    assert part.energy(x0) - part.energy(at_rest) == pytest.approx(0.5 * C * spin ** 2, rel=1e-12)
+    np.testing.assert_allclose(nvec(part, x0), [0, math.sin(tilt), math.cos(tilt)], atol=1e-15)
+
+
+def test_simulate_json_contract_and_plot(model, tmp_path):
+    out = simulate(model, spin=200.0, tilt=0.01, offset=1e-3, t_end=0.05, plot=tmp_path / "t.png")
+    for k in DESIGN_KEYS:
+        assert k in out
+    json.dumps(out)   # serialisable
+    assert (tmp_path / "t.png").stat().st_size > 5000
+    assert set(out["final_state"]) == set(model.part("full").states)
+    assert out["box"]["z"][1] - out["z_s"] == pytest.approx(0.5 * out["z_s"])   # scales with z_s
+
+
+def test_hard_case_top_falls_off_event_stops_cleanly(model):
+    """The thesis top at its hover height is not spin-stabilisable (see runtime.linear): tilted by
+    0.01 rad it falls within a second; the box event stops the run, and nothing is NaN."""
+    out = simulate(model, spin=200.0, tilt=0.01, offset=1e-3, t_end=5.0)
+    assert out["levitating"] is False and out["status"] == "left_box"
+    assert 0 < out["t_survived"] < 5.0
+    vals = [out["t_survived"], out["max_excursion"], out["energy_drift"], *out["final_state"].values()]
+    assert all(math.isfinite(v) for v in vals)
+    z = out["final_state"]["z"]
+    r = math.hypot(out["final_state"]["x"], out["final_state"]["y"])
+    lo, hi = out["box"]["z"]
+    # stopped at the box's boundary (bisection on the dense output), not somewhere outside
+    assert min(abs(z - lo), abs(z - hi), abs(r - out["box"]["r_max"])) < 1e-9 * out["z_s"]
+    assert out["energy_drift"] < 1e-6
+
+
+def test_hard_case_long_run_100s_at_200_rad_s_conserves(model):
+    """100 s at 200 rad/s of a top in the stable band: it levitates, and energy, p_zeta and the
+    z-component of the total angular momentum are conserved at the end (relative to their size)."""
+    over = heavy_top(model)
+    for integrator, kw, e_tol in [("dop853", dict(tol=1e-11), 1e-9), ("gauss4", dict(h=1e-3), 1e-12)]:
+        out = simulate(model, spin=200.0, tilt=0.01, offset=1e-3, t_end=100.0, integrator=integrator,
+                       params=over, n_out=500, **kw)
+        assert out["levitating"] is True and out["t_survived"] == 100.0, integrator
+        assert out["max_tilt"] > 0.005            # it did precess/nutate, not a trivial fixed point
+        H0, H1 = out["conserved"]["energy"]
+        assert abs(H1 - H0) < e_tol * out["energy_scale"], integrator
+        L0, L1 = out["conserved"]["L_z"]
+        assert abs(L1 - L0) < 1e-9 * abs(L0), integrator
+        P0, P1 = out["conserved"]["p_zeta"]
+        assert P1 == P0                          # zeta is cyclic: dp_zeta/dt is exactly zero
+
+
+def test_angular_momentum_z_is_conserved_along_the_flow(model):
+    """L_z = x p_y - y p_x + sum p_a da/dalpha stays constant sample by sample (Noether), while
+    its orbital and spin parts exchange."""
+    over = heavy_top(model)
+    p = pvec(model, over)
+    part = model.part("full")
+    z_s = hover_height(model, p)
+    x0 = initial_state(part, z_s, 200.0, 0.02, 2e-3, p)
+    pv = dict(zip(model.manifest["parameters"], p))
+    r = integrate(part, x0, 5.0, method="dop853", tol=1e-12, p=p, n_out=200,
+                  scale=state_scales(part, z_s, 200.0, pv))
+    L = np.array([angular_momentum_z(part, x) for x in r.X])
+    s = part.states
+    orbital = r.X[:, s.index("x")] * r.X[:, s.index("p_y")] - r.X[:, s.index("y")] * r.X[:, s.index("p_x")]
+    assert np.ptp(orbital) > 1e3 * np.ptp(L)
+    assert np.ptp(L) < 1e-11 * abs(L[0])
+
+
+def test_hard_case_axis_near_vertical_euler_vs_tait_bryan(model, zxz_model):
+    """Axis within 1e-6 rad of vertical: the z-x-z Euler model (thesis 2.3.8, 1/sin(theta)) loses
+    accuracy and the Tait-Bryan model (thesis 3.2.2) does not. At 1e-2 rad both agree."""
+    over = heavy_top(model)
+    runs = {}
+    for tilt in (1e-2, 1e-6):
+        for mod in (model, zxz_model):
+            part = mod.part("full")
+            p = pvec(mod, over)
+            z_s = hover_height(mod, p)
+            pv = dict(zip(mod.manifest["parameters"], p))
+            x0 = initial_state(part, z_s, 200.0, tilt, 0.0, p)
+            r = integrate(part, x0, 0.02, method="dop853", tol=1e-10, p=p, n_out=4,
+                          scale=state_scales(part, z_s, 200.0, pv), max_steps=100_000)
+            e_spin = 0.5 * pv["C"] * 200.0 ** 2
+            at_rest = part.energy(initial_state(part, z_s, 0.0, tilt, 0.0, p), p)
+            runs[tilt, coordinates_of(part)] = (r, nvec(part, r.x_final), part.energy(x0, p) - at_rest - e_spin)
+    # both coordinate sets describe the same top: at 1e-2 rad they agree
+    (ra, na, _), (rb, nb, _) = runs[1e-2, "tait-bryan"], runs[1e-2, "euler-zxz"]
+    assert ra.status == rb.status == "completed"
+    assert np.abs(na - nb).max() < 1e-6 * 1e-2
+    # at 1e-6 rad: Tait-Bryan is cheap and exact (energy of the initial state to round-off) ...
+    r, n_tb, e_err = runs[1e-6, "tait-bryan"]
+    assert r.status == "completed" and r.rhs_evals < 2000
+    assert abs(e_err) < 1e-13 * 0.5 * 8 * 1.32e-6 * 200.0 ** 2
+    # ... while z-x-z loses its initial energy to cancellation and cannot advance the 1/sin terms
+    r, n_ex, e_err = runs[1e-6, "euler-zxz"]
+    assert abs(e_err) > 1e-8 * 0.5 * 8 * 1.32e-6 * 200.0 ** 2
+    assert r.status != "completed" or np.abs(n_ex[:2] - n_tb[:2]).max() > 0.1e-6
+    assert r.status == "max_steps" and r.rhs_evals > 1000 * runs[1e-6, "tait-bryan"][0].rhs_evals
+
+
+def test_reduced_model_vertical_bounce(model):
+    """The reduced model (thesis 3.2.12) started at the hover height with spin stays there to the
+    tolerance (DOP853 takes steps near its stability limit, ~ the 0.5 s bounce period, so the
+    excursion is the dense output's error, ~ tol); the box is applied in z only."""
+    out = simulate(model, spin=200.0, t_end=10.0, part="reduced", tol=1e-12)
+    assert out["levitating"] is True and out["max_excursion"] < 1e-10 * out["z_s"]
+    assert out["conserved"]["p_zeta"][0] == pytest.approx(-model.param("C") * 200.0)
+
+
+@pytest.mark.parametrize("kwargs, words", [
+    (dict(tol=-1e-9), "tolerance"),
+    (dict(integrator="rk4", h=-1e-4), "step"),
+    (dict(integrator="verlet"), "unknown integrator"),
+    (dict(t_end=0.0), "run length"),
+    (dict(box=-0.01), "box"),
+    (dict(offset=1.0), "outside the box"),
+])
+def test_bad_options(model, kwargs, words):
+    args = dict(spin=200.0, tilt=0.0, offset=0.0, t_end=0.1)
+    args.update(kwargs)
+    with pytest.raises(UserError, match=words):
+        simulate(model, **args)
+
+
+def test_cli_simulate_json(capsys):
+    from runtime.cli import main
+    rc = main(["simulate", "thesis", "--spin", "200", "--tilt", "0.01", "--t-end", "0.02", "--json"])
+    assert rc == 0
+    out = json.loads(capsys.readouterr().out)
+    for k in DESIGN_KEYS:
+        assert k in out
+    rc = main(["simulate", "thesis", "--spin", "200", "--tol", "-1", "--json"])
+    assert rc == 2
+    err = capsys.readouterr().err
+    assert "tolerance" in err and len(err.strip().splitlines()) == 1
