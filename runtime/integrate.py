@@ -43,7 +43,7 @@ SCIPY_METHODS = {"scipy-dop853": "DOP853", "scipy-rk45": "RK45", "scipy-radau": 
                  "scipy-bdf": "BDF", "scipy-lsoda": "LSODA"}
 METHODS = tuple(C_METHODS) + tuple(CASADI_METHODS) + tuple(SCIPY_METHODS)
 STATUS = {0: "completed", 1: "left_box", 2: "nonfinite", 3: "step_underflow", 4: "max_steps",
-          5: "no_convergence", 6: "bad_input"}
+          5: "no_convergence", 6: "bad_input", 7: "energy_limit"}
 CSRC = Path(__file__).resolve().parent / "csrc"
 
 
@@ -123,7 +123,8 @@ class _Options(ctypes.Structure):
                 ("iy", ctypes.c_int), ("iz", ctypes.c_int), ("z_lo", ctypes.c_double),
                 ("z_hi", ctypes.c_double), ("r_max", ctypes.c_double),
                 ("t_out", ctypes.POINTER(ctypes.c_double)), ("n_out", ctypes.c_long),
-                ("every", ctypes.c_long), ("max_samples", ctypes.c_long), ("max_iter", ctypes.c_int)]
+                ("every", ctypes.c_long), ("max_samples", ctypes.c_long), ("max_iter", ctypes.c_int),
+                ("energy_limit", ctypes.c_double)]
 
 
 class _Stats(ctypes.Structure):
@@ -190,7 +191,8 @@ def run_c(lib: ctypes.CDLL, method: str, rhs: Any, x0, p, t_end: float, *, t0: f
           h: float = 0.0, rtol: float = 0.0, atol: float | Sequence[float] = 0.0,
           jac: Any = None, energy: Any = None, box: Box | None = None,
           t_out: Sequence[float] | None = None, every: int = 0, max_samples: int | None = None,
-          max_steps: int = 0, h_max: float = 0.0, max_iter: int = 0) -> Result:
+          max_steps: int = 0, h_max: float = 0.0, max_iter: int = 0,
+          energy_limit: float = 0.0) -> Result:
     """Run one C integrator (no validation beyond the C's own; see ``integrate``).
 
     Samples: at the times ``t_out`` (DOP853 dense output), else every ``every``-th step plus the
@@ -215,7 +217,8 @@ def run_c(lib: ctypes.CDLL, method: str, rhs: Any, x0, p, t_end: float, *, t0: f
     b = box or Box(-1, -math.inf, math.inf)
     opt = _Options(t0, t0 + t_end, h, rtol, float(atol), _ptr(atol_v), h_max, max_steps,
                    1 if box is not None else 0, b.ix, b.iy, b.iz, b.z_lo, b.z_hi, b.r_max,
-                   _ptr(tout), 0 if tout is None else tout.size, every, max_samples, max_iter)
+                   _ptr(tout), 0 if tout is None else tout.size, every, max_samples, max_iter,
+                   energy_limit)
     st = _Stats()
     start = time.perf_counter()
     status = lib.lev_integrate(code, ctypes.byref(sysd), ctypes.byref(opt), _ptr(x),

@@ -139,6 +139,12 @@ static double monitor(lev_ctx *c, const double *x)
     return e;
 }
 
+static int energy_exceeded(const lev_ctx *c)
+{
+    return c->opt->energy_limit > 0.0 && c->sys->energy
+        && !(c->st->energy_max_dev <= c->opt->energy_limit * fabs(c->st->energy0));
+}
+
 const char *lev_status_message(int status)
 {
     switch (status) {
@@ -149,6 +155,7 @@ const char *lev_status_message(int status)
     case LEV_MAX_STEPS: return "stopped: the maximum number of steps was reached";
     case LEV_NO_CONVERGENCE: return "stopped: the implicit stage equations did not converge";
     case LEV_BAD_INPUT: return "invalid input: check n, step, tolerances, buffers and t_out";
+    case LEV_ENERGY_LIMIT: return "stopped: the energy drifted beyond the requested limit";
     default: return "unknown status";
     }
 }
@@ -261,6 +268,7 @@ static int run_fixed(int method, lev_ctx *c, double *x, double *w)
             record(c, st->t_final, x, e);
             return LEV_LEFT_BOX;
         }
+        if (energy_exceeded(c)) return LEV_ENERGY_LIMIT;
         if (o->every > 0 && k % o->every == 0) record(c, st->t_final, x, e);
     }
     return LEV_COMPLETED;
@@ -466,6 +474,7 @@ static int run_dop853(lev_ctx *c, double *x, double *w)
             record(c, t, x, e);
             return LEV_LEFT_BOX;
         }
+        if (energy_exceeded(c)) return LEV_ENERGY_LIMIT;
         if (o->t_out) {
             while (i_out < o->n_out && o->t_out[i_out] <= t) {
                 if (o->t_out[i_out] == t) {
@@ -669,6 +678,7 @@ static int run_gauss(int method, lev_ctx *c, double *x, double *w)
             record(c, st->t_final, x, e);
             return LEV_LEFT_BOX;
         }
+        if (energy_exceeded(c)) return LEV_ENERGY_LIMIT;
         if (o->every > 0 && step % o->every == 0) record(c, st->t_final, x, e);
     }
     return LEV_COMPLETED;

@@ -39,7 +39,8 @@ enum lev_status {
     LEV_STEP_UNDERFLOW = 3,  /* the adaptive step fell below 10 ulp of t */
     LEV_MAX_STEPS = 4,       /* max_steps steps were taken before t_end */
     LEV_NO_CONVERGENCE = 5,  /* the implicit stage equations did not converge */
-    LEV_BAD_INPUT = 6        /* invalid options (see lev_status_message) */
+    LEV_BAD_INPUT = 6,       /* invalid options (see lev_status_message) */
+    LEV_ENERGY_LIMIT = 7     /* the energy drifted beyond opt->energy_limit (relative) */
 };
 
 typedef struct {
@@ -67,6 +68,7 @@ typedef struct {
     long every;         /* otherwise: record every `every`-th step (and the first and last state) */
     long max_samples;   /* capacity of out_t (max_samples) and out_x (max_samples * n) */
     int max_iter;       /* implicit methods: iteration limit per step, 0 = default */
+    double energy_limit;/* > 0 (needs sys->energy): stop once |H - H0| > energy_limit |H0| */
 } lev_options;
 
 typedef struct {
