@@ -197,7 +197,7 @@ def test_gauss4_fixed_point_equals_newton(kepler):
     a = run_c(kepler.lib, "gauss4", kepler.c_function("rhs"), x0, kepler.p, TWO_PI, h=TWO_PI / 300,
               jac=kepler.c_function("jac"))
     b = run_c(kepler.lib, "gauss4", kepler.c_function("rhs"), x0, kepler.p, TWO_PI, h=TWO_PI / 300)
-    assert a.jac_evals == 300 and b.jac_evals == 0
+    assert 1 <= a.jac_evals <= 300 and b.jac_evals == 0
     assert np.abs(a.x_final - b.x_final).max() < 1e-12
 
 

@@ -8,4 +8,5 @@ COMMANDS = (
     "stability",
     "optimize",
     "simulate",
+    "bench",
 )

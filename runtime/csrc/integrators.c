@@ -560,7 +560,7 @@ static int run_gauss(int method, lev_ctx *c, double *x, double *w)
     double A[2][2], cc[2], d[2], W[2][2];
     double span = o->t_end - o->t0, h, e, r3 = sqrt(3.0);
     long N, step;
-    int use_newton = c->sys->jac != NULL;
+    int use_newton = c->sys->jac != NULL, last_iters = 0;
 
     if (s == 1) {
         A[0][0] = 0.5; cc[0] = 0.5; d[0] = 2.0;
@@ -609,8 +609,9 @@ static int run_gauss(int method, lev_ctx *c, double *x, double *w)
                     Z[i * n + k] = v;
                 }
         }
-        if (use_newton) {
-            /* simplified Newton: M = I - h (A (x) J(x_n)) */
+        if (use_newton && (step == 1 || last_iters > 4)) {
+            /* simplified Newton: M = I - h (A (x) J(x_k)), refactored only when the previous step
+               needed more than 4 iterations (a stale J slows convergence, never its limit) */
             c->sys->jac(x, c->sys->p, J);
             st->jac_evals++;
             for (i = 0; i < s; i++)
@@ -661,6 +662,7 @@ static int run_gauss(int method, lev_ctx *c, double *x, double *w)
             }
             delta_prev = delta;
         }
+        last_iters = it + 1;
         if (!converged && !(delta < 1e-12)) return LEV_NO_CONVERGENCE;
         /* x_{n+1} = x_n + sum_j d_j Z_j (d = b^T A^{-1}), compensated summation */
         for (k = 0; k < n; k++) {

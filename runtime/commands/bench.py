@@ -1,0 +1,18 @@
+"""`levitron bench SCENE`: the speed-versus-error report (issue 3; DESIGN.md `bench`)."""
+from __future__ import annotations
+
+from .. import bench as _bench
+from .common import model_of
+
+NAME = "bench"
+HELP = ("work-precision report: error of the final state against wall time for every backend and "
+        "integrator, reduced and full model; CSV/JSON/PNG in reports/")
+
+
+def add_arguments(parser) -> None:
+    parser.add_argument("--quick", action="store_true", help="a small version (a few seconds)")
+    parser.add_argument("--out", default="reports", metavar="DIR", help="output folder (default reports/)")
+
+
+def run(args) -> dict:
+    return _bench.run(model_of(args), args.out, args.quick)
