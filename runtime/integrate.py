@@ -196,7 +196,8 @@ def run_c(lib: ctypes.CDLL, method: str, rhs: Any, x0, p, t_end: float, *, t0: f
     """Run one C integrator (no validation beyond the C's own; see ``integrate``).
 
     Samples: at the times ``t_out`` (DOP853 dense output), else every ``every``-th step plus the
-    first and the last state. Energy, when given, is monitored after every step in C."""
+    first and the last state. Energy, when given, is monitored after every step in C; with
+    ``energy_limit`` > 0 the run stops once |H - H0| > energy_limit |H0| (status "energy_limit")."""
     _bind(lib)
     code = C_METHODS[method]
     x = _f64(x0).copy()
@@ -458,7 +459,8 @@ def _integrate_scipy(part, method, x0, p, t_end, tol, box, n_out, scale, scipy_r
         t_final = float(t[-1])
     return Result(t=t, X=X, status=status, message=message, rhs_evals=int(sol.nfev), wall_s=wall,
                   t_final=t_final, x_final=x_final, method=method, backend="scipy",
-                  steps=len(t), details={"rhs": kind, "python_calls": calls[0]})
+                  steps=0, details={"rhs": kind, "python_calls": calls[0],
+                                    "note": "solve_ivp does not report its step count"})
 
 
 class CSystem:
