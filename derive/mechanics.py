@@ -87,8 +87,13 @@ def _quadratic_form(H: sp.Expr, p, simp) -> sp.Expr:
 
 
 @lru_cache(maxsize=None)
-def hamiltonian_system(coords: str = "tait-bryan", order: int = 2) -> HamiltonianSystem:
-    """The full model in `coords` ("tait-bryan" or "euler-zxz") with the field expanded to `order`."""
+def hamiltonian_system(coords: str = "tait-bryan", order: int = 2,
+                       B: sp.ImmutableMatrix | None = None) -> HamiltonianSystem:
+    """The full model in `coords` ("tait-bryan" or "euler-zxz").
+
+    The field is the axisymmetric expansion to `order` (thesis eq. 2.2.7, Phi_k kept abstract) unless
+    an exact 3-D field B(x, y, z) is given (a plate without axial symmetry, e.g. a rectangle).
+    """
     rot = ROTATIONS[coords]()
     pos = (X, Y, Z)
     vel = sp.symbols("x_dot y_dot z_dot", real=True)
@@ -96,7 +101,7 @@ def hamiltonian_system(coords: str = "tait-bryan", order: int = 2) -> Hamiltonia
     qdot = tuple(vel) + tuple(rot.rates)
     p = tuple(sp.Symbol(f"p_{v}", real=True) for v in q)
     T = kinetic_energy(rot, vel)
-    U = potential_energy(rot, fieldmod.field(order))
+    U = potential_energy(rot, fieldmod.field(order) if B is None else sp.Matrix(B))
     L = T - U
     momenta, qdot_of_p, H = legendre(L, q, qdot, p, rot.keep)
     rhs = sp.Matrix([sp.diff(H, pi) for pi in p] + [-sp.diff(H, qi) for qi in q])

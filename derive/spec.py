@@ -13,7 +13,7 @@ from . import field as fieldmod
 from .geometry import Plate
 from .mechanics import hamiltonian_system
 from .reduction import reduced_system
-from .symbols import PHYSICAL, Phi, X, Y, Z
+from .symbols import PHYSICAL, Phi, X, Y, Z, abstract_field
 
 
 @dataclass(frozen=True)
@@ -35,6 +35,7 @@ class ModelSpec:
     coordinates: str
     params: tuple                       # parameter symbols in vector order
     parts: dict = field(default_factory=dict)   # part name -> {"states": [...], "functions": [...]}
+    field3d: sp.Matrix | None = None            # exact B(x, y, z) of a non-axisymmetric plate
     functions: list = field(default_factory=list)
 
     @property
@@ -63,8 +64,12 @@ def build_spec(scene_name: str, plate: Plate, order: int, coordinates: str, need
         spec.parts["reduced"] = {"states": red.state_names, "equations": "thesis eq. 3.2.12"}
         spec.functions += _part_functions("reduced", red.state, red.rhs, red.H, True,
                                           "reduced model on the invariant set (thesis 3.2.12)")
+    B3 = None
+    if not plate.axisymmetric:
+        spec.field3d = sp.Matrix(plate.field3d(X, Y, Z))
+        B3 = sp.ImmutableMatrix(abstract_field())
     if "full" in needs:
-        full = hamiltonian_system(coordinates, order)
+        full = hamiltonian_system(coordinates, order, B3)
         spec.parts["full"] = {"states": full.state_names,
                               "equations": "thesis eqs. 2.3.9-2.3.16 (" + coordinates + ")"}
         spec.functions += _part_functions("full", full.state, full.rhs, full.H, "linear" in needs,
@@ -72,7 +77,9 @@ def build_spec(scene_name: str, plate: Plate, order: int, coordinates: str, need
     spec.functions.append(Function(
         "onaxis", (Z,), tuple(Phi(k, Z) for k in range(spec.kmax + 1)), (spec.kmax + 1,),
         "on-axis potential and its derivatives Phi_0..Phi_K (thesis eq. 2.2.6)"))
-    B = fieldmod.field(order)
-    spec.functions.append(Function("field", (X, Y, Z), tuple(B), (3,),
-                                   f"B = -grad(phi), expansion to order {order} (thesis eq. 2.2.7)"))
+    if B3 is None:
+        B, what = fieldmod.field(order), f"expansion to order {order} (thesis eq. 2.2.7)"
+    else:
+        B, what = B3, f"exact 3-D field of the {plate.kind} plate (no expansion)"
+    spec.functions.append(Function("field", (X, Y, Z), tuple(B), (3,), f"B = -grad(phi), {what}"))
     return spec

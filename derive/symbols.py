@@ -33,3 +33,12 @@ class Phi(sp.Function):
 def phi_orders(expr: sp.Basic) -> set[int]:
     """The orders k of every Phi(k, z) in expr."""
     return {int(f.args[0]) for f in expr.atoms(Phi)}
+
+
+# A plate without axial symmetry enters the mechanics through an abstract field B_i(x, y, z); the
+# emitters replace B_i and its derivatives by the plate's closed forms (derive/emit/lower.py).
+B_FUNCS = tuple(sp.Function(f"B_{c}", real=True) for c in "xyz")
+
+
+def abstract_field(x=X, y=Y, z=Z) -> sp.Matrix:
+    return sp.Matrix([f(x, y, z) for f in B_FUNCS])

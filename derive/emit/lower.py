@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from ..spec import Function, ModelSpec
-from ..symbols import Phi, Z, phi_orders
+from ..symbols import B_FUNCS, Phi, X, Y, Z, phi_orders
 
 
 @dataclass
@@ -52,6 +52,40 @@ def _prune(assigns, outputs):
     return list(reversed(kept))
 
 
+def _field_atoms(expr) -> set:
+    """B_i(x, y, z) and its derivatives in expr (largest first: derivatives contain the function)."""
+    found = {d for d in expr.atoms(sp.Derivative) if d.expr.func in B_FUNCS}
+    found |= {f for f in expr.atoms(sp.Function) if f.func in B_FUNCS}
+    return found
+
+
+def _field_name(atom) -> str:
+    if isinstance(atom, sp.Derivative):
+        comp = str(atom.expr.func)
+        return comp + "_d" + "".join(str(v) * int(n) for v, n in atom.variable_count)
+    return str(atom.func)
+
+
+_DERIV_CACHE: dict = {}
+
+
+def _field_value(atom, B: sp.Matrix) -> sp.Expr:
+    """The closed form of B_i or of one of its derivatives; derivatives are built one variable at a
+    time and cached, so d^2 B_i/dx dy reuses dB_i/dx."""
+    if B is None:
+        raise ValueError(f"{atom} needs the plate's 3-D field, which this plate does not give")
+    if not isinstance(atom, sp.Derivative):
+        return B[B_FUNCS.index(atom.func)]
+    i = B_FUNCS.index(atom.expr.func)
+    variables = tuple(v for v, n in atom.variable_count for _ in range(int(n)))
+    key = (sp.srepr(B[i]), variables)
+    if key not in _DERIV_CACHE:
+        parent = B[i] if len(variables) == 1 else _field_value(
+            sp.Derivative(atom.expr, *variables[:-1]), B)
+        _DERIV_CACHE[key] = sp.diff(parent, variables[-1])
+    return _DERIV_CACHE[key]
+
+
 def lower(fn: Function, spec: ModelSpec) -> Lowered:
     outputs = [sp.sympify(e) for e in fn.outputs]
     # 1. trig symbols for the angles among the inputs
@@ -67,11 +101,25 @@ def lower(fn: Function, spec: ModelSpec) -> Lowered:
     orders = sorted(set().union(*[phi_orders(e) for e in outputs])) if outputs else []
     P = {k: sp.Symbol(f"P{k}", real=True) for k in orders}
     outputs = [e.xreplace({Phi(k, Z): P[k] for k in orders}) for e in outputs]
-    phi_assigns = []
+    plate_syms, plate_exprs = [P[k] for k in orders], []
     if orders:
         derivs = spec.plate.phi_derivs(max(orders))
-        repl, red = sp.cse([derivs[k] for k in orders], symbols=sp.numbered_symbols("u"), order="none")
-        phi_assigns = list(repl) + [(P[k], e) for k, e in zip(orders, red)]
+        plate_exprs = [derivs[k] for k in orders]
+    # a non-axisymmetric plate: B_i(x, y, z) and its derivatives -> the plate's closed forms
+    field_atoms = sorted(set().union(*[_field_atoms(e) for e in outputs]) if outputs else set(),
+                         key=sp.default_sort_key)
+    if field_atoms:
+        fmap = {}
+        for atom in field_atoms:
+            sym = sp.Symbol(_field_name(atom), real=True)
+            fmap[atom] = sym
+            plate_syms.append(sym)
+            plate_exprs.append(_field_value(atom, spec.field3d))
+        outputs = [e.xreplace(fmap) for e in outputs]
+    phi_assigns = []
+    if plate_exprs:
+        repl, red = sp.cse(plate_exprs, symbols=sp.numbered_symbols("u"), order="none")
+        phi_assigns = list(repl) + list(zip(plate_syms, red))
     # 3. the main block
     nonzero = [i for i, e in enumerate(outputs) if e != 0]
     repl, red = sp.cse([outputs[i] for i in nonzero], symbols=sp.numbered_symbols("w"), order="none")
@@ -81,7 +129,7 @@ def lower(fn: Function, spec: ModelSpec) -> Lowered:
     main = _prune(list(repl), final)
     need_main = _used(main, final)
     trig = [t for t in trig if t[0] in need_main]
-    phi_assigns = _prune(phi_assigns, [s for s in P.values() if s in need_main])
+    phi_assigns = _prune(phi_assigns, [s for s in plate_syms if s in need_main])
     need_all = need_main | _used(phi_assigns, [s for s, _ in phi_assigns])
     inputs = [(i, v) for i, v in enumerate(fn.inputs) if v in need_all or any(t[2] == v for t in trig)]
     params = [(i, v) for i, v in enumerate(spec.params) if v in need_all]
