@@ -7,6 +7,7 @@ COMMANDS = (
     "equilibrium",
     "stability",
     "optimize",
+    "figures",
     "simulate",
     "bench",
 )

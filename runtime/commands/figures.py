@@ -6,30 +6,23 @@ runtime/solver_compare.py.
 """
 from __future__ import annotations
 
-import importlib
 from pathlib import Path
 
+from .. import figures_stability, solver_compare
 from .common import model_of
 
 NAME = "figures"
 HELP = "redraw the thesis's figures (3.2, 3.3, 3.5, 3.6, 3.7) as PNG files"
 
-# (module, function taking (outdir, model) or (outdir,)) in thesis order
-SOURCES = (("runtime.solver_compare", "make_figures", False),
-           ("runtime.figures_stability", "make_figures", True))
-
-
 def add_arguments(parser) -> None:
     parser.add_argument("--out", default="out/figures", help="folder for the PNG files")
+    parser.add_argument("--quick", action="store_true", help="fewer turns and steps in 3.2/3.3")
 
 
 def run(args) -> dict:
     outdir = Path(args.out)
     outdir.mkdir(parents=True, exist_ok=True)
     model = model_of(args)
-    files = []
-    for module, func, needs_model in SOURCES:
-        fn = getattr(importlib.import_module(module), func)
-        made = fn(outdir, model) if needs_model else fn(outdir)
-        files += [str(p) for p in made]
+    files = [f for f in solver_compare.run(outdir, quick=args.quick)["files"] if f.endswith(".png")]
+    files += [str(p) for p in figures_stability.make_figures(outdir, model)]
     return {"scene": model.scene.name, "files": files}
