@@ -20,6 +20,8 @@ dimensionless. No sympy here.
 """
 from __future__ import annotations
 
+import re
+
 import math
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
@@ -32,17 +34,15 @@ from . import linear
 OnAxis = Callable[[float], Sequence[float]]  # z -> [Phi_0, Phi_1, ..., Phi_K], K >= 3
 
 # the plate parameters (Scene.params keys) that are lengths, most characteristic first
-LENGTH_KEYS = ("plate_a", "plate_radius", "plate_r_out", "plate_w", "plate_r_in", "plate_thickness")
+LENGTH_KEYS = ("a", "radius", "r_out", "side_x", "side_y", "w", "r_in", "thickness")
+_LENGTH_RE = re.compile(r"^plate_(?:p\d+_)*(" + "|".join(LENGTH_KEYS) + r")$")
 
 
 def length_scale(params: dict) -> float:
-    """The plate's size from the scene's parameters (the first length key present), else 1.0
-    (a dimensionless scene)."""
-    for key in LENGTH_KEYS:
-        v = params.get(key)
-        if v is not None and v > 0:
-            return float(v)
-    return 1.0
+    """The plate's size: the largest length among the plate's parameters (compound parts
+    included, plate_p<i>_<key>), else 1.0 (a dimensionless scene)."""
+    lengths = [float(v) for k, v in params.items() if _LENGTH_RE.match(k) and v is not None and v > 0]
+    return max(lengths) if lengths else 1.0
 
 
 @dataclass(frozen=True)
