@@ -11,8 +11,11 @@ HELP = ("work-precision report: error of the final state against wall time for e
 
 def add_arguments(parser) -> None:
     parser.add_argument("--quick", action="store_true", help="a small version (a few seconds)")
-    parser.add_argument("--out", default="reports", metavar="DIR", help="output folder (default reports/)")
+    parser.add_argument("--out", default=None, metavar="DIR",
+                        help="output folder (default reports/, or out/bench-quick with --quick so that "
+                             "a quick run never overwrites the full report)")
 
 
 def run(args) -> dict:
-    return _bench.run(model_of(args), args.out, args.quick)
+    out = args.out or ("out/bench-quick" if args.quick else "reports")
+    return _bench.run(model_of(args), out, args.quick)
