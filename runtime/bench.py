@@ -31,6 +31,7 @@ import numpy as np
 
 from runtime.integrate import backend_of, integrate, run_c, time_fn_ns
 from runtime.simulate import hover_height, initial_state, state_scales
+from runtime.plotting import pyplot, save_figure
 
 ROW_KEYS = ("model", "backend", "integrator", "tol", "error", "wall_s", "rhs_evals")
 SPIN, TILT, OFFSET, LIFT, T_END = 200.0, 0.01, 1e-3, 0.02, 1.0
@@ -154,9 +155,7 @@ def goals(model, full_rows: list[dict], quick: bool) -> dict:
 
 
 def draw(rows: list[dict], path: Path, title: str) -> Path:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(7.5, 5.5))
     markers = {"c": "o", "casadi": "s", "scipy": "^"}
     for integ in dict.fromkeys(r["integrator"] for r in rows):
@@ -171,9 +170,7 @@ def draw(rows: list[dict], path: Path, title: str) -> Path:
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def run(model, out_dir: str | Path = "reports", quick: bool = False) -> dict:

@@ -19,6 +19,7 @@ import numpy as np
 
 from . import equilibrium as eqm
 from . import linear
+from .plotting import pyplot, save_figure
 
 
 def _params(model) -> dict:
@@ -43,9 +44,7 @@ def _variants(model) -> list[tuple[str, np.ndarray]]:
 
 
 def figure_3_5(model, path: Path) -> Path:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     P = _params(model)
     scale = eqm.length_scale(P)
@@ -69,15 +68,11 @@ def figure_3_5(model, path: Path) -> Path:
         ax.set_title(f"equilibrium condition (thesis 3.3.2): {label}")
         ax.legend()
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def figure_3_6(model, path: Path) -> Path:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     P = _params(model)
     scale = eqm.length_scale(P)
@@ -95,9 +90,7 @@ def figure_3_6(model, path: Path) -> Path:
     ax.set_title("forces at larger z (thesis fig. 3.6)")
     ax.legend()
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def critical_spins_g31_zero(g21: np.ndarray, g: float, A: float, C: float, m: float) -> np.ndarray:
@@ -117,9 +110,7 @@ def critical_spins_g31_zero(g21: np.ndarray, g: float, A: float, C: float, m: fl
 
 
 def figure_3_7(model, path: Path) -> Path:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     P = _params(model)
     g, A, C, mu = P["g"], P["A"], P["C"], P["mu"]
@@ -147,9 +138,7 @@ def figure_3_7(model, path: Path) -> Path:
     ax.set_title(f"critical spin rates (thesis fig. 3.7), m = {m:.3g}")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def make_figures(outdir, model) -> list[Path]:

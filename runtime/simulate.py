@@ -29,6 +29,7 @@ import numpy as np
 
 from runtime.errors import UserError
 from runtime.integrate import Box, FIXED_STEP, Result, integrate
+from .plotting import pyplot, save_figure
 
 
 # ---------------------------------------------------------------- rotations (numpy mirrors of
@@ -346,9 +347,7 @@ def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, i
 
 def draw(t, dz, r, tilt, path, info) -> Path:
     """Height above z_s, radial offset and tilt against time (matplotlib, Agg)."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig, ax = plt.subplots(3, 1, sharex=True, figsize=(7, 7))
@@ -362,6 +361,4 @@ def draw(t, dz, r, tilt, path, info) -> Path:
     ax[0].set_title(f"spin {info['spin']['rad_s']:g} rad/s, z_s = {info['z_s'] * 1e3:.2f} mm: "
                     f"{info['status']} (t = {info['t_survived']:.3g} s)")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)

@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from runtime.integrate import CSystem, csrc_library, run_c
+from .plotting import pyplot, save_figure
 
 R0, V0 = 1.0, 1.0
 PERIOD = 2 * math.pi * R0 / V0
@@ -87,15 +88,8 @@ def run(out_dir: str | Path = "reports", quick: bool = False) -> dict:
     return result
 
 
-def _plt():
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
-
-
 def draw_3_2(result: dict, path: Path) -> Path:
-    plt = _plt()
+    plt = pyplot()
     f = result["figure_3_2"]
     fig, ax = plt.subplots(figsize=(6, 4))
     for m, color in (("euler", "green"), ("rk4", "red")):
@@ -105,13 +99,11 @@ def draw_3_2(result: dict, path: Path) -> Path:
     ax.set_title(f"thesis fig. 3.2: error per turn, {f['steps_per_turn']} steps/turn")
     ax.legend()
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def draw_3_3(result: dict, path: Path) -> Path:
-    plt = _plt()
+    plt = pyplot()
     f = result["figure_3_3"]
     fig, ax = plt.subplots(figsize=(6, 4))
     for m, color in (("euler", "green"), ("rk4", "red")):
@@ -126,9 +118,7 @@ def draw_3_3(result: dict, path: Path) -> Path:
     ax.set_title("thesis fig. 3.3")
     ax.legend()
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def main(argv=None) -> int:
