@@ -10,4 +10,5 @@ COMMANDS = (
     "figures",
     "simulate",
     "bench",
+    "scan",
 )

@@ -1,0 +1,91 @@
+"""`levitron scan SCENE`: a stability map over spin and tilt, mass or height (DESIGN.md `scan`;
+thesis fig. 3.8 after Gans et al.). The physics and the runners are in runtime/scan.py."""
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from ..errors import UserError
+from ..integrate import METHODS
+from .. import scan as sc
+from .common import model_of, scene_of
+
+NAME = "scan"
+HELP = ("stability map: does the top stay up, over --spin LO:HI:N and one of --tilt, --mass, --height "
+        "(one nonlinear run per point, local processes or a dask cluster)")
+
+
+# "LO:HI:N" with a negative LO ("-0.3:0.3:5") must not be taken for an option: argparse's own
+# negative-number test (a private attribute, present in 3.8-3.13) is widened to ranges; where it is
+# missing, `--height=-0.3:0.3:5` still works.
+_NEGATIVE_RANGE = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?(:.*)?$")
+
+
+def add_arguments(parser) -> None:
+    if hasattr(parser, "_negative_number_matcher"):
+        parser._negative_number_matcher = _NEGATIVE_RANGE
+    parser.add_argument("--spin", default=None, metavar="LO:HI:N",
+                        help="spin rates, rad/s: N evenly spaced values from LO to HI")
+    parser.add_argument("--tilt", default=None, metavar="LO:HI:N", help="second axis: initial tilt, rad")
+    parser.add_argument("--mass", default=None, metavar="LO:HI:N",
+                        help="second axis: top mass, kg (each starts at its own hover height; no re-derivation)")
+    parser.add_argument("--height", default=None, metavar="LO:HI:N",
+                        help="second axis: initial vertical displacement as a FRACTION of the hover "
+                             "height, z0 = z_s (1 + h), |h| < 0.5 (scenes may be dimensionless); "
+                             "e.g. --height -0.3:0.3:7")
+    parser.add_argument("--base-tilt", type=float, default=sc.BASE_TILT, metavar="TH",
+                        help=f"initial tilt (rad) of --mass and --height scans (default {sc.BASE_TILT}: "
+                             "an upright top on the axis stays there by symmetry)")
+    parser.add_argument("--t-end", type=float, default=None, metavar="T",
+                        help=f"run length per point, s (default: {sc.PERIODS} periods of the slowest "
+                             "motion at the relative equilibrium, the transverse precession/wobble mode "
+                             "of the linearisation or the vertical bounce; ~10.5 s for the thesis plate "
+                             "with a 51.5 g top)")
+    parser.add_argument("--integrator", default="dop853", metavar="NAME",
+                        help=f"one of: {', '.join(METHODS)} (default dop853)")
+    parser.add_argument("--tol", type=float, default=1e-9, help="tolerance of adaptive integrators (default 1e-9)")
+    parser.add_argument("--step", type=float, default=None, metavar="H",
+                        help="step of fixed-step integrators, s (default: 1/100 of the fastest period)")
+    parser.add_argument("--workers", type=int, default=1, metavar="N",
+                        help="local worker processes (default 1: serial)")
+    parser.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                        help="run on a dask.distributed cluster (e.g. tcp://host:8786); needs the "
+                             "`cluster` extra: pip install 'levitron[cluster]'")
+    parser.add_argument("--out", default=None, metavar="FILE.png", help="draw the map to FILE.png")
+    parser.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+
+
+def run(args) -> dict:
+    if args.spin is None:
+        raise UserError("pass --spin LO:HI:N (rad/s); `levitron stability SCENE` gives the linear interval")
+    spins = sc.parse_range(args.spin, "spin")
+    axis, spec = sc.pick_axis({"tilt": args.tilt, "mass": args.mass, "height": args.height})
+    others = sc.parse_range(spec, axis)
+    sc.check_axis(axis, others)
+    if args.t_end is not None and not args.t_end > 0:
+        raise UserError(f"--t-end {args.t_end} must be a positive run length in s, e.g. --t-end 5")
+    if args.workers is None or args.workers < 1:
+        raise UserError(f"--workers {args.workers} must be at least 1 (1 = serial)")
+    if args.scheduler is not None and args.workers != 1:
+        raise UserError("pass either --workers N (local processes) or --scheduler ADDRESS (dask), not both")
+    if args.integrator not in METHODS:
+        raise UserError(f"unknown integrator {args.integrator!r}; choose one of: {', '.join(METHODS)}")
+    if args.tol is not None and not args.tol > 0:
+        raise UserError(f"--tol {args.tol} must be positive, e.g. --tol 1e-9")
+    if args.step is not None and not args.step > 0:
+        raise UserError(f"--step {args.step} must be positive, e.g. --step 1e-4")
+    if args.out is not None and Path(args.out).suffix.lower() != ".png":
+        raise UserError(f"--out {args.out!r} must name a .png file, e.g. --out map.png")
+    scene = scene_of(args)
+    model = model_of(args)
+    scene_ref = str(Path(scene.path).resolve()) if scene.path is not None else args.scene
+    res = sc.scan(model, scene_ref, args.set, spins, axis, others, t_end=args.t_end,
+                  integrator=args.integrator, tol=args.tol, workers=args.workers,
+                  scheduler=args.scheduler, base_tilt=args.base_tilt, h=args.step,
+                  quiet=args.quiet)
+    out = {"scene": scene.name}
+    out.update(res.as_dict())
+    out["out"] = None
+    if args.out:
+        out["out"] = str(sc.draw(res, args.out, f"{scene.name}: levitating vs spin and {axis}"))
+    return out
