@@ -11,9 +11,11 @@ from __future__ import annotations
 
 import ctypes
 import json
+import os
 import shutil
 import subprocess
 import sys
+import tempfile
 from functools import cached_property
 from pathlib import Path
 
@@ -43,42 +45,56 @@ def _ptr(a: np.ndarray):
     return a.ctypes.data_as(_DOUBLE_P)
 
 
+def _own_scene(scene: Scene) -> bool:
+    return scene.path is not None and Path(scene.path).resolve().parent == SCENES_DIR.resolve()
+
+
 def generated_dir(scene: Scene, overrides=()) -> Path:
-    """Where the scene's model lives: generated/<name>/ for a scene of scenes/ as written,
-    else a folder in the cache keyed by the input hash (so overrides never touch generated/)."""
-    own = scene.path is not None and Path(scene.path).resolve().parent == SCENES_DIR.resolve()
-    if own:
-        base = GENERATED / scene.name
-        if not overrides or _manifest_hash(base) == input_hash(scene.data):
-            return base
-    return cache_dir() / "derived" / f"{scene.name}-{input_hash(scene.data)[:16]}"
+    """Where the scene's model lives: generated/<name>/ when that is current for the scene (a scene
+    of scenes/, also with --set overrides of numbers, which are runtime parameters), else a folder
+    in the cache keyed by the input hash. The runtime never writes into generated/: only
+    `make derive` does."""
+    ihash = input_hash(scene.data)
+    if _own_scene(scene) and _manifest_hash(GENERATED / scene.name) == ihash:
+        return GENERATED / scene.name
+    return cache_dir() / "derived" / f"{scene.name}-{ihash[:16]}"
 
 
 def _manifest_hash(folder: Path) -> str | None:
     try:
         return json.loads((folder / "manifest.json").read_text()).get("input_hash")
-    except (FileNotFoundError, json.JSONDecodeError):
+    except (FileNotFoundError, NotADirectoryError, json.JSONDecodeError):
         return None
 
 
 def ensure_generated(scene: Scene, overrides=()) -> Path:
-    """The scene's generated folder, derived first (python -m derive, a subprocess) if stale."""
+    """The scene's generated folder; derived first (python -m derive, in a subprocess: the runtime
+    does not import sympy) into the cache when no current one exists. The new folder appears by one
+    rename, so concurrent processes (scan workers) never see a half-written model."""
     out = generated_dir(scene, overrides)
-    if _manifest_hash(out) == input_hash(scene.data):
+    ihash = input_hash(scene.data)
+    if _manifest_hash(out) == ihash:
         return out
-    cmd = [sys.executable, "-m", "derive", str(scene.path), "--out", str(out.parent)]
-    for o in overrides:
-        cmd += ["--set", o]
-    print(f"levitron: deriving the model of scene '{scene.name}' (its generated code is missing "
-          f"or stale) ...", file=sys.stderr)
-    res = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, check=False)
-    if res.returncode != 0:
-        raise UserError(f"derive failed for scene '{scene.name}': {res.stderr.strip()}")
-    if out.name != scene.name:   # derive writes <out.parent>/<name>; move it to its hashed folder
-        src = out.parent / scene.name
-        if out.exists():
-            shutil.rmtree(out)
-        src.rename(out)
+    if _own_scene(scene) and (GENERATED / scene.name).exists() and not overrides:
+        print(f"levitron: generated/{scene.name} is stale (the scene or derive/ changed): using a "
+              "fresh derivation in the cache; run `make derive` to update generated/", file=sys.stderr)
+    print(f"levitron: deriving the model of scene '{scene.name}' ...", file=sys.stderr)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{scene.name}-", dir=out.parent))
+    try:
+        cmd = [sys.executable, "-m", "derive", str(scene.path), "--out", str(tmp), "--force"]
+        for o in overrides:
+            cmd += ["--set", o]
+        res = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, check=False)
+        if res.returncode != 0:
+            raise UserError(f"derive failed for scene '{scene.name}': {res.stderr.strip()}")
+        try:
+            os.replace(tmp / scene.name, out)
+        except OSError:
+            if _manifest_hash(out) != ihash:   # not another process's identical result: a real error
+                raise
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
     return out
 
 

@@ -81,3 +81,20 @@ def test_unused_part_is_not_emitted(derived_model):
     assert "full_" not in (model.folder / "model.c").read_text()
     with pytest.raises(Exception, match="add \"full\" to model.needs"):
         model.part("full")
+
+
+def test_runtime_never_writes_into_generated(tmp_path, monkeypatch):
+    """A stale generated/<scene> is left alone: the runtime derives into the cache and says so."""
+    import runtime.model as rm
+    fake = tmp_path / "generated"
+    (fake / "thesis").mkdir(parents=True)
+    stale = '{"input_hash": "stale"}'
+    (fake / "thesis" / "manifest.json").write_text(stale)
+    monkeypatch.setattr(rm, "GENERATED", fake)
+    monkeypatch.setenv("LEVITRON_CACHE", str(tmp_path / "cache"))
+    model = rm.load_model(load_scene("thesis"))
+    assert model.folder.parent == tmp_path / "cache" / "derived"
+    assert (fake / "thesis" / "manifest.json").read_text() == stale
+    assert sorted(p.name for p in (fake / "thesis").iterdir()) == ["manifest.json"]
+    assert model.part("reduced").rhs([0.1, 0.0, 0.0, 0.0]).shape == (4,)
+    assert [p.name for p in (tmp_path / "cache" / "derived").iterdir()] == [model.folder.name]
