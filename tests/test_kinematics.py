@@ -105,3 +105,24 @@ def test_axis_follows_angular_velocity():
         ndot = sum((rot.n.diff(q) * qd for q, qd in zip(rot.angles, rot.rates)), sp.zeros(3, 1))
         w_space = rot.R_bs * rot.omega
         assert (ndot - w_space.cross(rot.n)).applyfunc(sp.simplify) == sp.zeros(3, 1), rot.name
+
+
+def test_eq_2_1_6_to_2_1_8_and_3_2_3_to_3_2_5_rotation_matrices():
+    """The thesis's elementary matrices are proper rotations, each about the axis it names
+    (the axis is the matrix's fixed vector)."""
+    a = sp.Symbol("a", real=True)
+    for R, axis in ((R1(a), (0, 0, 1)), (R2(a), (1, 0, 0)), (R3(a), (0, 0, 1)),
+                    (Rx(a), (1, 0, 0)), (Ry(a), (0, 1, 0)), (Rz(a), (0, 0, 1))):
+        assert (R * R.T).applyfunc(sp.simplify) == sp.eye(3)
+        assert sp.simplify(R.det()) == 1
+        assert R * sp.Matrix(axis) == sp.Matrix(axis)
+
+
+def test_eq_3_2_2_composition_is_body_to_space():
+    """R = Rx(phi) Ry(vth) Rz(zeta) (thesis 3.2.2) maps body to space: the spin angle zeta does not
+    move the symmetry axis n = R e_z, while phi and vth do."""
+    rot = tait_bryan()
+    phi, vth, zeta = rot.angles
+    assert rot.n.diff(zeta) == sp.zeros(3, 1)
+    assert rot.n.diff(phi) != sp.zeros(3, 1) and rot.n.diff(vth) != sp.zeros(3, 1)
+    assert rot.n.subs({phi: 0, vth: 0}) == sp.Matrix([0, 0, 1])
