@@ -75,17 +75,7 @@ def _phi_to_symbols(expr: sp.Expr) -> sp.Expr:
     return expr.xreplace(reps)
 
 
-# ------------------------------------------------------------- route 1: our own full Hamiltonian
-
-def _rot(axis: str, a):
-    """The thesis's rotation matrices (3.2.3-3.2.5)."""
-    c, s = sp.cos(a), sp.sin(a)
-    if axis == "x":
-        return sp.Matrix([[1, 0, 0], [0, c, s], [0, -s, c]])
-    if axis == "y":
-        return sp.Matrix([[c, 0, s], [0, 1, 0], [-s, 0, c]])
-    return sp.Matrix([[c, s, 0], [-s, c, 0], [0, 0, 1]])
-
+# ------------------------------------------- route 1: the full Hamiltonian of derive/mechanics.py
 
 @dataclass(frozen=True)
 class HamiltonianSystem:
@@ -102,45 +92,12 @@ class HamiltonianSystem:
 
 
 @lru_cache(maxsize=None)
-def own_hamiltonian() -> HamiltonianSystem:
-    """The full Tait-Bryan Hamiltonian, derived here independently of derive/mechanics.py.
-
-    R = Rx(phi) Ry(vartheta) Rz(zeta) (thesis 3.2.2-3.2.5) maps body to space; the body angular
-    velocity is vee(R^T dR/dt) (3.2.7-3.2.9); T = m v^2/2 + (A w1^2 + A w2^2 + C w3^2)/2 (2.1.11-2.1.13);
-    n = R e_z; B from the expansion to order r^2 (2.2.7); U = m g z - mu n.B (2.2.1). The momenta
-    p = dL/dqdot = M(q) qdot, and H = p^T M^-1 p / 2 + U (Legendre transform, 2.3.9).
-    """
-    qd = sp.symbols("xd yd zd phid vthd zetad", real=True)
-    R = _rot("x", phi) * _rot("y", vth) * _rot("z", zeta)
-    Rdot = sum((R.diff(a) * ad for a, ad in zip((phi, vth, zeta), qd[3:])), sp.zeros(3, 3))
-    W = R.T * Rdot
-    omega = sp.Matrix([W[2, 1], W[0, 2], W[1, 0]]).applyfunc(lambda e: sp.trigsimp(sp.expand(e)))
-    T = (m * (qd[0] ** 2 + qd[1] ** 2 + qd[2] ** 2)
-         + A * omega[0] ** 2 + A * omega[1] ** 2 + C * omega[2] ** 2) / 2
-    n = R * sp.Matrix([0, 0, 1])
-    r2 = x ** 2 + y ** 2
-    B = sp.Matrix([x * Phi(2, z) / 2, y * Phi(2, z) / 2, -Phi(1, z) + r2 * Phi(3, z) / 4])
-    U = m * g * z - mu * (n.T * B)[0, 0]
-    M = sp.hessian(sp.expand(T), qd).applyfunc(lambda e: sp.trigsimp(sp.factor(e)))
-    Minv = M.inv(method="ADJ").applyfunc(lambda e: sp.trigsimp(sp.factor(e)))
-    pv = sp.Matrix(P_TB)
-    H = sp.expand((pv.T * Minv * pv)[0, 0] / 2) + U
-    return HamiltonianSystem(Q_TB, P_TB, H)
-
-
-def mechanics_hamiltonian() -> HamiltonianSystem | None:
-    """The lead's derive/mechanics.py Hamiltonian (Tait-Bryan, field order 2), if it is available."""
-    try:
-        from . import mechanics  # noqa: F401  (owned by the lead; may not exist yet)
-    except ImportError:
-        return None
-    build = getattr(mechanics, "hamiltonian_system", None)
-    if build is None:
-        return None
-    sys_ = build(coords="tait-bryan", order=2)
-    q = tuple(sys_.q)
-    p = tuple(sys_.p)
-    ren = {old: new for old, new in zip(q + p, STATES_TB)}
+def full_hamiltonian() -> HamiltonianSystem:
+    """The full Tait-Bryan Hamiltonian of derive/mechanics.py (thesis 2.3.9 in the angles of 3.2.2,
+    field to order r^2, eq. 2.2.7), with its states renamed to this module's symbols."""
+    from .mechanics import hamiltonian_system
+    sys_ = hamiltonian_system("tait-bryan", 2)
+    ren = {old: new for old, new in zip(tuple(sys_.q) + tuple(sys_.p), STATES_TB)}
     return HamiltonianSystem(Q_TB, P_TB, sp.sympify(sys_.H).xreplace(ren))
 
 
@@ -170,15 +127,10 @@ def split_blocks(J: sp.Matrix) -> tuple[sp.Matrix, sp.Matrix, sp.Matrix, sp.Matr
 
 
 @lru_cache(maxsize=None)
-def linear_system_8d(source: str = "own") -> sp.Matrix:
-    """The 8-D linear system after thesis 3.3.5: d/dt (dx, dy, dvth, dphi, dp_x, dp_y, dp_vth, dp_phi).
-
-    source "own" uses own_hamiltonian(), "mechanics" the lead's derive/mechanics.py.
-    """
-    system = own_hamiltonian() if source == "own" else mechanics_hamiltonian()
-    if system is None:
-        raise LookupError("derive/mechanics.py does not provide hamiltonian_system yet")
-    J8, _, _, _ = split_blocks(jacobian_at_equilibrium(system))
+def linear_system_8d() -> sp.Matrix:
+    """The 8-D linear system after thesis 3.3.5: d/dt (dx, dy, dvth, dphi, dp_x, dp_y, dp_vth, dp_phi),
+    the transverse block of the full model's Jacobian at the relative equilibrium."""
+    J8, _, _, _ = split_blocks(jacobian_at_equilibrium(full_hamiltonian()))
     return J8
 
 

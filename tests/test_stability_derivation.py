@@ -8,7 +8,6 @@ from __future__ import annotations
 import random
 
 import numpy as np
-import pytest
 import sympy as sp
 
 from derive import stability as st
@@ -30,7 +29,7 @@ def zero(expr) -> bool:
 def test_eq_3_3_1_to_3_3_3_reduced_potential():
     """On the invariant set (3.2.1) H = p_z^2/2m + p_zeta^2/2C + m g z + mu Phi1 (3.2.12), so
     U = m g z + mu Phi1 (3.3.1), U' = m g + mu Phi2 (3.3.2), U'' = mu Phi3 (3.3.3)."""
-    H = st.own_hamiltonian().H
+    H = st.full_hamiltonian().H
     z = st.z
     on_set = {st.x: 0, st.y: 0, st.phi: 0, st.vth: 0, st.p_x: 0, st.p_y: 0, st.p_phi: 0, st.p_vth: 0}
     HI = sp.simplify(H.xreplace(on_set))
@@ -45,30 +44,23 @@ def test_eq_3_3_1_to_3_3_3_reduced_potential():
 def test_eq_3_3_5_jacobian_splits_at_the_relative_equilibrium():
     """At x = y = phi = vth = 0, p = (0,..,C sigma) the 12-D Jacobian splits: transverse (8) and
     (z, zeta, p_z, p_zeta); the vertical block is z'' = -(mu Phi3/m) z, zeta' = p_zeta/C."""
-    J = st.jacobian_at_equilibrium(st.own_hamiltonian())
+    J = st.jacobian_at_equilibrium(st.full_hamiltonian())
     J8, V, TV, VT = st.split_blocks(J)
     assert TV == sp.zeros(8, 4) and VT == sp.zeros(4, 8)
     assert V == sp.Matrix([[0, 0, 1 / m, 0], [0, 0, 0, 1 / C], [-mu * P3, 0, 0, 0], [0, 0, 0, 0]])
 
 
 def test_eq_3_3_5_linear_system_two_routes():
-    """The 8-D system from the full Hamiltonian equals that of the small-angle quadratic H2."""
-    assert (st.linear_system_8d("own") - st.small_angle_system_8d()).applyfunc(sp.simplify) \
-        == sp.zeros(8, 8)
-
-
-def test_eq_3_3_5_linear_system_from_mechanics():
-    """The lead's derive/mechanics.py Hamiltonian gives the same 8-D system."""
-    if st.mechanics_hamiltonian() is None:
-        pytest.skip("derive/mechanics.py has no hamiltonian_system yet")
-    assert (st.linear_system_8d("mechanics") - st.linear_system_8d("own")).applyfunc(sp.simplify) \
+    """The 8-D system from the full Hamiltonian (derive/mechanics.py) equals that of the small-angle
+    quadratic Hamiltonian H2 built independently in derive/stability.py."""
+    assert (st.linear_system_8d() - st.small_angle_system_8d()).applyfunc(sp.simplify) \
         == sp.zeros(8, 8)
 
 
 def test_eq_3_3_5_thesis_list_has_a_duplicated_left_hand_side():
     """The thesis prints 'd vth/dt' twice; its 4th line is the phi equation. With that left-hand
     side corrected, every printed line equals the derivation (signs included)."""
-    J8 = st.linear_system_8d("own")
+    J8 = st.linear_system_8d()
     printed = st.thesis_system_8d()           # row 4 placed at phi, as corrected
     assert (J8 - printed).applyfunc(sp.simplify) == sp.zeros(8, 8)
     # the printed 4th line cannot be d vth/dt: the derived d vth/dt row differs from it
@@ -78,7 +70,7 @@ def test_eq_3_3_5_thesis_list_has_a_duplicated_left_hand_side():
 def test_eq_3_3_6_complex_form():
     """Eliminating the momenta, q'' = K q + D q' with K, D the real forms of A and B of 3.3.6
     (u = dx + i dy, v = dvth + i dphi)."""
-    K, D = st.second_order_form(st.linear_system_8d("own"))
+    K, D = st.second_order_form(st.linear_system_8d())
     Am, Bm = st.complex_form()
     assert (K - st.realify(Am)).applyfunc(sp.simplify) == sp.zeros(4, 4)
     assert (D - st.realify(Bm)).applyfunc(sp.simplify) == sp.zeros(4, 4)
@@ -102,7 +94,7 @@ def test_eq_3_3_9_quartic():
 def test_eq_3_3_9_eight_dim_charpoly_is_P_times_conjugate():
     """The eigenvalues of the real 8-D system are the roots of P(lambda) and of its conjugate
     (the same with sigma -> -sigma): det(lambda 1 - J8) = P(lambda) P(lambda)|_{sigma -> -sigma}."""
-    J8 = st.linear_system_8d("own")
+    J8 = st.linear_system_8d()
     cp = (lam * sp.eye(8) - J8).det(method="berkowitz")
     P = st.P_of_lambda()
     assert zero(cp - P * P.subs(sigma, -sigma))
@@ -240,7 +232,7 @@ def test_eq_3_3_23_sigma2_is_a_square():
 
 def test_runtime_transverse_matrix_matches_derivation():
     """runtime/linear.transverse_matrix is the derived 8-D system (random values)."""
-    J8 = st.linear_system_8d("own")
+    J8 = st.linear_system_8d()
     f = sp.lambdify((P1, P2, P3, m, A, C, mu, sigma), J8, "numpy")
     rng = random.Random(3)
     for _ in range(5):
