@@ -66,28 +66,12 @@ def disk_phi0(a: sp.Expr, rho: sp.Expr) -> sp.Expr:
     return 2 * sp.pi * rho * (1 - Z / sp.sqrt(Z**2 + a**2))
 
 
-def _annulus(plate: dict) -> Plate:
-    a, w, rho = plate_symbol("a"), plate_symbol("w"), plate_symbol("rho")
-    return Plate("annulus", annulus_phi0(a, w, rho), (a, w, rho))
-
-
-def _disk(plate: dict) -> Plate:
-    a, rho = plate_symbol("a"), plate_symbol("rho")
-    return Plate("disk", disk_phi0(a, rho), (a, rho))
-
-
-BUILDERS: dict[str, Callable[[dict], Plate]] = {
-    "annulus": _annulus,
-    "disk": _disk,
-}
-
-
 def build_plate(plate: dict) -> Plate:
     """The Plate for a validated scene's [plate] table (see derive/scene.py).
 
-    All kinds, with the annulus and disk in their cancellation-free forms (same Phi0 and Phi_k as
-    `_annulus`/`_disk`, rearranged: derive/onaxis.py), come from derive/plates_extra.py (issue 5),
-    imported here because it builds on this module.
+    Every kind comes from derive/plates_extra.py (imported here because it builds on this module);
+    the annulus and disk there have Phi0 of thesis eq. 2.2.11 (`annulus_phi0`, `disk_phi0` above)
+    with their derivatives in cancellation-free forms (derive/onaxis.py).
     """
     from .plates_extra import BUILDERS as ALL_BUILDERS
     return ALL_BUILDERS[plate["kind"]](plate)

@@ -1,7 +1,7 @@
-"""Scene validation and SI resolution of the plate kinds of issue 5 (pure Python, no sympy).
+"""Scene validation and SI resolution of every plate kind (pure Python, no sympy).
 
-derive/scene.py adds these to its PLATE_KINDS table. Each resolver takes the [plate] table (or one
-of its [[plate.parts]]) and the top's moment, and returns the SI parameters by the names that
+derive/scene.py builds its PLATE_KINDS table from PLATE_KIND_TABLE below. Each resolver takes the
+[plate] table (or one of its [[plate.parts]]) and the top's moment, and returns the SI parameters by the names that
 derive/plates_extra.py gives the plate's symbols (Scene.params then holds them as `plate_<name>`):
 
   loop         radius, current (A) | center_field (T: B at the centre = mu0 I / (2 a))
@@ -64,8 +64,11 @@ DISK_KEYS = {"kind", "radius", "murho", "dipole_density"}
 def resolve_annulus(table: dict, moment, where: str = "plate") -> dict:
     a = _num(table, "radius", where, positive=True)
     w = _num(table, "hole", where, default=0.0)
-    if w < 0 or w >= a:
-        raise _err(f"{where}.hole = {w} must satisfy 0 <= hole < radius = {a}: make the hole smaller")
+    if w < 0:
+        raise _err(f"{where}.hole = {w} is negative: give 0 <= hole < radius")
+    if w >= a:
+        raise _err(f"{where}.hole = {w} is not smaller than {where}.radius = {a}: "
+                   "make the hole smaller than the plate")
     out = dict(_scene()._strength_rho(table, moment, where))
     out.update({"a": a, "w": w})
     return out
@@ -206,8 +209,10 @@ def resolve_compound(table: dict, moment, where: str = "plate") -> dict:
     return out
 
 
-# kind -> (allowed keys, resolver(table, moment) -> dict, doc)
-EXTRA_PLATE_KINDS = {
+# kind -> (allowed keys, resolver(table, moment) -> dict, doc): every plate kind of a scene
+PLATE_KIND_TABLE = {
+    "annulus": (ANNULUS_KEYS, resolve_annulus, "thin annulus, thesis eq. 2.2.11"),
+    "disk": (DISK_KEYS, resolve_disk, "thin disk (annulus without hole)"),
     "loop": (LOOP_KEYS, resolve_loop, "circular current loop in z = 0"),
     "ring_magnet": (RING_KEYS, resolve_ring_magnet,
                     "axially magnetised ring or cylinder magnet, top face in z = 0"),

@@ -94,38 +94,11 @@ def _strength_rho(plate: dict, moment: float | None, where: str = "plate") -> di
     return {"rho": MU0 * dens / (4.0 * math.pi)}
 
 
-def _resolve_annulus(plate: dict, moment: float | None) -> dict:
-    a = _number(plate, "radius", "plate", positive=True)
-    w = _number(plate, "hole", "plate", default=0.0)
-    if w < 0:
-        raise SceneError(f"plate.hole = {w} is negative: give 0 <= hole < radius")
-    if w >= a:
-        raise SceneError(f"plate.hole = {w} is not smaller than plate.radius = {a}: "
-                         "make the hole smaller than the plate")
-    out = _strength_rho(plate, moment)
-    out.update({"a": a, "w": w})
-    return out
+# Every kind's keys and resolver live in derive/plate_kinds.py (pure Python).
+from .plate_kinds import PLATE_KIND_TABLE  # noqa: E402  (it uses _strength_rho above)
 
-
-def _resolve_disk(plate: dict, moment: float | None) -> dict:
-    a = _number(plate, "radius", "plate", positive=True)
-    out = _strength_rho(plate, moment)
-    out["a"] = a
-    return out
-
-
-PLATE_KINDS: dict[str, PlateKind] = {
-    "annulus": PlateKind(frozenset({"kind", "radius", "hole", "murho", "dipole_density"}),
-                         _resolve_annulus, "thin annulus, thesis eq. 2.2.11"),
-    "disk": PlateKind(frozenset({"kind", "radius", "murho", "dipole_density"}),
-                      _resolve_disk, "thin disk (annulus without hole)"),
-}
-
-# Issue 5: loop, ring_magnet, rectangle, expression, compound (pure Python, derive/plate_kinds.py).
-from .plate_kinds import EXTRA_PLATE_KINDS  # noqa: E402  (after the helpers it uses)
-
-PLATE_KINDS.update({kind: PlateKind(frozenset(keys), fn, doc)
-                    for kind, (keys, fn, doc) in EXTRA_PLATE_KINDS.items()})
+PLATE_KINDS: dict[str, PlateKind] = {kind: PlateKind(frozenset(keys), fn, doc)
+                                     for kind, (keys, fn, doc) in PLATE_KIND_TABLE.items()}
 
 
 # ---------------------------------------------------------------- the scene
