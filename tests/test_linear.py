@@ -203,14 +203,9 @@ def test_on_imaginary_axis_tolerance_is_a_real_bound():
 
 @pytest.fixture(scope="module")
 def thesis_model():
-    from runtime.cbuild import CompileError
-    from runtime.errors import UserError
-    try:
-        from derive.scene import load_scene
-        from runtime.model import load_model
-        return load_model(load_scene("thesis"))
-    except (ImportError, OSError, UserError, CompileError) as exc:
-        pytest.skip(f"generated thesis model not available: {exc}")
+    from derive.scene import load_scene
+    from runtime.model import load_model
+    return load_model(load_scene("thesis"))
 
 
 def _with_mass(model, mass):
