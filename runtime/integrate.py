@@ -478,14 +478,9 @@ class CSystem:
         return getattr(self.lib, f"{self.prefix}_{name}")
 
     def _call(self, name: str, x, p, n_out: int) -> np.ndarray:
-        x = _f64(x)
-        p = self.p if p is None else _f64(p)
-        out = np.zeros(n_out)
-        fn = self.c_function(name)
-        fn.argtypes = [_DP, _DP, _DP]
-        fn.restype = None
-        fn(_ptr(x), _ptr(p), _ptr(out))
-        return out
+        from runtime.model import CFunction
+        return CFunction(self.c_function(name), len(self.states), n_out,
+                         self.p if p is None else _f64(p))(x)
 
     def rhs(self, x, p=None, backend: str = "c") -> np.ndarray:
         return self._call("rhs", x, p, len(self.states))

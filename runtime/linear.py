@@ -459,29 +459,9 @@ def growth_rate(J: np.ndarray) -> float:
 
 # ----------------------------------------------------------------------- one scene, both routes
 
-class FastC:
-    """Call a generated C function `void f(const double *in, const double *p, double *out)` with
-    preallocated buffers (the ctypes marshalling of Model.call costs more than the function)."""
-
-    def __init__(self, fn, n_in: int, n_out: int, p: np.ndarray):
-        import ctypes
-        dp = ctypes.POINTER(ctypes.c_double)
-        self._fn = fn
-        self._in = np.zeros(n_in)
-        self._out = np.zeros(n_out)
-        self._p = np.ascontiguousarray(p, dtype=float).copy()
-        self._args = tuple(a.ctypes.data_as(dp) for a in (self._in, self._p, self._out))
-
-    def __call__(self, x) -> np.ndarray:
-        self._in[:] = x
-        self._fn(*self._args)
-        return self._out.copy()
-
-
 def model_onaxis(model, p: np.ndarray | None = None) -> Callable[[float], np.ndarray]:
     """z -> [Phi_0..Phi_K](z) of a loaded model (its generated `onaxis`), fast."""
-    info = model.manifest["functions"]["onaxis"]
-    f = FastC(model.c_function("onaxis"), info["n_in"], info["n_out"], model.p if p is None else p)
+    f = model.fast("onaxis", p)
     return lambda z: f([z])
 
 
@@ -489,11 +469,9 @@ def model_callables(model, p: np.ndarray | None = None) -> tuple[Callable, Calla
     """(onaxis(z), full_jac(state), full states) of a loaded runtime.model.Model, fast; p: a
     parameter vector other than the scene's (order: model.manifest["parameters"])."""
     p = model.p if p is None else p
-    funcs = model.manifest["functions"]
     onaxis = model_onaxis(model, p)
     part = model.part("full")
-    jinfo = funcs["full_jac"]
-    jfast = FastC(part.c_function("jac"), jinfo["n_in"], jinfo["n_out"], p)
+    jfast = model.fast("full_jac", p)
     n = part.nx
     return onaxis, (lambda x: jfast(x).reshape(n, n)), list(part.states)
 

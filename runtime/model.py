@@ -45,6 +45,33 @@ def _ptr(a: np.ndarray):
     return a.ctypes.data_as(_DOUBLE_P)
 
 
+class CFunction:
+    """The one ctypes call path: a generated (or runtime/csrc test) C function
+    `void f(const double *in, const double *p, double *out)` bound to preallocated buffers of the
+    sizes the manifest states (the marshalling of a fresh call costs more than the function).
+
+        f = CFunction(fn, n_in, n_out, p);  y = f(x)          # a copy of the output
+    """
+
+    def __init__(self, fn, n_in: int, n_out: int, p: np.ndarray):
+        fn.argtypes = [_DOUBLE_P, _DOUBLE_P, _DOUBLE_P]
+        fn.restype = None
+        self._fn = fn
+        self.n_in, self.n_out = int(n_in), int(n_out)
+        self._in = np.zeros(self.n_in)
+        self._out = np.zeros(self.n_out)
+        self._p = np.array(p, dtype=float).reshape(-1)
+        self._args = tuple(_ptr(a) for a in (self._in, self._p, self._out))
+
+    def __call__(self, x) -> np.ndarray:
+        x = np.asarray(x, dtype=float).reshape(-1)
+        if x.size != self.n_in:
+            raise ValueError(f"expected {self.n_in} inputs, got {x.size}")
+        self._in[:] = x
+        self._fn(*self._args)
+        return self._out.copy()
+
+
 def _own_scene(scene: Scene) -> bool:
     return scene.path is not None and Path(scene.path).resolve().parent == SCENES_DIR.resolve()
 
@@ -199,6 +226,17 @@ class Model:
             self._cfuncs[name] = fn
         return fn
 
+    def fast(self, name: str, p: np.ndarray | None = None) -> CFunction:
+        """The generated C function `name` bound to parameters p (default the scene's) with
+        preallocated buffers: for hot loops (root searches, Jacobian sweeps)."""
+        info = self.manifest["functions"].get(name)
+        if info is None:
+            raise MissingPart(f"scene '{self.scene.name}' has no generated function {name}")
+        p = self.p if p is None else np.asarray(p, dtype=float)
+        if p.size != self.p.size:
+            raise ValueError(f"{name}: expected {self.p.size} parameters, got {p.size}")
+        return CFunction(self.c_function(name), info["n_in"], info["n_out"], p)
+
     # ---- CasADi backend
     def casadi(self, name: str):
         import casadi as ca
@@ -220,9 +258,7 @@ class Model:
             raise ValueError(f"{name}: expected {info['n_in']} inputs and "
                              f"{len(self.manifest['parameters'])} parameters, got {x.size}, {p.size}")
         if backend == "c":
-            out = np.empty(info["n_out"])
-            self.c_function(name)(_ptr(x), _ptr(p), _ptr(out))
-            return out
+            return self.fast(name, p)(x)
         if backend == "casadi":
             return np.asarray(self.casadi(name)(x, p), dtype=float).reshape(-1)
         raise UserError(f"unknown backend {backend!r}: use 'c' or 'casadi'")
