@@ -18,16 +18,8 @@ from pathlib import Path
 import numpy as np
 
 from . import equilibrium as eqm
-from . import linear
+from .ray_algebra import l_cubic
 from .plotting import pyplot, save_figure
-
-
-def _params(model) -> dict:
-    return {n: float(v) for n, v in zip(model.manifest["parameters"], model.p)}
-
-
-def _onaxis(model, p):
-    return linear.model_onaxis(model, p)
 
 
 def _variants(model) -> list[tuple[str, np.ndarray]]:
@@ -46,14 +38,14 @@ def _variants(model) -> list[tuple[str, np.ndarray]]:
 def figure_3_5(model, path: Path) -> Path:
     plt = pyplot()
 
-    P = _params(model)
-    scale = eqm.length_scale(P)
+    P = eqm.params_of(model)
+    scale = eqm.scale_of(model)
     m, g, mu = P["m"], P["g"], P["mu"]
     variants = _variants(model)
     fig, axes = plt.subplots(1, len(variants), figsize=(5.2 * len(variants), 4), squeeze=False)
     z = np.linspace(0.02 * scale, 2.0 * scale, 600)
     for ax, (label, p) in zip(axes[0], variants):
-        on = _onaxis(model, p)
+        on = eqm.model_onaxis(model, p)
         force = np.array([-mu * on(float(zz))[2] for zz in z])
         ax.plot(z, force, "r-", label=r"$-\mu\Phi_2(z)$")
         ax.axhline(m * g, color="g", label=r"$m g$")
@@ -74,15 +66,15 @@ def figure_3_5(model, path: Path) -> Path:
 def figure_3_6(model, path: Path) -> Path:
     plt = pyplot()
 
-    P = _params(model)
-    scale = eqm.length_scale(P)
+    P = eqm.params_of(model)
+    scale = eqm.scale_of(model)
     m, g, mu = P["m"], P["g"], P["mu"]
     z = np.linspace(1.0 * scale, 4.0 * scale, 400)
     fig, ax = plt.subplots(figsize=(6, 4))
     ax.axhline(m * g, color="b", label="gravitational force m g")
     colours = {"without hole": "g"}
     for label, p in _variants(model):
-        on = _onaxis(model, p)
+        on = eqm.model_onaxis(model, p)
         ax.plot(z, [-mu * on(float(zz))[2] for zz in z], colours.get(label, "r"),
                 label=f"magnetic force, {label}")
     ax.set_xlabel("z")
@@ -100,7 +92,7 @@ def critical_spins_g31_zero(g21: np.ndarray, g: float, A: float, C: float, m: fl
     rho, alpha = C / A, math.sqrt(A / m)
     out = np.full((len(g21), 2), np.nan)
     for i, x in enumerate(g21):
-        a = linear.l_cubic(x, 0.0)          # a0 + a1 l + a2 l^2 + a3 l^3, a0 = 0 at g31 = 0
+        a = l_cubic(x, 0.0)          # a0 + a1 l + a2 l^2 + a3 l^3, a0 = 0 at g31 = 0
         roots = np.roots(a[::-1][:-1])      # divide by l
         roots = np.sort(roots[np.abs(roots.imag) <= 1e-9 * np.abs(roots)].real)
         roots = roots[roots > 0]
@@ -112,10 +104,10 @@ def critical_spins_g31_zero(g21: np.ndarray, g: float, A: float, C: float, m: fl
 def figure_3_7(model, path: Path) -> Path:
     plt = pyplot()
 
-    P = _params(model)
+    P = eqm.params_of(model)
     g, A, C, mu = P["g"], P["A"], P["C"], P["mu"]
-    scale = eqm.length_scale(P)
-    on = _onaxis(model, model.p)
+    scale = eqm.scale_of(model)
+    on = eqm.model_onaxis(model, model.p)
     z_c, m_c = eqm.critical_height(on, g, mu, scale)
     m = m_c if m_c else P["m"]
     rho, alpha = C / A, math.sqrt(A / m)

@@ -8,7 +8,6 @@ from __future__ import annotations
 import time
 
 from .. import equilibrium as eqm
-from .. import linear
 from .common import model_of
 
 NAME = "equilibrium"
@@ -26,23 +25,12 @@ def _band(b):
 
 def run(args) -> dict:
     model = model_of(args)
-    P = {n: float(v) for n, v in zip(model.manifest["parameters"], model.p)}
-    m, g, A, C, mu = P["m"], P["g"], P["A"], P["C"], P["mu"]
-    scale = eqm.length_scale(P)
-    onaxis = linear.model_onaxis(model)
+    m = eqm.params_of(model)["m"]
     t0 = time.perf_counter()
-    rep = eqm.analyse(onaxis, m, g, A, C, mu, scale)
+    rep = eqm.equilibria_of(model, bands=True)
     wall = time.perf_counter() - t0
     band = rep.stable_band
-    reasons = []
-    if not rep.equilibria:
-        if rep.max_mass is not None and rep.max_mass < m:
-            reasons.append(f"the top (m = {m:.6g} kg) is too heavy: the plate holds at most "
-                           f"{rep.max_mass:.6g} kg (at z_c = {rep.z_c:.6g} m)")
-        else:
-            reasons.append("m g + mu Phi_2(z) has no root for z > 0: the field cannot hold this top")
-    elif not any(e.vertically_stable for e in rep.equilibria):
-        reasons.append("no equilibrium is vertically stable (mu Phi_3 <= 0 at every root, thesis 3.3.3)")
+    reasons = [rep.no_hover_reason(m)] if not rep.stable else []
     if band is None:
         reasons.append("no height admits a spin rate that stabilises the top (no stable band)")
     else:
@@ -54,8 +42,8 @@ def run(args) -> dict:
     out = {
         "scene": model.scene.name,
         "mass": m,
-        "equilibria": [{"z": e.z, "vertically_stable": e.vertically_stable,
-                        "stiffness": e.stiffness} for e in rep.equilibria],
+        "equilibria": [e.as_dict() for e in rep.equilibria],
+        "singularities": [s.as_dict() for s in rep.singularities],
         "z_c": rep.z_c,
         "max_mass": rep.max_mass,
         "stable_band": _band(band),
@@ -65,7 +53,7 @@ def run(args) -> dict:
                           "Phi_2^2 > 2 Phi_1 Phi_3); an approximation for fast spin, reported beside "
                           "the exact band, never instead",
         "reason": "; ".join(reasons) if reasons else None,
-        "length_scale": scale,
+        "length_scale": eqm.scale_of(model),
         "wall_s": wall,
     }
     if args.plot:

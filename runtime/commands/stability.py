@@ -1,6 +1,6 @@
 """`levitron stability SCENE`: the spin interval of linear stability at the stable height.
 
-Two routes (thesis 3.3; runtime/linear.py): "discriminant" (exact rational arithmetic on the ray
+Two routes (thesis 3.3; runtime/stability.py): "discriminant" (exact rational arithmetic on the ray
 polynomial L and a Sturm count of N(t)) and "eigenvalues" (the generated full model's Jacobian at the
 relative equilibrium). spin_interval is the discriminant route's; both are reported. Rates in rad/s,
 with Hz and rpm beside.
@@ -9,9 +9,8 @@ from __future__ import annotations
 
 import time
 
-from .. import equilibrium as eqm
-from .. import linear
 from ..errors import UserError
+from ..stability import stability_of
 from .common import model_of
 
 NAME = "stability"
@@ -25,21 +24,14 @@ def add_arguments(parser) -> None:
 
 def run(args) -> dict:
     model = model_of(args)
-    P = {n: float(v) for n, v in zip(model.manifest["parameters"], model.p)}
-    m, g, A, C, mu = P["m"], P["g"], P["A"], P["C"], P["mu"]
     if args.height is not None and not args.height > 0:
         raise UserError(f"--height {args.height} must be positive (above the plate, z > 0)")
-    scale = eqm.length_scale(P)
-    full_jac = states = None
-    if "full_jac" in model.manifest["functions"]:
-        onaxis, full_jac, states = linear.model_callables(model)
-    else:
-        onaxis = linear.model_onaxis(model)
     t0 = time.perf_counter()
-    res = linear.analyse(onaxis, m, g, A, C, mu, scale, full_jac, states, z_s=args.height)
+    res = stability_of(model, z_s=args.height)
     wall = time.perf_counter() - t0
-    out = {"scene": model.scene.name, "mass": m}
+    out = {"scene": model.scene.name, "mass": model.param("m")}
     out.update(res.as_dict())
-    out["eigen_source"] = "full_jac (generated)" if full_jac is not None else "transverse_matrix (8-D)"
+    out["eigen_source"] = ("full_jac (generated)" if "full_jac" in model.manifest["functions"]
+                           else "transverse_matrix (8-D)")
     out["wall_s"] = wall
     return out
