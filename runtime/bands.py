@@ -15,8 +15,8 @@ The heights come from the equilibrium finder's survey (runtime/equilibrium.py); 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Callable, Sequence
 
 import numpy as np
 
@@ -96,8 +96,8 @@ def bands_of(onaxis: OnAxis, zs: Sequence[float], rows: Sequence[Sequence[float]
         # a band opens at z_c (there g31 = 0; thesis 3.3.15) and is typically a few % wide:
         # sample that stretch densely so that a narrow band is not stepped over
         fine = np.union1d(fine, np.geomspace(z_c, min(1.5 * z_c, zs[i1]), 200))
-    phis = lambda z: [float(v) for v in np.asarray(onaxis(z), float)[:4]]   # noqa: E731
-    mass = lambda z: -mu * phis(z)[2] / g                                    # noqa: E731
+    phis = lambda z: [float(v) for v in np.asarray(onaxis(z), float)[:4]]
+    mass = lambda z: -mu * phis(z)[2] / g
     stable = _bands(lambda z: spin_stabilisable(phis(z), g, A, C, mu), mass, fine)
     adiabatic = _bands(lambda z: adiabatic_trap(phis(z), g, mu), mass, fine)
     return stable, adiabatic

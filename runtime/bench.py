@@ -1,15 +1,25 @@
 """Speed against error (work-precision) for the reduced and the full model (issue 3, DESIGN.md).
 
-The run: the default scene's generated model; the top trimmed into the stable band of the plate
-(m = 51.4 g and A, C eight times the thesis's, so that 200 rad/s stabilises it: see
-runtime.linear), spinning at 200 rad/s, tilted 0.01 rad, offset 1 mm, lifted 2 % above z_s; 1 s
-of levitation. The reduced model (thesis 3.2.12) runs from the same height (a vertical bounce).
+The run is the scene's own: its top (mass, A, C, moment as the scene gives them), hovering at its
+own height z_s (the lowest vertically stable root of thesis 3.3.2-3.3.3, runtime/equilibrium.py),
+spinning at the geometric mean of its linear stability interval (thesis 3.3, runtime/stability.py),
+perturbed by one small dimensionless amplitude DELTA: tilted DELTA rad, offset DELTA z_s, lifted
+2 DELTA z_s. The reduced model (thesis 3.2.12) runs from the same height (a vertical bounce) at the
+same spin (zeta is cyclic there, so the spin does not change the motion). A scene whose full model's
+top has no stable interval is refused with the reason; a scene with only the reduced model is
+benched there, at the interval's spin if its top has one, else at the rate with g1 = 1 (thesis
+3.3.10: sigma^2 = mu Phi_1 / (rho^2 A)).
+
+Time scales come from the model at that point: the fastest angular rate w_fast = max(spin, the
+vertical bounce sqrt(mu Phi_3 / m), the fastest transverse mode of the 8-D linearisation after
+thesis 3.3.5); T_fast = 2 pi / w_fast. Every fixed step is a fraction of T_fast, and a run lasts
+SPIN_PERIODS spin periods.
 
 error  = max_k |x_k(T) - x_ref,k(T)| / scale_k, the largest deviation of the final state from the
          reference relative to the component's magnitude (lengths z_s, angles 1 rad, linear momenta
          m sqrt(g z_s), angular momenta C * spin; runtime.simulate.state_scales);
 x_ref  = C DOP853 at rtol = 1e-14 (atol = 1e-14 * scale), cross-checked against the fixed-step
-         8th-order DOP853 formula at h = 1e-5 (the difference is reported as `reference_check`);
+         8th-order DOP853 formula at h = T_fast / 300 (the difference is `reference_check`);
 wall_s = the minimum over repeats of the integrator call alone (model loading and CasADi
          construction excluded, identically for all backends);
 rhs_evals = right-hand-side calls (CasADi's collocation does not expose its count: null).
@@ -25,85 +35,134 @@ import csv
 import json
 import math
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from runtime import equilibrium as eqm
+from runtime.eigen_route import transverse_matrix
+from runtime.errors import UserError
 from runtime.integrate import backend_of, integrate, run_c, time_fn_ns
-from runtime.simulate import hover_height, initial_state, state_scales
 from runtime.plotting import pyplot, save_figure
+from runtime.simulate import initial_state, state_scales
+from runtime.stability import stability_of
 
 ROW_KEYS = ("model", "backend", "integrator", "tol", "error", "wall_s", "rhs_evals")
-SPIN, TILT, OFFSET, LIFT, T_END = 200.0, 0.01, 1e-3, 0.02, 1.0
+DELTA = 0.01            # the perturbation: tilt DELTA rad, offset DELTA z_s, lift 2 DELTA z_s
+SPIN_PERIODS = 32       # the length of a run
+REF_STEPS = 300         # the fixed-step reference check: h = T_fast / REF_STEPS
 
 
-def trimmed_parameters(model) -> np.ndarray:
-    names = list(model.manifest["parameters"])
-    p = model.p.copy()
-    p[names.index("m")] = 0.0514
-    p[names.index("A")] *= 8
-    p[names.index("C")] *= 8
-    return p
+@dataclass(frozen=True)
+class Setup:
+    """The scene's own operating point and time scales (see the module docstring)."""
+    p: np.ndarray
+    z_s: float
+    spin: float
+    spin_basis: str
+    spin_interval: tuple[float, float] | None
+    t_fast: float
+    t_end: float
+
+    def as_dict(self) -> dict:
+        return {"z_s": self.z_s, "spin": self.spin, "spin_basis": self.spin_basis,
+                "spin_interval": None if self.spin_interval is None else list(self.spin_interval),
+                "t_fast": self.t_fast, "t_end": self.t_end, "delta": DELTA,
+                "spin_periods": SPIN_PERIODS}
 
 
-def start(model, part_name: str, p: np.ndarray):
-    part = model.part(part_name)
-    z_s = hover_height(model, p)
-    pv = dict(zip(model.manifest["parameters"], p))
-    if part_name == "full":
-        x0 = initial_state(part, z_s, SPIN, TILT, OFFSET, p)
+def setup(model, p: np.ndarray | None = None) -> Setup:
+    """The operating point of the scene's own top (thesis 3.3.2-3.3.3 and 3.3; module docstring)."""
+    p = np.array(model.p if p is None else p, dtype=float)
+    P = eqm.params_of(model, p)
+    name = model.scene.name
+    z_s = eqm.hover_height(model, p)
+    res = stability_of(model, p=p, z_s=z_s)
+    ph = np.asarray(model.onaxis(z_s, p), float)
+    if res.spin_interval is not None:
+        lo, hi = res.spin_interval
+        spin, basis = math.sqrt(lo * hi), "geometric mean of the linear stability interval"
+    elif "full" in model.parts:
+        raise UserError(f"scene '{name}' has no stable spin interval, and bench runs the scene's top "
+                        f"inside it: {res.reason}")
     else:
-        x0 = initial_state(part, z_s, SPIN, 0.0, 0.0, p)
-    x0[part.states.index("z")] *= 1 + LIFT
-    return part, x0, state_scales(part, z_s, SPIN, pv), z_s
+        rho = P["C"] / P["A"]
+        spin = math.sqrt(abs(P["mu"] * ph[1]) / P["A"]) / rho
+        basis = "g1 = 1 (thesis 3.3.10): the scene's top has no stable interval; the reduced model does not depend on it"
+    if not (spin > 0 and math.isfinite(spin)):
+        raise UserError(f"scene '{name}': no finite spin to bench at (spin {spin})")
+    rates = [spin]
+    k = P["mu"] * ph[3]
+    if k > 0:
+        rates.append(math.sqrt(k / P["m"]))
+    lam = np.linalg.eigvals(transverse_matrix(ph[1], ph[2], ph[3], P["m"], P["A"], P["C"], P["mu"], spin))
+    rates.append(float(np.abs(lam).max()))
+    t_fast = 2 * math.pi / max(r for r in rates if math.isfinite(r))
+    return Setup(p, z_s, spin, basis, res.spin_interval, t_fast, SPIN_PERIODS * 2 * math.pi / spin)
+
+
+def start(model, part_name: str, su: Setup):
+    """(part, x0, state scales) of the bench run of one part from the Setup's operating point."""
+    part = model.part(part_name)
+    pv = eqm.params_of(model, su.p)
+    if part_name == "full":
+        x0 = initial_state(part, su.z_s, su.spin, DELTA, DELTA * su.z_s, su.p)
+    else:
+        x0 = initial_state(part, su.z_s, su.spin, 0.0, 0.0, su.p)
+    x0[part.states.index("z")] *= 1 + 2 * DELTA
+    return part, x0, state_scales(part, su.z_s, su.spin, pv)
 
 
 def plan(quick: bool) -> list[tuple[str, str, list[float]]]:
-    """(integrator, "tol" or "h", values) from coarse to fine."""
+    """(integrator, "tol" or "h", values) from coarse to fine; "h" values are fractions of T_fast."""
     if quick:
-        return [("rk4", "h", [1e-3, 1e-4]), ("dop853", "tol", [1e-6, 1e-10]),
-                ("gauss4", "h", [1e-3]), ("euler", "h", [1e-4]),
-                ("cvodes", "tol", [1e-6]), ("casadi-rk", "h", [1e-3]),
+        return [("rk4", "h", [1 / 30, 1 / 300]), ("dop853", "tol", [1e-6, 1e-10]),
+                ("gauss4", "h", [1 / 30]), ("euler", "h", [1 / 300]),
+                ("cvodes", "tol", [1e-6]), ("casadi-rk", "h", [1 / 30]),
                 ("scipy-dop853", "tol", [1e-6])]
     tols = [1e-4, 1e-6, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12]
-    return [("euler", "h", [1e-3, 1e-4, 1e-5, 1e-6]),
-            ("rk4", "h", [1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5]),
+    return [("euler", "h", [1 / 30, 1 / 300, 1 / 3000, 1 / 30000]),
+            ("rk4", "h", [1 / 3, 1 / 10, 1 / 30, 1 / 100, 1 / 300, 1 / 1000]),
             ("dop853", "tol", tols + [1e-13]),
-            ("gauss4", "h", [1e-2, 3e-3, 1e-3, 3e-4, 1e-4]),
-            ("midpoint", "h", [1e-3, 1e-4, 1e-5]),
+            ("gauss4", "h", [1 / 3, 1 / 10, 1 / 30, 1 / 100, 1 / 300]),
+            ("midpoint", "h", [1 / 30, 1 / 300, 1 / 3000]),
             ("cvodes", "tol", tols),
-            ("casadi-rk", "h", [1e-3, 3e-4, 1e-4]),
-            ("casadi-collocation", "h", [1e-2, 3e-3, 1e-3]),
+            ("casadi-rk", "h", [1 / 30, 1 / 100, 1 / 300]),
+            ("casadi-collocation", "h", [1 / 3, 1 / 10, 1 / 30]),
             ("scipy-dop853", "tol", tols)]
 
 
-def reference(part, x0, p, scale):
-    ref = integrate(part, x0, T_END, method="dop853", tol=1e-14, p=p, scale=scale, n_out=1)
-    check = run_c(part.model.lib, "dop853-fixed", part.c_function("rhs"), x0, p, T_END, h=1e-4)
+def reference(part, x0, su: Setup, scale):
+    ref = integrate(part, x0, su.t_end, method="dop853", tol=1e-14, p=su.p, scale=scale, n_out=1)
+    check = run_c(part.model.lib, "dop853-fixed", part.c_function("rhs"), x0, su.p, su.t_end,
+                  h=su.t_fast / REF_STEPS)
     return ref.x_final, float(np.max(np.abs(ref.x_final - check.x_final) / scale))
 
 
-def bench_model(model, part_name: str, quick: bool = False, repeats: int | None = None) -> dict:
-    p = trimmed_parameters(model)
-    part, x0, scale, z_s = start(model, part_name, p)
-    x_ref, ref_check = reference(part, x0, p, scale)
+def bench_model(model, part_name: str, quick: bool = False, repeats: int | None = None,
+                su: Setup | None = None) -> dict:
+    su = su or setup(model)
+    part, x0, scale = start(model, part_name, su)
+    x_ref, ref_check = reference(part, x0, su, scale)
     repeats = repeats or (1 if quick else 3)
     rows = []
     for method, kind, values in plan(quick):
         for v in values:
-            kw = {"tol": v} if kind == "tol" else {"h": v, "tol": None}
+            value = v * su.t_fast if kind == "h" else v
+            kw = {"tol": value} if kind == "tol" else {"h": value, "tol": None}
             best = None
             for _ in range(repeats if not method.startswith("casadi-coll") else 1):
-                r = integrate(part, x0, T_END, method=method, p=p, scale=scale, n_out=1, **kw)
+                r = integrate(part, x0, su.t_end, method=method, p=su.p, scale=scale, n_out=1, **kw)
                 if best is None or r.wall_s < best.wall_s:
                     best = r
             err = (float(np.max(np.abs(best.x_final - x_ref) / scale))
                    if best.status == "completed" else math.inf)
             rows.append({"model": part_name, "backend": backend_of(method), "integrator": method,
-                         "tol": v, "error": err, "wall_s": best.wall_s, "rhs_evals": best.rhs_evals,
+                         "tol": value, "error": err, "wall_s": best.wall_s, "rhs_evals": best.rhs_evals,
                          "step_or_tol": kind, "status": best.status})
-    return {"rows": rows, "reference_check": ref_check, "z_s": z_s, "x0": x0.tolist(),
-            "states": list(part.states)}
+    return {"rows": rows, "reference_check": ref_check, "setup": su.as_dict(), "z_s": su.z_s,
+            "x0": x0.tolist(), "states": list(part.states)}
 
 
 def cheapest(rows, integrator, bound=1e-8):
@@ -111,10 +170,11 @@ def cheapest(rows, integrator, bound=1e-8):
     return min(ok, key=lambda r: r["wall_s"]) if ok else None
 
 
-def goals(model, full_rows: list[dict], quick: bool) -> dict:
+def goals(model, full_rows: list[dict], quick: bool, su: Setup | None = None) -> dict:
     """The figures of issue 3's goals."""
-    p = trimmed_parameters(model)
-    part, x0, scale, z_s = start(model, "full", p)
+    su = su or setup(model)
+    p = su.p
+    part, x0, _ = start(model, "full", su)
     out = {}
     c = cheapest(full_rows, "dop853")
     s = cheapest(full_rows, "scipy-dop853")
@@ -132,9 +192,9 @@ def goals(model, full_rows: list[dict], quick: bool) -> dict:
     out["full_rhs_ns"] = ns
     out["full_rhs_ops"] = model.manifest["functions"][f"{part.name}_rhs"]["ops"]
     out["full_rhs_goal_met"] = ns <= 150
-    # long run: 1e6 steps (quick: 2e4) of gauss4 and RK4 at h = 1e-3, energy monitored in C
+    # long run: 1e6 steps (quick: 2e4) of gauss4 and RK4 at h = T_fast / 30, energy monitored in C
     n = 20_000 if quick else 1_000_000
-    h = 1e-3
+    h = su.t_fast / 30
     long = {}
     e_scale = None
     for method in ("gauss4", "rk4"):
@@ -142,7 +202,7 @@ def goals(model, full_rows: list[dict], quick: bool) -> dict:
         r = run_c(model.lib, method, part.c_function("rhs"), x0, p, n * h, h=h,
                   jac=part.c_function("jac") if method == "gauss4" else None,
                   energy=part.c_function("energy"), every=every, max_samples=n // every + 3)
-        e_scale = max(abs(r.energy0), float(p[list(model.manifest["parameters"]).index("C")]) * SPIN ** 2 / 2)
+        e_scale = max(abs(r.energy0), eqm.params_of(model, p)["C"] * su.spin ** 2 / 2)
         dev = (r.energy - r.energy0) / e_scale
         slope = float(np.polyfit(r.t, dev, 1)[0]) if len(r.t) > 2 else None
         tenths = [float(np.abs(c_).max()) for c_ in np.array_split(np.abs(dev), 10)]
@@ -178,10 +238,11 @@ def run(model, out_dir: str | Path = "reports", quick: bool = False) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     files, rows, per_model = [], [], {}
+    su = setup(model)
     for name in ("reduced", "full"):
         if name not in model.parts:
             continue
-        res = bench_model(model, name, quick)
+        res = bench_model(model, name, quick, su=su)
         per_model[name] = {k: v for k, v in res.items() if k != "rows"}
         rows += res["rows"]
         stem = out / f"bench_{name}"
@@ -190,14 +251,15 @@ def run(model, out_dir: str | Path = "reports", quick: bool = False) -> dict:
             w.writeheader()
             w.writerows(res["rows"])
         Path(f"{stem}.json").write_text(json.dumps({"model": name, "scene": model.scene.name,
-                                                     "setup": __doc__, **res}, indent=1, default=_json))
+                                                     "description": __doc__, **res}, indent=1, default=_json))
         draw(res["rows"], Path(f"{stem}.png"),
-             f"{model.scene.name}, {name} model: {T_END:g} s at {SPIN:g} rad/s")
+             f"{model.scene.name}, {name} model: {su.t_end:.3g} s at {su.spin:.4g} rad/s")
         files += [f"{stem}.csv", f"{stem}.json", f"{stem}.png"]
-    g = goals(model, [r for r in rows if r["model"] == "full"], quick) if "full" in model.parts else {}
+    g = goals(model, [r for r in rows if r["model"] == "full"], quick, su) if "full" in model.parts else {}
     (out / "bench_goals.json").write_text(json.dumps(g, indent=1, default=_json))
     files.append(str(out / "bench_goals.json"))
-    return {"rows": rows, "goals": g, "models": per_model, "files": files, "quick": quick,
+    return {"rows": rows, "goals": g, "models": per_model, "setup": su.as_dict(), "files": files,
+            "quick": quick,
             "wall_s": time.perf_counter() - t0}
 
 

@@ -8,8 +8,8 @@ perturbation bound (see `on_imaginary_axis`). No sympy here.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Callable, Sequence
 
 import numpy as np
 import scipy.linalg

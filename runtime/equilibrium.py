@@ -31,8 +31,8 @@ from __future__ import annotations
 import bisect
 import math
 import re
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Callable, Sequence
 
 import numpy as np
 
@@ -162,7 +162,7 @@ class EquilibriumReport:
 def z_grid(scale: float) -> np.ndarray:
     """The log grid of heights scale * 10^[-4, 4], GRID_PER_DECADE points a decade."""
     lo, hi = GRID_DECADES
-    return scale * np.logspace(lo, hi, int(round((hi - lo) * GRID_PER_DECADE)) + 1)
+    return scale * np.logspace(lo, hi, round((hi - lo) * GRID_PER_DECADE) + 1)
 
 
 def _row(onaxis: OnAxis, z: float, ncol: int) -> np.ndarray:
@@ -285,7 +285,7 @@ class Survey:
             z1, v1 = zs[i + 1], vals[i + 1]
             if not (v * v1 < 0) or self._blocked(z, z1):
                 continue
-            f = lambda x: value(x, self.row(x))          # noqa: E731
+            f = lambda x: value(x, self.row(x))
             a, b, fa, fb = _bisect(f, z, z1, v, v1)
             if a == b and not math.isfinite(fa):          # a NaN or inf sliver inside the bracket
                 self._cut(z, a, a, z1)

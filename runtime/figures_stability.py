@@ -18,8 +18,8 @@ from pathlib import Path
 import numpy as np
 
 from . import equilibrium as eqm
-from .ray_algebra import l_cubic
 from .plotting import pyplot, save_figure
+from .ray_algebra import l_cubic
 
 
 def _variants(model) -> list[tuple[str, np.ndarray]]:

@@ -17,10 +17,11 @@ This is route "discriminant" of runtime/stability.py. No sympy here.
 """
 from __future__ import annotations
 
+import itertools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Sequence
 
 import numpy as np
 
@@ -55,7 +56,7 @@ class RayCoefficients:
 
     @classmethod
     def from_physics(cls, phi1: float, phi2: float, phi3: float, m: float, A: float, C: float,
-                     mu: float) -> "RayCoefficients":
+                     mu: float) -> RayCoefficients:
         F = Fraction
         P1, P2, P3, m_, A_, C_, mu_ = (F(float(v)) for v in (phi1, phi2, phi3, m, A, C, mu))
         return cls(mu_ * P1 * A_ / C_ ** 2,
@@ -141,7 +142,7 @@ def sturm_real_root_count(p: Sequence[Fraction]) -> int:
 
     def changes(signs):
         s = [v for v in signs if v != 0]
-        return sum(1 for a, b in zip(s, s[1:]) if (a > 0) != (b > 0))
+        return sum(1 for a, b in itertools.pairwise(s) if (a > 0) != (b > 0))
 
     at_pos = [q[0] for q in seq]
     at_neg = [q[0] * (-1) ** (len(q) - 1) for q in seq]
@@ -227,7 +228,7 @@ def positive_roots(ints: Sequence[int]) -> list[float]:
     cuts = sorted(set(cuts))
     f = lambda u: float(np.polyval(b[::-1], u))
     roots = []
-    for lo, hi in zip(cuts, cuts[1:]):
+    for lo, hi in itertools.pairwise(cuts):
         s_lo, s_hi = (lo * S if lo > 0 else 0.0), hi * S
         sg_lo = _exact_sign(ints, s_lo) if s_lo > 0 else (1 if ints[0] > 0 else -1)
         sg_hi = _exact_sign(ints, s_hi)
@@ -287,10 +288,10 @@ def spin_intervals_discriminant(c: RayCoefficients) -> list[tuple[float, float]]
         edges, probe = [0.0, math.inf], [1.0 / max(abs(float(c.c1)), abs(float(c.c3)), 1e-300)]
     else:
         edges = [0.0] + s_roots + [math.inf]
-        probe = [s_roots[0] / 2] + [math.sqrt(a * b) for a, b in zip(s_roots, s_roots[1:])] \
+        probe = [s_roots[0] / 2] + [math.sqrt(a * b) for a, b in itertools.pairwise(s_roots)] \
             + [s_roots[-1] * 2]
     out = []
-    for (s_lo, s_hi), sp_ in zip(zip(edges, edges[1:]), probe):
+    for (s_lo, s_hi), sp_ in zip(itertools.pairwise(edges), probe):
         if _four_real_filtered(c, sp_):
             sig_lo = 1 / math.sqrt(s_hi) if s_hi < math.inf else 0.0
             sig_hi = 1 / math.sqrt(s_lo) if s_lo > 0 else math.inf

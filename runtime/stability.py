@@ -12,15 +12,23 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Callable, Sequence
 
 import numpy as np
 
 from . import equilibrium as eqm
-from .eigen_route import (full_equilibrium_state, spin_intervals_eigen, transverse_block,
-                          transverse_matrix)
-from .ray_algebra import RayCoefficients, spin_intervals_discriminant, thesis_approximations
+from .eigen_route import (
+    full_equilibrium_state,
+    spin_intervals_eigen,
+    transverse_block,
+    transverse_matrix,
+)
+from .ray_algebra import (
+    RayCoefficients,
+    spin_intervals_discriminant,
+    thesis_approximations,
+)
 
 
 def model_callables(model, p: np.ndarray | None = None) -> tuple[Callable, Callable, list[str]]:

@@ -12,7 +12,8 @@ import pytest
 from scipy.optimize import brentq
 
 from runtime import equilibrium as eqm
-from runtime import linear
+from runtime import bands
+from runtime import ray_algebra
 
 A_TOP, C_TOP, M_TOP, G = 2.2e-6, 1.32e-6, 0.0284, 9.81
 A_PLATE, W_PLATE = 0.10, 0.03
@@ -139,14 +140,14 @@ def test_stable_band_edges(thesis_report):
     assert band is not None and len(thesis_report.stable_bands) == 1
     lo, hi = band.z
     assert abs(lo - thesis_report.z_c) <= 1e-10 * lo
-    ok = lambda z: eqm.spin_stabilisable(on(z), G, A_TOP, C_TOP, mu)
+    ok = lambda z: bands.spin_stabilisable(on(z), G, A_TOP, C_TOP, mu)
     assert ok(lo * (1 + 1e-6)) and ok(hi * (1 - 1e-6)) and ok(0.5 * (lo + hi))
     assert not ok(lo * (1 - 1e-6)) and not ok(hi * (1 + 1e-6))
     # near the upper edge the two critical spins are about to merge
     ph = on(hi * (1 - 1e-9))
     m_hi = -mu * ph[2] / G
-    c = linear.RayCoefficients.from_physics(ph[1], ph[2], ph[3], m_hi, A_TOP, C_TOP, mu)
-    (s_lo, s_hi), = linear.spin_intervals_discriminant(c)
+    c = ray_algebra.RayCoefficients.from_physics(ph[1], ph[2], ph[3], m_hi, A_TOP, C_TOP, mu)
+    (s_lo, s_hi), = ray_algebra.spin_intervals_discriminant(c)
     assert (s_hi - s_lo) / s_hi < 1e-3
     masses = sorted([-mu * on(lo)[2] / G, -mu * on(hi)[2] / G])
     assert np.allclose(band.mass, masses, rtol=1e-12, atol=0)
@@ -179,7 +180,7 @@ def test_generated_model_onaxis_matches_closed_form():
     model = load_model(load_scene("thesis"))
     P = dict(zip(model.manifest["parameters"], model.p))
     on = annulus(P["plate_a"], P["plate_w"], P["plate_rho"])
-    fast = linear.model_onaxis(model)
+    fast = eqm.model_onaxis(model)
     for z in (0.02, 0.0762, 0.1, 0.157, 0.4):
         want, got = np.array(on(z)), np.asarray(fast(z))[:5]
         assert np.allclose(got, want, rtol=1e-12, atol=1e-13 * np.abs(want).max())

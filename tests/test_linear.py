@@ -12,7 +12,9 @@ import numpy as np
 import pytest
 
 from runtime import equilibrium as eqm
-from runtime import linear
+from runtime import ray_algebra
+from runtime import eigen_route
+from runtime import stability
 from tests.test_equilibrium import A_PLATE, A_TOP, C_TOP, G, W_PLATE, annulus, fitted_murho
 
 MU = fitted_murho()
@@ -50,17 +52,17 @@ def test_two_routes_agree(scene):
     """Route "discriminant" (exact) and route "eigenvalues" (8-D Jacobian) give the same spin
     interval to 1e-6 relative (measured ~1e-10)."""
     name, on, m, A, C, mu, scale, g = scene
-    res = linear.analyse(on, m, g, A, C, mu, scale)
+    res = stability.analyse(on, m, g, A, C, mu, scale)
     assert res.spin_interval is not None, res.reason
     assert len(res.discriminant) == 1 and len(res.eigenvalues) == 1
-    assert linear.relative_gap(res.discriminant, res.eigenvalues) <= 1e-6
+    assert stability.relative_gap(res.discriminant, res.eigenvalues) <= 1e-6
     assert res.routes_agree
 
 
 def test_thesis_scene_has_no_interval_by_either_route():
     """The thesis's 28.4 g top at 15.74 cm: both routes find no stable spin, and the answer says why
     (no NaN)."""
-    res = linear.analyse(annulus(A_PLATE, W_PLATE), 0.0284, G, A_TOP, C_TOP, MU, A_PLATE)
+    res = stability.analyse(annulus(A_PLATE, W_PLATE), 0.0284, G, A_TOP, C_TOP, MU, A_PLATE)
     assert res.spin_interval is None and res.discriminant == [] and res.eigenvalues == []
     assert "no spin rate" in res.reason
     d = res.as_dict()
@@ -69,7 +71,7 @@ def test_thesis_scene_has_no_interval_by_either_route():
 
 def test_too_heavy_answers_plainly():
     _, m_max = eqm.critical_height(annulus(A_PLATE, W_PLATE), G, MU, A_PLATE)
-    res = linear.analyse(annulus(A_PLATE, W_PLATE), 1.01 * m_max, G, A_TOP, C_TOP, MU, A_PLATE)
+    res = stability.analyse(annulus(A_PLATE, W_PLATE), 1.01 * m_max, G, A_TOP, C_TOP, MU, A_PLATE)
     assert res.spin_interval is None and res.z_s is None and "too heavy" in res.reason
 
 
@@ -96,18 +98,18 @@ def test_classification_near_critical_spins_vs_mpmath(scene):
     at 1e-7 too."""
     name, on, m, A, C, mu, scale, g = scene
     z, ph = hover(on, m, mu, scale, g)
-    c = linear.RayCoefficients.from_physics(ph[1], ph[2], ph[3], m, A, C, mu)
-    (lo, hi), = linear.spin_intervals_discriminant(c)
+    c = ray_algebra.RayCoefficients.from_physics(ph[1], ph[2], ph[3], m, A, C, mu)
+    (lo, hi), = ray_algebra.spin_intervals_discriminant(c)
     for crit in (lo, hi):
         for rel in (1e-7, 1e-12):
             for sgn in (-1, 1):
                 sig = crit * (1 + sgn * rel)
                 want = _mp_four_real(ph[1:4], m, A, C, mu, sig)
-                assert linear.transverse_stable_exact(c, sig) == want, (crit, rel, sgn)
+                assert ray_algebra.transverse_stable_exact(c, sig) == want, (crit, rel, sgn)
                 assert want == (lo < sig < hi)
                 if rel == 1e-7:
-                    J = linear.transverse_matrix(ph[1], ph[2], ph[3], m, A, C, mu, sig)
-                    assert linear.on_imaginary_axis(J).stable == want
+                    J = eigen_route.transverse_matrix(ph[1], ph[2], ph[3], m, A, C, mu, sig)
+                    assert eigen_route.on_imaginary_axis(J).stable == want
 
 
 def test_float_discriminant_is_ill_conditioned_near_a_critical_spin():
@@ -117,12 +119,12 @@ def test_float_discriminant_is_ill_conditioned_near_a_critical_spin():
     agrees with mpmath (previous test)."""
     on, m = annulus(A_PLATE, W_PLATE), 0.0505
     z, ph = hover(on, m)
-    c = linear.RayCoefficients.from_physics(ph[1], ph[2], ph[3], m, A_TOP, C_TOP, MU)
-    (lo, hi), = linear.spin_intervals_discriminant(c)
+    c = ray_algebra.RayCoefficients.from_physics(ph[1], ph[2], ph[3], m, A_TOP, C_TOP, MU)
+    (lo, hi), = ray_algebra.spin_intervals_discriminant(c)
     sig = lo * (1 + 1e-12)
     c1, c2sq, c3 = c.floats()
     g1, g2sq, g3 = c1 / sig ** 2, c2sq / sig ** 4, c3 / sig ** 2
-    terms = [k * g1 ** e1 * g2sq ** (e2 // 2) * g3 ** e3 for k, e1, e2, e3 in linear.G_TERMS]
+    terms = [k * g1 ** e1 * g2sq ** (e2 // 2) * g3 ** e3 for k, e1, e2, e3 in ray_algebra.G_TERMS]
     rounding_bound = len(terms) * 8 * np.finfo(float).eps * sum(abs(t) for t in terms)
     assert abs(sum(terms)) < rounding_bound
 
@@ -139,7 +141,7 @@ def test_sturm_count_against_known_roots():
         for _ in range(npairs):
             a, b = Fraction(rng.randint(-9, 9)), Fraction(rng.randint(1, 9))
             poly = np.polymul(poly, [Fraction(1), -2 * a, a * a + b * b]).tolist()
-        assert linear.sturm_real_root_count(poly) == len(set(real))
+        assert ray_algebra.sturm_real_root_count(poly) == len(set(real))
 
 
 def test_critical_spins_are_certified_roots_and_match_L_of_l():
@@ -148,19 +150,19 @@ def test_critical_spins_are_certified_roots_and_match_L_of_l():
     (the relation g1 = l, thesis 3.3.19-3.3.21)."""
     on, m = annulus(A_PLATE, W_PLATE), 0.0515
     z, ph = hover(on, m)
-    c = linear.RayCoefficients.from_physics(ph[1], ph[2], ph[3], m, A_TOP, C_TOP, MU)
-    ints, _ = linear.ray_cubic_int(c)
-    for s in linear.critical_s(c):
+    c = ray_algebra.RayCoefficients.from_physics(ph[1], ph[2], ph[3], m, A_TOP, C_TOP, MU)
+    ints, _ = ray_algebra.ray_cubic_int(c)
+    for s in ray_algebra.critical_s(c):
         w = 4 * np.spacing(s)
-        assert linear._exact_sign(ints, s - w) * linear._exact_sign(ints, s + w) <= 0
+        assert ray_algebra._exact_sign(ints, s - w) * ray_algebra._exact_sign(ints, s + w) <= 0
     alpha = math.sqrt(A_TOP / m)
     g21 = -alpha * ph[2] / (2 * ph[1])
     g31 = -alpha ** 2 * ph[3] / (2 * ph[1])
-    ls = np.roots(linear.l_cubic(g21, g31)[::-1])
+    ls = np.roots(ray_algebra.l_cubic(g21, g31)[::-1])
     ls = sorted(float(v.real) for v in ls if abs(v.imag) < 1e-9 * abs(v) and v.real > 0)
     c1 = float(c.c1)
-    from_l = sorted(linear.sigma_of_l(v, c1) for v in ls)
-    from_s = sorted(1 / math.sqrt(s) for s in linear.critical_s(c))
+    from_l = sorted(ray_algebra.sigma_of_l(v, c1) for v in ls)
+    from_s = sorted(1 / math.sqrt(s) for s in ray_algebra.critical_s(c))
     assert np.allclose(from_l, from_s, rtol=1e-9, atol=0)
 
 
@@ -171,10 +173,10 @@ def test_eq_3_3_22_3_3_23_approximations_at_z_c():
     on = annulus(A_PLATE, W_PLATE)
     z_c, m_c = eqm.critical_height(on, G, MU, A_PLATE)
     ph = on(z_c)
-    approx = linear.thesis_approximations(ph[1], ph[2], G, m_c, A_TOP, C_TOP)
+    approx = ray_algebra.thesis_approximations(ph[1], ph[2], G, m_c, A_TOP, C_TOP)
     g21 = approx["g21"]
-    c = linear.RayCoefficients.from_physics(ph[1], ph[2], ph[3], m_c, A_TOP, C_TOP, MU)
-    (lo, hi), = linear.spin_intervals_discriminant(c)
+    c = ray_algebra.RayCoefficients.from_physics(ph[1], ph[2], ph[3], m_c, A_TOP, C_TOP, MU)
+    (lo, hi), = ray_algebra.spin_intervals_discriminant(c)
     assert abs(lo / approx["sigma1"] - (1 + g21 ** 2 + 3 * g21 ** 4) ** -0.5) < 10 * g21 ** 6
     # l2 = 27 g21^2/4 (1 - 9 g21^2 + ...) so sigma_2 exact/approx = 1 + 9 g21^2/2 + O(g21^4)
     assert abs(hi / approx["sigma2"] - (1 + 4.5 * g21 ** 2)) < 100 * g21 ** 4
@@ -187,13 +189,13 @@ def test_on_imaginary_axis_tolerance_is_a_real_bound():
     w1, w2 = 3.0, 7e2
     J = np.zeros((4, 4))
     J[0, 2], J[1, 3], J[2, 0], J[3, 1] = 1.0, 1.0, -w1 ** 2, -w2 ** 2
-    ok = linear.on_imaginary_axis(J)
+    ok = eigen_route.on_imaginary_axis(J)
     assert ok.stable and np.all(ok.tolerance < 1e-10 * w2)
     for factor, expect in ((1e3, False), (1e-3, True)):
         shift = factor * ok.tolerance.max()
         J2 = J.copy()
         J2[2, 2] = 2 * shift            # x'' = -w1^2 x + 2 shift x': lambda = shift +- i sqrt(w1^2 - shift^2)
-        chk = linear.on_imaginary_axis(J2)
+        chk = eigen_route.on_imaginary_axis(J2)
         if not expect:
             assert np.max(chk.eigenvalues.real) == pytest.approx(shift, rel=1e-2)
         assert chk.stable == expect
@@ -219,14 +221,14 @@ def test_full_model_jacobian_routes_agree(thesis_model):
     """Route "eigenvalues" on the generated full_jac (12x12, transverse block after checking the
     decoupling) equals the exact route to 1e-6 relative; the generated block equals the 8-D matrix."""
     p, P = _with_mass(thesis_model, 0.0515)
-    on, jac, states = linear.model_callables(thesis_model, p)
-    res = linear.analyse(on, P["m"], P["g"], P["A"], P["C"], P["mu"], A_PLATE, jac, states)
+    on, jac, states = stability.model_callables(thesis_model, p)
+    res = stability.analyse(on, P["m"], P["g"], P["A"], P["C"], P["mu"], A_PLATE, jac, states)
     assert res.spin_interval is not None and res.routes_agree
-    assert linear.relative_gap(res.discriminant, res.eigenvalues) <= 1e-6
+    assert stability.relative_gap(res.discriminant, res.eigenvalues) <= 1e-6
     ph = on(res.z_s)
     sig = float(np.mean(res.spin_interval))
-    Jb = linear.transverse_block(jac(linear.full_equilibrium_state(states, res.z_s, P["C"], sig)), states)
-    J8 = linear.transverse_matrix(ph[1], ph[2], ph[3], P["m"], P["A"], P["C"], P["mu"], sig)
+    Jb = eigen_route.transverse_block(jac(eigen_route.full_equilibrium_state(states, res.z_s, P["C"], sig)), states)
+    J8 = eigen_route.transverse_matrix(ph[1], ph[2], ph[3], P["m"], P["A"], P["C"], P["mu"], sig)
     assert np.allclose(Jb, J8, rtol=1e-13, atol=1e-13 * np.abs(J8).max())
 
 
@@ -242,14 +244,14 @@ def test_nonlinear_top_stays_up_inside_the_interval(thesis_model):
     r < z_s/2) and the offset stays small (< 5 % of z_s)."""
     from runtime import integrate
     p, P = _with_mass(thesis_model, 0.0515)
-    on, jac, states = linear.model_callables(thesis_model, p)
-    res = linear.analyse(on, P["m"], P["g"], P["A"], P["C"], P["mu"], A_PLATE, jac, states)
+    on, jac, states = stability.model_callables(thesis_model, p)
+    res = stability.analyse(on, P["m"], P["g"], P["A"], P["C"], P["mu"], A_PLATE, jac, states)
     lo, hi = res.spin_interval
     z_s = res.z_s
     ix, iy, iz = states.index("x"), states.index("y"), states.index("z")
     box = integrate.Box(iz, 0.5 * z_s, 1.5 * z_s, ix, iy, 0.5 * z_s)
     for sig in (1.05 * lo, 0.95 * hi):
-        x0 = linear.full_equilibrium_state(states, z_s, P["C"], sig)
+        x0 = eigen_route.full_equilibrium_state(states, z_s, P["C"], sig)
         x0[ix] = 1e-3 * z_s
         x0[states.index("vartheta")] = 1e-3
         out = _simulate(thesis_model, p, states, x0, 20.0, 1e-10, box, 2000)
@@ -263,15 +265,15 @@ def test_nonlinear_growth_rate_outside_the_interval(thesis_model):
     from 1e2 to 1e5 times its start; measured within 0.2 %)."""
     from runtime import integrate
     p, P = _with_mass(thesis_model, 0.0515)
-    on, jac, states = linear.model_callables(thesis_model, p)
-    res = linear.analyse(on, P["m"], P["g"], P["A"], P["C"], P["mu"], A_PLATE, jac, states)
+    on, jac, states = stability.model_callables(thesis_model, p)
+    res = stability.analyse(on, P["m"], P["g"], P["A"], P["C"], P["mu"], A_PLATE, jac, states)
     lo, hi = res.spin_interval
     z_s = res.z_s
     ix, iy, iz = states.index("x"), states.index("y"), states.index("z")
     box = integrate.Box(iz, 0.5 * z_s, 1.5 * z_s, ix, iy, 0.5 * z_s)
     for sig in (0.9 * lo, 1.1 * hi):
-        x_eq = linear.full_equilibrium_state(states, z_s, P["C"], sig)
-        gamma = linear.growth_rate(linear.transverse_block(jac(x_eq), states))
+        x_eq = eigen_route.full_equilibrium_state(states, z_s, P["C"], sig)
+        gamma = eigen_route.growth_rate(eigen_route.transverse_block(jac(x_eq), states))
         assert gamma > 0
         r0 = 1e-9 * z_s
         x0 = x_eq.copy()
@@ -320,5 +322,5 @@ def test_stability_command_inside_the_band(thesis_model):
     assert out["spin_interval_hz"] == pytest.approx([lo / (2 * math.pi), hi / (2 * math.pi)], rel=1e-15)
     assert out["spin_interval_rpm"] == pytest.approx([30 * lo / math.pi, 30 * hi / math.pi], rel=1e-15)
     d, e = out["routes"]["discriminant"], out["routes"]["eigenvalues"]
-    assert linear.relative_gap([tuple(d)], [tuple(e)]) <= 1e-6
+    assert stability.relative_gap([tuple(d)], [tuple(e)]) <= 1e-6
     assert out["eigen_source"].startswith("full_jac")

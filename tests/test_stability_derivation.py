@@ -12,7 +12,8 @@ import sympy as sp
 
 from derive import stability as st
 from derive.symbols import A, C, Phi, g, m, mu
-from runtime import linear
+from runtime import ray_algebra
+from runtime import eigen_route
 
 P1, P2, P3 = st.P1, st.P2, st.P3
 lam, t, l, sigma = st.lam, st.t, st.l, st.sigma
@@ -118,8 +119,8 @@ def test_eq_3_3_12_discriminant():
 
 
 def test_runtime_G_terms_regenerated():
-    """runtime/linear.py's hard-coded G_TERMS are the derivation's (regenerated here)."""
-    assert [list(r) for r in linear.G_TERMS] == st.ray_polynomial_terms()
+    """runtime/ray_algebra.py's hard-coded G_TERMS are the derivation's (regenerated here)."""
+    assert [list(r) for r in ray_algebra.G_TERMS] == st.ray_polynomial_terms()
 
 
 # ------------------------------------------------------------------ 3.3.13-3.3.18 the ray
@@ -175,13 +176,13 @@ def test_eq_3_3_18_l2_series():
 
 
 def test_runtime_l_cubic_matches_derivation():
-    """runtime/linear.l_cubic (from G_TERMS) equals -L(l)/l^3 of the derivation."""
+    """runtime/ray_algebra.l_cubic (from G_TERMS) equals -L(l)/l^3 of the derivation."""
     coeffs = sp.Poly(st.L_reduced(), l).all_coeffs()[::-1]
     rng = random.Random(7)
     for _ in range(5):
         a, b = rng.uniform(0, 0.3), rng.uniform(-0.05, 0.05)
         want = [float(c.subs({g21: a, g31: b})) for c in coeffs]
-        got = linear.l_cubic(a, b)
+        got = ray_algebra.l_cubic(a, b)
         scale = max(abs(v) for v in want)
         assert np.allclose(got, want, rtol=1e-13, atol=1e-13 * scale)
 
@@ -231,7 +232,7 @@ def test_eq_3_3_23_sigma2_is_a_square():
 # ------------------------------------------------------------------ runtime matrices
 
 def test_runtime_transverse_matrix_matches_derivation():
-    """runtime/linear.transverse_matrix is the derived 8-D system (random values)."""
+    """runtime/eigen_route.transverse_matrix is the derived 8-D system (random values)."""
     J8 = st.linear_system_8d()
     f = sp.lambdify((P1, P2, P3, m, A, C, mu, sigma), J8, "numpy")
     rng = random.Random(3)
@@ -239,7 +240,7 @@ def test_runtime_transverse_matrix_matches_derivation():
         args = [rng.uniform(-2, 2) for _ in range(3)] + [rng.uniform(0.01, 1) for _ in range(3)] \
             + [rng.uniform(-2, 2), rng.uniform(-50, 50)]
         want = np.array(f(*args), float)
-        assert np.allclose(linear.transverse_matrix(*args), want, rtol=1e-14, atol=0)
+        assert np.allclose(eigen_route.transverse_matrix(*args), want, rtol=1e-14, atol=0)
 
 
 # ------------------------------------------------------------------ Berry-Simon: |B| near the axis

@@ -57,7 +57,8 @@ def run(args) -> dict:
         "wall_s": wall,
     }
     if args.plot:
-        from ..figures_stability import figure_3_5
         from pathlib import Path
+
+        from ..figures_stability import figure_3_5
         out["plot"] = str(figure_3_5(model, Path(args.plot)))
     return out
