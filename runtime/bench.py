@@ -234,11 +234,11 @@ def draw(rows: list[dict], path: Path, title: str) -> Path:
 
 
 def run(model, out_dir: str | Path = "reports", quick: bool = False) -> dict:
+    t0 = time.perf_counter()
+    su = setup(model)                    # refuses a scene without a stable interval: nothing written
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    t0 = time.perf_counter()
     files, rows, per_model = [], [], {}
-    su = setup(model)
     for name in ("reduced", "full"):
         if name not in model.parts:
             continue

@@ -1,4 +1,6 @@
-"""`levitron bench --quick` runs and writes its table and plots (DESIGN.md `bench` row keys).
+"""`levitron bench SCENE --quick` runs the scene it is given (DESIGN.md `bench`): its own top, from
+its own hover height, at the geometric mean of its stable spin interval; on every scene of scenes/,
+and a clear one-line error exactly where the scene's top has no stable interval.
 Speed is measured, not asserted: benchmarks are not timed tests."""
 from __future__ import annotations
 
@@ -8,41 +10,78 @@ import math
 
 import pytest
 
+from derive.scene import SCENES_DIR, load_scene
+from runtime import equilibrium as eqm
 from runtime.bench import ROW_KEYS
+from runtime.stability import stability_of
+
+SCENES = [p.stem for p in sorted(SCENES_DIR.glob("*.toml"))]
 
 
-def test_bench_quick_writes_tables_and_plots(tmp_path, capsys):
+@pytest.mark.parametrize("name", SCENES)
+def test_bench_quick_on_every_scene(name, tmp_path, capsys):
     from runtime.cli import main
-    rc = main(["bench", "thesis", "--quick", "--out", str(tmp_path), "--json"])
-    assert rc == 0
-    out = json.loads(capsys.readouterr().out)
-    rows = out["rows"]
-    assert {r["model"] for r in rows} == {"reduced", "full"}
+    from runtime.model import load_model
+    model = load_model(load_scene(name))
+    lin = stability_of(model)
+    rc = main(["bench", name, "--quick", "--out", str(tmp_path), "--json"])
+    out, err = capsys.readouterr()
+    if "full" in model.parts and lin.spin_interval is None:
+        # the scene's top has no stable interval (the thesis's own top): one clear line, no files
+        assert rc == 2 and out == ""
+        assert len(err.strip().splitlines()) == 1 and "no stable spin interval" in err, err
+        assert "Traceback" not in err and not list(tmp_path.iterdir())
+        return
+    assert rc == 0, err
+    res = json.loads(out)
+    su = res["setup"]
+    # the scene's own top at its own height, spinning inside its own interval
+    assert su["z_s"] == eqm.hover_height(model)
+    if lin.spin_interval is not None:
+        lo, hi = lin.spin_interval
+        assert su["spin"] == pytest.approx(math.sqrt(lo * hi), rel=1e-12) and lo < su["spin"] < hi
+    else:                           # a reduced-only model: the spin does not enter its motion
+        assert "full" not in model.parts and su["spin"] > 0
+    assert su["t_end"] == pytest.approx(su["spin_periods"] * 2 * math.pi / su["spin"], rel=1e-12)
+    rows = res["rows"]
+    assert {r["model"] for r in rows} == set(model.parts) & {"reduced", "full"}
     assert {r["backend"] for r in rows} == {"c", "casadi", "scipy"}
     for r in rows:
         assert set(ROW_KEYS) <= set(r)
         assert r["wall_s"] > 0
-    for name in ("reduced", "full"):
-        with open(tmp_path / f"bench_{name}.csv") as fh:
+        assert r["status"] == "completed" and math.isfinite(r["error"]), r
+    for part in set(model.parts) & {"reduced", "full"}:
+        with open(tmp_path / f"bench_{part}.csv") as fh:
             table = list(csv.DictReader(fh))
         assert list(table[0])[:len(ROW_KEYS)] == list(ROW_KEYS)
-        assert len(table) == sum(r["model"] == name for r in rows)
-        data = json.loads((tmp_path / f"bench_{name}.json").read_text())
+        assert len(table) == sum(r["model"] == part for r in rows)
+        data = json.loads((tmp_path / f"bench_{part}.json").read_text())
         assert data["reference_check"] < 1e-9          # the reference is far tighter than the rows
-        assert (tmp_path / f"bench_{name}.png").stat().st_size > 5000
+        assert (tmp_path / f"bench_{part}.png").stat().st_size > 5000
     goals = json.loads((tmp_path / "bench_goals.json").read_text())
-    assert goals["full_rhs_ns"] > 0 and goals["full_rhs_ops"] > 0
-    lr = goals["long_run"]
-    assert lr["gauss4"]["status"] == lr["rk4"]["status"] == "completed"
+    if "full" in model.parts:
+        assert goals["full_rhs_ns"] > 0 and goals["full_rhs_ops"] > 0
+        lr = goals["long_run"]
+        assert lr["gauss4"]["status"] == lr["rk4"]["status"] == "completed"
 
 
-def test_bench_errors_shrink_with_tolerance(tmp_path):
+def test_every_kind_of_scene_is_benched():
+    """Not vacuous: most scenes have a stable interval and are benched, one is reduced-only."""
+    from runtime.model import load_model
+    ran = []
+    for name in SCENES:
+        model = load_model(load_scene(name))
+        if "full" not in model.parts or stability_of(model).spin_interval is not None:
+            ran.append(name)
+    assert len(ran) >= 4 and "reduced_only" in ran
+
+
+def test_bench_errors_shrink_with_tolerance():
     """A sanity check of the error measure on the quick rows: tighter tolerance or smaller step
     gives a smaller error for DOP853 and RK4 (the reference is not one of the rows)."""
-    from derive.scene import load_scene
     from runtime.bench import bench_model
     from runtime.model import load_model
-    res = bench_model(load_model(load_scene("thesis")), "full", quick=True)
+    res = bench_model(load_model(load_scene("thesis_stable")), "full", quick=True)
     by = {}
     for r in res["rows"]:
         by.setdefault(r["integrator"], []).append(r["error"])

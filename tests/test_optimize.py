@@ -46,3 +46,46 @@ def test_optimize_command_json():
     assert res.returncode == 0, res.stderr
     out = json.loads(res.stdout)
     assert {"objective", "optimum", "solver_status"} <= set(out)
+
+
+def _one_line_error(capsys, *argv) -> str:
+    from runtime.cli import main
+    rc = main(list(argv))
+    out, err = capsys.readouterr()
+    assert rc == 2 and out == "", (rc, out, err)
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err, err
+    return err
+
+
+def test_fit_refuses_a_negative_mass(capsys, thesis_model):
+    """At 2.62 cm the thesis plate pushes the top down (-mu Phi_2 < 0): the only m with
+    m g + mu Phi_2 = 0 is negative. Newton "converges" to it; the fit must refuse, not report it."""
+    from runtime.errors import UserError
+    with pytest.raises(UserError, match=r"no physical m .* m = -1\.07"):
+        fit_equilibrium_height(thesis_model, 0.0262, "m")
+    err = _one_line_error(capsys, "optimize", "thesis", "--fit-height", "0.0262", "--param", "m")
+    assert "must be > 0" in err
+
+
+def test_physical_checks_of_each_kind():
+    from runtime.optimize import physical_problem
+    names = ["m", "g", "A", "C", "mu", "plate_a", "plate_w", "plate_rho"]
+    ok = [0.03, 9.81, 2.2e-6, 1.32e-6, -1.0, 0.1, 0.03, 0.0026]
+    assert all(physical_problem(names, ok, n) is None for n in names)
+    for name, bad, why in (("m", -0.01, "> 0"), ("A", 0.0, "> 0"), ("plate_a", -0.1, "length"),
+                           ("plate_w", -0.01, "length"), ("C", 5e-6, "no rigid body")):
+        vals = list(ok)
+        vals[names.index(name)] = bad
+        assert why in physical_problem(names, vals, name)
+    vals = list(ok)
+    vals[names.index("plate_w")] = 0.0                   # no hole is physical
+    assert physical_problem(names, vals, "plate_w") is None
+
+
+def test_fit_plate_a_errors_are_one_line(capsys):
+    """A Newton run that fails (thesis_stable, plate_a at 5 cm) and a name the model lacks
+    (ring_magnet has no plate_a) are one-line errors; the latter lists the valid names."""
+    err = _one_line_error(capsys, "optimize", "thesis_stable", "--fit-height", "0.05", "--param", "plate_a")
+    assert "did not converge" in err
+    err = _one_line_error(capsys, "optimize", "ring_magnet", "--fit-height", "0.05", "--param", "plate_a")
+    assert "not a parameter" in err and "plate_r_out" in err and "plate_thickness" in err
