@@ -9,11 +9,9 @@ import math
 
 import numpy as np
 import pytest
-from scipy.optimize import brentq
 
+from runtime import bands, ray_algebra
 from runtime import equilibrium as eqm
-from runtime import bands
-from runtime import ray_algebra
 
 A_TOP, C_TOP, M_TOP, G = 2.2e-6, 1.32e-6, 0.0284, 9.81
 A_PLATE, W_PLATE = 0.10, 0.03
@@ -191,6 +189,7 @@ def test_equilibrium_command_thesis_scene(tmp_path):
     thesis's top is not in it; --plot writes a picture."""
     import argparse
     import json
+
     from runtime.cli import _clean
     from runtime.commands import equilibrium as cmd
     args = argparse.Namespace(scene="thesis", set=[], json=True, plot=str(tmp_path / "eq.png"))

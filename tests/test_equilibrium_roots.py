@@ -25,7 +25,7 @@ from runtime import bench, optimize
 from runtime import equilibrium as eqm
 from runtime.cli import _clean
 from runtime.errors import UserError
-from tests.test_equilibrium import A_PLATE, G, W_PLATE, annulus, fitted_murho
+from tests.test_equilibrium import A_PLATE, W_PLATE, G, annulus, fitted_murho
 
 EPS = np.finfo(float).eps
 DELTAS = (1e-3, 1e-6, 1e-9)
@@ -182,7 +182,7 @@ def test_nan_stretch_hides_no_root(root_gap):
     b = 0.5
     rho = 4 * root_gap ** 1.5
     coef = [1, 0.5, -0.25, 3 / 8, -15 / 16]
-    on = lambda z: [rho * coef[k] * math.sqrt(z - b) ** (1 - 2 * k) for k in range(5)]  # noqa: E731
+    on = lambda z: [rho * coef[k] * math.sqrt(z - b) ** (1 - 2 * k) for k in range(5)]
     rep = eqm.survey(on, 1.0).report(1.0, 1.0, 1.0)
     assert [e.z for e in rep.equilibria] == pytest.approx([b + root_gap], rel=1e-12)
     (s,) = rep.singularities

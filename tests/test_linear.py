@@ -11,11 +11,17 @@ import mpmath as mp
 import numpy as np
 import pytest
 
+from runtime import eigen_route, ray_algebra, stability
 from runtime import equilibrium as eqm
-from runtime import ray_algebra
-from runtime import eigen_route
-from runtime import stability
-from tests.test_equilibrium import A_PLATE, A_TOP, C_TOP, G, W_PLATE, annulus, fitted_murho
+from tests.test_equilibrium import (
+    A_PLATE,
+    A_TOP,
+    C_TOP,
+    W_PLATE,
+    G,
+    annulus,
+    fitted_murho,
+)
 
 MU = fitted_murho()
 
@@ -292,8 +298,9 @@ def test_nonlinear_growth_rate_outside_the_interval(thesis_model):
 def _run_stability(sets):
     import argparse
     import json
-    from runtime.commands import stability as cmd
+
     from runtime.cli import _clean
+    from runtime.commands import stability as cmd
     args = argparse.Namespace(scene="thesis", set=sets, json=True, height=None)
     out = _clean(cmd.run(args))
     text = json.dumps(out, allow_nan=False)      # never NaN or inf in the JSON

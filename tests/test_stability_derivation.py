@@ -12,8 +12,7 @@ import sympy as sp
 
 from derive import stability as st
 from derive.symbols import A, C, Phi, g, m, mu
-from runtime import ray_algebra
-from runtime import eigen_route
+from runtime import eigen_route, ray_algebra
 
 P1, P2, P3 = st.P1, st.P2, st.P3
 lam, t, l, sigma = st.lam, st.t, st.l, st.sigma
