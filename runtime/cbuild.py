@@ -66,8 +66,9 @@ def _compiler_identity(cc: str) -> str:
 
 def source_hash(sources: list[Path], flags: tuple[str, ...],
                 include_dirs: tuple[Path | str, ...] = ()) -> str:
-    """The cache key: compiler, flags, every source and every header beside the sources or in the
-    include folders (an edited header rebuilds too)."""
+    """The cache key: compiler, flags, the bytes of every source and of every header in the include
+    folders or beside the sources (an edited header rebuilds too). Contents, not locations: the
+    same model in another folder reuses the library."""
     h = hashlib.sha256()
     h.update(_compiler_identity(compiler()).encode())
     h.update("\0".join(flags).encode())
@@ -107,8 +108,8 @@ def compile_shared(sources: list[Path | str], flags: tuple[str, ...] = DEFAULT_F
     cache cannot be written.
     """
     sources = [Path(s) for s in sources]
+    key = source_hash(sources, tuple(flags), include_dirs)
     all_flags = tuple(flags) + tuple(f"-I{d}" for d in include_dirs)
-    key = source_hash(sources, all_flags, include_dirs)
     cache = cache_dir()
     target = cache / f"lev_{key}.so"
     if is_intact(target):

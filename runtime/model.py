@@ -134,25 +134,26 @@ def locate(scene: Scene, overrides=(), force: bool = False) -> Located:
             if os.path.lexists(out):
                 print(f"levitron: the cached model is damaged ({str(exc).split('; ')[0]}): deriving "
                       "it again", file=sys.stderr)
-    if committed is not None and committed.exists() and not overrides:
-        print(f"levitron: generated/{scene.name} is stale (the scene or derive/ changed): using a "
-              "fresh derivation in the cache; run `make derive` to update generated/", file=sys.stderr)
-    _derive_into(scene, overrides, out, ihash)
+    stale = committed is not None and committed.exists() and not overrides
+    _derive_into(scene, overrides, out, ihash, stale)
     return Located(out, read_manifest(out, fix, ihash), fix, True)
 
 
-def _derive_into(scene: Scene, overrides, out: Path, ihash: str) -> None:
+def _derive_into(scene: Scene, overrides, out: Path, ihash: str, stale: bool = False) -> None:
     """Derive the scene into `out` (a cache folder): into a temporary folder beside it, then one
     rename, so concurrent processes (scan workers) never see a half-written model. The temporary
-    folder is removed on every path."""
+    folder is removed on every path. `stale`: say that generated/<name> is out of date."""
     if scene.path is None:
         raise UserError(f"scene '{scene.name}' was not read from a file: nothing to derive from")
-    print(f"levitron: deriving the model of scene '{scene.name}' ...", file=sys.stderr)
     try:
         out.parent.mkdir(parents=True, exist_ok=True)
         tmp = Path(tempfile.mkdtemp(prefix=f".{scene.name}-", dir=out.parent))
     except OSError as exc:
         raise cache_problem(out.parent, exc) from None
+    if stale:
+        print(f"levitron: generated/{scene.name} is stale (the scene or derive/ changed): using a "
+              "fresh derivation in the cache; run `make derive` to update generated/", file=sys.stderr)
+    print(f"levitron: deriving the model of scene '{scene.name}' ...", file=sys.stderr)
     try:
         # an absolute scene path: the subprocess runs in the repository, not in the user's folder
         cmd = [sys.executable, "-m", "derive", str(Path(scene.path).resolve()), "--out", str(tmp),

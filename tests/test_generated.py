@@ -77,8 +77,8 @@ def test_generated_files_say_what_made_them():
 def test_unused_part_is_not_emitted(derived_model):
     """Model only what a scene needs: a reduced-only scene has no 12-D function at all."""
     model = derived_model("thesis", 'model.needs=["reduced"]')
-    assert set(model.manifest["parts"]) == {"reduced"}
-    assert not any(n.startswith("full_") for n in model.manifest["functions"])
+    assert set(model.manifest.parts) == {"reduced"}
+    assert not any(n.startswith("full_") for n in model.manifest.functions)
     assert "full_" not in (model.folder / "model.c").read_text()
     with pytest.raises(Exception, match="add \"full\" to model.needs"):
         model.part("full")
