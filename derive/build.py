@@ -14,9 +14,9 @@ import tempfile
 import time
 from pathlib import Path
 
+from .digest import SELF_KEY, file_digests, first_changed_file, manifest_digest
 from .emit.c import emitter as c_emitter
 from .emit.casadi import builder as casadi_builder
-from .digest import SELF_KEY, file_digests, first_changed_file, manifest_digest
 from .emit.lower import lower
 from .geometry import build_plate
 from .inputs import input_hash, tool_versions

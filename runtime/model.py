@@ -127,22 +127,24 @@ def locate(scene: Scene, overrides=(), force: bool = False) -> Located:
         return Located(committed, read_manifest(committed, fix, ihash), fix, False)
     out = cache_folder(scene)
     fix = f"delete {out} (or run `make clean-cache`) and try again"
+    note = None
+    if committed is not None and committed.exists() and not overrides:
+        note = (f"generated/{scene.name} is stale (the scene or derive/ changed): using a fresh "
+                "derivation in the cache; run `make derive` to update generated/")
     if not force:
         try:
             return Located(out, read_manifest(out, fix, ihash), fix, False)
         except ArtefactError as exc:
             if os.path.lexists(out):
-                print(f"levitron: the cached model is damaged ({str(exc).split('; ')[0]}): deriving "
-                      "it again", file=sys.stderr)
-    stale = committed is not None and committed.exists() and not overrides
-    _derive_into(scene, overrides, out, ihash, stale)
+                note = f"the cached model is damaged ({str(exc).split('; ')[0]}): deriving it again"
+    _derive_into(scene, overrides, out, ihash, note)
     return Located(out, read_manifest(out, fix, ihash), fix, True)
 
 
-def _derive_into(scene: Scene, overrides, out: Path, ihash: str, stale: bool = False) -> None:
+def _derive_into(scene: Scene, overrides, out: Path, ihash: str, note: str | None = None) -> None:
     """Derive the scene into `out` (a cache folder): into a temporary folder beside it, then one
     rename, so concurrent processes (scan workers) never see a half-written model. The temporary
-    folder is removed on every path. `stale`: say that generated/<name> is out of date."""
+    folder is removed on every path. `note`: why, said once the cache is known to be writable."""
     if scene.path is None:
         raise UserError(f"scene '{scene.name}' was not read from a file: nothing to derive from")
     try:
@@ -150,9 +152,8 @@ def _derive_into(scene: Scene, overrides, out: Path, ihash: str, stale: bool = F
         tmp = Path(tempfile.mkdtemp(prefix=f".{scene.name}-", dir=out.parent))
     except OSError as exc:
         raise cache_problem(out.parent, exc) from None
-    if stale:
-        print(f"levitron: generated/{scene.name} is stale (the scene or derive/ changed): using a "
-              "fresh derivation in the cache; run `make derive` to update generated/", file=sys.stderr)
+    if note:
+        print(f"levitron: {note}", file=sys.stderr)
     print(f"levitron: deriving the model of scene '{scene.name}' ...", file=sys.stderr)
     try:
         # an absolute scene path: the subprocess runs in the repository, not in the user's folder
@@ -197,7 +198,7 @@ def _install(new: Path, out: Path, trash: Path, ihash: str) -> None:
 class Part:
     """One part ("reduced" or "full") of a loaded model."""
 
-    def __init__(self, model: "Model", name: str):
+    def __init__(self, model: Model, name: str):
         self.model = model
         self.name = name
         self.states: list[str] = list(model.manifest.parts[name].states)

@@ -2,7 +2,13 @@
 library is rebuilt before it is ever loaded, an unusable cache is one line."""
 import pytest
 
-from runtime.cbuild import CacheError, CompileError, cache_dir, compile_shared, is_intact
+from runtime.cbuild import (
+    CacheError,
+    CompileError,
+    cache_dir,
+    compile_shared,
+    is_intact,
+)
 
 
 def test_compile_error_is_shown_whole_and_leaves_no_file(tmp_path, monkeypatch):
