@@ -19,11 +19,11 @@ import pytest
 
 from derive.build import derive_scene
 from derive.digest import SELF_KEY, manifest_digest
+from derive.paths import ROOT
 from derive.scene import load_scene
 from runtime.cbuild import compile_shared
 from runtime.manifest import ArtefactError
 
-ROOT = Path(__file__).resolve().parent.parent
 SCENE = "reduced_only"
 PY = sys.executable
 

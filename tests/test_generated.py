@@ -3,15 +3,14 @@ import filecmp
 import os
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 
-from derive.build import GENERATED, render
-from derive.scene import SCENES_DIR, load_scene
+from derive.build import render
+from derive.paths import GENERATED, ROOT, SCENES_DIR
+from derive.scene import load_scene
 from runtime.cbuild import compiler
 
-ROOT = Path(__file__).resolve().parent.parent
 SCENES = sorted(p.stem for p in SCENES_DIR.glob("*.toml"))
 
 
