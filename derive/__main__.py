@@ -1,8 +1,9 @@
 """python -m derive [SCENE ...] [--out DIR] [--force] [--json]: regenerate models (make derive).
 
-Without --out it writes the committed models, generated/<name>/, and only for scenes of scenes/
-without --set: a variant or an out-of-tree scene is refused there (give --out, or use
-`levitron derive`, which derives it into the cache), so a committed model is never overwritten.
+Without --out (or with --out generated) it writes the committed models, generated/<name>/, and
+only for scenes of scenes/ without --set: a variant or an out-of-tree scene is refused there (give
+--out, or use `levitron derive`, which derives it into the cache), so a committed model is never
+overwritten.
 """
 from __future__ import annotations
 
@@ -20,11 +21,11 @@ def refuse_uncommitted(scenes, overrides) -> None:
     """generated/ holds the models of scenes/ as they are: raise SceneError for anything else."""
     if overrides:
         raise SceneError(f"--set {overrides[0]} would overwrite a committed model in generated/: give "
-                         "--out DIR, or use `levitron derive` (derives variants into the cache)")
+                         "--out OTHER_DIR, or use `levitron derive` (derives variants into the cache)")
     for scene in scenes:
         if not is_committed_scene(scene.name, scene.path):
             raise SceneError(f"scene '{scene.name}' ({scene.path}) is not scenes/{scene.name}.toml, "
-                             "so it has no committed model in generated/: give --out DIR, or use "
+                             "so it has no committed model in generated/: give --out OTHER_DIR, or use "
                              "`levitron derive` (derives it into the cache)")
 
 
@@ -42,7 +43,7 @@ def main(argv=None) -> int:
     results = []
     try:
         scenes = [load_scene(n, args.set) for n in names]   # validate all before writing any
-        if args.out is None:
+        if out.resolve() == GENERATED.resolve():
             refuse_uncommitted(scenes, args.set)
         for scene in scenes:
             res = derive_scene(scene, out, force=args.force)
