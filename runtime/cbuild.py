@@ -72,7 +72,8 @@ def source_hash(sources: list[Path], flags: tuple[str, ...],
     h = hashlib.sha256()
     h.update(_compiler_identity(compiler()).encode())
     h.update("\0".join(flags).encode())
-    folders = dict.fromkeys(Path(d).resolve() for d in [*include_dirs, *(Path(s).parent for s in sources)])
+    dirs = [*include_dirs, *(Path(s).parent for s in sources)]
+    folders = dict.fromkeys(Path(d).resolve() for d in dirs)
     headers = [hdr for d in folders for hdr in sorted(d.glob("*.h"))]
     for src in [*sources, *headers]:
         h.update(b"\0" + Path(src).name.encode() + b"\0")

@@ -117,7 +117,8 @@ def parse_manifest(data, where: str, fix: str) -> Manifest:
     parts = {}
     for name, info in d["parts"].items():
         r.table(info, _PART, f"parts.{name}.")
-        parts[name] = PartInfo(name, info["equations"], r.names(info["states"], f"parts.{name}.states"))
+        states = r.names(info["states"], f"parts.{name}.states")
+        parts[name] = PartInfo(name, info["equations"], states)
     functions = {}
     for name, info in d["functions"].items():
         key = f"functions.{name}"
@@ -179,6 +180,7 @@ def read_manifest(folder: Path, fix: str, expect_hash: str | None = None) -> Man
     bad = first_changed_file(folder, dict(manifest.files))
     if bad is not None:
         name, how = bad
-        state = "is missing" if how == "missing" else "differs from the sha256 in manifest.json (edited or truncated)"
+        state = ("is missing" if how == "missing"
+                 else "differs from the sha256 in manifest.json (edited or truncated)")
         raise ArtefactError(f"{Path(folder) / name} {state}; {fix}")
     return manifest

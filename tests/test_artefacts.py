@@ -254,7 +254,8 @@ def test_truncated_cached_library_is_rebuilt(fresh, copy, tmp_path, monkeypatch)
     script = ("from derive.scene import load_scene; from runtime.model import Model; "
               f"print(Model(load_scene({SCENE!r}), {str(copy)!r}).onaxis(0.1)[0])")
     for attempt in range(2):
-        res = subprocess.run([PY, "-c", script], env=env, capture_output=True, text=True, check=False, cwd=tmp_path)
+        res = subprocess.run([PY, "-c", script], env=env, capture_output=True, text=True,
+                             check=False, cwd=tmp_path)
         assert res.returncode == 0, res.stderr
         assert ("damaged" in res.stderr) == (attempt == 0), res.stderr
         assert float(res.stdout) != 0.0
