@@ -37,7 +37,6 @@ from .model_table import disagreement, read_table
 CSRC = Path(__file__).resolve().parent / "csrc"
 
 _DOUBLE_P = ctypes.POINTER(ctypes.c_double)
-LEV_FN = ctypes.CFUNCTYPE(None, _DOUBLE_P, _DOUBLE_P, _DOUBLE_P)
 
 NEEDS_OF_PART = {"reduced": "reduced", "full": "full"}
 
