@@ -1,4 +1,10 @@
-"""python -m derive [SCENE ...] [--out DIR] [--force] [--json]: regenerate models (make derive)."""
+"""python -m derive [SCENE ...] [--out DIR] [--force] [--json]: regenerate models (make derive).
+
+Without --out (or with --out generated) it writes the committed models, generated/<name>/, and
+only for scenes of scenes/ without --set: a variant or an out-of-tree scene is refused there (give
+--out, or use `levitron derive`, which derives it into the cache), so a committed model is never
+overwritten.
+"""
 from __future__ import annotations
 
 import argparse
@@ -6,28 +12,45 @@ import json
 import sys
 from pathlib import Path
 
-from .build import GENERATED, derive_scene
-from .scene import SCENES_DIR, SceneError, load_scene
+from .build import derive_scene
+from .paths import GENERATED, SCENES_DIR, is_committed_scene
+from .scene import SceneError, load_scene
+
+
+def refuse_uncommitted(scenes, overrides) -> None:
+    """generated/ holds the models of scenes/ as they are: raise SceneError for anything else."""
+    if overrides:
+        raise SceneError(f"--set {overrides[0]} would overwrite a committed model in generated/: give "
+                         "--out OTHER_DIR, or use `levitron derive` (derives variants into the cache)")
+    for scene in scenes:
+        if not is_committed_scene(scene.name, scene.path):
+            raise SceneError(f"scene '{scene.name}' ({scene.path}) is not scenes/{scene.name}.toml, "
+                             "so it has no committed model in generated/: give --out OTHER_DIR, or use "
+                             "`levitron derive` (derives it into the cache)")
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m derive", description=__doc__)
+    ap = argparse.ArgumentParser(prog="python -m derive", description=__doc__.splitlines()[0])
     ap.add_argument("scenes", nargs="*", help="scene names or .toml paths (default: all in scenes/)")
     ap.add_argument("--set", action="append", default=[], metavar="K=V", help="override a scene key")
-    ap.add_argument("--out", type=Path, default=GENERATED, help="output root (default generated/)")
+    ap.add_argument("--out", type=Path, default=None,
+                    help="output root (default generated/, for the scenes of scenes/ only)")
     ap.add_argument("--force", action="store_true", help="derive even when the input hash matches")
     ap.add_argument("--json", action="store_true", help="print one JSON object")
     args = ap.parse_args(argv)
     names = args.scenes or sorted(p.stem for p in SCENES_DIR.glob("*.toml"))
+    out = GENERATED if args.out is None else args.out
     results = []
     try:
         scenes = [load_scene(n, args.set) for n in names]   # validate all before writing any
+        if out.resolve() == GENERATED.resolve():
+            refuse_uncommitted(scenes, args.set)
         for scene in scenes:
-            res = derive_scene(scene, args.out, force=args.force)
+            res = derive_scene(scene, out, force=args.force)
             results.append(res)
             if not args.json:
                 state = "unchanged" if res["skipped"] else f"derived in {res['seconds']:.2f} s"
-                print(f"{scene.name}: {state} -> {args.out / scene.name}", file=sys.stderr)
+                print(f"{scene.name}: {state} -> {out / scene.name}", file=sys.stderr)
     except SceneError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2

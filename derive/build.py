@@ -1,11 +1,12 @@
 """Derive one scene: symbolic model -> lowered code -> C, CasADi, manifest, written atomically.
 
 generated/<scene>/ is replaced as a whole: everything is written to a temporary folder beside it
-and renamed into place, so a failure never leaves a half-written model behind.
+and renamed into place, so a failure never leaves a half-written model behind. The manifest lists
+the sha256 of every file and of itself (derive/digest.py); a folder is current only when its input
+hash matches and every digest holds, so `make derive` repairs an edited or truncated file.
 """
 from __future__ import annotations
 
-import hashlib
 import json
 import os
 import shutil
@@ -13,16 +14,15 @@ import tempfile
 import time
 from pathlib import Path
 
+from .digest import SELF_KEY, file_digests, first_changed_file, manifest_digest
 from .emit.c import emitter as c_emitter
 from .emit.casadi import builder as casadi_builder
 from .emit.lower import lower
 from .geometry import build_plate
 from .inputs import input_hash, tool_versions
+from .paths import GENERATED
 from .scene import Scene, SceneError
 from .spec import build_spec
-
-ROOT = Path(__file__).resolve().parent.parent
-GENERATED = ROOT / "generated"
 
 
 def field_order(scene: Scene) -> tuple[int, dict]:
@@ -53,9 +53,10 @@ def render(scene: Scene) -> dict[str, bytes]:
     params = [str(s) for s in spec.params]
     ban = banner(scene, ihash)
     ops_line = ", ".join(f"{f.name} {f.ops}" for f in lowered)
+    table = c_emitter.model_table(scene.name, ihash, params, spec.parts, lowered)
     header, source = c_emitter.render(ban + f" Operation counts: {ops_line}.",
                                       scene.name.upper().replace("-", "_"), params, spec.parts,
-                                      spec.kmax, lowered)
+                                      spec.kmax, lowered, table)
     files = {"model.h": header.encode(), "model.c": source.encode()}
     casadi_files = {}
     with tempfile.TemporaryDirectory() as tmp:
@@ -81,8 +82,9 @@ def render(scene: Scene) -> dict[str, bytes]:
         "functions": {f.name: {"doc": f.doc, "n_in": f.n_in, "n_out": f.n_out,
                                "shape": list(f.shape), "ops": f.ops, "casadi": casadi_files[f.name]}
                       for f in lowered},
-        "files": {name: hashlib.sha256(data).hexdigest() for name, data in sorted(files.items())},
+        "files": file_digests(files),
     }
+    manifest[SELF_KEY] = manifest_digest(manifest)
     files["manifest.json"] = (json.dumps(manifest, indent=2, sort_keys=True) + "\n").encode()
     return files
 
@@ -108,13 +110,15 @@ def write_atomic(target: Path, files: dict[str, bytes]) -> None:
 
 
 def is_current(scene: Scene, out_dir: Path) -> bool:
-    manifest = out_dir / "manifest.json"
-    if not manifest.exists():
-        return False
+    """out_dir holds the scene's model for the current input hash, every file intact."""
     try:
-        return json.loads(manifest.read_text()).get("input_hash") == input_hash(scene.data)
-    except json.JSONDecodeError:
+        manifest = json.loads((out_dir / "manifest.json").read_text())
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError):
         return False
+    return (isinstance(manifest, dict) and manifest.get("input_hash") == input_hash(scene.data)
+            and manifest.get(SELF_KEY) == manifest_digest(manifest)
+            and isinstance(manifest.get("files"), dict)
+            and first_changed_file(out_dir, manifest["files"]) is None)
 
 
 def derive_scene(scene: Scene, out_root: Path = GENERATED, force: bool = False) -> dict:
@@ -123,8 +127,9 @@ def derive_scene(scene: Scene, out_root: Path = GENERATED, force: bool = False) 
     t0 = time.perf_counter()
     if not force and is_current(scene, out_dir):
         return {"name": scene.name, "files": sorted(p.name for p in out_dir.iterdir()),
-                "seconds": round(time.perf_counter() - t0, 3), "skipped": True}
+                "seconds": round(time.perf_counter() - t0, 3), "skipped": True,
+                "folder": str(out_dir)}
     files = render(scene)
     write_atomic(out_dir, files)
     return {"name": scene.name, "files": sorted(files), "seconds": round(time.perf_counter() - t0, 3),
-            "skipped": False}
+            "skipped": False, "folder": str(out_dir)}

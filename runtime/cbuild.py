@@ -3,7 +3,9 @@
 The cache key is the SHA-256 of the compiler's identity, the flags and the bytes of every source
 file, so an edited model or integrator is rebuilt and an unchanged one is loaded at once. The
 library is written to a temporary name and renamed into place, so an interrupted or failed build
-never leaves a half-written file in the cache. Compiler errors are raised whole, never swallowed.
+never leaves a half-written file in the cache. Beside each library lies its size and sha256
+(`lev_<key>.so.sha256`), checked before the library is returned (so before any dlopen, which can
+SIGBUS on a truncated file): a damaged library is rebuilt once. Compiler errors are raised whole.
 """
 from __future__ import annotations
 
@@ -11,22 +13,41 @@ import hashlib
 import os
 import shutil
 import subprocess
+import sys
 import tempfile
-from functools import lru_cache
+from functools import cache
 from pathlib import Path
 
+from .errors import UserError
+
 DEFAULT_FLAGS = ("-O3", "-std=c99", "-fPIC", "-shared", "-march=native", "-Wall", "-Wextra")
+STRICT_FLAGS = DEFAULT_FLAGS + ("-Werror",)       # the hand-written runtime/csrc alone
 
 
 class CompileError(RuntimeError):
     """The C compiler rejected the sources; the message holds its complete output."""
 
 
+class CacheError(UserError):
+    """The cache folder cannot be made or written."""
+
+
+def cache_problem(path: Path, exc: OSError) -> CacheError:
+    """The one-line error for an OSError met while writing the cache at `path`."""
+    why = exc.strerror or type(exc).__name__
+    return CacheError(f"the cache {path} is not a writable folder ({why}): set LEVITRON_CACHE to a "
+                      "writable folder")
+
+
 def cache_dir() -> Path:
-    """Where compiled libraries live: $LEVITRON_CACHE, else ~/.cache/levitron."""
+    """Where compiled libraries and derived models live: $LEVITRON_CACHE, else ~/.cache/levitron.
+    Made if missing; CacheError when that is impossible (a file in the way, no permission)."""
     root = os.environ.get("LEVITRON_CACHE")
     path = Path(root) if root else Path.home() / ".cache" / "levitron"
-    path.mkdir(parents=True, exist_ok=True)
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise cache_problem(path, exc) from None
     return path
 
 
@@ -37,44 +58,96 @@ def compiler() -> str:
     return cc
 
 
-@lru_cache(maxsize=None)
+@cache
 def _compiler_identity(cc: str) -> str:
     out = subprocess.run([cc, "--version"], capture_output=True, text=True, check=False)
     return out.stdout.splitlines()[0] if out.stdout else cc
 
 
-def source_hash(sources: list[Path], flags: tuple[str, ...]) -> str:
+def source_hash(sources: list[Path], flags: tuple[str, ...],
+                include_dirs: tuple[Path | str, ...] = ()) -> str:
+    """The cache key: compiler, flags, the bytes of every source and of every header in the include
+    folders or beside the sources (an edited header rebuilds too). Contents, not locations: the
+    same model in another folder reuses the library."""
     h = hashlib.sha256()
     h.update(_compiler_identity(compiler()).encode())
     h.update("\0".join(flags).encode())
-    for src in sources:
+    dirs = [*include_dirs, *(Path(s).parent for s in sources)]
+    folders = dict.fromkeys(Path(d).resolve() for d in dirs)
+    headers = [hdr for d in folders for hdr in sorted(d.glob("*.h"))]
+    for src in [*sources, *headers]:
         h.update(b"\0" + Path(src).name.encode() + b"\0")
         h.update(Path(src).read_bytes())
     return h.hexdigest()[:24]
 
 
+def _stamp_path(library: Path) -> Path:
+    return library.with_name(library.name + ".sha256")
+
+
+def _stamp(data: bytes) -> str:
+    return f"{len(data)} {hashlib.sha256(data).hexdigest()}\n"
+
+
+def is_intact(library: Path) -> bool:
+    """The library exists and has the size and sha256 recorded beside it when it was built."""
+    try:
+        stamp = _stamp_path(library).read_text()
+        size = int(stamp.split()[0])
+        if library.stat().st_size != size:       # a truncated file: never read, never dlopen'ed
+            return False
+        return _stamp(library.read_bytes()) == stamp
+    except (OSError, ValueError, IndexError):
+        return False
+
+
 def compile_shared(sources: list[Path | str], flags: tuple[str, ...] = DEFAULT_FLAGS,
                    include_dirs: tuple[Path | str, ...] = ()) -> Path:
-    """Compile `sources` into one shared library and return its cached path (thesis-independent).
+    """Compile `sources` into one shared library and return its cached, verified path.
 
-    Raises CompileError with the compiler's full stderr when the build fails.
+    Raises CompileError with the compiler's full stderr when the build fails, CacheError when the
+    cache cannot be written.
     """
     sources = [Path(s) for s in sources]
+    key = source_hash(sources, tuple(flags), include_dirs)
     all_flags = tuple(flags) + tuple(f"-I{d}" for d in include_dirs)
-    key = source_hash(sources, all_flags)
-    target = cache_dir() / f"lev_{key}.so"
-    if target.exists():
+    cache = cache_dir()
+    target = cache / f"lev_{key}.so"
+    if is_intact(target):
         return target
+    if target.exists():
+        print(f"levitron: the cached library {target} is damaged (size or sha256 differs from "
+              f"{_stamp_path(target).name}): rebuilding it", file=sys.stderr)
+    _build(sources, all_flags, target)
+    return target
+
+
+def _build(sources: list[Path], flags: tuple[str, ...], target: Path) -> None:
+    """Compile into a temporary file and rename it (and its stamp, first) into place: readers
+    never see a half-written library, and a damaged one is replaced, never written in place."""
     cc = compiler()
-    fd, tmp = tempfile.mkstemp(prefix=f".lev_{key}_", suffix=".so", dir=cache_dir())
-    os.close(fd)
-    cmd = [cc, *all_flags, "-o", tmp, *map(str, sources), "-lm"]
+    tmps: list[str] = []
     try:
+        try:
+            for suffix in (".so", ".sha256"):
+                fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}_", suffix=suffix,
+                                           dir=target.parent)
+                os.close(fd)
+                tmps.append(tmp)
+        except OSError as exc:
+            raise cache_problem(target.parent, exc) from None
+        tmp_lib, tmp_stamp = tmps
+        cmd = [cc, *flags, "-o", tmp_lib, *map(str, sources), "-lm"]
         res = subprocess.run(cmd, capture_output=True, text=True, check=False)
         if res.returncode != 0:
             raise CompileError(f"C compilation failed ({' '.join(cmd)}):\n{res.stderr}{res.stdout}")
-        os.replace(tmp, target)
+        try:
+            Path(tmp_stamp).write_text(_stamp(Path(tmp_lib).read_bytes()))
+            os.replace(tmp_stamp, _stamp_path(target))
+            os.replace(tmp_lib, target)
+        except OSError as exc:
+            raise cache_problem(target.parent, exc) from None
     finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-    return target
+        for tmp in tmps:
+            if os.path.exists(tmp):
+                os.unlink(tmp)

@@ -1,11 +1,14 @@
-"""Load a generated model: compile and cache its C, load its CasADi functions (no sympy here).
+"""Load a generated model: verify it, compile and cache its C, load its CasADi functions (no sympy).
 
     model = load_model(scene)        # derives first (in a subprocess) if generated/ is missing or stale
     part = model.part("full")        # "reduced" | "full"
     part.rhs(x), part.energy(x), part.jac(x)          # backend="c" (default) or "casadi"
 
-The C library is model.c compiled together with the hand-written runtime/csrc/*.c (integrators),
-cached by content hash (runtime/cbuild.py).
+Nothing is used unverified: the manifest is typed and checked, with the sha256 of itself and of
+every file (runtime/manifest.py); the compiled library's own table must agree with the manifest
+before any call (runtime/model_table.py); a damaged cached model is derived again, once, and a
+damaged generated/ is an error saying `make derive`. The C library is model.c compiled together
+with the hand-written runtime/csrc/*.c (integrators), cached by content hash (runtime/cbuild.py).
 """
 from __future__ import annotations
 
@@ -18,21 +21,22 @@ import sys
 import tempfile
 from functools import cached_property
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
 from derive.inputs import input_hash
-from derive.scene import SCENES_DIR, Scene
+from derive.paths import GENERATED, ROOT, is_committed_scene
+from derive.scene import Scene
 
-from .cbuild import cache_dir, compile_shared
+from .cbuild import cache_dir, cache_problem, compile_shared
 from .errors import UserError
+from .manifest import ArtefactError, FunctionInfo, Manifest, read_manifest
+from .model_table import disagreement, read_table
 
-ROOT = Path(__file__).resolve().parent.parent
-GENERATED = ROOT / "generated"
 CSRC = Path(__file__).resolve().parent / "csrc"
 
 _DOUBLE_P = ctypes.POINTER(ctypes.c_double)
-LEV_FN = ctypes.CFUNCTYPE(None, _DOUBLE_P, _DOUBLE_P, _DOUBLE_P)
 
 NEEDS_OF_PART = {"reduced": "reduced", "full": "full"}
 
@@ -48,7 +52,8 @@ def _ptr(a: np.ndarray):
 class CFunction:
     """The one ctypes call path: a generated (or runtime/csrc test) C function
     `void f(const double *in, const double *p, double *out)` bound to preallocated buffers of the
-    sizes the manifest states (the marshalling of a fresh call costs more than the function).
+    sizes the manifest states, checked against the library's own table (Model.lib) (the
+    marshalling of a fresh call costs more than the function).
 
         f = CFunction(fn, n_in, n_out, p);  y = f(x)          # a copy of the output
     """
@@ -72,68 +77,131 @@ class CFunction:
         return self._out.copy()
 
 
-def _own_scene(scene: Scene) -> bool:
-    return scene.path is not None and Path(scene.path).resolve().parent == SCENES_DIR.resolve()
+# ---------------------------------------------------------------- where a model lives
+
+def committed_folder(scene: Scene) -> Path | None:
+    """generated/<name>/ for a scene of scenes/ (its committed model), else None."""
+    return GENERATED / scene.name if is_committed_scene(scene.name, scene.path) else None
 
 
-def generated_dir(scene: Scene, overrides=()) -> Path:
-    """Where the scene's model lives: generated/<name>/ when that is current for the scene (a scene
-    of scenes/, also with --set overrides of numbers, which are runtime parameters), else a folder
-    in the cache keyed by the input hash. The runtime never writes into generated/: only
-    `make derive` does."""
-    ihash = input_hash(scene.data)
-    if _own_scene(scene) and _manifest_hash(GENERATED / scene.name) == ihash:
-        return GENERATED / scene.name
-    return cache_dir() / "derived" / f"{scene.name}-{ihash[:16]}"
+def cache_folder(scene: Scene) -> Path:
+    """The cache folder of the scene's model: keyed by the input hash (derive/inputs.py)."""
+    return cache_dir() / "derived" / f"{scene.name}-{input_hash(scene.data)[:16]}"
 
 
 def _manifest_hash(folder: Path) -> str | None:
     try:
-        return json.loads((folder / "manifest.json").read_text()).get("input_hash")
-    except (FileNotFoundError, NotADirectoryError, json.JSONDecodeError):
+        data = json.loads((folder / "manifest.json").read_text())
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError):
         return None
+    return data.get("input_hash") if isinstance(data, dict) else None
 
 
-def ensure_generated(scene: Scene, overrides=()) -> Path:
-    """The scene's generated folder; derived first (python -m derive, in a subprocess: the runtime
-    does not import sympy) into the cache when no current one exists. The new folder appears by one
-    rename, so concurrent processes (scan workers) never see a half-written model."""
-    out = generated_dir(scene, overrides)
+class Located(NamedTuple):
+    """A verified model folder: where, its manifest, what to do when it is damaged, and whether
+    this call derived it."""
+
+    folder: Path
+    manifest: Manifest
+    fix: str
+    derived: bool
+
+
+def make_derive_fix(name: str) -> str:
+    return f"run `make derive` to regenerate generated/{name}"
+
+
+def locate(scene: Scene, overrides=(), force: bool = False) -> Located:
+    """The scene's verified model folder: generated/<name>/ when it is current for the scene (a scene
+    of scenes/, also with --set overrides of numbers, which are runtime parameters), else a folder
+    in the cache keyed by the input hash, derived first (python -m derive, in a subprocess: the
+    runtime does not import sympy) when missing, damaged (derived again, once) or `force`d.
+
+    The runtime never writes into generated/ (only `make derive` does): a damaged current
+    generated/<name> is an ArtefactError naming the file."""
     ihash = input_hash(scene.data)
-    if _manifest_hash(out) == ihash:
-        return out
-    if _own_scene(scene) and (GENERATED / scene.name).exists() and not overrides:
-        print(f"levitron: generated/{scene.name} is stale (the scene or derive/ changed): using a "
-              "fresh derivation in the cache; run `make derive` to update generated/", file=sys.stderr)
-    print(f"levitron: deriving the model of scene '{scene.name}' ...", file=sys.stderr)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{scene.name}-", dir=out.parent))
+    committed = committed_folder(scene)
+    if committed is not None and _manifest_hash(committed) == ihash and not force:
+        fix = make_derive_fix(scene.name)
+        return Located(committed, read_manifest(committed, fix, ihash), fix, False)
+    out = cache_folder(scene)
+    fix = f"delete {out} (or run `make clean-cache`) and try again"
+    note = None
+    if committed is not None and committed.exists() and not overrides:
+        note = (f"generated/{scene.name} is stale (the scene or derive/ changed): using a fresh "
+                "derivation in the cache; run `make derive` to update generated/")
+    if not force:
+        try:
+            return Located(out, read_manifest(out, fix, ihash), fix, False)
+        except ArtefactError as exc:
+            if os.path.lexists(out):
+                note = f"the cached model is damaged ({str(exc).split('; ')[0]}): deriving it again"
+    _derive_into(scene, overrides, out, ihash, note)
+    return Located(out, read_manifest(out, fix, ihash), fix, True)
+
+
+def _derive_into(scene: Scene, overrides, out: Path, ihash: str, note: str | None = None) -> None:
+    """Derive the scene into `out` (a cache folder): into a temporary folder beside it, then one
+    rename, so concurrent processes (scan workers) never see a half-written model. The temporary
+    folder is removed on every path. `note`: why, said once the cache is known to be writable."""
+    if scene.path is None:
+        raise UserError(f"scene '{scene.name}' was not read from a file: nothing to derive from")
     try:
-        cmd = [sys.executable, "-m", "derive", str(scene.path), "--out", str(tmp), "--force"]
+        out.parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{scene.name}-", dir=out.parent))
+    except OSError as exc:
+        raise cache_problem(out.parent, exc) from None
+    if note:
+        print(f"levitron: {note}", file=sys.stderr)
+    print(f"levitron: deriving the model of scene '{scene.name}' ...", file=sys.stderr)
+    try:
+        # an absolute scene path: the subprocess runs in the repository, not in the user's folder
+        cmd = [sys.executable, "-m", "derive", str(Path(scene.path).resolve()), "--out", str(tmp),
+               "--force"]
         for o in overrides:
             cmd += ["--set", o]
         res = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, check=False)
         if res.returncode != 0:
-            raise UserError(f"derive failed for scene '{scene.name}': {res.stderr.strip()}")
-        try:
-            os.replace(tmp / scene.name, out)
-        except OSError:
-            if _manifest_hash(out) != ihash:   # not another process's identical result: a real error
-                raise
+            last = (res.stderr.strip().splitlines() or ["no message"])[-1].removeprefix("error: ")
+            raise UserError(f"derive failed for scene '{scene.name}': {last}")
+        _install(tmp / scene.name, out, tmp, ihash)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-    return out
+
+
+def _intact(folder: Path, ihash: str) -> bool:
+    try:
+        read_manifest(folder, "", ihash)
+    except ArtefactError:
+        return False
+    return True
+
+
+def _install(new: Path, out: Path, trash: Path, ihash: str) -> None:
+    """Rename `new` to `out`; a damaged `out` is first moved into `trash` (removed by the caller),
+    an intact one (another process's identical result, installed meanwhile) is kept."""
+    if _intact(out, ihash):
+        return
+    try:
+        if os.path.lexists(out):
+            try:
+                os.replace(out, trash / "damaged")
+            except FileNotFoundError:
+                pass                          # another process moved it at the same moment
+        os.replace(new, out)
+    except OSError as exc:
+        if _manifest_hash(out) != ihash:      # not another process's identical result: a real error
+            raise cache_problem(out.parent, exc) from None
 
 
 class Part:
     """One part ("reduced" or "full") of a loaded model."""
 
-    def __init__(self, model: "Model", name: str):
+    def __init__(self, model: Model, name: str):
         self.model = model
         self.name = name
-        info = model.manifest["parts"][name]
-        self.states: list[str] = list(info["states"])
-        self.params: list[str] = list(model.manifest["parameters"])
+        self.states: list[str] = list(model.manifest.parts[name].states)
+        self.params: list[str] = model.param_names
         self.nx = len(self.states)
 
     @property
@@ -141,7 +209,7 @@ class Part:
         return self.model.p
 
     def has(self, kind: str) -> bool:
-        return f"{self.name}_{kind}" in self.model.manifest["functions"]
+        return self.model.has_function(f"{self.name}_{kind}")
 
     def c_function(self, kind: str):
         """The ctypes function pointer of `<part>_<kind>` (signature: in, p, out)."""
@@ -172,13 +240,18 @@ class Part:
 
 
 class Model:
-    """A generated model with its scene's parameter values."""
+    """A verified generated model with its scene's parameter values.
 
-    def __init__(self, scene: Scene, folder: Path):
+    `manifest` is the typed Manifest (runtime/manifest.py); `fix` says what to do when a file of
+    the folder turns out damaged (default: `make derive`)."""
+
+    def __init__(self, scene: Scene, folder: Path, manifest: Manifest | None = None,
+                 fix: str | None = None):
         self.scene = scene
         self.folder = Path(folder)
-        self.manifest = json.loads((self.folder / "manifest.json").read_text())
-        names = self.manifest["parameters"]
+        self.fix = fix or make_derive_fix(self.folder.name)
+        self.manifest = manifest if manifest is not None else read_manifest(self.folder, self.fix)
+        names = self.manifest.parameters
         missing = [n for n in names if n not in scene.params]
         if missing:
             raise UserError(f"scene '{scene.name}' gives no value for parameter {missing[0]}: "
@@ -188,13 +261,46 @@ class Model:
         self._parts = {}
         self._cfuncs = {}
 
-    # ---- parts
+    # ---- parameters
+    @property
+    def param_names(self) -> list[str]:
+        """The parameter names in the order of the vector p."""
+        return list(self.manifest.parameters)
+
+    def _index(self, name: str) -> int:
+        try:
+            return self.manifest.parameters.index(name)
+        except ValueError:
+            raise UserError(f"unknown parameter {name!r}: the model's parameters are "
+                            f"{', '.join(self.manifest.parameters)}") from None
+
+    def param(self, name: str) -> float:
+        """The scene's value of one parameter (UserError naming the valid ones if unknown)."""
+        return float(self.p[self._index(name)])
+
+    def pvals(self, p=None) -> dict[str, float]:
+        """name -> value of the parameter vector p (default the scene's)."""
+        p = self.p if p is None else np.asarray(p, dtype=float).reshape(-1)
+        if p.size != len(self.manifest.parameters):
+            raise ValueError(f"expected {len(self.manifest.parameters)} parameters, got {p.size}")
+        return {n: float(v) for n, v in zip(self.manifest.parameters, p)}
+
+    def with_params(self, overrides: dict, p=None) -> np.ndarray:
+        """A copy of p (default the scene's) with the named parameters replaced."""
+        out = np.array(self.p if p is None else p, dtype=float).reshape(-1)
+        if out.size != len(self.manifest.parameters):
+            raise ValueError(f"expected {len(self.manifest.parameters)} parameters, got {out.size}")
+        for name, value in overrides.items():
+            out[self._index(name)] = float(value)
+        return out
+
+    # ---- parts and functions
     @property
     def parts(self) -> list[str]:
-        return list(self.manifest["parts"])
+        return list(self.manifest.parts)
 
     def part(self, name: str) -> Part:
-        if name not in self.manifest["parts"]:
+        if name not in self.manifest.parts:
             raise MissingPart(f"scene '{self.scene.name}' has no {name} model (model.needs = "
                               f"{self.scene.needs}): add \"{NEEDS_OF_PART.get(name, name)}\" to "
                               "model.needs in the scene")
@@ -202,8 +308,15 @@ class Model:
             self._parts[name] = Part(self, name)
         return self._parts[name]
 
-    def param(self, name: str) -> float:
-        return float(self.p[self.manifest["parameters"].index(name)])
+    def has_function(self, name: str) -> bool:
+        return name in self.manifest.functions
+
+    def function(self, name: str) -> FunctionInfo:
+        """The manifest's entry of a generated function (MissingPart if the model has none)."""
+        info = self.manifest.functions.get(name)
+        if info is None:
+            raise MissingPart(f"scene '{self.scene.name}' has no generated function {name}")
+        return info
 
     # ---- C backend
     @cached_property
@@ -213,13 +326,23 @@ class Model:
 
     @cached_property
     def lib(self) -> ctypes.CDLL:
-        return ctypes.CDLL(str(self.library_path))
+        """The compiled library (verified by cbuild before dlopen), its own table checked against
+        the manifest before any function of it is called."""
+        try:
+            lib = ctypes.CDLL(str(self.library_path))
+        except OSError as exc:
+            raise ArtefactError(f"{self.library_path} cannot be loaded ({exc}); delete it and try "
+                                "again") from None
+        problem = disagreement(read_table(lib), self.manifest)
+        if problem is not None:
+            raise ArtefactError(f"{self.folder / 'manifest.json'} does not describe its model.c "
+                                f"({problem}); {self.fix}")
+        return lib
 
     def c_function(self, name: str):
         fn = self._cfuncs.get(name)
         if fn is None:
-            if name not in self.manifest["functions"]:
-                raise MissingPart(f"scene '{self.scene.name}' has no generated function {name}")
+            self.function(name)
             fn = getattr(self.lib, name)
             fn.argtypes = [_DOUBLE_P, _DOUBLE_P, _DOUBLE_P]
             fn.restype = None
@@ -229,34 +352,42 @@ class Model:
     def fast(self, name: str, p: np.ndarray | None = None) -> CFunction:
         """The generated C function `name` bound to parameters p (default the scene's) with
         preallocated buffers: for hot loops (root searches, Jacobian sweeps)."""
-        info = self.manifest["functions"].get(name)
-        if info is None:
-            raise MissingPart(f"scene '{self.scene.name}' has no generated function {name}")
+        info = self.function(name)
         p = self.p if p is None else np.asarray(p, dtype=float)
         if p.size != self.p.size:
             raise ValueError(f"{name}: expected {self.p.size} parameters, got {p.size}")
-        return CFunction(self.c_function(name), info["n_in"], info["n_out"], p)
+        return CFunction(self.c_function(name), info.n_in, info.n_out, p)
 
     # ---- CasADi backend
     def casadi(self, name: str):
-        import casadi as ca
+        """The casadi.Function (in, p) -> out of `name`, its sizes checked against the manifest."""
         if name not in self._casadi:
-            info = self.manifest["functions"].get(name)
-            if info is None:
-                raise MissingPart(f"scene '{self.scene.name}' has no generated function {name}")
-            self._casadi[name] = ca.Function.load(str(self.folder / info["casadi"]))
+            self._casadi[name] = self._load_casadi(self.function(name))
         return self._casadi[name]
+
+    def _load_casadi(self, info: FunctionInfo):
+        import casadi as ca
+        path = self.folder / info.casadi
+        try:
+            fn = ca.Function.load(str(path))
+        except RuntimeError as exc:
+            why = (str(exc).strip().splitlines() or ["unreadable"])[-1]
+            raise ArtefactError(f"{path} cannot be loaded by CasADi ({why}); {self.fix}") from None
+        sizes = (fn.n_in(), fn.n_out()) == (2, 1) and (fn.nnz_in(0), fn.nnz_in(1), fn.nnz_out(0)) \
+            == (info.n_in, self.p.size, info.n_out)
+        if not sizes:
+            raise ArtefactError(f"{path} does not take {info.n_in} inputs and {self.p.size} "
+                                f"parameters to {info.n_out} outputs as manifest.json says; {self.fix}")
+        return fn
 
     # ---- evaluation
     def call(self, name: str, x, p=None, backend: str = "c") -> np.ndarray:
-        info = self.manifest["functions"].get(name)
-        if info is None:
-            raise MissingPart(f"scene '{self.scene.name}' has no generated function {name}")
+        info = self.function(name)
         x = np.ascontiguousarray(x, dtype=float).reshape(-1)
         p = self.p if p is None else np.ascontiguousarray(p, dtype=float)
-        if x.size != info["n_in"] or p.size != self.p.size:
-            raise ValueError(f"{name}: expected {info['n_in']} inputs and "
-                             f"{len(self.manifest['parameters'])} parameters, got {x.size}, {p.size}")
+        if x.size != info.n_in or p.size != self.p.size:
+            raise ValueError(f"{name}: expected {info.n_in} inputs and {self.p.size} parameters, "
+                             f"got {x.size}, {p.size}")
         if backend == "c":
             return self.fast(name, p)(x)
         if backend == "casadi":
@@ -273,5 +404,7 @@ class Model:
 
 
 def load_model(scene: Scene, overrides=()) -> Model:
-    """The loaded model of a scene (derived first if needed). `overrides` are the --set strings."""
-    return Model(scene, ensure_generated(scene, overrides))
+    """The loaded, verified model of a scene (derived first if needed). `overrides` are the --set
+    strings."""
+    found = locate(scene, overrides)
+    return Model(scene, found.folder, found.manifest, found.fix)

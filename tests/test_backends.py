@@ -39,7 +39,7 @@ def random_states(names, rng, n=N):
 def sympy_functions(model):
     scene = model.scene
     plate = build_plate(scene.data["plate"])
-    spec = build_spec(scene.name, plate, model.manifest["field_order"], scene.coordinates, scene.needs)
+    spec = build_spec(scene.name, plate, model.manifest.field_order, scene.coordinates, scene.needs)
     out = {}
     for f in spec.functions:
         exprs = [sp.sympify(e) for e in f.outputs]
@@ -63,11 +63,11 @@ def test_backends_agree_at_random_states(derived_model, scene, coords):
     model = derived_model(scene, f"model.coordinates=\"{coords}\"")
     funcs = sympy_functions(model)
     rng = np.random.default_rng(20261121)
-    for name, info in model.manifest["functions"].items():
+    for name in model.manifest.functions:
         if name in ("onaxis", "field"):
             names = ["z"] if name == "onaxis" else ["x", "y", "z"]
         else:
-            names = model.manifest["parts"][name.split("_")[0]]["states"]
+            names = model.manifest.parts[name.split("_")[0]].states
         X = random_states(names, rng)
         ref = np.array([np.broadcast_to(np.asarray(v, dtype=float), (N,))
                         for v in funcs[name](list(X.T), list(model.p))]).T

@@ -7,11 +7,16 @@ from ..errors import UserError
 from ..model import Model, load_model
 
 
-def scene_of(args) -> Scene:
+def load(name_or_path, overrides=()) -> Scene:
+    """A scene by name or path, with --set overrides; SceneError becomes a UserError."""
     try:
-        return load_scene(args.scene, args.set)
+        return load_scene(name_or_path, list(overrides))
     except SceneError as exc:
         raise UserError(str(exc)) from None
+
+
+def scene_of(args) -> Scene:
+    return load(args.scene, args.set)
 
 
 def model_of(args) -> Model:

@@ -1,15 +1,26 @@
-"""`levitron derive [SCENE ...]`: regenerate models (the same as `make derive`)."""
+"""`levitron derive [SCENE ...]`: regenerate models.
+
+The scenes of scenes/, as they are, are derived into generated/ (the same as `make derive`, which
+alone writes committed models). A variant (--set) or an out-of-tree scene is derived into the
+cache, where the other commands find it: generated/ is never overwritten by one.
+"""
 from __future__ import annotations
 
 import json
 import subprocess
 import sys
+import time
+from pathlib import Path
+
+from derive.paths import ROOT, SCENES_DIR
 
 from ..errors import UserError
-from ..model import ROOT
+from ..model import committed_folder, locate
+from .common import load
 
 NAME = "derive"
-HELP = "regenerate the generated models of the given scenes (default: all)"
+HELP = ("regenerate the models of the given scenes (default: all of scenes/); variants (--set) and "
+        "out-of-tree scenes go to the cache, never to generated/")
 MULTI_SCENE = True
 
 
@@ -18,13 +29,34 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> dict:
-    # derive runs in its own process: the runtime never imports sympy.
-    cmd = [sys.executable, "-m", "derive", *args.scenes, "--json"]
-    for s in args.set:
-        cmd += ["--set", s]
-    if args.force:
+    names = args.scenes or sorted(p.stem for p in SCENES_DIR.glob("*.toml"))
+    scenes = [load(n, args.set) for n in names]        # validate all before deriving any
+    committed = [not args.set and committed_folder(s) is not None for s in scenes]
+    done = {}
+    if any(committed):
+        done = {r["name"]: r for r in _derive_committed(
+            [s for s, c in zip(scenes, committed) if c], args.force)}
+    results = []
+    for scene, is_committed in zip(scenes, committed):
+        if is_committed:
+            results.append(done[scene.name])
+            continue
+        t0 = time.perf_counter()
+        found = locate(scene, args.set, force=args.force)
+        results.append({"name": scene.name, "files": sorted(p.name for p in found.folder.iterdir()),
+                        "seconds": round(time.perf_counter() - t0, 3), "skipped": not found.derived,
+                        "folder": str(found.folder)})
+    return {"scenes": results}
+
+
+def _derive_committed(scenes, force: bool) -> list[dict]:
+    """python -m derive (the runtime never imports sympy) on the scenes' absolute paths: the
+    subprocess runs in the repository, not in the user's folder."""
+    cmd = [sys.executable, "-m", "derive", *(str(Path(s.path).resolve()) for s in scenes), "--json"]
+    if force:
         cmd.append("--force")
     res = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, check=False)
     if res.returncode != 0:
-        raise UserError(res.stderr.strip().removeprefix("error: ") or "derive failed")
-    return json.loads(res.stdout)
+        last = (res.stderr.strip().splitlines() or ["derive failed"])[-1]
+        raise UserError(last.removeprefix("error: "))
+    return json.loads(res.stdout)["scenes"]

@@ -18,7 +18,7 @@ def add_arguments(parser) -> None:
 def run(args) -> dict:
     model = model_of(args)
     scene = model.scene
-    params = {n: float(v) for n, v in zip(model.manifest["parameters"], model.p)}
+    params = model.pvals()
     derived = {}
     if "plate_rho" in params:
         rho = params["plate_rho"]
@@ -32,9 +32,9 @@ def run(args) -> dict:
         "derived_parameters": derived,
         "notes": scene.notes,
         "generated": str(model.folder),
-        "input_hash": m["input_hash"],
-        "plate": m["plate"], "coordinates": m["coordinates"], "field_order": m["field_order"],
-        "parts": {k: v["states"] for k, v in m["parts"].items()},
-        "functions": {k: {"ops": v["ops"], "n_in": v["n_in"], "n_out": v["n_out"], "doc": v["doc"]}
-                      for k, v in m["functions"].items()},
+        "input_hash": m.input_hash,
+        "plate": m.plate, "coordinates": m.coordinates, "field_order": m.field_order,
+        "parts": {k: list(v.states) for k, v in m.parts.items()},
+        "functions": {k: {"ops": f.ops, "n_in": f.n_in, "n_out": f.n_out, "doc": f.doc}
+                      for k, f in m.functions.items()},
     }

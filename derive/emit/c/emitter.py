@@ -1,6 +1,13 @@
-"""Emit model.c and model.h for a scene through the jinja2 templates beside this file."""
+"""Emit model.c and model.h for a scene through the jinja2 templates beside this file.
+
+model.c also exports its own table, `lev_model_table()`: the scene, the input hash, the parameter
+names in order, the state names of each part and every function's name, n_in and n_out, as JSON
+(split into short C string literals, joined by the reader). The runtime checks it against
+manifest.json after loading the library and before any call (runtime/model.py).
+"""
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import jinja2
@@ -9,6 +16,8 @@ from ..lower import Lowered
 from .printer import LevitronCPrinter
 
 TEMPLATES = Path(__file__).resolve().parent / "templates"
+TABLE_FORMAT = 1
+TABLE_CHUNK = 96          # characters of JSON per C string literal (C99 guarantees 4095)
 
 
 def _env() -> jinja2.Environment:
@@ -25,8 +34,23 @@ def body_lines(f: Lowered, printer: LevitronCPrinter) -> list[str]:
     return lines
 
 
+def model_table(scene: str, input_hash: str, params: list[str], parts: dict,
+                lowered: list[Lowered]) -> dict:
+    """What the compiled model says about itself (read by runtime/model_table.py)."""
+    return {"format": TABLE_FORMAT, "scene": scene, "input_hash": input_hash,
+            "parameters": list(params),
+            "parts": {name: list(info["states"]) for name, info in parts.items()},
+            "functions": {f.name: {"n_in": f.n_in, "n_out": f.n_out} for f in lowered}}
+
+
+def c_string_chunks(text: str, width: int = TABLE_CHUNK) -> list[str]:
+    """`text` (ASCII) as C string literals of at most `width` characters of text each."""
+    chunks = [text[i:i + width] for i in range(0, len(text), width)] or [""]
+    return ['"' + c.replace("\\", "\\\\").replace('"', '\\"') + '"' for c in chunks]
+
+
 def render(banner: str, guard: str, params: list[str], parts: dict, kmax: int,
-           lowered: list[Lowered]) -> tuple[str, str]:
+           lowered: list[Lowered], table: dict) -> tuple[str, str]:
     """The text of model.h and model.c."""
     printer = LevitronCPrinter()
     funcs = []
@@ -34,6 +58,7 @@ def render(banner: str, guard: str, params: list[str], parts: dict, kmax: int,
         funcs.append({"name": f.name, "doc": f.doc, "n_in": f.n_in, "n_out": f.n_out, "ops": f.ops,
                       "inputs": f.inputs, "params": f.params, "lines": body_lines(f, printer)})
     env = _env()
+    table_json = json.dumps(table, sort_keys=True, separators=(",", ":"), ensure_ascii=True)
     ctx = {"banner": banner, "guard": guard, "params": params, "parts": parts, "kmax": kmax,
-           "functions": funcs}
+           "functions": funcs, "table_lines": c_string_chunks(table_json)}
     return env.get_template("model.h.j2").render(**ctx), env.get_template("model.c.j2").render(**ctx)
