@@ -190,7 +190,7 @@ def goals(model, full_rows: list[dict], quick: bool, su: Setup | None = None) ->
     reps = 200_000 if quick else 5_000_000
     ns = min(time_fn_ns(model.lib, part.c_function("rhs"), x0, p, len(x0), reps) for _ in range(3))
     out["full_rhs_ns"] = ns
-    out["full_rhs_ops"] = model.manifest["functions"][f"{part.name}_rhs"]["ops"]
+    out["full_rhs_ops"] = model.function(f"{part.name}_rhs").ops
     out["full_rhs_goal_met"] = ns <= 150
     # long run: 1e6 steps (quick: 2e4) of gauss4 and RK4 at h = T_fast / 30, energy monitored in C
     n = 20_000 if quick else 1_000_000

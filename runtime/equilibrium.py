@@ -68,8 +68,7 @@ def length_key(name: str) -> str | None:
 
 def params_of(model, p: np.ndarray | None = None) -> dict:
     """{parameter name: value} of a loaded model (p: another parameter vector, manifest order)."""
-    pv = model.p if p is None else p
-    return {n: float(v) for n, v in zip(model.manifest["parameters"], pv)}
+    return model.pvals(p)
 
 
 def scale_of(model, p: np.ndarray | None = None) -> float:

@@ -23,7 +23,7 @@ from .ray_algebra import l_cubic
 
 
 def _variants(model) -> list[tuple[str, np.ndarray]]:
-    names = list(model.manifest["parameters"])
+    names = model.param_names
     out = []
     if "plate_w" in names and model.p[names.index("plate_w")] > 0:
         p0 = model.p.copy()

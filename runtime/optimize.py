@@ -44,7 +44,7 @@ def physical_problem(names: list[str], values: np.ndarray, param: str) -> str | 
 
 def fit_equilibrium_height(model, z_star: float, param: str = "mu") -> dict:
     """The value of `param` for which the top hovers at z_star: m g + mu Phi_2(z_star) = 0."""
-    names = list(model.manifest["parameters"])
+    names = model.param_names
     if param not in names:
         raise UserError(f"--param {param!r} is not a parameter of this model: use one of "
                         f"{', '.join(names)}")

@@ -33,7 +33,7 @@ from .ray_algebra import (
 
 def model_callables(model, p: np.ndarray | None = None) -> tuple[Callable, Callable, list[str]]:
     """(onaxis(z), full_jac(state), full states) of a loaded runtime.model.Model, fast; p: a
-    parameter vector other than the scene's (order: model.manifest["parameters"])."""
+    parameter vector other than the scene's (order: model.param_names)."""
     p = model.p if p is None else p
     onaxis = eqm.model_onaxis(model, p)
     part = model.part("full")
@@ -171,13 +171,10 @@ def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
                  z_s: float | None = None) -> StabilityResult:
     """The StabilityResult of a loaded model's top (another mass if given; parameters p, default the
     scene's), with the eigenvalue route on the generated full Jacobian when the model has one."""
-    p = np.array(model.p if p is None else p, dtype=float)
-    names = list(model.manifest["parameters"])
-    if mass is not None:
-        p[names.index("m")] = float(mass)
+    p = model.with_params({} if mass is None else {"m": float(mass)}, p)
     P = eqm.params_of(model, p)
     full_jac = states = None
-    if "full_jac" in model.manifest["functions"]:
+    if model.has_function("full_jac"):
         onaxis, full_jac, states = model_callables(model, p)
     else:
         onaxis = eqm.model_onaxis(model, p)

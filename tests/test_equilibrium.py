@@ -176,7 +176,7 @@ def test_generated_model_onaxis_matches_closed_form():
     from derive.scene import load_scene
     from runtime.model import load_model
     model = load_model(load_scene("thesis"))
-    P = dict(zip(model.manifest["parameters"], model.p))
+    P = model.pvals()
     on = annulus(P["plate_a"], P["plate_w"], P["plate_rho"])
     fast = eqm.model_onaxis(model)
     for z in (0.02, 0.0762, 0.1, 0.157, 0.4):

@@ -198,8 +198,7 @@ def test_close_roots_every_command(scenes, units, delta):
     base = eqm.equilibria_of(model)
     z_c, m_max = base.z_c, base.max_mass
     m = m_max * (1 - delta)
-    p = model.p.copy()
-    p[model.manifest["parameters"].index("m")] = m
+    p = model.with_params({"m": m})
     # the finder, model level
     rep = eqm.equilibria_of(model, p)
     lo, hi = rep.equilibria
@@ -227,8 +226,7 @@ def test_close_roots_every_command(scenes, units, delta):
 def test_max_mass_is_marginal_in_every_command(scenes, units):
     scene, model = scenes[units]
     m_max = eqm.equilibria_of(model).max_mass
-    p = model.p.copy()
-    p[model.manifest["parameters"].index("m")] = m_max
+    p = model.with_params({"m": m_max})
     (e,) = eqm.equilibria_of(model, p).equilibria
     assert e.marginal and not e.vertically_stable
     with pytest.raises(UserError, match="exactly as heavy"):

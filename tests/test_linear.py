@@ -217,7 +217,7 @@ def thesis_model():
 
 
 def _with_mass(model, mass):
-    names = list(model.manifest["parameters"])
+    names = model.param_names
     p = model.p.copy()
     p[names.index("m")] = mass
     return p, dict(zip(names, p))

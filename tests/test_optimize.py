@@ -20,7 +20,7 @@ def test_thesis_murho_is_the_fit_to_7_62_cm(thesis_model):
     assert out["optimum"]["murho"] == pytest.approx(murho_scene, rel=5e-8)
     # and the fitted value puts the lower equilibrium exactly there (thesis eq. 3.3.2)
     p = thesis_model.p.copy()
-    names = thesis_model.manifest["parameters"]
+    names = thesis_model.param_names
     p[names.index("mu")] = out["optimum"]["mu"]
     phi2 = thesis_model.onaxis(0.0762, p)[2]
     mg = thesis_model.param("m") * thesis_model.param("g")

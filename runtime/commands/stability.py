@@ -31,7 +31,7 @@ def run(args) -> dict:
     wall = time.perf_counter() - t0
     out = {"scene": model.scene.name, "mass": model.param("m")}
     out.update(res.as_dict())
-    out["eigen_source"] = ("full_jac (generated)" if "full_jac" in model.manifest["functions"]
+    out["eigen_source"] = ("full_jac (generated)" if model.has_function("full_jac")
                            else "transverse_matrix (8-D)")
     out["wall_s"] = wall
     return out
