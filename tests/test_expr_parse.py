@@ -109,13 +109,13 @@ def test_accepts_arithmetic_and_functions():
     got = parse_expression("1e-3*z + 0.5*a**2 - -z/2 + (z)", {"z": z, "a": a})
     assert sp.simplify(got - (sp.Rational(1, 1000) * z + a**2 / 2 + z / 2 + z)) == 0
     text = ("sqrt(z) + exp(z) + log(z) + sin(z) + cos(z) + tan(z) + atan(z) + atan2(z, a) + sinh(z)"
-            " + cosh(z) + tanh(z) + asinh(z) + acosh(a) + atanh(z) + abs(z) + Abs(a) + pi + E")
+            " + cosh(z) + tanh(z) + asinh(z) + acosh(a) + atanh(z) + pi + E")
     expr = parse_expression(text, {"z": z, "a": a})
     val = float(expr.subs({z: 0.3, a: 1.7}))
     import math
     want = (math.sqrt(.3) + math.exp(.3) + math.log(.3) + math.sin(.3) + math.cos(.3) + math.tan(.3)
             + math.atan(.3) + math.atan2(.3, 1.7) + math.sinh(.3) + math.cosh(.3) + math.tanh(.3)
-            + math.asinh(.3) + math.acosh(1.7) + math.atanh(.3) + .3 + 1.7 + math.pi + math.e)
+            + math.asinh(.3) + math.acosh(1.7) + math.atanh(.3) + math.pi + math.e)
     assert val == pytest.approx(want, rel=1e-14)
 
 
@@ -130,9 +130,33 @@ def test_decimal_literals_exact():
 
 
 def _builtin_formulas():
-    """Every on-axis formula the built-in geometries produce (Phi0 and a few Phi_k)."""
-    from derive import plates_extra  # noqa: F401  (registers the extra kinds)
-    return plates_extra.example_formulas()
+    """Phi0, bz = -Phi1, Phi2 and Phi3 of every built-in kind (what an expression plate could say
+    about them: the formulas a scene could give, Phi0 and bz, must all parse), and the thesis's
+    textbook forms (thesis eqs. 2.2.11-2.2.12)."""
+    from derive import onaxis
+    from derive.plates.symbolic import build_plate, plate_symbol
+    from derive.symbols import Z
+    tables = {
+        "annulus": {"kind": "annulus"},
+        "disk": {"kind": "disk"},
+        "loop": {"kind": "loop"},
+        "ring_magnet": {"kind": "ring_magnet", "r_in": 0.01},
+        "cylinder": {"kind": "ring_magnet", "r_in": 0.0},
+        "rectangle_thin": {"kind": "rectangle", "thickness": 0.0},
+        "rectangle_block": {"kind": "rectangle", "thickness": 0.01},
+        "expression": {"kind": "expression", "phi0": "b*z/sqrt(z**2 + c**2)",
+                       "params": {"b": 1.0, "c": 0.1}},
+        "compound": {"kind": "compound", "parts": [{"kind": "disk"}, {"kind": "loop"}]},
+    }
+    out = []
+    for label, table in tables.items():
+        plate = build_plate(table)
+        out.append((label + " Phi0", plate.phi0))
+        out.append((label + " bz = -Phi1", -plate.phi(1)))
+        out += [(f"{label} Phi{k}", plate.phi(k)) for k in (2, 3)]
+    a, w, rho = plate_symbol("a"), plate_symbol("w"), plate_symbol("rho")
+    naive = onaxis.textbook_annulus_phis(Z, a, w, 2 * sp.pi * rho)
+    return out + [("textbook Phi0", naive(0)), ("textbook Phi1", naive(1))]
 
 
 def _roundtrip(expr: sp.Expr, rng: random.Random):
@@ -163,7 +187,7 @@ def test_roundtrip_builtin_geometries():
 
 
 def test_scene_validation_reserves_the_parser_names():
-    """derive/plate_kinds.py (pure Python) refuses the same parameter names as the parser."""
-    from derive.expr_parse import CONSTANTS, FUNCTIONS
-    from derive.plate_kinds import RESERVED_NAMES
-    assert RESERVED_NAMES == set(FUNCTIONS) | set(CONSTANTS) | {"z"}
+    """derive/plates/expression.py (pure Python) refuses the same parameter names as the parser."""
+    from derive.expr_parse import RESERVED
+    from derive.plates.expression import RESERVED_NAMES
+    assert RESERVED_NAMES == RESERVED | {"z"}
