@@ -38,7 +38,7 @@ from .plates import expression as scene_side
 MAX_LENGTH = scene_side.MAX_FORMULA   # characters of formula text
 MAX_NODES = 1000       # nodes of the syntax tree
 MAX_DEPTH = 60         # nesting depth of the expression tree (chains of + - * / do not count)
-MAX_CALL_DEPTH = 6     # function calls nested in function calls
+MAX_CALL_DEPTH = scene_side.MAX_CALL_DEPTH   # function calls nested in function calls
 MAX_LITERAL = 40       # characters of one number literal
 MAX_EXPONENT = 100     # |constant exponent|
 MAX_POWER_BITS = 4096  # bits of an exact rational power computed at parse time

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -22,6 +23,7 @@ import tomllib
 from . import plates
 from .checks import SceneError, check_keys, number
 from .constants import MU0
+from .plates.base import Key
 
 __all__ = ["MU0", "SCENES_DIR", "Scene", "SceneError", "find_scene_file", "load_scene",
            "parse_override", "validate"]
@@ -30,6 +32,38 @@ SCENES_DIR = Path(__file__).resolve().parent.parent / "scenes"
 
 NEEDS = ("reduced", "full", "linear")
 COORDINATES = ("tait-bryan", "euler-zxz")
+
+# The keys of every section but [plate] (whose keys are the plate kinds', derive/plates/); the
+# contract docs/scenes.md is generated from these and the registry (`python -m derive.plates.docs`).
+SCENE_KEYS = (
+    Key("name", "", "the scene's name (letters, digits, '-', '_'; default: the file's stem)"),
+    Key("description", "", "free text"),
+    Key("g", "m/s^2", "gravity (default 9.81; 1 in a dimensionless scene)"),
+)
+TOP_KEYS = (
+    Key("mass", "kg", "mass m of the top"),
+    Key("A", "kg m^2", "transverse moment of inertia"),
+    Key("C", "kg m^2", "axial moment of inertia (C <= 2 A)"),
+    Key("moment", "A m^2", "magnetic moment mu along the symmetry axis, signed (mu < 0: upright "
+        "over a field that points up); may be left out with plate.murho"),
+)
+FIELD_KEYS = (
+    Key("order", "", "even order in r of the Laplace expansion, 2..12 (default 2)"),
+    Key("tolerance", "", "instead of order: the largest relative error of the expanded field, "
+        "with radius"),
+    Key("radius", "m", "the distance from the axis within which tolerance must hold"),
+)
+MODEL_KEYS = (
+    Key("needs", "", f"what derive emits, a list drawn from {list(NEEDS)} (default all; "
+        "\"linear\" needs \"full\")"),
+    Key("coordinates", "", f"angles of the full model, one of {list(COORDINATES)} (default "
+        "\"tait-bryan\", regular at the upright top; \"euler-zxz\" as in the thesis)"),
+)
+_NAME = re.compile(r"[A-Za-z0-9_-]+\Z")
+
+
+def _names(keys: tuple[Key, ...]) -> set[str]:
+    return {k.name for k in keys}
 
 
 # ---------------------------------------------------------------- the scene
@@ -132,7 +166,7 @@ def load_scene(name_or_path: str | Path, overrides: list[str] | tuple[str, ...] 
 
 def validate(data: dict, path: Path | None = None) -> Scene:
     """Check every key and resolve the parameters; raises SceneError on the first problem."""
-    check_keys(data, {"name", "g", "top", "plate", "field", "model", "description"}, "scene")
+    check_keys(data, _names(SCENE_KEYS) | {"top", "plate", "field", "model"}, "scene")
     for section in ("top", "plate"):
         if section not in data or not isinstance(data[section], dict):
             raise SceneError(f"the scene has no [{section}] section: add it (see docs/contract.md)")
@@ -146,7 +180,7 @@ def validate(data: dict, path: Path | None = None) -> Scene:
     data["g"] = g
 
     top = data["top"]
-    check_keys(top, {"mass", "A", "C", "moment"}, "top")
+    check_keys(top, _names(TOP_KEYS), "top")
     m = number(top, "mass", "top", positive=True)
     A = number(top, "A", "top", positive=True)
     C = number(top, "C", "top", positive=True)
@@ -165,7 +199,7 @@ def validate(data: dict, path: Path | None = None) -> Scene:
         raise SceneError("[top] moment is missing: add `moment = <A m^2>` (signed, along the axis)")
 
     fld = data["field"]
-    check_keys(fld, {"order", "tolerance", "radius"}, "field")
+    check_keys(fld, _names(FIELD_KEYS), "field")
     if "order" in fld:
         order = fld["order"]
         if isinstance(order, bool) or not isinstance(order, int) or order < 2 or order % 2:
@@ -180,7 +214,7 @@ def validate(data: dict, path: Path | None = None) -> Scene:
         raise SceneError("[field] needs `order` (even, >= 2) or `tolerance` and `radius`")
 
     model = data["model"]
-    check_keys(model, {"needs", "coordinates"}, "model")
+    check_keys(model, _names(MODEL_KEYS), "model")
     needs = model.setdefault("needs", ["reduced", "full", "linear"])
     if not isinstance(needs, list) or not needs or any(n not in NEEDS for n in needs):
         raise SceneError(f"model.needs = {needs!r}: give a non-empty list drawn from {list(NEEDS)}")
@@ -193,7 +227,7 @@ def validate(data: dict, path: Path | None = None) -> Scene:
         raise SceneError(f"model.coordinates = {coords!r}: use one of {list(COORDINATES)}")
 
     name = data.get("name")
-    if not isinstance(name, str) or not name.replace("_", "").replace("-", "").isalnum():
+    if not isinstance(name, str) or not _NAME.match(name):
         raise SceneError(f"name = {name!r}: use letters, digits, '-' and '_' only")
 
     params = {"m": m, "g": g, "A": A, "C": C, "mu": float(mu)}

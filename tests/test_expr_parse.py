@@ -191,3 +191,92 @@ def test_scene_validation_reserves_the_parser_names():
     from derive.expr_parse import RESERVED
     from derive.plates.expression import RESERVED_NAMES
     assert RESERVED_NAMES == RESERVED | {"z"}
+
+
+# ---------------------------------------------------------------- bounded work, one-line errors (issue 8)
+
+def _one_line(exc) -> str:
+    text = str(exc)
+    assert "\n" not in text and len(text) < 400, text
+    return text
+
+
+def test_nested_calls_refused_before_sympy():
+    """sin(sin(...(z))) 15 deep (30-odd characters) kept derive busy for minutes: refused at once."""
+    import time
+    text = "sin(" * 15 + "z" + ")" * 15
+    t0 = time.perf_counter()
+    with pytest.raises(ExpressionError) as info:
+        parse_expression(text, NAMES)
+    assert time.perf_counter() - t0 < 0.5
+    assert "nests function calls" in _one_line(info.value)
+
+
+def test_too_many_nodes_refused():
+    from derive.expr_parse import MAX_LENGTH, MAX_NODES
+    text = "+".join(["z"] * 999)          # 1997 characters, 1997 tree nodes
+    assert len(text) <= MAX_LENGTH
+    with pytest.raises(ExpressionError) as info:
+        parse_expression(text, NAMES)
+    assert f"more than {MAX_NODES}" in _one_line(info.value)
+
+
+@pytest.mark.parametrize("text", ["abs(z)", "b*abs(z - 1)", "Abs(z)", "sqrt(z**2)"])
+def test_abs_is_a_one_line_error_with_the_reason(text):
+    with pytest.raises(ExpressionError) as info:
+        parse_expression(text, {"z": sp.Symbol("z", real=True), "b": sp.Symbol("b", real=True)})
+    msg = _one_line(info.value)
+    assert "abs" in msg and "z > 0" in msg, msg
+
+
+def test_abs_through_the_plate_builder_is_one_scene_error_line():
+    from derive.checks import SceneError
+    from derive.plates.symbolic import build_plate
+    with pytest.raises(SceneError) as info:
+        build_plate({"kind": "expression", "phi0": "b*abs(z)/sqrt(z**2 + 1)", "params": {"b": 1.0}})
+    assert _one_line(info.value).startswith("plate.phi0: ")
+
+
+@pytest.mark.parametrize("text,fragment", [
+    ("z +", "not a formula"),
+    ("z ^ 2", "use ** for powers"),
+    ("foo(z)", "unknown function"),
+    ("q*z", "unknown name 'q'"),
+    ("sin(z, z)", "sin takes 1 argument"),
+    ("z if z else 1", "conditionals"),
+    ("1/0", "division by zero"),
+    ("z ** 1000", "exponent"),
+])
+def test_malformed_formulas_are_one_line(text, fragment):
+    with pytest.raises(ExpressionError) as info:
+        parse_expression(text, NAMES)
+    assert fragment in _one_line(info.value)
+
+
+def test_derivative_size_budget(monkeypatch):
+    """A formula within the parser's limits whose derivatives still grow too fast is refused at the
+    first Phi_k above the operation budget, with one line naming it."""
+    from derive.checks import SceneError
+    from derive.plates.symbolic import build_plate
+    from derive.plates.symbolic import expression as ex
+    monkeypatch.setattr(ex, "MAX_DERIVATIVE_OPS", 500)
+    plate = build_plate({"kind": "expression", "phi0": "sin(sin(sin(sin(sin(sin(z))))))"})
+    assert plate.phi(2) is not None
+    with pytest.raises(SceneError) as info:
+        plate.phi(4)
+    assert "Phi_3 has" in _one_line(info.value) and "limit 500" in str(info.value)
+
+
+def test_time_budget_interrupts_symbolic_work():
+    import time
+
+    from derive.checks import SceneError
+    from derive.plates.symbolic.budget import time_budget
+    z = sp.Symbol("z", real=True)
+    t0 = time.perf_counter()
+    with pytest.raises(SceneError) as info, time_budget(0.2, "plate.phi0"):
+        expr = sp.sin(z)
+        while True:
+            expr = sp.expand(sp.diff(expr * sp.cos(z) + z, z))
+    assert time.perf_counter() - t0 < 5
+    assert _one_line(info.value).startswith("plate.phi0 took more than 0.2 s")

@@ -17,11 +17,13 @@ import pkgutil
 from ..checks import SceneError, check_keys
 from .base import Context, PlateKind
 
+_NOT_KINDS = ("base", "docs")   # the modules of this package that are not plate kinds
+
 
 def _discover() -> dict[str, PlateKind]:
     kinds = {}
     for info in sorted(pkgutil.iter_modules(__path__), key=lambda i: i.name):
-        if info.ispkg:
+        if info.ispkg or info.name in _NOT_KINDS:
             continue
         kind = getattr(importlib.import_module(f"{__name__}.{info.name}"), "KIND", None)
         if isinstance(kind, PlateKind):

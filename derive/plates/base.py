@@ -75,7 +75,7 @@ class PlateKind:
 # ---------------------------------------------------------------- shared resolvers
 
 STRENGTH_KEYS = (
-    Key("murho", "T m^2 (thesis units)", "mu * rho of thesis eq. 2.2.11, the only product the "
+    Key("murho", "J m", "mu * rho of thesis eq. 2.2.11 (the thesis's parametrisation), the only product the "
         "dynamics sees; with it top.moment may be left out"),
     Key("dipole_density", "A", "dipole density D of the layer (SI), rho = mu0 D / (4 pi); needs "
         "top.moment"),

@@ -19,7 +19,8 @@ FUNCTIONS = {"sqrt": 1, "exp": 1, "log": 1, "sin": 1, "cos": 1, "tan": 1, "asin"
 CONSTANTS = ("pi", "E")
 # Names a parameter may not take: the functions, the constants, z, and abs (refused by name).
 RESERVED_NAMES = frozenset(FUNCTIONS) | frozenset(CONSTANTS) | {"z", "abs", "Abs"}
-MAX_FORMULA = 2000   # characters; derive/expr_parse.py has the same limit (MAX_LENGTH)
+MAX_FORMULA = 2000   # characters (derive/expr_parse.py MAX_LENGTH)
+MAX_CALL_DEPTH = 6   # function calls nested in function calls (derive/expr_parse.py)
 _IDENT = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
 
 
@@ -49,7 +50,9 @@ KIND = PlateKind(
     name="expression",
     doc="on-axis potential phi0(z) or on-axis field bz(z) given as a formula (parsed safely, never "
         "evaluated as Python); the field off the axis by the Laplace expansion",
-    keys=(Key("phi0", "T m", "Phi0(z), a formula in z and the names of [plate.params]"),
+    keys=(Key("phi0", "T m", "Phi0(z), a formula in z and the names of [plate.params]: numbers, "
+              "+ - * / **, pi, E and " + ", ".join(FUNCTIONS) + " (no abs: its derivatives have "
+              f"no code); at most {MAX_FORMULA} characters, calls nested at most {MAX_CALL_DEPTH} deep"),
           Key("bz", "T", "B_z on the axis instead (Phi0 = -integral of bz dz must have a closed "
               "form)"),
           Key("params", "", "table name = number: the formula's parameters (runtime parameters "
