@@ -129,3 +129,55 @@ def test_docs_refer_to_no_path_outside_the_repository():
     for path in (ROOT / "docs").glob("*.md"):
         text = path.read_text(encoding="utf-8")
         assert "shared/" not in text and "DESIGN.md" not in text, path
+
+
+def _module_imports(root: Path, package: str) -> dict[str, set[str]]:
+    """Module -> the modules of `package` it imports (at any level of the file), from the source."""
+    import ast
+    graph: dict[str, set[str]] = {}
+    for path in (root / package).rglob("*.py"):
+        rel = path.relative_to(root).with_suffix("")
+        parts = list(rel.parts)
+        is_pkg = parts[-1] == "__init__"
+        if is_pkg:
+            parts = parts[:-1]
+        name = ".".join(parts)
+        deps = set()
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom):
+                base = parts if is_pkg else parts[:-1]
+                if node.level:
+                    base = base[:len(base) - node.level + 1]
+                    mod = ".".join(base + ([node.module] if node.module else []))
+                else:
+                    mod = node.module or ""
+                targets = [mod] + [f"{mod}.{a.name}" for a in node.names]
+            elif isinstance(node, ast.Import):
+                targets = [a.name for a in node.names]
+            else:
+                continue
+            deps |= {t for t in targets if t.split(".")[0] == package}
+        graph[name] = deps
+    return {k: {d for d in v if d in graph and d != k} for k, v in graph.items()}
+
+
+def test_no_import_cycles_in_derive():
+    """geometry <-> plates_extra and scene <-> plate_kinds were cycles; derive/ has none now."""
+    graph = _module_imports(ROOT, "derive")
+    state: dict[str, int] = {}
+
+    def visit(node, trail):
+        state[node] = 1
+        for dep in sorted(graph[node]):
+            # a package's own __init__ is imported before its modules: not a cycle edge
+            if node.startswith(dep + "."):
+                continue
+            if state.get(dep) == 1:
+                raise AssertionError("import cycle: " + " -> ".join([*trail, node, dep]))
+            if dep not in state:
+                visit(dep, [*trail, node])
+        state[node] = 2
+
+    for module in sorted(graph):
+        if module not in state:
+            visit(module, [])

@@ -51,7 +51,7 @@ def build(table: dict, prefix: str = "") -> Plate:
     params = table.get("params", {}) or {}
     names = {"z": Z, **{key: plate_symbol(prefix + key) for key in sorted(params)}}
     symbols = tuple(names[k] for k in sorted(params))
-    where = "plate" + ("." + prefix.rstrip("_") if prefix else "")
+    where = f"plate.parts[{prefix[1:-1]}]" if prefix else "plate"   # prefix "p<i>_": part i
     key = "phi0" if "phi0" in table else "bz"
     t0 = time.monotonic()
     with time_budget(TIME_BUDGET_S, f"{where}.{key}"):
