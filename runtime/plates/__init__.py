@@ -18,7 +18,7 @@ from derive.plates import KINDS
 
 class Params:
     """A plate's (or a part's) resolved parameters: p["a"] is params["plate_a"] (with the part's
-    prefix), `"w" in p` whether the plate has it."""
+    prefix: params["plate_p<i>_a"])."""
 
     def __init__(self, params: Mapping[str, float], prefix: str = "plate_"):
         self.params = params
@@ -26,12 +26,6 @@ class Params:
 
     def __getitem__(self, name: str) -> float:
         return float(self.params[self.prefix + name])
-
-    def __contains__(self, name: str) -> bool:
-        return self.prefix + name in self.params
-
-    def get(self, name: str, default: float) -> float:
-        return float(self.params.get(self.prefix + name, default))
 
     def part(self, i: int) -> Params:
         return Params(self.params, f"{self.prefix}p{i}_")

@@ -3,4 +3,4 @@ from ..exact_field import annulus_field, dipole_density
 
 
 def field(table, p, points, part_field):
-    return annulus_field(points, p["a"], p.get("w", 0.0), dipole_density(p["rho"]))
+    return annulus_field(points, p["a"], p["w"], dipole_density(p["rho"]))
