@@ -29,7 +29,10 @@ def number(section: dict, key: str, where: str, *, positive: bool = False, nonze
     name = f"{where}.{key}" if where else key
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise SceneError(f"{name} = {value!r} is not a number: write e.g. `{key} = 0.1`")
-    value = float(value)
+    try:
+        value = float(value)
+    except OverflowError:
+        value = math.inf if value > 0 else -math.inf
     if not math.isfinite(value):
         raise SceneError(f"{name} = {value} is not finite: give a finite number")
     if positive and value <= 0:

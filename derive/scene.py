@@ -123,21 +123,30 @@ def parse_override(text: str) -> tuple[list[str], Any]:
     return path, value
 
 
+def _exists(path: Path) -> bool:
+    try:
+        return path.exists()
+    except (OSError, ValueError):   # a NUL byte, a name too long for the file system
+        return False
+
+
 def find_scene_file(name_or_path: str | Path) -> Path:
+    """The scene file of a name in scenes/ or a path; SceneError when there is none."""
     p = Path(name_or_path)
-    if p.suffix == ".toml" or p.exists():
-        if not p.exists():
-            raise SceneError(f"scene file {p} does not exist: give a path to a .toml file or a "
-                             f"name from {SCENES_DIR}")
+    shown = str(name_or_path) if len(str(name_or_path)) <= 80 else str(name_or_path)[:77] + "..."
+    if p.suffix == ".toml" or _exists(p):
+        if not _exists(p):
+            raise SceneError(f"scene file {shown!r} does not exist: give a path to a .toml file or "
+                             f"a name from {SCENES_DIR}")
         if not p.is_file():
-            raise SceneError(f"scene {p} is not a file (a directory?): give a path to a .toml file "
-                             f"or a name from {SCENES_DIR}")
+            raise SceneError(f"scene {shown!r} is not a file (a directory?): give a path to a .toml "
+                             f"file or a name from {SCENES_DIR}")
         return p
     candidate = SCENES_DIR / f"{name_or_path}.toml"
-    if candidate.exists():
+    if _exists(candidate):
         return candidate
     known = ", ".join(sorted(q.stem for q in SCENES_DIR.glob("*.toml")))
-    raise SceneError(f"unknown scene {name_or_path!r}: use one of {known} or a path to a .toml file")
+    raise SceneError(f"unknown scene {shown!r}: use one of {known} or a path to a .toml file")
 
 
 def load_scene(name_or_path: str | Path, overrides: list[str] | tuple[str, ...] = ()) -> Scene:

@@ -70,6 +70,7 @@ def test_unknown_scene_names_the_known_ones():
     ("top.mass=1e308", "top.mass = 1e+308 is outside"),
     ("top.mass=1e-300", "top.mass = 1e-300 is outside"),
     ("top.mass=inf", "top.mass = inf is not finite"),
+    ("top.mass=1" + "0" * 400, "top.mass = inf is not finite"),
     ("top.mass=nan", "top.mass = nan is not finite"),
     ("top.mass=-1", "top.mass = -1 must be positive"),
     ("top.mass=heavy", "top.mass = 'heavy' is not a number"),
@@ -115,3 +116,11 @@ def test_binary_scene_file_is_refused(tmp_path):
     bad.write_bytes(b"\xff\xfe\x00name")
     with pytest.raises(SceneError, match="not a text file"):
         load_scene(bad)
+
+
+@pytest.mark.parametrize("name", ["a\0b", "x" * 5000, "x" * 300 + ".toml"])
+def test_unusable_scene_names_are_one_line_errors(name):
+    from derive.scene import SceneError, load_scene
+    with pytest.raises(SceneError) as info:
+        load_scene(name)
+    assert "\n" not in str(info.value) and len(str(info.value)) < 400
