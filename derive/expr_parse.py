@@ -1,4 +1,4 @@
-"""A safe parser for the formulas of `plate.kind = "expression"` scenes (DESIGN.md, "Scenes").
+"""A safe parser for the formulas of `plate.kind = "expression"` scenes (docs/scenes.md).
 
 A scene may give its base plate's on-axis potential `phi0 = "..."` (Phi0(z), thesis eq. 2.2.6 at
 r = 0) or on-axis field `bz = "..."` as a formula in `z` and the names declared in [plate.params].
@@ -9,25 +9,36 @@ and a strict whitelist walk builds the sympy expression node by node:
 - numbers (int and float literals such as 2, 0.5, 1e-3), converted exactly to sympy Rationals;
 - the operators + - * / ** and unary + -, parentheses;
 - the declared names (z and the parameters) and the constants `pi` and `E`;
-- calls of the functions in `FUNCTIONS`, positional arguments only, with their exact arity.
+- calls of the functions in `FUNCTIONS`, positional arguments only, with their exact arity
+  (the names are those of derive/plates/expression.py, the scene side of the registry). `abs` is
+  refused with its reason: the model differentiates the formula, and |x|'s derivatives (sign(x),
+  a Dirac delta) have no code; the same holds where sympy turns sqrt(x**2) into |x|.
 
 Everything else -- attribute access, subscripts, other calls, keyword arguments, strings, lambda,
 comprehensions, comparisons, conditionals, walrus, names starting with "_", unknown names -- is
 refused with an `ExpressionError` quoting the offending part. Resource limits keep hostile input
-cheap: the text length (`MAX_LENGTH`), the nesting depth (`MAX_DEPTH`), the length of a number
-literal (`MAX_LITERAL`), the size of a constant exponent (`MAX_EXPONENT`) and of exact powers.
+cheap, checked on the syntax tree before sympy sees any of it: the text length (`MAX_LENGTH`), the
+number of tree nodes (`MAX_NODES`), the nesting depth (`MAX_DEPTH`) and the nesting of function
+calls (`MAX_CALL_DEPTH`: the k-th derivative of f(g(h(...))) grows like depth^k terms, so
+sin(sin(...(z))) 15 deep would keep derive busy for minutes); then, while building, the length of a
+number literal (`MAX_LITERAL`), the size of a constant exponent (`MAX_EXPONENT`) and of exact
+powers. Every message is one line saying what is wrong and how to fix it.
 """
 from __future__ import annotations
 
 import ast
 import math
 import re
-from typing import Iterable, Mapping
+from collections.abc import Iterable, Mapping
 
 import sympy as sp
 
-MAX_LENGTH = 2000      # characters of formula text
+from .plates import expression as scene_side
+
+MAX_LENGTH = scene_side.MAX_FORMULA   # characters of formula text
+MAX_NODES = 1000       # nodes of the syntax tree
 MAX_DEPTH = 60         # nesting depth of the expression tree (chains of + - * / do not count)
+MAX_CALL_DEPTH = scene_side.MAX_CALL_DEPTH   # function calls nested in function calls
 MAX_LITERAL = 40       # characters of one number literal
 MAX_EXPONENT = 100     # |constant exponent|
 MAX_POWER_BITS = 4096  # bits of an exact rational power computed at parse time
@@ -43,31 +54,20 @@ def _atan2(y, x):
     return sp.atan2(y, x)
 
 
-# name -> (sympy constructor, number of positional arguments)
+# name -> (sympy constructor, number of positional arguments), for the names of the scene side
 FUNCTIONS: dict[str, tuple[object, int]] = {
-    "sqrt": (sp.sqrt, 1),
-    "exp": (sp.exp, 1),
-    "log": (sp.log, 1),
-    "sin": (sp.sin, 1),
-    "cos": (sp.cos, 1),
-    "tan": (sp.tan, 1),
-    "asin": (sp.asin, 1),
-    "acos": (sp.acos, 1),
-    "atan": (sp.atan, 1),
-    "atan2": (_atan2, 2),
-    "sinh": (sp.sinh, 1),
-    "cosh": (sp.cosh, 1),
-    "tanh": (sp.tanh, 1),
-    "asinh": (sp.asinh, 1),
-    "acosh": (sp.acosh, 1),
-    "atanh": (sp.atanh, 1),
-    "abs": (sp.Abs, 1),
-    "Abs": (sp.Abs, 1),   # the spelling sympy prints, so that str(expr) parses back
-}
+    name: (_atan2 if name == "atan2" else getattr(sp, name), arity)
+    for name, arity in scene_side.FUNCTIONS.items()}
 
 CONSTANTS: dict[str, sp.Expr] = {"pi": sp.pi, "E": sp.E}
+assert tuple(CONSTANTS) == scene_side.CONSTANTS
 
-RESERVED = frozenset(FUNCTIONS) | frozenset(CONSTANTS)
+NOT_SMOOTH = (sp.Abs, sp.sign, sp.Heaviside, sp.DiracDelta, sp.Piecewise, sp.floor, sp.ceiling)
+_ABS_HINT = ("abs() is not supported: the model differentiates the formula and |x|'s derivatives "
+             "(sign, a Dirac delta) cannot be generated; write it for the side where x > 0 (the top "
+             "hovers at z > 0: z instead of abs(z), sqrt(z**2 + c**2) stays as it is)")
+
+RESERVED = frozenset(FUNCTIONS) | frozenset(CONSTANTS) | {"abs", "Abs"}
 
 
 def check_name(name: str) -> None:
@@ -218,6 +218,8 @@ class _Builder:
             raise self.fail(node.func, "only direct calls of the allowed functions are allowed "
                                        "(no attribute access or computed callee)")
         fname = node.func.id
+        if fname in ("abs", "Abs"):
+            raise self.fail(node, _ABS_HINT)
         if fname.startswith("_"):
             raise self.fail(node.func, "names starting with '_' (dunder names) are not allowed")
         if fname not in FUNCTIONS:
@@ -233,6 +235,43 @@ class _Builder:
                                   f"got {len(node.args)}")
         args = [self.build(a, depth + 1) for a in node.args]
         return func(*args)
+
+
+def _group(node: ast.AST):
+    """The precedence group of a + - or * / operation (chains of one group do not nest), or None."""
+    if isinstance(node, ast.BinOp):
+        if isinstance(node.op, (ast.Add, ast.Sub)):
+            return "add"
+        if isinstance(node.op, (ast.Mult, ast.Div)):
+            return "mul"
+    return None
+
+
+def _check_size(tree: ast.AST) -> None:
+    """Refuse a tree nested deeper than MAX_DEPTH, with calls nested deeper than MAX_CALL_DEPTH or
+    with more than MAX_NODES nodes (module docstring), before anything is built: one iterative
+    pass over the expression nodes, no recursion."""
+    count = 0
+    stack = [(tree, 0, 0, None)]
+    while stack:
+        node, depth, calls, parent_group = stack.pop()
+        group = _group(node)
+        if group is None or group != parent_group:
+            depth += 1
+        if depth > MAX_DEPTH:
+            raise ExpressionError(f"formula nested deeper than {MAX_DEPTH} levels: simplify it")
+        if isinstance(node, ast.Call):
+            calls += 1
+            if calls > MAX_CALL_DEPTH:
+                raise ExpressionError(f"formula nests function calls {calls} deep (limit "
+                                      f"{MAX_CALL_DEPTH}): its derivatives would grow like "
+                                      f"{calls}^k terms; simplify it")
+        count += 1
+        if count > MAX_NODES:
+            raise ExpressionError(f"formula has more than {MAX_NODES} terms and operators: "
+                                  "simplify it")
+        stack.extend((child, depth, calls, group) for child in ast.iter_child_nodes(node)
+                     if isinstance(child, ast.expr))
 
 
 def _as_symbols(names: Mapping[str, sp.Symbol] | Iterable[str]) -> dict[str, sp.Symbol]:
@@ -280,11 +319,15 @@ def parse_expression(text: str, names: Mapping[str, sp.Symbol] | Iterable[str]) 
         raise ExpressionError(f"not a formula: {exc.msg} near {near!r}") from None
     except (MemoryError, RecursionError):
         raise ExpressionError("formula too complex to parse") from None
+    _check_size(tree)
     builder = _Builder(text.strip(), table)
     try:
         expr = builder.build(tree.body, 0)
     except RecursionError:
         raise ExpressionError(f"formula nested too deeply (limit {MAX_DEPTH})") from None
+    if expr.has(*NOT_SMOOTH):
+        raise ExpressionError(f"{_quote(text, None)} becomes {expr} (sqrt(x**2) is |x| for real x): "
+                              + _ABS_HINT.split(": ", 1)[1])
     if expr.has(sp.I, sp.zoo, sp.nan, sp.oo, -sp.oo):
         raise ExpressionError(f"{_quote(text, None)}: the formula is not real and finite as "
                               f"written (it simplifies to {expr})")

@@ -75,24 +75,11 @@ def expansion_field(phis, order: int, r: np.ndarray, z: np.ndarray):
     return br, bz
 
 
-_LENGTH_KEYS = {"a", "w", "r_out", "r_in", "side_x", "side_y", "thickness"}
-
-
-def _plate_size(plate: Plate, params: dict) -> float:
-    """The largest length among the plate's parameters (1 if it has none: expression plates)."""
-    sizes = []
-    for s in plate.symbols:
-        key = s.name.removeprefix("plate_")
-        head, _, tail = key.partition("_")
-        if key in _LENGTH_KEYS or (head[:1] == "p" and head[1:].isdigit() and tail in _LENGTH_KEYS):
-            sizes.append(abs(params[s.name]))
-    return max(sizes) if sizes else 1.0
-
-
-def default_heights(plate: Plate, scene: Scene, phis) -> tuple[float, float]:
-    """The band around the vertical equilibria: mu Phi_2(z) + m g = 0 (thesis eq. 3.2.12)."""
+def default_heights(scene: Scene, phis) -> tuple[float, float]:
+    """The band around the vertical equilibria: mu Phi_2(z) + m g = 0 (thesis eq. 3.2.12), on
+    heights scaled by the plate's length (Scene.length_scale, from the plate registry)."""
     p = scene.params
-    size = _plate_size(plate, p)
+    size = scene.length_scale
     zs = size * np.geomspace(1e-3, 1e3, 4000)
     f = p["mu"] * np.asarray(phis[2](zs), dtype=float) + p["m"] * p["g"]
     roots = [zs[i] for i in range(len(zs) - 1) if np.sign(f[i]) != np.sign(f[i + 1])]
@@ -140,7 +127,7 @@ def choose_order(scene_or_plate, tolerance: float, radius: float, z_range=None,
     if z_range is None:
         if scene is None:
             raise ValueError("choose_order(plate, ...) needs z_range")
-        z_range = default_heights(plate, scene, _numeric_phis(plate, params, 2))
+        z_range = default_heights(scene, _numeric_phis(plate, params, 2))
     errors = order_errors(plate, params, radius, z_range)
     for order in sorted(errors):
         if errors[order] <= tolerance:

@@ -1,8 +1,9 @@
 """The input hash of a generated model: what the generated files depend on (pure Python).
 
 The hash covers the scene's structure (plate kind, formulas, field, model; numbers that become
-runtime parameters are left out, so `--set top.mass=...` needs no new derivation), the source of
-derive/ (code and templates) and the versions of sympy and casadi. The runtime computes the same
+runtime parameters are left out, so `--set top.mass=...` needs no new derivation, but every
+structural decision a plate kind declares, e.g. the ring magnet's "hollow: r_in > 0", is in:
+derive/plates/), the source of derive/ (code and templates) and the versions of sympy and casadi. The runtime computes the same
 hash without importing sympy, to tell whether generated/<scene>/ is current.
 """
 from __future__ import annotations
@@ -12,6 +13,8 @@ import hashlib
 import json
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
+
+from . import plates
 
 DERIVE_DIR = Path(__file__).resolve().parent
 
@@ -45,12 +48,15 @@ def _strip_numbers(node):
 
 
 def structure(data: dict) -> dict:
-    """The part of a scene that changes generated code (numbers become runtime parameters)."""
+    """The part of a validated scene that changes generated code: numbers become runtime
+    parameters, except the plate's structural decisions (their values are in `decisions`) and,
+    with an accuracy target (field.tolerance), every number (the chosen order depends on them)."""
     d = copy.deepcopy(data)
-    keep_numbers = "order" not in d.get("field", {})   # an accuracy target depends on the numbers
+    keep_numbers = "order" not in d.get("field", {})
     plate = d.get("plate")
     return {"name": d.get("name"), "field": d.get("field"), "model": d.get("model"),
-            "plate": plate if keep_numbers else _strip_numbers(plate)}
+            "plate": plate if keep_numbers else _strip_numbers(plate),
+            "decisions": plates.decisions(plate)}
 
 
 def input_hash(data: dict) -> str:

@@ -33,12 +33,12 @@ differences", Surveys in Approximation Theory 1 (2005), Leibniz rule.
 """
 from __future__ import annotations
 
-from functools import lru_cache
+from functools import cache
 
 import sympy as sp
 
 
-@lru_cache(maxsize=None)
+@cache
 def power_terms(n: int, p0: int) -> tuple[tuple[int, int, int], ...]:
     """d^n/dz^n r^-p0 (r = sqrt(z^2 + S)) = sum c z^m r^-p: the tuple of (c, m, p), by the product
     rule d/dz (z^m r^-p) = m z^(m-1) r^-p - p z^(m+1) r^-(p+2)."""

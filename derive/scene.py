@@ -1,104 +1,69 @@
 """Scenes: read a TOML file, apply `--set` overrides, validate, and resolve the parameters to SI.
 
 Pure Python (no sympy): both derive/ and runtime/ use it. A scene names a physical set-up
-(DESIGN.md, "Scenes"); every problem is reported as one `SceneError` line that names the key,
-says what is wrong and how to fix it.
+(docs/contract.md, "Scenes"; every plate kind's keys: docs/scenes.md); every problem is reported as
+one `SceneError` line that names the key, says what is wrong and how to fix it.
 
-Parameter conventions (DESIGN.md, "Physics conventions"): U = m g z - mu n.B, B = -grad(phi).
+Parameter conventions (docs/contract.md, "Physics conventions"): U = m g z - mu n.B, B = -grad(phi).
 The thesis's thin annulus (thesis eq. 2.2.11) has Phi0 = 2 pi rho z (...), and only mu*rho enters
 the dynamics; `plate.murho` keeps that parametrisation. In SI the annulus is a dipole layer of
-density D (A) with rho = mu0 D / (4 pi).
+density D (A) with rho = mu0 D / (4 pi). The plate kinds live in the registry derive/plates/.
 """
 from __future__ import annotations
 
 import hashlib
 import json
-import math
-import tomllib
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
-MU0 = 1.25663706212e-6  # vacuum permeability, N/A^2 (CODATA 2018)
+import tomllib
+
+from . import plates
+from .checks import SceneError, check_keys, number
+from .constants import MU0
+from .plates.base import Key
+
+__all__ = ["MU0", "SCENES_DIR", "Scene", "SceneError", "find_scene_file", "load_scene",
+           "parse_override", "validate"]
+
 SCENES_DIR = Path(__file__).resolve().parent.parent / "scenes"
 
 NEEDS = ("reduced", "full", "linear")
 COORDINATES = ("tait-bryan", "euler-zxz")
 
-
-class SceneError(ValueError):
-    """A scene is wrong; the message names the key, what is wrong and how to fix it."""
-
-
-# ---------------------------------------------------------------- small validators
-
-def _number(section: dict, key: str, where: str, *, positive: bool = False, nonzero: bool = False,
-            default: float | None = None, required: bool = True) -> float | None:
-    if key not in section:
-        if default is not None or not required:
-            return default
-        raise SceneError(f"{where}.{key} is missing: add `{key} = <number>` to [{where}]"
-                         if where else f"{key} is missing: add `{key} = <number>` to the scene")
-    value = section[key]
-    name = f"{where}.{key}" if where else key
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise SceneError(f"{name} = {value!r} is not a number: write e.g. `{key} = 0.1`")
-    value = float(value)
-    if not math.isfinite(value):
-        raise SceneError(f"{name} = {value} is not finite: give a finite number")
-    if positive and value <= 0:
-        raise SceneError(f"{name} = {value} must be positive: give a value > 0")
-    if nonzero and value == 0:
-        raise SceneError(f"{name} = 0 must be nonzero: give the signed value")
-    return value
-
-
-def _check_keys(section: dict, allowed: set[str], where: str) -> None:
-    unknown = sorted(set(section) - allowed)
-    if unknown:
-        raise SceneError(f"[{where}] has unknown key `{unknown[0]}`: allowed keys are "
-                         f"{', '.join(sorted(allowed))}")
+# The keys of every section but [plate] (whose keys are the plate kinds', derive/plates/); the
+# contract docs/scenes.md is generated from these and the registry (`python -m derive.plates.docs`).
+SCENE_KEYS = (
+    Key("name", "", "the scene's name (letters, digits, '-', '_'; default: the file's stem)"),
+    Key("description", "", "free text"),
+    Key("g", "m/s^2", "gravity (default 9.81; 1 in a dimensionless scene)"),
+)
+TOP_KEYS = (
+    Key("mass", "kg", "mass m of the top"),
+    Key("A", "kg m^2", "transverse moment of inertia"),
+    Key("C", "kg m^2", "axial moment of inertia (C <= 2 A)"),
+    Key("moment", "A m^2", "magnetic moment mu along the symmetry axis, signed (mu < 0: upright "
+        "over a field that points up); may be left out with plate.murho"),
+)
+FIELD_KEYS = (
+    Key("order", "", "even order in r of the Laplace expansion, 2..12 (default 2)"),
+    Key("tolerance", "", "instead of order: the largest relative error of the expanded field, "
+        "with radius"),
+    Key("radius", "m", "the distance from the axis within which tolerance must hold"),
+)
+MODEL_KEYS = (
+    Key("needs", "", f"what derive emits, a list drawn from {list(NEEDS)} (default all; "
+        "\"linear\" needs \"full\")"),
+    Key("coordinates", "", f"angles of the full model, one of {list(COORDINATES)} (default "
+        "\"tait-bryan\", regular at the upright top; \"euler-zxz\" as in the thesis)"),
+)
+_NAME = re.compile(r"[A-Za-z0-9_-]+\Z")
 
 
-# ---------------------------------------------------------------- plates
-# Each kind: the keys it allows and a resolver that returns its SI parameters (name -> value),
-# given the plate table and the top's moment (None when not given). Parameter names are those of
-# the symbols in derive/geometry.py; "mu" may be returned too when the plate fixes it (murho).
-
-PlateResolver = Callable[[dict, "float | None"], dict]
-
-
-@dataclass(frozen=True)
-class PlateKind:
-    keys: frozenset
-    resolve: PlateResolver
-    doc: str
-
-
-def _strength_rho(plate: dict, moment: float | None, where: str = "plate") -> dict:
-    """The dipole-layer strength rho (T m) of a thin plate, from murho or dipole_density."""
-    has_murho, has_d = "murho" in plate, "dipole_density" in plate
-    if has_murho == has_d:
-        raise SceneError(f"[{where}] needs exactly one of `murho` (thesis units, mu*rho) or "
-                         "`dipole_density` (A, SI): give one of them")
-    if has_murho:
-        murho = _number(plate, "murho", where, nonzero=True)
-        if moment is None:
-            # Only mu*rho enters the dynamics; a nominal |mu| = 1 A m^2 with the sign of an
-            # upright top over a field that points up (DESIGN.md) keeps rho's sign physical.
-            return {"mu": -1.0, "rho": -murho, "moment_nominal": 1.0}
-        return {"rho": murho / moment}
-    if moment is None:
-        raise SceneError(f"[{where}] dipole_density needs [top] moment (A m^2): add it")
-    dens = _number(plate, "dipole_density", where, nonzero=True)
-    return {"rho": MU0 * dens / (4.0 * math.pi)}
-
-
-# Every kind's keys and resolver live in derive/plate_kinds.py (pure Python).
-from .plate_kinds import PLATE_KIND_TABLE  # noqa: E402  (it uses _strength_rho above)
-
-PLATE_KINDS: dict[str, PlateKind] = {kind: PlateKind(frozenset(keys), fn, doc)
-                                     for kind, (keys, fn, doc) in PLATE_KIND_TABLE.items()}
+def _names(keys: tuple[Key, ...]) -> set[str]:
+    return {k.name for k in keys}
 
 
 # ---------------------------------------------------------------- the scene
@@ -124,6 +89,12 @@ class Scene:
     @property
     def coordinates(self) -> str:
         return self.data["model"]["coordinates"]
+
+    @property
+    def length_scale(self) -> float:
+        """The plate's characteristic length (its largest length parameter, compound parts
+        included; 1.0 for a plate without lengths): derive/plates/__init__.py `length_scale`."""
+        return plates.length_scale(self.data["plate"], self.params)
 
     @property
     def field_spec(self) -> dict:
@@ -152,27 +123,44 @@ def parse_override(text: str) -> tuple[list[str], Any]:
     return path, value
 
 
+def _exists(path: Path) -> bool:
+    try:
+        return path.exists()
+    except (OSError, ValueError):   # a NUL byte, a name too long for the file system
+        return False
+
+
 def find_scene_file(name_or_path: str | Path) -> Path:
+    """The scene file of a name in scenes/ or a path; SceneError when there is none."""
     p = Path(name_or_path)
-    if p.suffix == ".toml" or p.exists():
-        if not p.exists():
-            raise SceneError(f"scene file {p} does not exist: give a path to a .toml file or a "
-                             f"name from {SCENES_DIR}")
+    shown = str(name_or_path) if len(str(name_or_path)) <= 80 else str(name_or_path)[:77] + "..."
+    if p.suffix == ".toml" or _exists(p):
+        if not _exists(p):
+            raise SceneError(f"scene file {shown!r} does not exist: give a path to a .toml file or "
+                             f"a name from {SCENES_DIR}")
+        if not p.is_file():
+            raise SceneError(f"scene {shown!r} is not a file (a directory?): give a path to a .toml "
+                             f"file or a name from {SCENES_DIR}")
         return p
     candidate = SCENES_DIR / f"{name_or_path}.toml"
-    if candidate.exists():
+    if _exists(candidate):
         return candidate
     known = ", ".join(sorted(q.stem for q in SCENES_DIR.glob("*.toml")))
-    raise SceneError(f"unknown scene {name_or_path!r}: use one of {known} or a path to a .toml file")
+    raise SceneError(f"unknown scene {shown!r}: use one of {known} or a path to a .toml file")
 
 
 def load_scene(name_or_path: str | Path, overrides: list[str] | tuple[str, ...] = ()) -> Scene:
-    """Read, override, validate and resolve a scene (DESIGN.md, "Scenes")."""
+    """Read, override, validate and resolve a scene (docs/contract.md, "Scenes")."""
     path = find_scene_file(name_or_path)
     try:
-        data = tomllib.loads(path.read_text())
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(f"{path}: not valid TOML ({exc}); fix the syntax") from None
+    except UnicodeDecodeError:
+        raise SceneError(f"{path}: not a text file (not UTF-8): give a TOML scene") from None
+    except OSError as exc:
+        raise SceneError(f"{path}: cannot be read ({exc.strerror}): check the path and its "
+                         "permissions") from None
     for text in overrides:
         keys, value = parse_override(text)
         node = data
@@ -187,32 +175,30 @@ def load_scene(name_or_path: str | Path, overrides: list[str] | tuple[str, ...] 
 
 def validate(data: dict, path: Path | None = None) -> Scene:
     """Check every key and resolve the parameters; raises SceneError on the first problem."""
-    _check_keys(data, {"name", "g", "top", "plate", "field", "model", "description"}, "scene")
+    check_keys(data, _names(SCENE_KEYS) | {"top", "plate", "field", "model"}, "scene")
     for section in ("top", "plate"):
         if section not in data or not isinstance(data[section], dict):
-            raise SceneError(f"the scene has no [{section}] section: add it (see DESIGN.md)")
+            raise SceneError(f"the scene has no [{section}] section: add it (see docs/contract.md)")
     data.setdefault("field", {"order": 2})
     data.setdefault("model", {})
-    g = _number(data, "g", "", positive=True, default=9.81)
+    for section in ("field", "model"):
+        if not isinstance(data[section], dict):
+            raise SceneError(f"{section} = {data[section]!r} is not a section: write [{section}] "
+                             f"with its keys (see docs/contract.md)")
+    g = number(data, "g", "", positive=True, default=9.81)
     data["g"] = g
 
     top = data["top"]
-    _check_keys(top, {"mass", "A", "C", "moment"}, "top")
-    m = _number(top, "mass", "top", positive=True)
-    A = _number(top, "A", "top", positive=True)
-    C = _number(top, "C", "top", positive=True)
+    check_keys(top, _names(TOP_KEYS), "top")
+    m = number(top, "mass", "top", positive=True)
+    A = number(top, "A", "top", positive=True)
+    C = number(top, "C", "top", positive=True)
     if C > 2 * A * (1 + 1e-12):
         raise SceneError(f"top.C = {C} exceeds 2*top.A = {2 * A}: no rigid body has an axial moment "
                          "larger than the sum of the two transverse ones; check which is A and which C")
-    moment = _number(top, "moment", "top", nonzero=True, required=False)
+    moment = number(top, "moment", "top", nonzero=True, required=False)
 
-    plate = data["plate"]
-    kind = plate.get("kind")
-    if kind not in PLATE_KINDS:
-        raise SceneError(f"plate.kind = {kind!r} is unknown: use one of {', '.join(PLATE_KINDS)}")
-    spec = PLATE_KINDS[kind]
-    _check_keys(plate, set(spec.keys), "plate")
-    resolved = dict(spec.resolve(plate, moment))
+    resolved = plates.resolve(data["plate"], moment)
     notes = []
     mu = resolved.pop("mu", moment)
     if resolved.pop("moment_nominal", None) is not None:
@@ -222,7 +208,7 @@ def validate(data: dict, path: Path | None = None) -> Scene:
         raise SceneError("[top] moment is missing: add `moment = <A m^2>` (signed, along the axis)")
 
     fld = data["field"]
-    _check_keys(fld, {"order", "tolerance", "radius"}, "field")
+    check_keys(fld, _names(FIELD_KEYS), "field")
     if "order" in fld:
         order = fld["order"]
         if isinstance(order, bool) or not isinstance(order, int) or order < 2 or order % 2:
@@ -231,13 +217,13 @@ def validate(data: dict, path: Path | None = None) -> Scene:
         if order > 12:
             raise SceneError(f"field.order = {order} is above 12: use field.tolerance instead")
     elif "tolerance" in fld:
-        _number(fld, "tolerance", "field", positive=True)
-        _number(fld, "radius", "field", positive=True)
+        number(fld, "tolerance", "field", positive=True)
+        number(fld, "radius", "field", positive=True)
     else:
         raise SceneError("[field] needs `order` (even, >= 2) or `tolerance` and `radius`")
 
     model = data["model"]
-    _check_keys(model, {"needs", "coordinates"}, "model")
+    check_keys(model, _names(MODEL_KEYS), "model")
     needs = model.setdefault("needs", ["reduced", "full", "linear"])
     if not isinstance(needs, list) or not needs or any(n not in NEEDS for n in needs):
         raise SceneError(f"model.needs = {needs!r}: give a non-empty list drawn from {list(NEEDS)}")
@@ -250,7 +236,7 @@ def validate(data: dict, path: Path | None = None) -> Scene:
         raise SceneError(f"model.coordinates = {coords!r}: use one of {list(COORDINATES)}")
 
     name = data.get("name")
-    if not isinstance(name, str) or not name.replace("_", "").replace("-", "").isalnum():
+    if not isinstance(name, str) or not _NAME.match(name):
         raise SceneError(f"name = {name!r}: use letters, digits, '-' and '_' only")
 
     params = {"m": m, "g": g, "A": A, "C": C, "mu": float(mu)}

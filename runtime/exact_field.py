@@ -1,7 +1,8 @@
 """Exact magnetic fields of the base plates, off the axis, in closed form (numpy/scipy, no sympy).
 
 These are the references against which the Laplace expansion of thesis eqs. 2.2.2-2.2.7 is
-judged (`levitron field`, derive/field_order.py). Conventions (DESIGN.md): SI, the plate's (top)
+judged (`levitron field`, derive/field_order.py); runtime/plates/<kind>.py maps each plate kind of a
+scene to them. Conventions (docs/contract.md): SI, the plate's (top)
 face in z = 0, its axis the z axis, B in tesla. Every function takes points (N, 3) in metres and
 returns B (N, 3).
 
@@ -35,11 +36,11 @@ sheet's edges). `singular` in the docstrings names these sets.
 from __future__ import annotations
 
 import math
-from typing import Callable, Mapping
+from collections.abc import Callable
 
 import numpy as np
 
-MU0 = 1.25663706212e-6  # vacuum permeability, N/A^2 (CODATA 2018), the value derive/scene.py uses
+from derive.constants import MU0
 
 _HALF_PI = 0.5 * math.pi
 
@@ -215,7 +216,7 @@ def _derby_olbert(pts: np.ndarray, a: float, z_lo: float, z_hi: float, k_surf: f
             root = np.sqrt(zz**2 + (rho + a) ** 2)
             alpha = a / root
             beta = zz / root
-            k = np.sqrt((zz**2 + (a - rho) ** 2)) / root
+            k = np.sqrt(zz**2 + (a - rho) ** 2) / root
             m = 4.0 * a * rho / root**2           # 1 - k^2; cel(k,1,1,-1): c + s = 0, s + c k = k - 1
             br += sign * alpha * _cel_p1(k, 0.0, -m / (1.0 + k))
             bz += sign * beta * cel(k, gamma**2, 1.0, gamma)
@@ -264,7 +265,7 @@ def annulus_field(points, a: float, w: float, dipole_density: float) -> np.ndarr
 
 def ring_magnet_field(points, r_out: float, r_in: float, thickness: float, magnetization: float) -> np.ndarray:
     """An axially magnetised ring magnet (r_in = 0: solid cylinder), magnetisation M (A/m) along +z,
-    occupying r_in <= rho <= r_out, -t <= z <= 0 (top face in z = 0, DESIGN.md). Equivalent surface
+    occupying r_in <= rho <= r_out, -t <= z <= 0 (top face in z = 0, docs/contract.md). Equivalent surface
     currents K = M on the outer and -M on the inner mantle (Jackson sec. 5.8); Derby & Olbert (2010).
     On the axis of a solid cylinder B_z = (mu0 M/2)[(z+t)/sqrt((z+t)^2+R^2) - z/sqrt(z^2+R^2)]. The
     result is B everywhere, inside the magnet included."""
@@ -369,47 +370,6 @@ def rect_loop_field(points, side_x: float, side_y: float, current: float, z0: fl
     return out
 
 
-# ---------------------------------------------------------------- scenes
-
-def _dipole_density(rho: float) -> float:
+def dipole_density(rho: float) -> float:
     """Dipole density D (A) of a thin plate from its resolved rho (T m): rho = mu0 D / (4 pi)."""
     return 4 * math.pi * rho / MU0
-
-
-def plate_field(plate: Mapping, params: Mapping[str, float], points, prefix: str = "plate_") -> np.ndarray | None:
-    """The exact B (N, 3) of a scene's plate, or None when its kind has no closed form here
-    (expression plates).
-
-    `plate` is the scene's [plate] table (Scene.data["plate"]: its kind and, for compound plates,
-    its parts), `params` Scene.params (SI, the plate's parameters named `plate_<name>`, a compound
-    plate's part i `plate_p<i>_<name>`; derive/plate_kinds.py). Thin plates given by `murho` without
-    a top moment use the nominal moment of Scene.notes, as the model does.
-    """
-    def get(name: str) -> float:
-        return float(params[prefix + name])
-
-    def has(name: str) -> bool:
-        return (prefix + name) in params
-
-    pts = _points(points)
-    kind = plate["kind"]
-    if kind in ("annulus", "disk"):
-        return annulus_field(pts, get("a"), get("w") if has("w") else 0.0, _dipole_density(get("rho")))
-    if kind == "loop":
-        return loop_field(pts, get("a"), get("current"))
-    if kind == "ring_magnet":
-        return ring_magnet_field(pts, get("r_out"), get("r_in") if has("r_in") else 0.0,
-                                 get("thickness"), get("magnetization"))
-    if kind == "rectangle":
-        if has("thickness"):
-            return block_field(pts, get("side_x"), get("side_y"), get("thickness"), get("magnetization"))
-        return rect_loop_field(pts, get("side_x"), get("side_y"), _dipole_density(get("rho")))
-    if kind == "compound":
-        total = np.zeros((len(pts), 3))
-        for i, part in enumerate(plate["parts"]):
-            b = plate_field(part, params, pts, f"{prefix}p{i}_")
-            if b is None:
-                return None
-            total += b
-        return total
-    return None

@@ -109,13 +109,13 @@ def test_accepts_arithmetic_and_functions():
     got = parse_expression("1e-3*z + 0.5*a**2 - -z/2 + (z)", {"z": z, "a": a})
     assert sp.simplify(got - (sp.Rational(1, 1000) * z + a**2 / 2 + z / 2 + z)) == 0
     text = ("sqrt(z) + exp(z) + log(z) + sin(z) + cos(z) + tan(z) + atan(z) + atan2(z, a) + sinh(z)"
-            " + cosh(z) + tanh(z) + asinh(z) + acosh(a) + atanh(z) + abs(z) + Abs(a) + pi + E")
+            " + cosh(z) + tanh(z) + asinh(z) + acosh(a) + atanh(z) + pi + E")
     expr = parse_expression(text, {"z": z, "a": a})
     val = float(expr.subs({z: 0.3, a: 1.7}))
     import math
     want = (math.sqrt(.3) + math.exp(.3) + math.log(.3) + math.sin(.3) + math.cos(.3) + math.tan(.3)
             + math.atan(.3) + math.atan2(.3, 1.7) + math.sinh(.3) + math.cosh(.3) + math.tanh(.3)
-            + math.asinh(.3) + math.acosh(1.7) + math.atanh(.3) + .3 + 1.7 + math.pi + math.e)
+            + math.asinh(.3) + math.acosh(1.7) + math.atanh(.3) + math.pi + math.e)
     assert val == pytest.approx(want, rel=1e-14)
 
 
@@ -130,9 +130,33 @@ def test_decimal_literals_exact():
 
 
 def _builtin_formulas():
-    """Every on-axis formula the built-in geometries produce (Phi0 and a few Phi_k)."""
-    from derive import plates_extra  # noqa: F401  (registers the extra kinds)
-    return plates_extra.example_formulas()
+    """Phi0, bz = -Phi1, Phi2 and Phi3 of every built-in kind (what an expression plate could say
+    about them: the formulas a scene could give, Phi0 and bz, must all parse), and the thesis's
+    textbook forms (thesis eqs. 2.2.11-2.2.12)."""
+    from derive import onaxis
+    from derive.plates.symbolic import build_plate, plate_symbol
+    from derive.symbols import Z
+    tables = {
+        "annulus": {"kind": "annulus"},
+        "disk": {"kind": "disk"},
+        "loop": {"kind": "loop"},
+        "ring_magnet": {"kind": "ring_magnet", "r_in": 0.01},
+        "cylinder": {"kind": "ring_magnet", "r_in": 0.0},
+        "rectangle_thin": {"kind": "rectangle", "thickness": 0.0},
+        "rectangle_block": {"kind": "rectangle", "thickness": 0.01},
+        "expression": {"kind": "expression", "phi0": "b*z/sqrt(z**2 + c**2)",
+                       "params": {"b": 1.0, "c": 0.1}},
+        "compound": {"kind": "compound", "parts": [{"kind": "disk"}, {"kind": "loop"}]},
+    }
+    out = []
+    for label, table in tables.items():
+        plate = build_plate(table)
+        out.append((label + " Phi0", plate.phi0))
+        out.append((label + " bz = -Phi1", -plate.phi(1)))
+        out += [(f"{label} Phi{k}", plate.phi(k)) for k in (2, 3)]
+    a, w, rho = plate_symbol("a"), plate_symbol("w"), plate_symbol("rho")
+    naive = onaxis.textbook_annulus_phis(Z, a, w, 2 * sp.pi * rho)
+    return out + [("textbook Phi0", naive(0)), ("textbook Phi1", naive(1))]
 
 
 def _roundtrip(expr: sp.Expr, rng: random.Random):
@@ -163,7 +187,96 @@ def test_roundtrip_builtin_geometries():
 
 
 def test_scene_validation_reserves_the_parser_names():
-    """derive/plate_kinds.py (pure Python) refuses the same parameter names as the parser."""
-    from derive.expr_parse import CONSTANTS, FUNCTIONS
-    from derive.plate_kinds import RESERVED_NAMES
-    assert RESERVED_NAMES == set(FUNCTIONS) | set(CONSTANTS) | {"z"}
+    """derive/plates/expression.py (pure Python) refuses the same parameter names as the parser."""
+    from derive.expr_parse import RESERVED
+    from derive.plates.expression import RESERVED_NAMES
+    assert RESERVED_NAMES == RESERVED | {"z"}
+
+
+# ---------------------------------------------------------------- bounded work, one-line errors (issue 8)
+
+def _one_line(exc) -> str:
+    text = str(exc)
+    assert "\n" not in text and len(text) < 400, text
+    return text
+
+
+def test_nested_calls_refused_before_sympy():
+    """sin(sin(...(z))) 15 deep (30-odd characters) kept derive busy for minutes: refused at once."""
+    import time
+    text = "sin(" * 15 + "z" + ")" * 15
+    t0 = time.perf_counter()
+    with pytest.raises(ExpressionError) as info:
+        parse_expression(text, NAMES)
+    assert time.perf_counter() - t0 < 0.5
+    assert "nests function calls" in _one_line(info.value)
+
+
+def test_too_many_nodes_refused():
+    from derive.expr_parse import MAX_LENGTH, MAX_NODES
+    text = "+".join(["z"] * 999)          # 1997 characters, 1997 tree nodes
+    assert len(text) <= MAX_LENGTH
+    with pytest.raises(ExpressionError) as info:
+        parse_expression(text, NAMES)
+    assert f"more than {MAX_NODES}" in _one_line(info.value)
+
+
+@pytest.mark.parametrize("text", ["abs(z)", "b*abs(z - 1)", "Abs(z)", "sqrt(z**2)"])
+def test_abs_is_a_one_line_error_with_the_reason(text):
+    with pytest.raises(ExpressionError) as info:
+        parse_expression(text, {"z": sp.Symbol("z", real=True), "b": sp.Symbol("b", real=True)})
+    msg = _one_line(info.value)
+    assert "abs" in msg and "z > 0" in msg, msg
+
+
+def test_abs_through_the_plate_builder_is_one_scene_error_line():
+    from derive.checks import SceneError
+    from derive.plates.symbolic import build_plate
+    with pytest.raises(SceneError) as info:
+        build_plate({"kind": "expression", "phi0": "b*abs(z)/sqrt(z**2 + 1)", "params": {"b": 1.0}})
+    assert _one_line(info.value).startswith("plate.phi0: ")
+
+
+@pytest.mark.parametrize("text,fragment", [
+    ("z +", "not a formula"),
+    ("z ^ 2", "use ** for powers"),
+    ("foo(z)", "unknown function"),
+    ("q*z", "unknown name 'q'"),
+    ("sin(z, z)", "sin takes 1 argument"),
+    ("z if z else 1", "conditionals"),
+    ("1/0", "division by zero"),
+    ("z ** 1000", "exponent"),
+])
+def test_malformed_formulas_are_one_line(text, fragment):
+    with pytest.raises(ExpressionError) as info:
+        parse_expression(text, NAMES)
+    assert fragment in _one_line(info.value)
+
+
+def test_derivative_size_budget(monkeypatch):
+    """A formula within the parser's limits whose derivatives still grow too fast is refused at the
+    first Phi_k above the operation budget, with one line naming it."""
+    from derive.checks import SceneError
+    from derive.plates.symbolic import build_plate
+    from derive.plates.symbolic import expression as ex
+    monkeypatch.setattr(ex, "MAX_DERIVATIVE_OPS", 500)
+    plate = build_plate({"kind": "expression", "phi0": "sin(sin(sin(sin(sin(sin(z))))))"})
+    assert plate.phi(2) is not None
+    with pytest.raises(SceneError) as info:
+        plate.phi(4)
+    assert "Phi_3 has" in _one_line(info.value) and "limit 500" in str(info.value)
+
+
+def test_time_budget_interrupts_symbolic_work():
+    import time
+
+    from derive.checks import SceneError
+    from derive.plates.symbolic.budget import time_budget
+    z = sp.Symbol("z", real=True)
+    t0 = time.perf_counter()
+    with pytest.raises(SceneError) as info, time_budget(0.2, "plate.phi0"):
+        expr = sp.sin(z)
+        while True:
+            expr = sp.expand(sp.diff(expr * sp.cos(z) + z, z))
+    assert time.perf_counter() - t0 < 5
+    assert _one_line(info.value).startswith("plate.phi0 took more than 0.2 s")

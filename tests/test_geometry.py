@@ -14,10 +14,12 @@ import sympy as sp
 from scipy import integrate
 
 from derive import field_order as fo
-from derive.plates_extra import BUILDERS, rectangle
+from derive.plates import length_scale
+from derive.plates.symbolic import build_plate
 from derive.scene import MU0, SceneError, load_scene, validate
 from derive.symbols import Z
 from runtime import exact_field as ef
+from runtime.plates import plate_field
 
 RNG = np.random.default_rng(7)
 ZS = np.array([0.004, 0.02, 0.05, 0.1, 0.3, 2.0])
@@ -25,7 +27,7 @@ ZS = np.array([0.004, 0.02, 0.05, 0.1, 0.3, 2.0])
 
 def numeric(table: dict, values: dict, kmax: int = 5):
     """Phi_0..Phi_kmax of a plate as float functions of z (parameters substituted)."""
-    plate = BUILDERS[table["kind"]](table)
+    plate = build_plate(table)
     sub = {s: values[s.name] for s in plate.symbols}
     return plate, [sp.lambdify(Z, d.xreplace(sub), "math") for d in plate.phi_derivs(kmax)]
 
@@ -106,7 +108,7 @@ def test_expression_plate_phi0_and_bz():
 
 def test_expression_plate_refuses_bad_formula():
     with pytest.raises(SceneError, match=r"plate\.phi0.*__import__"):
-        BUILDERS["expression"]({"kind": "expression", "phi0": "__import__('os')", "params": {}})
+        build_plate({"kind": "expression", "phi0": "__import__('os')", "params": {}})
 
 
 def test_compound_is_the_sum_of_its_parts():
@@ -119,7 +121,7 @@ def test_compound_is_the_sum_of_its_parts():
         for k in range(5):
             assert ph[k](z) == pytest.approx(d[k](z) + lo[k](z), rel=1e-13)
     pts = [[0.01, 0.02, 0.05]]
-    B = ef.plate_field(table, vals, pts)
+    B = plate_field(table, vals, pts)
     assert np.allclose(B, ef.annulus_field(pts, 0.1, 0, 4 * math.pi * 0.001 / MU0)
                        + ef.loop_field(pts, 0.03, -50.0), rtol=1e-14)
 
@@ -143,8 +145,8 @@ def test_whittaker_integral_is_the_exact_field(name):
     """derive/field_order.py's exact field (from Phi_1 alone) against runtime/exact_field.py."""
     table, vals, exact = CASES[name]
     _, ph = numeric(table, vals, 1)
-    phi1 = sp.lambdify(Z, BUILDERS[table["kind"]](table).phi_derivs(1)[1].xreplace(
-        {s: vals[s.name] for s in BUILDERS[table["kind"]](table).symbols}), "numpy")
+    phi1 = sp.lambdify(Z, build_plate(table).phi_derivs(1)[1].xreplace(
+        {s: vals[s.name] for s in build_plate(table).symbols}), "numpy")
     r = RNG.uniform(0, 0.08, 12)
     z = RNG.uniform(0.01, 0.15, 12)
     br, bz = fo.whittaker_field(phi1, r, z)
@@ -159,8 +161,8 @@ def test_expansion_converges_to_exact_field(name):
     """Thesis eq. 2.2.6 to order 2, 4, ..., 12 at radii 0.1, 0.2, 0.3 of the plate's size: the error
     against the exact (elliptic-integral) field falls with the order at every radius."""
     table, vals, exact = CASES[name]
-    plate = BUILDERS[table["kind"]](table)
-    size = fo._plate_size(plate, vals)
+    plate = build_plate(table)
+    size = length_scale(table, vals)
     sub = {s: vals[s.name] for s in plate.symbols}
     phis = [sp.lambdify(Z, d.xreplace(sub), "numpy") for d in plate.phi_derivs(13)]
     z = np.linspace(0.6 * size, 1.5 * size, 7)
@@ -181,8 +183,8 @@ def test_choose_order_is_the_lowest_that_meets_the_tolerance():
     scene = load_scene("thesis")
     order, err = fo.choose_order(scene, 1e-3, 0.02)
     assert err <= 1e-3
-    plate = BUILDERS["annulus"]({"kind": "annulus"})
-    zr = fo.default_heights(plate, scene, fo._numeric_phis(plate, scene.params, 2))
+    plate = build_plate({"kind": "annulus"})
+    zr = fo.default_heights(scene, fo._numeric_phis(plate, scene.params, 2))
     assert zr[0] < 0.0762 < 0.1568 < zr[1]          # both thesis equilibria inside (thesis 3.3)
     errors = fo.order_errors(plate, scene.params, 0.02, zr)
     assert errors[order] == err
@@ -199,7 +201,7 @@ x, y = sp.symbols("x y", real=True)
 @pytest.fixture(scope="module")
 def block():
     vals = {"plate_side_x": 0.1, "plate_side_y": 0.07, "plate_thickness": 0.02, "plate_magnetization": 3e5}
-    plate = rectangle({"kind": "rectangle", "thickness": 0.02})
+    plate = build_plate({"kind": "rectangle", "thickness": 0.02})
     sub = {s: vals[s.name] for s in plate.symbols}
     B = plate.field3d(x, y, Z).xreplace(sub)
     return plate, sub, B
@@ -239,7 +241,7 @@ def test_rectangle_field3d_is_divergence_and_curl_free(block):
 
 
 def test_thin_rectangle_field_is_minus_grad_of_solid_angle_potential():
-    plate = rectangle({"kind": "rectangle", "thickness": 0.0})
+    plate = build_plate({"kind": "rectangle", "thickness": 0.0})
     sub = {s: v for s, v in zip(plate.symbols, (0.1, 0.13, 0.002))}
     B = plate.field3d(x, y, Z).xreplace(sub)
     phi = plate.potential3d(x, y, Z).xreplace(sub)
@@ -283,7 +285,7 @@ def test_generated_field_matches_exact_near_axis(derived_model):
     model = derived_model("loop", 'model.needs=["reduced"]', "field.order=8")
     scene = model.scene
     pts = np.array([[0.002, 0.001, 0.03], [0.005, -0.004, 0.05], [0.0, 0.0, 0.02]])
-    exact = ef.plate_field(scene.data["plate"], scene.params, pts)
+    exact = plate_field(scene.data["plate"], scene.params, pts)
     for p, b in zip(pts, exact):
         got = model.field(p)
         assert np.linalg.norm(got - b) <= 1e-6 * np.linalg.norm(b)
@@ -358,9 +360,10 @@ def _stability_summary(table, vals, g, A, C, mu, scale, frac=1.1):
     interval (runtime/equilibrium.py, runtime/linear.py: exact linear analysis, thesis 3.3). On the
     axis a 4-fold symmetric plate's field equals an axisymmetric one's to second order in x, y, so
     the on-axis Phi_k decide equilibria and linear stability exactly."""
-    from runtime import equilibrium as eqm, linear
+    from runtime import equilibrium as eqm
+    from runtime import linear
     _, ph = numeric(table, vals, 5)
-    onaxis = lambda z: np.array([f(z) for f in ph])  # noqa: E731
+    onaxis = lambda z: np.array([f(z) for f in ph])
     rep = eqm.analyse(onaxis, 0.01, g, A, C, mu, scale)
     z_s = frac * rep.z_c
     m_s = eqm.hover_mass(onaxis, g, mu, z_s)

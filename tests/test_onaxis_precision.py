@@ -3,7 +3,7 @@
 with the cancellation-free forms of derive/onaxis.py; the textbook forms (thesis eqs. 2.2.12-2.2.14,
 i.e. eq. 2.2.11 differentiated by the product rule) fail the same test.
 
-Relative error near a zero of Phi_k (DESIGN.md: "taken against the size of its terms"): Phi_k has
+Relative error near a zero of Phi_k (docs/contract.md: "taken against the size of its terms"): Phi_k has
 true zeros in this range (B_z of an annulus changes sign on the axis), where no formula can give a
 small relative error, because z itself carries a rounding error of eps*|z|. The yardstick is
 therefore |Phi_k(z)| + |z Phi_{k+1}(z)|: the size of Phi_k plus the change of Phi_k under a relative

@@ -40,7 +40,7 @@ def test_bad_scene_is_refused_cleanly(tmp_path, label, text, message):
     before = _snapshot(GENERATED)
     env = dict(os.environ, LEVITRON_CACHE=str(cache))
     for cmd in (["-m", "runtime.cli", "info", str(scene)], ["-m", "derive", str(scene)]):
-        res = subprocess.run([sys.executable, *cmd], cwd=ROOT, env=env, capture_output=True, text=True)
+        res = subprocess.run([sys.executable, *cmd], cwd=ROOT, env=env, capture_output=True, text=True, check=False)
         assert res.returncode == 2, (cmd, res.stdout, res.stderr)
         lines = res.stderr.strip().splitlines()
         assert len(lines) == 1, res.stderr
@@ -53,11 +53,74 @@ def test_bad_scene_is_refused_cleanly(tmp_path, label, text, message):
 
 def test_bad_override_is_refused():
     res = subprocess.run([sys.executable, "-m", "runtime.cli", "info", "thesis", "--set", "top.mass"],
-                         cwd=ROOT, capture_output=True, text=True)
+                         cwd=ROOT, capture_output=True, text=True, check=False)
     assert res.returncode == 2 and "has no '='" in res.stderr
 
 
 def test_unknown_scene_names_the_known_ones():
     res = subprocess.run([sys.executable, "-m", "runtime.cli", "info", "nosuchscene"],
-                         cwd=ROOT, capture_output=True, text=True)
+                         cwd=ROOT, capture_output=True, text=True, check=False)
     assert res.returncode == 2 and "thesis" in res.stderr
+
+
+# ---------------------------------------------------------------- absurd numbers (issue 8)
+
+@pytest.mark.parametrize("override,message", [
+    ("top.A=1e100", "top.A = 1e+100 is outside"),
+    ("top.mass=1e308", "top.mass = 1e+308 is outside"),
+    ("top.mass=1e-300", "top.mass = 1e-300 is outside"),
+    ("top.mass=inf", "top.mass = inf is not finite"),
+    ("top.mass=1" + "0" * 400, "top.mass = inf is not finite"),
+    ("top.mass=nan", "top.mass = nan is not finite"),
+    ("top.mass=-1", "top.mass = -1 must be positive"),
+    ("top.mass=heavy", "top.mass = 'heavy' is not a number"),
+    ("top.moment=0", "top.moment = 0 must be nonzero"),
+    ("plate.radius=-0.1", "plate.radius = -0.1 must be positive"),
+    ("plate.murho=1e20", "plate.murho = 1e+20 is outside"),
+    ("g=-9.81", "g = -9.81 must be positive"),
+    ("field=3", "field = 3 is not a section"),
+    ("model=[1]", "model = [1] is not a section"),
+    ("name=caf\u00e9", "name = 'caf\u00e9'"),
+])
+def test_absurd_numbers_are_one_line_scene_errors(override, message):
+    from derive.scene import SceneError, load_scene
+    with pytest.raises(SceneError) as info:
+        load_scene("thesis", [override])
+    text = str(info.value)
+    assert message in text and "\n" not in text, text
+
+
+def test_ring_magnet_absurd_magnetization():
+    from derive.scene import SceneError, load_scene
+    with pytest.raises(SceneError, match="plate.remanence = 1e\\+13 is outside"):
+        load_scene("ring_magnet", ["plate.remanence=1e13"])
+
+
+@pytest.mark.parametrize("args", [
+    ["info", "thesis", "--set", "top.A=1e100"],
+    ["info", "scenes"],                     # a directory as the scene
+    ["info", "thesis", "--set", "top.mass=inf"],
+])
+def test_absurd_input_through_the_command_line(tmp_path, args):
+    env = dict(os.environ, LEVITRON_CACHE=str(tmp_path / "cache"))
+    res = subprocess.run([sys.executable, "-m", "runtime.cli", *args], cwd=ROOT, env=env,
+                         capture_output=True, text=True, check=False)
+    assert res.returncode == 2, (res.stdout, res.stderr)
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in res.stderr, res.stderr
+
+
+def test_binary_scene_file_is_refused(tmp_path):
+    from derive.scene import SceneError, load_scene
+    bad = tmp_path / "bin.toml"
+    bad.write_bytes(b"\xff\xfe\x00name")
+    with pytest.raises(SceneError, match="not a text file"):
+        load_scene(bad)
+
+
+@pytest.mark.parametrize("name", ["a\0b", "x" * 5000, "x" * 300 + ".toml"])
+def test_unusable_scene_names_are_one_line_errors(name):
+    from derive.scene import SceneError, load_scene
+    with pytest.raises(SceneError) as info:
+        load_scene(name)
+    assert "\n" not in str(info.value) and len(str(info.value)) < 400

@@ -2,7 +2,7 @@
 
 B is the generated `field` function (the Laplace expansion of thesis eqs. 2.2.6-2.2.7 to the
 scene's order, or the exact 3-D field for a rectangular plate once derive emits it); B_exact is the
-closed form of runtime/exact_field.py (current loops by complete elliptic integrals, ring magnets
+closed form of runtime/plates/<kind>.py and runtime/exact_field.py (current loops by complete elliptic integrals, ring magnets
 after Derby & Olbert 2010, rectangles after Furlani 2001), or null where the plate has none
 (expression plates) or the point is singular (on a current filament).
 """
@@ -12,8 +12,8 @@ import math
 
 import numpy as np
 
-from .. import exact_field
 from ..errors import UserError
+from ..plates import plate_field
 from .common import model_of
 
 NAME = "field"
@@ -43,7 +43,7 @@ def run(args) -> dict:
     points = np.array([parse_point(t) for t in args.at])
     model = model_of(args)
     scene = model.scene
-    exact = exact_field.plate_field(scene.data["plate"], scene.params, points)
+    exact = plate_field(scene.data["plate"], scene.params, points)
     out = []
     for i, r in enumerate(points):
         B = model.field(r)

@@ -1,0 +1,28 @@
+"""The thesis's thin annulus (thesis eq. 2.2.11): scene keys and resolver."""
+from __future__ import annotations
+
+from ..checks import SceneError, number
+from .base import STRENGTH_KEYS, Context, Key, PlateKind, strength_rho
+
+
+def resolve(table: dict, ctx: Context) -> dict:
+    a = number(table, "radius", ctx.where, positive=True)
+    w = number(table, "hole", ctx.where, default=0.0)
+    if w < 0:
+        raise SceneError(f"{ctx.where}.hole = {w} is negative: give 0 <= hole < radius")
+    if w >= a:
+        raise SceneError(f"{ctx.where}.hole = {w} is not smaller than {ctx.where}.radius = {a}: "
+                         "make the hole smaller than the plate")
+    return {**strength_rho(table, ctx), "a": a, "w": w}
+
+
+KIND = PlateKind(
+    name="annulus",
+    doc="thin magnetised annulus in z = 0 (a dipole layer), thesis eq. 2.2.11",
+    keys=(Key("radius", "m", "outer radius a"),
+          Key("hole", "m", "inner radius w, 0 <= hole < radius (default 0)"),
+          *STRENGTH_KEYS),
+    resolve=resolve,
+    length_keys=("a", "w"),
+    example='kind = "annulus"\nradius = 0.10\nhole = 0.03\nmurho = -0.0026',
+)

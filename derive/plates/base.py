@@ -1,0 +1,115 @@
+"""What one plate kind declares on the scene side (pure Python, no sympy).
+
+A kind is one module of derive/plates/ defining `KIND = PlateKind(...)`:
+
+- `keys`: the scene keys it allows, each with its unit and a one-line doc (docs/scenes.md is
+  generated from them: `python -m derive.plates.docs`);
+- `resolve(table, ctx) -> {name: SI value}`: validation and the parameters by the names of the
+  plate's symbols (Scene.params holds them as `plate_<name>`, compound part i as `plate_p<i>_<name>`);
+  it may add "mu" (the plate fixes the moment, `murho`) and "moment_nominal";
+- `decisions`: every number-valued choice that changes the generated code, declared here next to
+  the builder that branches on it (derive/plates/symbolic/<kind>.py calls the same `Decision.test`),
+  so that the input hash (derive/inputs.py) covers it;
+- `length_keys`: the resolved parameters that are lengths (the plate's length scale);
+- `example`: a TOML [plate] table that validates (tests/test_plate_registry.py checks it).
+"""
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+
+from ..checks import SceneError, number, one_of
+from ..constants import MU0
+
+
+@dataclass(frozen=True)
+class Key:
+    """One scene key of a plate kind: name, unit ("" if dimensionless or not a number), doc."""
+
+    name: str
+    unit: str
+    doc: str
+
+
+@dataclass(frozen=True)
+class Decision:
+    """A structural decision: `test(table) -> bool` on a validated [plate] table; its value is part
+    of the input hash. `doc` says what the generated code does differently when it holds."""
+
+    name: str
+    doc: str
+    test: Callable[[dict], bool]
+
+
+@dataclass(frozen=True)
+class Context:
+    """What a resolver needs beside its table: the top's moment (None if not given), the table's
+    place in the scene (for messages) and the registry (for a compound plate's parts)."""
+
+    moment: float | None
+    where: str = "plate"
+    kinds: Mapping[str, PlateKind] = field(default_factory=dict)
+
+    def at(self, where: str) -> Context:
+        return Context(self.moment, where, self.kinds)
+
+
+@dataclass(frozen=True)
+class PlateKind:
+    name: str
+    doc: str
+    keys: tuple[Key, ...]
+    resolve: Callable[[dict, Context], dict]
+    example: str
+    decisions: tuple[Decision, ...] = ()
+    length_keys: tuple[str, ...] = ()
+    can_be_part: bool = True      # may be one of a compound plate's [[plate.parts]]
+    has_parts: bool = False       # is a compound plate: its parts carry their own decisions, lengths
+
+    @property
+    def allowed(self) -> frozenset[str]:
+        return frozenset({"kind"} | {k.name for k in self.keys})
+
+
+# ---------------------------------------------------------------- shared resolvers
+
+STRENGTH_KEYS = (
+    Key("murho", "J m", "mu * rho of thesis eq. 2.2.11 (the thesis's parametrisation), the only product the "
+        "dynamics sees; with it top.moment may be left out"),
+    Key("dipole_density", "A", "dipole density D of the layer (SI), rho = mu0 D / (4 pi); needs "
+        "top.moment"),
+)
+
+MAGNETIZATION_KEYS = (
+    Key("magnetization", "A/m", "uniform magnetisation M along +z"),
+    Key("remanence", "T", "remanence Br instead of M (M = Br / mu0)"),
+)
+
+
+def strength_rho(table: dict, ctx: Context) -> dict:
+    """The dipole-layer strength rho (T m) of a thin plate from `murho` or `dipole_density`
+    (docs/contract.md, physics conventions: rho = mu0 D / (4 pi))."""
+    where = ctx.where
+    has_murho, has_d = "murho" in table, "dipole_density" in table
+    if has_murho == has_d:
+        raise SceneError(f"[{where}] needs exactly one of `murho` (thesis units, mu*rho) or "
+                         "`dipole_density` (A, SI): give one of them")
+    if has_murho:
+        murho = number(table, "murho", where, nonzero=True)
+        if ctx.moment is None:
+            # Only mu*rho enters the dynamics; a nominal |mu| = 1 A m^2 with the sign of an
+            # upright top over a field that points up (docs/contract.md) keeps rho's sign physical.
+            return {"mu": -1.0, "rho": -murho, "moment_nominal": 1.0}
+        return {"rho": murho / ctx.moment}
+    if ctx.moment is None:
+        raise SceneError(f"[{where}] dipole_density needs [top] moment (A m^2): add it")
+    dens = number(table, "dipole_density", where, nonzero=True)
+    return {"rho": MU0 * dens / (4.0 * math.pi)}
+
+
+def magnetization(table: dict, ctx: Context) -> float:
+    """M (A/m) from `magnetization` or `remanence` (M = Br / mu0)."""
+    key = one_of(table, ("magnetization", "remanence"), ctx.where, "A/m, or T with M = Br/mu0")
+    value = number(table, key, ctx.where, nonzero=True)
+    return value if key == "magnetization" else value / MU0

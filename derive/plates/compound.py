@@ -1,0 +1,43 @@
+"""A compound plate: the sum of parts, each a [[plate.parts]] table of another kind."""
+from __future__ import annotations
+
+from ..checks import SceneError, check_keys
+from .base import Context, Key, PlateKind
+
+
+def resolve(table: dict, ctx: Context) -> dict:
+    """Part i's parameters are named p<i>_<name>; a part's "mu" / "moment_nominal" (murho without
+    a top moment) become the scene's."""
+    where = ctx.where
+    parts = table.get("parts")
+    if not isinstance(parts, list) or not parts or not all(isinstance(p, dict) for p in parts):
+        raise SceneError(f"[{where}] needs a non-empty list of parts: add [[{where}.parts]] tables")
+    allowed = sorted(k for k, kind in ctx.kinds.items() if kind.can_be_part)
+    out: dict = {}
+    for i, part in enumerate(parts):
+        pw = f"{where}.parts[{i}]"
+        kind = ctx.kinds.get(part.get("kind")) if isinstance(part.get("kind"), str) else None
+        if kind is None or not kind.can_be_part:
+            raise SceneError(f"{pw}.kind = {part.get('kind')!r}: a part must be one of "
+                             f"{', '.join(allowed)}")
+        check_keys(part, kind.allowed, pw)
+        res = dict(kind.resolve(part, ctx.at(pw)))
+        for special in ("mu", "moment_nominal"):
+            if special in res:
+                out[special] = res.pop(special)
+        out.update({f"p{i}_{k}": v for k, v in res.items()})
+    return out
+
+
+KIND = PlateKind(
+    name="compound",
+    doc="the sum of parts, each a [[plate.parts]] table of another kind (not rectangle, not "
+        "compound); part i's parameters are plate_p<i>_<name>",
+    keys=(Key("parts", "", "list of [[plate.parts]] tables, each with its own kind and keys"),),
+    resolve=resolve,
+    can_be_part=False,
+    has_parts=True,
+    example='kind = "compound"\n\n[[plate.parts]]\nkind = "ring_magnet"\nr_out = 0.06\nr_in = 0.03\n'
+            'thickness = 0.02\nremanence = 0.39\n\n[[plate.parts]]\nkind = "loop"\nradius = 0.02\n'
+            'current = -50.0',
+)

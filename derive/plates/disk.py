@@ -1,0 +1,19 @@
+"""A thin magnetised disk (thesis eq. 2.2.11 with w = 0): scene keys and resolver."""
+from __future__ import annotations
+
+from ..checks import number
+from .base import STRENGTH_KEYS, Context, Key, PlateKind, strength_rho
+
+
+def resolve(table: dict, ctx: Context) -> dict:
+    return {**strength_rho(table, ctx), "a": number(table, "radius", ctx.where, positive=True)}
+
+
+KIND = PlateKind(
+    name="disk",
+    doc="thin magnetised disk in z = 0 (the annulus without hole), thesis eq. 2.2.11 with w = 0",
+    keys=(Key("radius", "m", "radius a"), *STRENGTH_KEYS),
+    resolve=resolve,
+    length_keys=("a",),
+    example='kind = "disk"\nradius = 0.10\nmurho = -0.0026',
+)

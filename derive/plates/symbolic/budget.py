@@ -1,0 +1,43 @@
+"""A wall-clock budget for sympy work on scene text (expression plates; issue 8, bounded work).
+
+Sympy cannot be interrupted cooperatively, so `time_budget` arms a real-time timer (SIGALRM) that
+raises inside the computation; the budget then ends as one SceneError line. Where no timer can be
+armed (not the main thread, or a platform without setitimer) the work runs unbounded in time, still
+bounded in size by the parser's limits (derive/expr_parse.py) and the expression plate's operation
+budget (derive/plates/symbolic/expression.py).
+"""
+from __future__ import annotations
+
+import signal
+import threading
+import time
+from contextlib import contextmanager
+
+from ...checks import SceneError
+
+
+class _OutOfTime(BaseException):
+    """Raised by the timer; a BaseException so that no `except Exception` inside sympy hides it."""
+
+
+@contextmanager
+def time_budget(seconds: float, what: str):
+    """Run the block within `seconds` of wall time, else raise SceneError(f"{what} ...")."""
+    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "setitimer"):
+        yield
+        return
+
+    def _alarm(signum, frame):
+        raise _OutOfTime
+
+    old = signal.signal(signal.SIGALRM, _alarm)
+    t0 = time.monotonic()
+    signal.setitimer(signal.ITIMER_REAL, max(seconds, 1e-3))
+    try:
+        yield
+    except _OutOfTime:
+        raise SceneError(f"{what} took more than {seconds:g} s of symbolic work "
+                         f"({time.monotonic() - t0:.1f} s): simplify it") from None
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)
