@@ -23,12 +23,12 @@ import tomllib
 from . import plates
 from .checks import SceneError, check_keys, number
 from .constants import MU0
+from .paths import SCENES_DIR
 from .plates.base import Key
 
 __all__ = ["MU0", "SCENES_DIR", "Scene", "SceneError", "find_scene_file", "load_scene",
            "parse_override", "validate"]
 
-SCENES_DIR = Path(__file__).resolve().parent.parent / "scenes"
 
 NEEDS = ("reduced", "full", "linear")
 COORDINATES = ("tait-bryan", "euler-zxz")

@@ -30,11 +30,12 @@ from __future__ import annotations
 
 import bisect
 import math
-import re
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
+
+from derive import plates
 
 from . import bands as _bands
 from .errors import UserError
@@ -46,24 +47,6 @@ GRID_DECADES = (-4.0, 4.0)   # heights scale * 10^[-4, 4]
 GRID_PER_DECADE = 64
 MARGINAL_ULPS = 16           # a double root: |F(z_c)| <= 16 eps (|m g| + |mu Phi_2(z_c)|)
 
-# the plate parameters (Scene.params keys) that are lengths, most characteristic first
-LENGTH_KEYS = ("a", "radius", "r_out", "side_x", "side_y", "w", "r_in", "thickness")
-_LENGTH_RE = re.compile(r"^plate_(?:p\d+_)*(" + "|".join(LENGTH_KEYS) + r")$")
-
-
-def length_scale(params: dict) -> float:
-    """The plate's size: the largest length among the plate's parameters (compound parts
-    included, plate_p<i>_<key>), else 1.0 (a dimensionless scene)."""
-    lengths = [float(v) for k, v in params.items() if _LENGTH_RE.match(k) and v is not None and v > 0]
-    return max(lengths) if lengths else 1.0
-
-
-def length_key(name: str) -> str | None:
-    """The length a plate parameter is ("a", "w", "r_in", ...), or None if it is not a length."""
-    hit = _LENGTH_RE.match(name)
-    return hit.group(1) if hit else None
-
-
 # ------------------------------------------------------------------------ model adapters
 
 def params_of(model, p: np.ndarray | None = None) -> dict:
@@ -72,8 +55,9 @@ def params_of(model, p: np.ndarray | None = None) -> dict:
 
 
 def scale_of(model, p: np.ndarray | None = None) -> float:
-    """THE length of a scene every height search scales with (one place to change it)."""
-    return length_scale(params_of(model, p))
+    """THE length of a scene every height search scales with: the plate registry's length scale
+    (derive.plates.length_scale) at the parameter values p, 1.0 for a plate without lengths."""
+    return plates.length_scale(model.scene.data["plate"], params_of(model, p))
 
 
 def model_onaxis(model, p: np.ndarray | None = None) -> Callable[[float], np.ndarray]:

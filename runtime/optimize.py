@@ -15,27 +15,29 @@ import math
 import casadi as ca
 import numpy as np
 
+from derive import plates
+
 from . import equilibrium as eqm
 from .errors import UserError
 
-# parameters that must be positive, and lengths that may be 0 (a hole, an inner radius, a thin layer)
+# parameters that must be positive
 POSITIVE = ("m", "g", "A", "C")
-MAY_BE_ZERO = ("w", "r_in", "thickness")
 
 
-def physical_problem(names: list[str], values: np.ndarray, param: str) -> str | None:
-    """Why the fitted parameter vector is not physical, or None: a mass, inertia, g or plate length
-    <= 0 (a hole, inner radius or thickness < 0), or C > 2 A (no rigid body, thesis 2.1.13)."""
+def physical_problem(plate: dict, names: list[str], values: np.ndarray, param: str) -> str | None:
+    """Why the fitted parameter vector is not physical, or None: a mass, inertia or g <= 0, a plate
+    length < 0 (the plate registry's length keys) or a plate without size, or C > 2 A (no rigid
+    body, thesis 2.1.13)."""
     v = float(values[names.index(param)])
-    key = eqm.length_key(param)
     if not math.isfinite(v):
         return f"{param} = {v} is not a number"
     if param in POSITIVE and not v > 0:
         return f"{param} = {v:.6g}, but {param} must be > 0"
-    if key in MAY_BE_ZERO and v < 0:
+    lengths = plates.length_names(plate)
+    if param in lengths and v < 0:
         return f"{param} = {v:.6g}, but a length must be >= 0"
-    if key is not None and key not in MAY_BE_ZERO and not v > 0:
-        return f"{param} = {v:.6g}, but a length must be > 0"
+    if lengths and param in lengths and not plates.length_scale(plate, dict(zip(names, values))) > 0:
+        return f"{param} = {v:.6g} leaves the plate without size"
     A, C = (float(values[names.index(k)]) for k in ("A", "C"))
     if param in ("A", "C") and C > 2 * A:
         return f"{param} = {v:.6g}, but then C = {C:.6g} > 2 A = {2 * A:.6g} (no rigid body)"
@@ -72,7 +74,7 @@ def fit_equilibrium_height(model, z_star: float, param: str = "mu") -> dict:
                         "parameter or height")
     pv = model.p.copy()
     pv[i] = value
-    why = physical_problem(names, pv, param)
+    why = physical_problem(model.scene.data["plate"], names, pv, param)
     if why is not None:
         raise UserError(f"no physical {param} puts the top at z* = {z_star:g}: the fit gives {why}; "
                         "fit another parameter or height")

@@ -117,11 +117,6 @@ def test_dimensionless_scene_scales():
     assert abs(zc_1 - zc_si / A_PLATE) <= 1e-12
 
 
-def test_length_scale_from_scene_params():
-    assert eqm.length_scale({"plate_a": 0.1, "plate_w": 0.03}) == 0.1
-    assert eqm.length_scale({"plate_rho": 3.0}) == 1.0
-
-
 @pytest.fixture(scope="module")
 def thesis_report():
     return eqm.analyse(annulus(A_PLATE, W_PLATE), M_TOP, G, A_TOP, C_TOP, fitted_murho(), A_PLATE)

@@ -2,14 +2,12 @@
 import json
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 
+from derive.paths import ROOT
 from runtime.errors import UserError
 from runtime.optimize import fit_equilibrium_height
-
-ROOT = Path(__file__).resolve().parent.parent
 
 
 def test_thesis_murho_is_the_fit_to_7_62_cm(thesis_model):
@@ -71,15 +69,16 @@ def test_physical_checks_of_each_kind():
     from runtime.optimize import physical_problem
     names = ["m", "g", "A", "C", "mu", "plate_a", "plate_w", "plate_rho"]
     ok = [0.03, 9.81, 2.2e-6, 1.32e-6, -1.0, 0.1, 0.03, 0.0026]
-    assert all(physical_problem(names, ok, n) is None for n in names)
+    plate = {"kind": "annulus", "radius": 0.1, "hole": 0.03, "murho": -0.0026}
+    assert all(physical_problem(plate, names, ok, n) is None for n in names)
     for name, bad, why in (("m", -0.01, "> 0"), ("A", 0.0, "> 0"), ("plate_a", -0.1, "length"),
                            ("plate_w", -0.01, "length"), ("C", 5e-6, "no rigid body")):
         vals = list(ok)
         vals[names.index(name)] = bad
-        assert why in physical_problem(names, vals, name)
+        assert why in physical_problem(plate, names, vals, name)
     vals = list(ok)
     vals[names.index("plate_w")] = 0.0                   # no hole is physical
-    assert physical_problem(names, vals, "plate_w") is None
+    assert physical_problem(plate, names, vals, "plate_w") is None
 
 
 def test_fit_plate_a_errors_are_one_line(capsys):

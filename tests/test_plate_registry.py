@@ -13,10 +13,9 @@ import tomllib
 
 from derive import plates
 from derive.inputs import input_hash, structure
+from derive.paths import ROOT
 from derive.plates import docs
 from derive.scene import load_scene, validate
-
-ROOT = Path(__file__).resolve().parent.parent
 
 
 def _example(kind: str) -> dict:

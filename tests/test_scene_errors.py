@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 from derive.build import GENERATED
+from derive.paths import ROOT
 
-ROOT = Path(__file__).resolve().parent.parent
 GOOD = (ROOT / "scenes" / "thesis.toml").read_text()
 
 

@@ -6,13 +6,12 @@ import math
 import subprocess
 import sys
 from functools import lru_cache
-from pathlib import Path
 
 import pytest
 
+from derive.paths import ROOT
 from derive.scene import SCENES_DIR, load_scene
 
-ROOT = Path(__file__).resolve().parent.parent
 FULL_SCENES = [p.stem for p in sorted(SCENES_DIR.glob("*.toml"))
                if {"full", "linear"} <= set(load_scene(p.stem).needs)]
 
