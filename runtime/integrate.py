@@ -15,8 +15,13 @@ generated right-hand side, with no Python call per step:
 CasADi (through ``part.casadi("rhs")``): ``cvodes`` (adaptive BDF/Adams of SUNDIALS, here
 Adams-Moulton for the non-stiff levitron), ``casadi-rk`` (CasADi's fixed-step RK4) and
 ``casadi-collocation`` (CasADi's fixed-step Legendre collocation).
-scipy: ``scipy-dop853``, ``scipy-rk45``, ``scipy-radau``, ``scipy-bdf``, ``scipy-lsoda`` through
-``solve_ivp`` with the part's numpy-facing right-hand side (one Python call per stage).
+scipy: ``scipy-dop853``, ``scipy-rk45``, ``scipy-radau``, ``scipy-bdf``, ``scipy-lsoda``, scipy's
+OdeSolver classes stepped as ``solve_ivp`` does, with the part's numpy-facing right-hand side (one
+Python call per stage). runtime/integrators_table.py is the one list of these names and their facts.
+
+Every run has a step budget (runtime/step_budget.py) and stops with status "step_budget" once it is
+used up: in C a counter compare per step, in CasADi CVODES' max_num_steps, in scipy a count of steps
+and of right-hand side calls.
 
 Tolerances are made dimension-aware by a per-component ``scale`` (state magnitudes): every
 adaptive backend controls |local error_k| <= tol * (scale_k + |x_k|). The box (``Box``) stops a
@@ -28,34 +33,33 @@ from __future__ import annotations
 import ctypes
 import math
 import time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Sequence
+from typing import Any
 
 import numpy as np
 
+from runtime.cbuild import DEFAULT_FLAGS, compile_shared
 from runtime.errors import UserError
+from runtime.integrators_table import lookup
+from runtime.step_budget import (
+    MAX_STEPS_CAP,
+    budget_message,
+    check_options,
+    default_budget,
+    fixed_steps,
+)
 
-C_METHODS = {"euler": 0, "rk4": 1, "dop853": 2, "gauss4": 3, "midpoint": 4, "dop853-fixed": 5}
-FIXED_STEP = {"euler", "rk4", "gauss4", "midpoint", "dop853-fixed", "casadi-rk", "casadi-collocation"}
-CASADI_METHODS = {"cvodes": "cvodes", "casadi-rk": "rk", "casadi-collocation": "collocation"}
-SCIPY_METHODS = {"scipy-dop853": "DOP853", "scipy-rk45": "RK45", "scipy-radau": "Radau",
-                 "scipy-bdf": "BDF", "scipy-lsoda": "LSODA"}
-METHODS = tuple(C_METHODS) + tuple(CASADI_METHODS) + tuple(SCIPY_METHODS)
-STATUS = {0: "completed", 1: "left_box", 2: "nonfinite", 3: "step_underflow", 4: "max_steps",
+STATUS = {0: "completed", 1: "left_box", 2: "nonfinite", 3: "step_underflow", 4: "step_budget",
           5: "no_convergence", 6: "bad_input", 7: "energy_limit"}
+
 CSRC = Path(__file__).resolve().parent / "csrc"
 
 
 def backend_of(method: str) -> str:
     """The backend name of DESIGN.md's bench rows: "c", "casadi" or "scipy"."""
-    if method in C_METHODS:
-        return "c"
-    if method in CASADI_METHODS:
-        return "casadi"
-    if method in SCIPY_METHODS:
-        return "scipy"
-    raise UserError(f"unknown integrator {method!r}; choose one of: {', '.join(METHODS)}")
+    return lookup(method).backend
 
 
 @dataclass(frozen=True)
@@ -139,10 +143,26 @@ class _Stats(ctypes.Structure):
 _DP = ctypes.POINTER(ctypes.c_double)
 
 
+_STRUCTS = (("lev_sizeof_system", _System), ("lev_sizeof_options", _Options),
+            ("lev_sizeof_stats", _Stats))
+
+
 def _bind(lib: ctypes.CDLL) -> ctypes.CDLL:
-    """Declare the signatures of the integrator entry points (idempotent)."""
+    """Declare the signatures of the integrator entry points (idempotent) and check that the
+    ctypes mirrors of the C structs have the sizes the library reports."""
     f = lib.lev_integrate
     if f.argtypes is None:
+        for fn_name, struct in _STRUCTS:
+            fn = getattr(lib, fn_name)
+            fn.argtypes, fn.restype = [], ctypes.c_size_t
+            if fn() != ctypes.sizeof(struct):
+                raise RuntimeError(f"runtime/integrate.py's {struct.__name__} has "
+                                   f"{ctypes.sizeof(struct)} bytes, the C library's {fn()}: "
+                                   "update the ctypes mirror of runtime/csrc/integrators.h")
+        lib.lev_method_id.argtypes, lib.lev_method_id.restype = [ctypes.c_char_p], ctypes.c_int
+        lib.lev_method_name.argtypes, lib.lev_method_name.restype = [ctypes.c_int], ctypes.c_char_p
+        lib.lev_method_fixed_step.argtypes = [ctypes.c_int]
+        lib.lev_method_fixed_step.restype = ctypes.c_int
         f.argtypes = [ctypes.c_int, ctypes.POINTER(_System), ctypes.POINTER(_Options), _DP,
                       ctypes.c_void_p, _DP, _DP, _DP, ctypes.POINTER(_Stats)]
         f.restype = ctypes.c_int
@@ -166,8 +186,7 @@ def fn_address(fn: Any) -> int | None:
 
 def csrc_library() -> ctypes.CDLL:
     """The hand-written C of runtime/csrc alone (integrators + the test systems of circle.c)."""
-    from runtime.cbuild import compile_shared
-    flags = ("-O3", "-std=c99", "-fPIC", "-shared", "-march=native", "-Wall", "-Wextra", "-Werror")
+    flags = DEFAULT_FLAGS + ("-Werror",)
     return _bind(ctypes.CDLL(str(compile_shared(sorted(CSRC.glob("*.c")), flags=flags))))
 
 
@@ -191,15 +210,22 @@ def run_c(lib: ctypes.CDLL, method: str, rhs: Any, x0, p, t_end: float, *, t0: f
           h: float = 0.0, rtol: float = 0.0, atol: float | Sequence[float] = 0.0,
           jac: Any = None, energy: Any = None, box: Box | None = None,
           t_out: Sequence[float] | None = None, every: int = 0, max_samples: int | None = None,
-          max_steps: int = 0, h_max: float = 0.0, max_iter: int = 0,
+          max_steps: int | None = None, h_max: float = 0.0, max_iter: int = 0,
           energy_limit: float = 0.0) -> Result:
     """Run one C integrator (no validation beyond the C's own; see ``integrate``).
 
     Samples: at the times ``t_out`` (DOP853 dense output), else every ``every``-th step plus the
     first and the last state. Energy, when given, is monitored after every step in C; with
-    ``energy_limit`` > 0 the run stops once |H - H0| > energy_limit |H0| (status "energy_limit")."""
+    ``energy_limit`` > 0 the run stops once |H - H0| > energy_limit |H0| (status "energy_limit").
+    max_steps: the step budget (attempted steps; status "step_budget"); None: the number of fixed
+    steps, or runtime.step_budget.MAX_STEPS_CAP for DOP853."""
     _bind(lib)
-    code = C_METHODS[method]
+    code = lookup(method).c_id
+    if code is None:
+        raise UserError(f"integrator {method!r} is not a C integrator")
+    if max_steps is None:
+        max_steps = (default_budget(method, t_end, h) if lookup(method).fixed_step and h > 0
+                     else MAX_STEPS_CAP)
     x = _f64(x0).copy()
     n = x.size
     p = _f64(p if p is not None else [0.0])
@@ -227,8 +253,11 @@ def run_c(lib: ctypes.CDLL, method: str, rhs: Any, x0, p, t_end: float, *, t0: f
                                _ptr(out_e), ctypes.byref(st))
     wall = time.perf_counter() - start
     k = st.n_samples
-    return Result(t=out_t[:k].copy(), X=out_x[:k].copy(), status=STATUS.get(status, str(status)),
-                  message=lib.lev_status_message(status).decode(), rhs_evals=int(st.rhs_evals),
+    name = STATUS.get(status, str(status))
+    message = lib.lev_status_message(status).decode()
+    if name == "step_budget":
+        message = budget_message(max_steps, float(st.t_final))
+    return Result(t=out_t[:k].copy(), X=out_x[:k].copy(), status=name, message=message, rhs_evals=int(st.rhs_evals),
                   wall_s=wall, t_final=float(st.t_final), x_final=x, method=method, backend="c",
                   steps=int(st.steps), rejected=int(st.rejected), jac_evals=int(st.jac_evals),
                   iterations=int(st.iterations),
@@ -265,30 +294,13 @@ def default_scale(x0: np.ndarray) -> np.ndarray:
     return np.where(a > 0, a, floor)
 
 
-def _validate(method, x0, n, t_end, tol, h, n_out, scale):
-    if method not in METHODS:
-        raise UserError(f"unknown integrator {method!r}; choose one of: {', '.join(METHODS)}")
+def _validate(method, x0, n, t_end, tol, h, n_out, scale, time_scale, what, max_steps):
+    lookup(method)
     if x0.shape != (n,):
         raise UserError(f"initial state has shape {x0.shape}, the part has {n} states; pass {n} numbers")
     if not np.all(np.isfinite(x0)):
         raise UserError("initial state is not finite; check the initial conditions")
-    if t_end is None or not math.isfinite(t_end) or t_end <= 0:
-        raise UserError(f"run length t_end={t_end} must be a positive finite time; pass e.g. --t-end 1")
-    if method in FIXED_STEP:
-        if h is None:
-            raise UserError(f"integrator {method} takes a fixed step; pass a step h > 0 (e.g. --tol is "
-                            f"not used by {method})")
-        if not math.isfinite(h) or h <= 0:
-            raise UserError(f"step h={h} must be positive and finite; pass e.g. h=1e-4")
-        if h > t_end:
-            raise UserError(f"step h={h} is longer than the run t_end={t_end}; pass h <= t_end")
-    else:
-        if tol is None or not math.isfinite(tol) or tol <= 0:
-            raise UserError(f"tolerance tol={tol} must be positive and finite; pass e.g. --tol 1e-8")
-        if tol < 1e-15:
-            raise UserError(f"tolerance tol={tol} is below double precision; pass tol >= 1e-15")
-    if int(n_out) < 1:
-        raise UserError(f"n_out={n_out} must be at least 1")
+    check_options(method, t_end, tol, h, n_out, time_scale, what, max_steps)
     if scale is not None:
         s = np.asarray(scale, dtype=float)
         if s.shape != (n,) or not np.all(np.isfinite(s)) or np.any(s <= 0):
@@ -297,38 +309,45 @@ def _validate(method, x0, n, t_end, tol, h, n_out, scale):
 
 def integrate(part, x0, t_end: float, method: str = "dop853", tol: float | None = 1e-8,
               h: float | None = None, p=None, box: Box | None = None, n_out: int = 200,
-              scale=None, monitor_energy: bool = False, max_steps: int = 0,
-              scipy_rhs: str = "auto") -> Result:
+              scale=None, monitor_energy: bool = False, max_steps: int | None = None,
+              scipy_rhs: str = "auto", time_scale: float | None = None,
+              time_scale_what: str = "the fastest period") -> Result:
     """Integrate `part` from x0 over [0, t_end] with `method` (see the module docstring).
 
     tol: adaptive methods (rtol = tol, atol_k = tol * scale_k). h: fixed-step methods.
     n_out: number of output intervals (adaptive: dense output on a uniform grid; fixed: every
-    ceil(N / n_out)-th step). Raises UserError for bad options."""
+    ceil(N / n_out)-th step). time_scale: the fastest period of the motion (runtime.simulate);
+    it sets the default step budget and the limits of runtime.step_budget.check_options.
+    max_steps: the step budget (None: runtime.step_budget.default_budget). A run that uses it up
+    stops with status "step_budget". Raises UserError for bad options."""
     x0 = _f64(x0)
     n = len(part.states)
-    _validate(method, x0, n, t_end, tol, h, n_out, scale)
+    _validate(method, x0, n, t_end, tol, h, n_out, scale, time_scale, time_scale_what, max_steps)
+    t_end, n_out = float(t_end), int(n_out)
+    budget = int(max_steps) if max_steps is not None else default_budget(method, t_end, h, time_scale)
     p = _f64(part.p if p is None else p)
     scale = default_scale(x0) if scale is None else _f64(scale)
-    if method in C_METHODS:
-        return _integrate_c(part, method, x0, p, float(t_end), tol, h, box, int(n_out), scale,
-                            monitor_energy, max_steps)
-    if method in CASADI_METHODS:
-        return _integrate_casadi(part, method, x0, p, float(t_end), tol, h, box, int(n_out), scale)
-    return _integrate_scipy(part, method, x0, p, float(t_end), tol, box, int(n_out), scale,
-                            scipy_rhs)
+    backend = lookup(method).backend
+    if backend == "c":
+        return _integrate_c(part, method, x0, p, t_end, tol, h, box, n_out, scale,
+                            monitor_energy, budget)
+    if backend == "casadi":
+        return _integrate_casadi(part, method, x0, p, t_end, tol, h, box, n_out, scale, budget)
+    return _integrate_scipy(part, method, x0, p, t_end, tol, box, n_out, scale, scipy_rhs, budget)
 
 
 def _integrate_c(part, method, x0, p, t_end, tol, h, box, n_out, scale, monitor_energy, max_steps):
     lib = _lib_of(part)
     rhs = part.c_function("rhs")
     energy = part.c_function("energy") if monitor_energy else None
-    if method == "dop853":
+    if not lookup(method).fixed_step:
         t_out = np.linspace(0.0, t_end, n_out + 1)
         return run_c(lib, method, rhs, x0, p, t_end, rtol=tol, atol=tol * scale, energy=energy,
                      box=box, t_out=t_out, max_steps=max_steps)
-    n_steps = max(1, math.ceil(t_end / h * (1 - 1e-12)))
+    n_steps = fixed_steps(t_end, h)
     every = max(1, math.ceil(n_steps / n_out))
-    jac = part.c_function("jac") if method in ("gauss4", "midpoint") and _has_function(part, "jac") else None
+    jac = (part.c_function("jac") if lookup(method).needs_jacobian and _has_function(part, "jac")
+           else None)
     return run_c(lib, method, rhs, x0, p, t_end, h=h, jac=jac, energy=energy, box=box,
                  every=every, max_samples=n_steps // every + 3, max_steps=max_steps)
 
@@ -343,38 +362,49 @@ def _truncate_at_box(t, X, box: Box | None):
     return None, None
 
 
-def _integrate_casadi(part, method, x0, p, t_end, tol, h, box, n_out, scale):
+def _integrate_casadi(part, method, x0, p, t_end, tol, h, box, n_out, scale, max_steps):
+    """CasADi's integrators. The budget: cvodes gets max_num_steps per output interval (CVODES
+    counts its steps per call, one call per output time), so at most max_steps in all once
+    max_steps >= n_out; the fixed-step plugins run the budgeted steps only, to t = max_steps h."""
     import casadi as ca
-    plugin = CASADI_METHODS[method]
+    plugin = lookup(method).engine
     F = part.casadi("rhs")
     n = x0.size
     u = ca.MX.sym("u", n)
     pp = ca.MX.sym("p", F.size1_in(1), F.size2_in(1))
     S = ca.DM(scale)
     ode = F(S * u, pp) / S                      # scaled states: one scalar atol serves all
-    t_grid = np.linspace(0.0, t_end, n_out + 1)
     opts: dict[str, Any] = {}
     n_steps = 0
+    status, message = "completed", "completed: reached t_end"
+    t_run = t_end
     if plugin == "cvodes":
-        opts = {"abstol": tol, "reltol": tol, "max_num_steps": 10**8, "linear_multistep_method": "adams",
-                "nonlinear_solver_iteration": "functional"}
+        opts = {"abstol": tol, "reltol": tol, "max_num_steps": max(1, max_steps // n_out),
+                "linear_multistep_method": "adams", "nonlinear_solver_iteration": "functional"}
     else:
         # casadi >= 3.6: the finite elements are counted over the whole horizon (at least one per
         # output interval), so N = t_end / h steps of size h
-        n_steps = max(n_out, math.ceil(t_end / h * (1 - 1e-12)))
+        n_steps = max(n_out, fixed_steps(t_end, h))
+        if n_steps > max_steps:
+            t_run = t_end * max_steps / n_steps
+            n_steps, n_out = max_steps, min(n_out, max_steps)
+            status, message = "step_budget", budget_message(max_steps)
         opts = {"number_of_finite_elements": n_steps}
         if plugin == "collocation":
             opts.update({"interpolation_order": 3, "collocation_scheme": "legendre"})
+    t_grid = np.linspace(0.0, t_run, n_out + 1)
     integ = ca.integrator("lev_" + plugin, plugin, {"x": u, "p": pp, "ode": ode}, 0.0,
                           list(t_grid[1:]), opts)
     start = time.perf_counter()
-    status, message = "completed", "completed: reached t_end"
     try:
         out = integ(x0=ca.DM(x0 / scale), p=ca.DM(p))
         U = np.asarray(out["xf"].full()).T
     except RuntimeError as err:
         U = np.full((n_out, n), np.nan)
         status, message = "solver_error", f"casadi {plugin}: {str(err).splitlines()[0]}"
+        if "TOO_MUCH_WORK" in str(err):
+            status, message = "step_budget", (budget_message(max_steps) +
+                                              " (cvodes: max_num_steps per output interval)")
     wall = time.perf_counter() - start
     X = np.vstack([x0[None, :], U * scale[None, :]])
     t = t_grid
@@ -392,13 +422,10 @@ def _integrate_casadi(part, method, x0, p, t_end, tol, h, box, n_out, scale):
     if k is not None:
         keep = max(k, 1) if why == "nonfinite" else k + 1
         t, X = t[:keep], X[:keep]
-        status = why
-        message = ("stopped: the state left the box (checked on the output grid)" if why == "left_box"
-                   else "stopped: the solution became non-finite")
-    elif status != "completed":
-        good = np.all(np.isfinite(X), axis=1)
-        last = int(np.nonzero(good)[0][-1])
-        t, X = t[:last + 1], X[:last + 1]
+        if status == "completed" or why == "left_box":
+            status = why
+            message = ("stopped: the state left the box (checked on the output grid)" if why == "left_box"
+                       else "stopped: the solution became non-finite")
     return Result(t=t, X=X, status=status, message=message, rhs_evals=rhs_evals, wall_s=wall,
                   t_final=float(t[-1]), x_final=X[-1].copy(), method=method, backend="casadi",
                   steps=steps, details={"casadi_stats": {k2: v for k2, v in stats.items()
@@ -421,46 +448,78 @@ def numpy_rhs(part, p: np.ndarray, kind: str = "auto") -> tuple[Callable, str]:
     return (lambda t, x: part.rhs(x, p)), "c (generated C through ctypes, one call per stage)"
 
 
-def _integrate_scipy(part, method, x0, p, t_end, tol, box, n_out, scale, scipy_rhs):
-    from scipy.integrate import solve_ivp
+class _CallBudget(Exception):
+    """Raised by the counting right-hand side once the calls exceed the budget."""
+
+
+def _integrate_scipy(part, method, x0, p, t_end, tol, box, n_out, scale, scipy_rhs, max_steps):
+    """scipy's solvers stepped one accepted step at a time (solve_ivp's own loop, with its dense
+    output and box event), so that the run stops after max_steps steps, or once the right-hand
+    side was called more than CALLS_PER_STEP * max_steps times (counted in the wrapper: implicit
+    methods may call it many times inside one step)."""
+    import scipy.integrate
+    from scipy.optimize import brentq
     f, kind = numpy_rhs(part, p, scipy_rhs)
     calls = [0]
+    call_cap = (16 + 2 * x0.size) * max_steps
 
     def fun(t, x):
         calls[0] += 1
+        if calls[0] > call_cap:
+            raise _CallBudget
         return f(t, x)
 
-    events = None
-    if box is not None:
-        def leave(t, x):
-            return -box.excess(x)
-        leave.terminal = True
-        leave.direction = -1
-        events = [leave]
     t_grid = np.linspace(0.0, t_end, n_out + 1)
-    start = time.perf_counter()
-    sol = solve_ivp(fun, (0.0, t_end), x0, method=SCIPY_METHODS[method], t_eval=t_grid,
-                    rtol=tol, atol=tol * scale, events=events)
-    wall = time.perf_counter() - start
-    t, X = sol.t, sol.y.T
+    ts, xs = [0.0], [x0.copy()]
+    i_out = 1
     status, message = "completed", "completed: reached t_end"
-    t_final, x_final = float(t_end), (X[-1].copy() if len(t) else x0.copy())
-    if sol.status == 1:
-        status, message = "left_box", "stopped: the state left the box"
-        t_final, x_final = float(sol.t_events[0][0]), sol.y_events[0][0].copy()
-        t, X = np.append(t, t_final), np.vstack([X, x_final[None, :]])
-    elif sol.status == -1:
-        status, message = "step_underflow", f"scipy: {sol.message}"
-        good = np.all(np.isfinite(X), axis=1) if len(t) else np.zeros(0, bool)
-        t, X = t[good], X[good]
-        t_final = float(t[-1]) if len(t) else 0.0
-        x_final = X[-1].copy() if len(t) else x0.copy()
-    else:
-        t_final = float(t[-1])
-    return Result(t=t, X=X, status=status, message=message, rhs_evals=int(sol.nfev), wall_s=wall,
-                  t_final=t_final, x_final=x_final, method=method, backend="scipy",
-                  steps=0, details={"rhs": kind, "python_calls": calls[0],
-                                    "note": "solve_ivp does not report its step count"})
+    start = time.perf_counter()
+    solver = getattr(scipy.integrate, lookup(method).engine)(fun, 0.0, x0, t_end, rtol=tol, atol=tol * scale)
+    steps = 0
+    t_final, x_final = 0.0, x0.copy()
+    while solver.status == "running":
+        if steps >= max_steps:
+            status, message = "step_budget", budget_message(max_steps)
+            break
+        try:
+            msg = solver.step()
+        except _CallBudget:
+            status, message = "step_budget", (budget_message(max_steps) +
+                                              f" (more than {call_cap} right-hand side calls)")
+            break
+        if solver.status == "failed":
+            status, message = "step_underflow", f"scipy: {msg}"
+            break
+        steps += 1
+        t_old, t_new = solver.t_old, solver.t
+        if not np.all(np.isfinite(solver.y)):
+            status, message = "nonfinite", "stopped: the solution became non-finite"
+            break
+        dense = solver.dense_output()
+        t_stop = t_new
+        if box is not None and box.excess(solver.y) > 0:
+            t_stop = t_old
+            if box.excess(dense(t_old)) <= 0:
+                t_stop = brentq(lambda s, d=dense: box.excess(d(s)), t_old, t_new,
+                                xtol=4 * np.finfo(float).eps * max(abs(t_new), 1e-300))
+                if box.excess(dense(t_stop)) <= 0:      # the root's side inside: step just past it
+                    t_stop = float(np.nextafter(t_stop, t_new))
+            status, message = "left_box", "stopped: the state left the box"
+        while i_out <= n_out and t_grid[i_out] <= t_stop:
+            ts.append(float(t_grid[i_out]))
+            xs.append(np.asarray(dense(t_grid[i_out]), float))
+            i_out += 1
+        t_final, x_final = float(t_stop), (solver.y.copy() if t_stop == t_new else
+                                           np.asarray(dense(t_stop), float))
+        if status == "left_box":
+            break
+    wall = time.perf_counter() - start
+    if ts[-1] != t_final:
+        ts.append(t_final)
+        xs.append(x_final)
+    return Result(t=np.array(ts), X=np.array(xs), status=status, message=message,
+                  rhs_evals=int(solver.nfev), wall_s=wall, t_final=t_final, x_final=x_final, method=method,
+                  backend="scipy", steps=steps, details={"rhs": kind, "python_calls": calls[0]})
 
 
 class CSystem:

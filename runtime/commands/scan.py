@@ -5,9 +5,9 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from ..errors import UserError
-from ..integrate import METHODS
 from .. import scan as sc
+from ..errors import UserError
+from ..integrators_table import METHODS, lookup
 from .common import model_of, scene_of
 
 NAME = "scan"
@@ -68,8 +68,7 @@ def run(args) -> dict:
         raise UserError(f"--workers {args.workers} must be at least 1 (1 = serial)")
     if args.scheduler is not None and args.workers != 1:
         raise UserError("pass either --workers N (local processes) or --scheduler ADDRESS (dask), not both")
-    if args.integrator not in METHODS:
-        raise UserError(f"unknown integrator {args.integrator!r}; choose one of: {', '.join(METHODS)}")
+    lookup(args.integrator)   # an unknown name is a one-line UserError
     if args.tol is not None and not args.tol > 0:
         raise UserError(f"--tol {args.tol} must be positive, e.g. --tol 1e-9")
     if args.step is not None and not args.step > 0:

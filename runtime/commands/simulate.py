@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from ..errors import UserError
-from ..integrate import METHODS
+from ..integrators_table import METHODS, lookup
 from ..simulate import simulate
 from .common import model_of
 
@@ -34,8 +34,7 @@ def run(args) -> dict:
         raise UserError("pass --spin W (rad/s); `levitron stability SCENE` gives the stable spin interval")
     if args.t_end is None or not args.t_end > 0:
         raise UserError(f"--t-end {args.t_end} must be a positive run length in s, e.g. --t-end 1")
-    if args.integrator not in METHODS:
-        raise UserError(f"unknown integrator {args.integrator!r}; choose one of: {', '.join(METHODS)}")
+    lookup(args.integrator)   # an unknown name is a one-line UserError
     model = model_of(args)
     return simulate(model, spin=args.spin, tilt=args.tilt, offset=args.offset, t_end=args.t_end,
                     integrator=args.integrator, tol=args.tol, box=args.box, plot=args.plot,
