@@ -79,7 +79,7 @@ def test_every_table_entry_has_a_default_budget():
 @pytest.mark.parametrize("method", METHODS)
 def test_no_step_budget_free_integrator_path(osc, method):
     """Each integrator with a tiny budget stops with status "step_budget", quickly, and says so."""
-    kw = dict(h=0.01) if BY_NAME[method].fixed_step else dict(tol=1e-10)
+    kw = {"h": 0.01} if BY_NAME[method].fixed_step else {"tol": 1e-10}
     r = ig.integrate(osc, [1.0, 0.0, 0.0, 1.0], T_END, method=method, n_out=1, max_steps=3,
                      scale=[1, 1, 1, 1], **kw)
     assert r.status == "step_budget", (method, r.status, r.message)
@@ -91,7 +91,7 @@ def test_no_step_budget_free_integrator_path(osc, method):
 
 @pytest.mark.parametrize("method", ["dop853", "rk4", "scipy-dop853", "cvodes", "casadi-rk"])
 def test_default_budget_lets_a_normal_run_finish(osc, method):
-    kw = dict(h=0.01) if BY_NAME[method].fixed_step else dict(tol=1e-10)
+    kw = {"h": 0.01} if BY_NAME[method].fixed_step else {"tol": 1e-10}
     r = ig.integrate(osc, [1.0, 0.0, 0.0, 1.0], 2 * math.pi, method=method, n_out=10,
                      scale=[1, 1, 1, 1], time_scale=2 * math.pi, **kw)
     assert r.status == "completed", (method, r.message)
@@ -99,19 +99,19 @@ def test_default_budget_lets_a_normal_run_finish(osc, method):
 
 
 @pytest.mark.parametrize("kwargs, words", [
-    (dict(method="dop853", tol=1.0), "too loose"),
-    (dict(method="dop853", tol=0.0), "positive"),
-    (dict(method="dop853", tol=1e-16), "double precision"),
-    (dict(method="rk4", h=1e-12), "below 1e-09"),
-    (dict(method="rk4", h=2.0), "cannot resolve"),
-    (dict(method="rk4", h=1e-6, t_end=1e5), "budget cap"),
-    (dict(method="dop853", tol=1e-9, t_end=1e9), "t_end <= "),
-    (dict(method="dop853", tol=1e-9, time_scale=1e-14), "resolves"),
-    (dict(method="dop853", tol=1e-9, n_out=10**9), "n_out"),
+    ({"method": "dop853", "tol": 1.0}, "too loose"),
+    ({"method": "dop853", "tol": 0.0}, "positive"),
+    ({"method": "dop853", "tol": 1e-16}, "double precision"),
+    ({"method": "rk4", "h": 1e-12}, "below 1e-09"),
+    ({"method": "rk4", "h": 2.0}, "cannot resolve"),
+    ({"method": "rk4", "h": 1e-6, "t_end": 1e5}, "budget cap"),
+    ({"method": "dop853", "tol": 1e-9, "t_end": 1e9}, "t_end <= "),
+    ({"method": "dop853", "tol": 1e-9, "time_scale": 1e-14}, "resolves"),
+    ({"method": "dop853", "tol": 1e-9, "n_out": 10**9}, "n_out"),
 ])
 def test_unreasonable_options_are_refused_with_the_reason(kwargs, words):
     """Relative to the time scale of the motion (here 1, a dimensionless scene)."""
-    args = dict(t_end=10.0, time_scale=1.0)
+    args = {"t_end": 10.0, "time_scale": 1.0}
     args.update(kwargs)
     with pytest.raises(UserError, match=words) as err:
         check_options(**args)

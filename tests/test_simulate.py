@@ -14,8 +14,16 @@ from derive.scene import load_scene
 from runtime.errors import UserError
 from runtime.integrate import integrate
 from runtime.model import load_model
-from runtime.simulate import (ANGLES, angular_momentum_z, coordinates_of, default_box, hover_height,
-                              initial_state, rotation_bs, simulate, state_scales)
+from runtime.simulate import (
+    ANGLES,
+    angular_momentum_z,
+    coordinates_of,
+    hover_height,
+    initial_state,
+    rotation_bs,
+    simulate,
+    state_scales,
+)
 
 ROOT = Path(__file__).resolve().parent.parent
 DESIGN_KEYS = ("levitating", "t_survived", "max_excursion", "energy_drift", "rhs_evals", "wall_s",

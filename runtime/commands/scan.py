@@ -1,5 +1,5 @@
 """`levitron scan SCENE`: a stability map over spin and tilt, mass or height (DESIGN.md `scan`;
-thesis fig. 3.8 after Gans et al.). The physics and the runners are in runtime/scan.py."""
+thesis fig. 3.8 after Gans et al.). The map is runtime/scan.py's (grid: scan_grid.py, picture: scan_plot.py)."""
 from __future__ import annotations
 
 import re
@@ -8,6 +8,8 @@ from pathlib import Path
 from .. import scan as sc
 from ..errors import UserError
 from ..integrators_table import METHODS, lookup
+from ..scan_grid import check_axis, parse_range, pick_axis
+from ..scan_plot import draw
 from .common import model_of, scene_of
 
 NAME = "scan"
@@ -58,10 +60,10 @@ def add_arguments(parser) -> None:
 def run(args) -> dict:
     if args.spin is None:
         raise UserError("pass --spin LO:HI:N (rad/s); `levitron stability SCENE` gives the linear interval")
-    spins = sc.parse_range(args.spin, "spin")
-    axis, spec = sc.pick_axis({"tilt": args.tilt, "mass": args.mass, "height": args.height})
-    others = sc.parse_range(spec, axis)
-    sc.check_axis(axis, others)
+    spins = parse_range(args.spin, "spin")
+    axis, spec = pick_axis({"tilt": args.tilt, "mass": args.mass, "height": args.height})
+    others = parse_range(spec, axis)
+    check_axis(axis, others)
     if args.t_end is not None and not args.t_end > 0:
         raise UserError(f"--t-end {args.t_end} must be a positive run length in s, e.g. --t-end 5")
     if args.workers is None or args.workers < 1:
@@ -69,10 +71,6 @@ def run(args) -> dict:
     if args.scheduler is not None and args.workers != 1:
         raise UserError("pass either --workers N (local processes) or --scheduler ADDRESS (dask), not both")
     lookup(args.integrator)   # an unknown name is a one-line UserError
-    if args.tol is not None and not args.tol > 0:
-        raise UserError(f"--tol {args.tol} must be positive, e.g. --tol 1e-9")
-    if args.step is not None and not args.step > 0:
-        raise UserError(f"--step {args.step} must be positive, e.g. --step 1e-4")
     if args.out is not None and Path(args.out).suffix.lower() != ".png":
         raise UserError(f"--out {args.out!r} must name a .png file, e.g. --out map.png")
     scene = scene_of(args)
@@ -86,5 +84,5 @@ def run(args) -> dict:
     out.update(res.as_dict())
     out["out"] = None
     if args.out:
-        out["out"] = str(sc.draw(res, args.out, f"{scene.name}: levitating vs spin and {axis}"))
+        out["out"] = str(draw(res, args.out, f"{scene.name}: levitating vs spin and {axis}"))
     return out
