@@ -22,7 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from runtime.integrate import CSystem, csrc_library, run_c
+from runtime.cintegrate import CSystem, csrc_library, run_c
+
 from .plotting import pyplot, save_figure
 
 R0, V0 = 1.0, 1.0

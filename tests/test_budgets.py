@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 
+from runtime import cintegrate as ci
 from runtime import integrate as ig
 from runtime.errors import UserError
 from runtime.integrators_table import BY_NAME, METHODS, TABLE
@@ -18,7 +19,7 @@ T_END = 1000.0     # 160 periods of the unit oscillator: far more than a budget 
 
 @pytest.fixture(scope="module")
 def lib():
-    return ig.csrc_library()
+    return ci.csrc_library()
 
 
 @pytest.fixture(scope="module")
@@ -27,7 +28,7 @@ def osc(lib):
     backend (scipy reaches it through ctypes)."""
     import casadi as ca
 
-    class Osc(ig.CSystem):
+    class Osc(ci.CSystem):
         def casadi(self, name):
             x, p = ca.SX.sym("x", 4), ca.SX.sym("p", 1)
             return ca.Function("rhs", [x, p], [ca.vertcat(x[2], x[3], -p[0] * x[0], -p[0] * x[1])])
@@ -51,8 +52,8 @@ def test_c_method_table_equals_the_python_table(lib):
 
 
 def test_struct_sizes_equal_the_ctypes_mirrors(lib):
-    for fn, struct in (("lev_sizeof_system", ig._System), ("lev_sizeof_options", ig._Options),
-                       ("lev_sizeof_stats", ig._Stats)):
+    for fn, struct in (("lev_sizeof_system", ci._System), ("lev_sizeof_options", ci._Options),
+                       ("lev_sizeof_stats", ci._Stats)):
         f = getattr(lib, fn)
         f.restype = ctypes.c_size_t
         assert f() == ctypes.sizeof(struct), fn
@@ -63,9 +64,9 @@ def test_a_wrong_struct_mirror_is_refused():
     class Fake:
         def __init__(self):
             self.lev_integrate = type("F", (), {"argtypes": None})()
-            self.lev_sizeof_system = lambda: ctypes.sizeof(ig._System) + 8
+            self.lev_sizeof_system = lambda: ctypes.sizeof(ci._System) + 8
     with pytest.raises(RuntimeError, match="_System"):
-        ig._bind(Fake())
+        ci._bind(Fake())
 
 
 def test_every_table_entry_has_a_default_budget():
