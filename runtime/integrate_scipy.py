@@ -77,9 +77,10 @@ def integrate_scipy(part, method, x0, p, t_end, tol, box, n_out, scale, scipy_rh
         if not np.all(np.isfinite(solver.y)):
             status, message = "nonfinite", "stopped: the solution became non-finite"
             break
-        dense = solver.dense_output()
-        t_stop = t_new
+        dense = None                        # built only when needed, as solve_ivp does (DOP853's
+        t_stop = t_new                      # interpolant costs three more rhs calls)
         if box is not None and box.excess(solver.y) > 0:
+            dense = solver.dense_output()
             t_stop = t_old
             if box.excess(dense(t_old)) <= 0:
                 t_stop = brentq(lambda s, d=dense: box.excess(d(s)), t_old, t_new,
@@ -88,8 +89,9 @@ def integrate_scipy(part, method, x0, p, t_end, tol, box, n_out, scale, scipy_rh
                     t_stop = float(np.nextafter(t_stop, t_new))
             status, message = "left_box", "stopped: the state left the box"
         while i_out <= n_out and t_grid[i_out] <= t_stop:
-            ts.append(float(t_grid[i_out]))
+            dense = dense or solver.dense_output()
             xs.append(np.asarray(dense(t_grid[i_out]), float))
+            ts.append(float(t_grid[i_out]))
             i_out += 1
         t_final, x_final = float(t_stop), (solver.y.copy() if t_stop == t_new else
                                            np.asarray(dense(t_stop), float))
