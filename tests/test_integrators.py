@@ -281,3 +281,30 @@ def test_casadi_and_scipy_backends_on_the_oscillator(lib):
         assert r.status == "completed", (method, r.message)
         assert np.abs(r.x_final - x0).max() < bound, method
         assert len(r.t) == 21 and r.t[-1] == pytest.approx(TWO_PI)
+
+
+@pytest.mark.parametrize("method, engine", [("scipy-dop853", "DOP853"), ("scipy-radau", "Radau"),
+                                            ("scipy-lsoda", "LSODA")])
+def test_scipy_stepper_equals_solve_ivp(osc, method, engine):
+    """The budgeted scipy loop (runtime/integrate_scipy.py) is solve_ivp's: the same samples and the
+    same box exit (event root)."""
+    from scipy.integrate import solve_ivp
+    x0 = np.array([1.0, 0.0, 0.0, 1.0])
+    box = Box(iz=1, z_lo=-2.0, z_hi=0.5)          # y = sin t leaves at t = pi / 6
+
+    def leave(t, x):
+        return -box.excess(x)
+    leave.terminal, leave.direction = True, -1
+    for b, events in ((None, None), (box, [leave])):
+        r = integrate(osc, x0, 10.0, method=method, tol=1e-9, n_out=20, box=b, scale=[1, 1, 1, 1])
+        s = solve_ivp(lambda t, x: osc.rhs(x), (0.0, 10.0), x0, method=engine, rtol=1e-9, atol=1e-9,
+                      t_eval=np.linspace(0.0, 10.0, 21), events=events)
+        k = len(s.t)
+        np.testing.assert_array_equal(r.t[:k], s.t)
+        np.testing.assert_array_equal(r.X[:k], s.y.T)
+        if b is None:
+            assert r.status == "completed" and k == len(r.t)
+        else:
+            assert r.status == "left_box"
+            assert r.t_final == pytest.approx(s.t_events[0][0], rel=1e-14)
+            assert r.t_final == pytest.approx(math.pi / 6, rel=1e-7)
