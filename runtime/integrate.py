@@ -42,7 +42,7 @@ from runtime.cintegrate import CSystem, _bind, _f64, csrc_library, run_c, time_f
 from runtime.errors import UserError
 from runtime.integrate_casadi import integrate_casadi
 from runtime.integrate_scipy import integrate_scipy
-from runtime.integrators_table import lookup
+from runtime.integrators_table import DEFAULT, lookup
 from runtime.step_budget import check_options, default_budget, fixed_steps
 from runtime.trajectory import Box, Result
 
@@ -94,7 +94,7 @@ def _validate(method, x0, n, t_end, tol, h, n_out, scale, time_scale, what, max_
             raise UserError(f"scale must be {n} positive numbers (state magnitudes)")
 
 
-def integrate(part, x0, t_end: float, method: str = "dop853", tol: float | None = 1e-8,
+def integrate(part, x0, t_end: float, method: str = DEFAULT, tol: float | None = 1e-8,
               h: float | None = None, p=None, box: Box | None = None, n_out: int = 200,
               scale=None, monitor_energy: bool = False, max_steps: int | None = None,
               scipy_rhs: str = "auto", time_scale: float | None = None,

@@ -42,6 +42,7 @@ TABLE: tuple[Integrator, ...] = (
 
 BY_NAME: dict[str, Integrator] = {i.name: i for i in TABLE}
 METHODS: tuple[str, ...] = tuple(BY_NAME)
+DEFAULT = "dop853"          # the integrator of simulate, scan and integrate unless one is named
 
 
 def lookup(name: str) -> Integrator:

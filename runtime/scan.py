@@ -52,6 +52,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from runtime.errors import UserError
+from runtime.integrators_table import DEFAULT
 from runtime.scan_grid import AXES, UNITS, check_axis
 from runtime.scan_physics import linear_interval, reference_spin, slow_period
 from runtime.scan_runners import (
@@ -156,7 +157,7 @@ def check_run_options(model, axis: str, spins: np.ndarray, others: np.ndarray, h
 
 
 def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axis: str,
-         others: np.ndarray, t_end: float | None = None, integrator: str = "dop853",
+         others: np.ndarray, t_end: float | None = None, integrator: str = DEFAULT,
          tol: float | None = 1e-9, workers: int = 1, scheduler: str | None = None,
          base_tilt: float = BASE_TILT, h: float | None = None, quiet: bool = False) -> ScanResult:
     """Run the map (module docstring). scene_ref/overrides let the workers load the same model."""

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from runtime.errors import UserError
+from runtime.integrators_table import DEFAULT
 
 N_OUT = 100            # dense-output samples per run: only the survival matters here
 
@@ -70,7 +71,7 @@ def _init_worker(scene: str, overrides: tuple[str, ...]) -> None:
 
 
 def point_run(model, spin: float, tilt: float = 0.0, height: float = 0.0, t_end: float = 1.0,
-              integrator: str = "dop853", tol: float | None = 1e-9, h: float | None = None,
+              integrator: str = DEFAULT, tol: float | None = 1e-9, h: float | None = None,
               p: np.ndarray | None = None, z_s: float | None = None, n_out: int = N_OUT) -> dict:
     """runtime.simulate.simulate from the same pieces (initial state, box, scales, integrator,
     summary), with two differences: the hover height z_s may be given (a scan finds it once per

@@ -29,7 +29,7 @@ import numpy as np
 
 from runtime.errors import UserError
 from runtime.integrate import Box, Result, integrate
-from runtime.integrators_table import lookup
+from runtime.integrators_table import DEFAULT, lookup
 
 from .plotting import pyplot, save_figure
 
@@ -271,7 +271,7 @@ def time_scale(model, p, z_s: float, spin: float, pvals: dict) -> tuple[float, s
 
 
 def simulate(model, spin: float, tilt: float = 0.0, offset: float = 0.0, t_end: float = 1.0,
-             integrator: str = "dop853", tol: float | None = 1e-9, box: float | None = None,
+             integrator: str = DEFAULT, tol: float | None = 1e-9, box: float | None = None,
              plot: str | Path | None = None, part: str = "full", h: float | None = None,
              n_out: int = 2000, params: dict | None = None) -> dict:
     """Run one trajectory and answer DESIGN.md's `simulate` keys (plus details).

@@ -7,7 +7,7 @@ from pathlib import Path
 
 from .. import scan as sc
 from ..errors import UserError
-from ..integrators_table import METHODS, lookup
+from ..integrators_table import DEFAULT, METHODS, lookup
 from ..scan_grid import check_axis, parse_range, pick_axis
 from ..scan_plot import draw
 from .common import model_of, scene_of
@@ -43,8 +43,8 @@ def add_arguments(parser) -> None:
                              "motion at the relative equilibrium, the transverse precession/wobble mode "
                              "of the linearisation or the vertical bounce; ~10.5 s for the thesis plate "
                              "with a 51.5 g top)")
-    parser.add_argument("--integrator", default="dop853", metavar="NAME",
-                        help=f"one of: {', '.join(METHODS)} (default dop853)")
+    parser.add_argument("--integrator", default=DEFAULT, metavar="NAME",
+                        help=f"one of: {', '.join(METHODS)} (default {DEFAULT})")
     parser.add_argument("--tol", type=float, default=1e-9, help="tolerance of adaptive integrators (default 1e-9)")
     parser.add_argument("--step", type=float, default=None, metavar="H",
                         help="step of fixed-step integrators, s (default: 1/100 of the fastest period)")

@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from ..errors import UserError
-from ..integrators_table import METHODS, lookup
+from ..integrators_table import DEFAULT, METHODS, lookup
 from ..simulate import simulate
 from .common import model_of
 
@@ -17,8 +17,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--tilt", type=float, default=0.0, metavar="TH", help="initial tilt of the axis, rad")
     parser.add_argument("--offset", type=float, default=0.0, metavar="DX", help="initial offset in x, m")
     parser.add_argument("--t-end", type=float, default=1.0, metavar="T", help="run length, s (default 1)")
-    parser.add_argument("--integrator", default="dop853", metavar="NAME",
-                        help=f"one of: {', '.join(METHODS)} (default dop853)")
+    parser.add_argument("--integrator", default=DEFAULT, metavar="NAME",
+                        help=f"one of: {', '.join(METHODS)} (default {DEFAULT})")
     parser.add_argument("--tol", type=float, default=1e-9, help="tolerance of adaptive integrators (default 1e-9)")
     parser.add_argument("--step", type=float, default=None, metavar="H",
                         help="step of fixed-step integrators, s (default: 1/100 of the fastest period)")
