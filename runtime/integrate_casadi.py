@@ -25,10 +25,15 @@ def _truncate_at_box(t, X, box: Box | None):
     return None, None
 
 
+CVODES_START = 100   # steps allowed on top of the even share in each output interval (the start)
+
+
 def integrate_casadi(part, method, x0, p, t_end, tol, h, box, n_out, scale, max_steps):
-    """CasADi's integrators. The budget: cvodes gets max_num_steps per output interval (CVODES
-    counts its steps per call, one call per output time), so at most max_steps in all once
-    max_steps >= n_out; the fixed-step plugins run the budgeted steps only, to t = max_steps h."""
+    """CasADi's integrators. The budget: CVODES counts its steps per call, one call per output
+    time, so cvodes gets max_num_steps = max_steps / n_out + CVODES_START per output interval (an
+    interval takes no step where the steps are longer than it: CVODES interpolates; the extra
+    steps serve the start from a small first step), at most max_steps + CVODES_START n_out in all;
+    the fixed-step plugins run the budgeted steps only, to t = max_steps h."""
     import casadi as ca
     plugin = lookup(method).engine
     F = part.casadi("rhs")
@@ -42,7 +47,8 @@ def integrate_casadi(part, method, x0, p, t_end, tol, h, box, n_out, scale, max_
     status, message = "completed", "completed: reached t_end"
     t_run = t_end
     if plugin == "cvodes":
-        opts = {"abstol": tol, "reltol": tol, "max_num_steps": max(1, max_steps // n_out),
+        per_call = -(-max_steps // n_out) + CVODES_START
+        opts = {"abstol": tol, "reltol": tol, "max_num_steps": per_call,
                 "linear_multistep_method": "adams", "nonlinear_solver_iteration": "functional"}
     else:
         # casadi >= 3.6: the finite elements are counted over the whole horizon (at least one per
@@ -66,8 +72,9 @@ def integrate_casadi(part, method, x0, p, t_end, tol, h, box, n_out, scale, max_
         U = np.full((n_out, n), np.nan)
         status, message = "solver_error", f"casadi {plugin}: {str(err).splitlines()[0]}"
         if "TOO_MUCH_WORK" in str(err):
-            status, message = "step_budget", (budget_message(max_steps) +
-                                              " (cvodes: max_num_steps per output interval)")
+            status, message = "step_budget", (f"stopped: the step budget of {max_steps} steps ran out "
+                                              f"before t_end (cvodes: more than {per_call} steps "
+                                              "in one output interval)")
     wall = time.perf_counter() - start
     X = np.vstack([x0[None, :], U * scale[None, :]])
     t = t_grid

@@ -7,9 +7,12 @@ time scale of the motion, ``time_scale`` (the shortest of the spin period, the n
 2 pi A / (C |spin|) and the vertical bounce 2 pi sqrt(m / U''), thesis 3.3.3; runtime.simulate
 computes it from the scene, never as a fixed number of seconds, since scenes may be dimensionless):
 
-    adaptive:  max_steps = min(MAX_STEPS_CAP, max(MIN_BUDGET,
+    adaptive:  max_steps = min(cap, max(MIN_BUDGET,
                                BUDGET_MULTIPLE * STEPS_PER_PERIOD * t_end / time_scale))
-    fixed:     max_steps = the number of steps t_end / h (+1), at most MAX_STEPS_CAP
+    fixed:     max_steps = the number of steps t_end / h (+1), at most cap
+
+where cap (``step_cap``) is MAX_STEPS_CAP for the C and CasADi integrators and SCIPY_STEPS_CAP for
+scipy's, so that no run takes more than about a minute.
 
 Options that no budget or no double-precision time can serve are refused up front, with the reason
 (``check_options``): a tolerance outside [TOL_MIN, TOL_MAX], a fixed step below MIN_STEP_FRACTION of
@@ -24,7 +27,8 @@ import sys
 from runtime.errors import UserError
 from runtime.integrators_table import lookup
 
-MAX_STEPS_CAP = 10**7      # absolute cap on the steps of one run, whatever the options
+MAX_STEPS_CAP = 10**7      # absolute cap on the steps of one run, whatever the options ...
+SCIPY_STEPS_CAP = 10**5    # ... and for scipy, whose steps cost ~0.1-1 ms (a Python call per stage)
 STEPS_PER_PERIOD = 20      # steps an adaptive method is expected to need per fastest period
 BUDGET_MULTIPLE = 100      # the default budget: this many times that estimate ...
 MIN_BUDGET = 10_000        # ... and never fewer steps than this
@@ -39,15 +43,21 @@ def fixed_steps(t_end: float, h: float) -> int:
     return max(1, math.ceil(t_end / h * (1 - 1e-12)))
 
 
+def step_cap(method: str) -> int:
+    """The absolute cap on the steps of one run of `method` (module docstring)."""
+    return SCIPY_STEPS_CAP if lookup(method).backend == "scipy" else MAX_STEPS_CAP
+
+
 def default_budget(method: str, t_end: float, h: float | None = None,
                    time_scale: float | None = None) -> int:
     """The step budget of the module docstring (t_end, h and time_scale already checked)."""
+    cap = step_cap(method)
     if lookup(method).fixed_step:
-        return min(MAX_STEPS_CAP, fixed_steps(t_end, h) + 1)
+        return min(cap, fixed_steps(t_end, h) + 1)
     if time_scale is None:
-        return MAX_STEPS_CAP
+        return cap
     est = BUDGET_MULTIPLE * STEPS_PER_PERIOD * t_end / time_scale
-    return int(min(MAX_STEPS_CAP, max(MIN_BUDGET, math.ceil(est))))
+    return int(min(cap, max(MIN_BUDGET, math.ceil(est))))
 
 
 def budget_message(max_steps: int, t: float | None = None) -> str:
@@ -68,14 +78,15 @@ def check_options(method: str, t_end: float, tol: float | None = None, h: float 
     """Refuse options no run can honour, with a one-line UserError naming the reason and the
     allowed range. `what` names time_scale in the messages (e.g. "the spin period 2 pi / |spin|")."""
     entry = lookup(method)
+    cap = step_cap(method)
     if not _positive(t_end):
         raise UserError(f"run length t_end={t_end} must be a positive finite time; pass e.g. --t-end 1")
     if time_scale is not None and not _positive(time_scale):
         raise UserError(f"{what} is {time_scale}: no time scale to bound the run by")
     if isinstance(n_out, bool) or int(n_out) != n_out or not 1 <= n_out <= MAX_N_OUT:
         raise UserError(f"n_out={n_out} output samples: pass a whole number from 1 to {MAX_N_OUT}")
-    if max_steps is not None and not (int(max_steps) == max_steps and 1 <= max_steps <= MAX_STEPS_CAP):
-        raise UserError(f"max_steps={max_steps}: pass a whole number from 1 to {MAX_STEPS_CAP}")
+    if max_steps is not None and not (int(max_steps) == max_steps and 1 <= max_steps <= cap):
+        raise UserError(f"max_steps={max_steps}: pass a whole number from 1 to {cap}")
     if entry.fixed_step:
         if h is None:
             raise UserError(f"integrator {method} takes a fixed step; pass a step h > 0 (--step; "
@@ -92,9 +103,9 @@ def check_options(method: str, t_end: float, tol: float | None = None, h: float 
                 raise UserError(f"step h={h:.3g} is below {MIN_STEP_FRACTION:g} of {what} "
                                 f"({time_scale:.3g}); pass h >= {MIN_STEP_FRACTION * time_scale:.3g}")
         n = fixed_steps(t_end, h)
-        if n > MAX_STEPS_CAP:
+        if n > cap:
             raise UserError(f"t_end={t_end:.3g} at step h={h:.3g} takes {n:.3g} steps, above the budget "
-                            f"cap of {MAX_STEPS_CAP:.0e}; pass t_end <= {MAX_STEPS_CAP * h:.3g} or a "
+                            f"cap of {cap:.0e} for {method}; pass t_end <= {cap * h:.3g} or a "
                             "larger step")
         return
     if h is not None:
@@ -114,7 +125,7 @@ def check_options(method: str, t_end: float, tol: float | None = None, h: float 
                         f"t_end={t_end:.3g} (at least {resolvable:.3g}); pass a shorter --t-end or a "
                         "slower spin")
     need = STEPS_PER_PERIOD * t_end / time_scale
-    if need > MAX_STEPS_CAP:
+    if need > cap:
         raise UserError(f"t_end={t_end:.3g} spans {t_end / time_scale:.3g} times {what} "
                         f"({time_scale:.3g}): about {need:.3g} steps, above the budget cap of "
-                        f"{MAX_STEPS_CAP:.0e}; pass t_end <= {MAX_STEPS_CAP * time_scale / STEPS_PER_PERIOD:.3g}")
+                        f"{cap:.0e} for {method}; pass t_end <= {cap * time_scale / STEPS_PER_PERIOD:.3g}")

@@ -12,7 +12,7 @@ from runtime import cintegrate as ci
 from runtime import integrate as ig
 from runtime.errors import UserError
 from runtime.integrators_table import BY_NAME, METHODS, TABLE
-from runtime.step_budget import MAX_STEPS_CAP, check_options, default_budget
+from runtime.step_budget import MAX_STEPS_CAP, check_options, default_budget, step_cap
 
 T_END = 1000.0     # 160 periods of the unit oscillator: far more than a budget of 3 steps covers
 
@@ -73,8 +73,10 @@ def test_every_table_entry_has_a_default_budget():
     for e in TABLE:
         h = 0.01 if e.fixed_step else None
         n = default_budget(e.name, 10.0, h, time_scale=1.0)
-        assert 1 <= n <= MAX_STEPS_CAP, e.name
-        assert default_budget(e.name, 10.0, h, time_scale=None) <= MAX_STEPS_CAP
+        assert 1 <= n <= step_cap(e.name) <= MAX_STEPS_CAP, e.name
+        assert default_budget(e.name, 10.0, h, time_scale=None) <= step_cap(e.name)
+        if not e.fixed_step:    # a run far longer than the time scale: the cap binds
+            assert default_budget(e.name, 1e9, None, time_scale=1.0) == step_cap(e.name)
 
 
 @pytest.mark.parametrize("method", METHODS)
