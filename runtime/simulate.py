@@ -22,15 +22,16 @@ axis (R_bs -> Q_z(alpha) R_bs), computed here from the rotation matrices of deri
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Sequence
 
 import numpy as np
 
 from runtime.errors import UserError
-from runtime.integrate import Box, FIXED_STEP, Result, integrate
-from .plotting import pyplot, save_figure
+from runtime.integrate import Box, Result, integrate
+from runtime.integrators_table import DEFAULT, lookup
 
+from .plotting import pyplot, save_figure
 
 # ---------------------------------------------------------------- rotations (numpy mirrors of
 # derive/kinematics.py: passive elementary matrices of thesis eqs. 2.1.6-2.1.8 and 3.2.3-3.2.5)
@@ -243,18 +244,34 @@ def default_box(part, z_s: float, half_width: float | None = None) -> Box:
                r_max=b if ix >= 0 else math.inf)
 
 
-def default_step(spin: float, pvals: dict, z_s: float, stiffness: float) -> float:
-    """A fixed step resolving the fastest motion: the spin period, the nutation period 2 pi A /
-    (C |spin|) and the vertical bounce 2 pi sqrt(m / U''), 100 steps each."""
-    periods = [2 * math.pi * math.sqrt(pvals["m"] / stiffness) if stiffness > 0 else math.inf]
+def fastest_period(spin: float, pvals: dict, stiffness: float) -> tuple[float, str]:
+    """The fastest time scale of the motion near the hover height, and what it is: the shortest of
+    the spin period 2 pi / |spin|, the nutation period 2 pi A / (C |spin|) and the vertical bounce
+    2 pi sqrt(m / U''), U'' = mu Phi_3(z_s) (thesis 3.3.3). In the scene's units of time (scenes
+    may be dimensionless): never a fixed number of seconds."""
+    periods = []
+    if stiffness > 0:
+        periods.append((2 * math.pi * math.sqrt(pvals["m"] / stiffness),
+                        "the vertical bounce period 2 pi sqrt(m / U'')"))
     if spin:
-        periods += [2 * math.pi / abs(spin), 2 * math.pi * pvals["A"] / (pvals["C"] * abs(spin))]
-    per = min(periods)
-    return per / 100 if math.isfinite(per) else z_s / 100
+        periods.append((2 * math.pi / abs(spin), f"the spin period 2 pi / |spin| at spin {spin:g}"))
+        periods.append((2 * math.pi * pvals["A"] / (pvals["C"] * abs(spin)),
+                        f"the nutation period 2 pi A / (C |spin|) at spin {spin:g}"))
+    periods = [(T, what) for T, what in periods if math.isfinite(T) and T > 0]
+    if not periods:
+        raise UserError("the top has no spin and no vertical stiffness at its hover height: no time "
+                        "scale to integrate over")
+    return min(periods)
+
+
+def time_scale(model, p, z_s: float, spin: float, pvals: dict) -> tuple[float, str]:
+    """fastest_period at the hover height z_s of parameters p."""
+    stiffness = pvals["mu"] * float(model.onaxis(z_s, p)[3])
+    return fastest_period(spin, pvals, stiffness)
 
 
 def simulate(model, spin: float, tilt: float = 0.0, offset: float = 0.0, t_end: float = 1.0,
-             integrator: str = "dop853", tol: float | None = 1e-9, box: float | None = None,
+             integrator: str = DEFAULT, tol: float | None = 1e-9, box: float | None = None,
              plot: str | Path | None = None, part: str = "full", h: float | None = None,
              n_out: int = 2000, params: dict | None = None) -> dict:
     """Run one trajectory and answer DESIGN.md's `simulate` keys (plus details).
@@ -272,21 +289,20 @@ def simulate(model, spin: float, tilt: float = 0.0, offset: float = 0.0, t_end: 
     for label, v in (("spin", spin), ("tilt", tilt), ("offset", offset)):
         if v is None or not math.isfinite(v):
             raise UserError(f"--{label} must be a finite number")
-    if integrator in FIXED_STEP and h is not None and h <= 0:
-        raise UserError(f"step {h} must be positive; pass e.g. --step 1e-4")
+    entry = lookup(integrator)
     z_s = hover_height(model, p)
-    stiffness = pvals["mu"] * float(model.onaxis(z_s, p)[3])
+    T, what = time_scale(model, p, z_s, spin, pvals)
     bx = default_box(pt, z_s, box)
-    if integrator in FIXED_STEP and h is None:
-        h = default_step(spin, pvals, z_s, stiffness)
+    if entry.fixed_step and h is None:
+        h = T / 100
     x0 = initial_state(pt, z_s, spin, tilt, offset, p)
     if bx.excess(x0) > 0:
         raise UserError(f"the initial state is already outside the box (offset {offset} m vs half-width "
                         f"{bx.z_hi - z_s:.4g} m); pass a smaller --offset or a larger --box")
     scale = state_scales(pt, z_s, spin, pvals)
-    res = integrate(pt, x0, t_end, method=integrator, tol=tol, h=h, p=p, box=bx, n_out=n_out,
-                    scale=scale, monitor_energy=integrator in ("dop853", "rk4", "euler", "gauss4",
-                                                               "midpoint"))
+    res = integrate(pt, x0, t_end, method=integrator, tol=tol if not entry.fixed_step else None,
+                    h=h, p=p, box=bx, n_out=n_out, scale=scale,
+                    monitor_energy=entry.monitors_energy, time_scale=T, time_scale_what=what)
     return summarize(pt, res, x0, p, z_s, bx, spin, tilt, offset, t_end, integrator, tol, h, plot)
 
 
@@ -323,8 +339,8 @@ def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, i
         "spin": {"rad_s": spin, "hz": spin / (2 * math.pi), "rpm": spin * 60 / (2 * math.pi)},
         "tilt": tilt, "offset": offset, "t_end": t_end,
         "integrator": integrator, "backend": res.backend,
-        "tol": tol if integrator not in FIXED_STEP else None,
-        "step": h if integrator in FIXED_STEP else None,
+        "tol": tol if not lookup(integrator).fixed_step else None,
+        "step": h if lookup(integrator).fixed_step else None,
         "box": {"z": [bx.z_lo, bx.z_hi], "r_max": bx.r_max if math.isfinite(bx.r_max) else None},
         "max_height_deviation": float(np.abs(z - z_s).max()),
         "max_radial_offset": float(r.max()),

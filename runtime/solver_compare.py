@@ -22,7 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from runtime.integrate import CSystem, csrc_library, run_c
+from runtime.cintegrate import CSystem, csrc_library, run_c
+
 from .plotting import pyplot, save_figure
 
 R0, V0 = 1.0, 1.0
@@ -49,14 +50,14 @@ def error_per_turn(method: str, steps_per_turn: int, turns: int, system: CSystem
 def steps_to_energy_drift(method: str, h: float, limit: float = 0.01, max_steps: int = 10**7,
                           system: CSystem | None = None) -> tuple[int, bool]:
     """(steps, reached): steps taken until |E - E0| > limit |E0| (thesis figure 3.3); reached is
-    False if max_steps passed first (the count is then a lower bound)."""
+    False if the step budget max_steps ran out first (the count is then a lower bound)."""
     system = system or circle_system()
     x0 = np.array([R0, 0.0, 0.0, V0])
     r = run_c(system.lib, method, system.c_function("rhs"), x0, system.p, (max_steps + 0.5) * h,
               h=h, energy=system.c_function("energy"), energy_limit=limit, max_steps=max_steps)
     if r.status == "energy_limit":
         return r.steps, True
-    if r.status in ("completed", "max_steps"):
+    if r.status in ("completed", "step_budget"):
         return r.steps, False
     raise RuntimeError(f"{method} at h={h}: {r.message}")
 

@@ -208,10 +208,12 @@ def test_sampling_every_kth_step(osc):
     np.testing.assert_allclose(r.X[:, 0], np.cos(r.t), atol=1e-12)
 
 
-def test_max_steps_status(osc):
+def test_step_budget_status(osc):
+    """The budget counts attempted steps (accepted + rejected) and stops the run cleanly."""
     r = run_c(osc.lib, "dop853", osc.c_function("rhs"), [1, 0, 0, 1], osc.p, 100.0, rtol=1e-12,
               atol=1e-12, max_steps=5)
-    assert r.status == "max_steps" and r.steps == 5 and 0 < r.t_final < 100
+    assert r.status == "step_budget" and r.steps + r.rejected == 5 and 0 < r.t_final < 100
+    assert "step budget" in r.message
     assert np.isfinite(r.x_final).all()
 
 
@@ -224,6 +226,13 @@ def test_max_steps_status(osc):
     (dict(method="leapfrog", tol=1e-8), "unknown integrator"),
     (dict(method="dop853", tol=1e-8, t_end=0.0), "run length"),
     (dict(method="dop853", tol=1e-8, t_end=-1.0), "run length"),
+    (dict(method="dop853", tol=1.0), "too loose"),
+    (dict(method="dop853", tol=0.05), "too loose"),
+    (dict(method="dop853", tol=1e-17), "below double precision"),
+    (dict(method="dop853", tol=1e-8, h=1e-3), "adaptive"),
+    (dict(method="dop853", tol=1e-8, n_out=10**9), "n_out"),
+    (dict(method="dop853", tol=1e-8, max_steps=0), "max_steps"),
+    (dict(method="rk4", h=1e-8, t_end=1.0), "budget"),
 ])
 def test_bad_options_raise_user_error(osc, kwargs, words):
     t_end = kwargs.pop("t_end", 1.0)
@@ -235,6 +244,9 @@ def test_bad_input_status_from_c(osc):
     """The C validates too (e.g. a caller that bypasses integrate())."""
     r = run_c(osc.lib, "rk4", osc.c_function("rhs"), [1, 0, 0, 1], osc.p, 1.0, h=-1.0)
     assert r.status == "bad_input"
+    for method, kw in (("rk4", dict(h=1e-3)), ("dop853", dict(rtol=1e-8, atol=1e-8))):
+        r = run_c(osc.lib, method, osc.c_function("rhs"), [1, 0, 0, 1], osc.p, 1.0, max_steps=0, **kw)
+        assert r.status == "bad_input", "no run without a step budget"
 
 
 def test_concurrent_runs_are_independent(kepler):
@@ -269,3 +281,30 @@ def test_casadi_and_scipy_backends_on_the_oscillator(lib):
         assert r.status == "completed", (method, r.message)
         assert np.abs(r.x_final - x0).max() < bound, method
         assert len(r.t) == 21 and r.t[-1] == pytest.approx(TWO_PI)
+
+
+@pytest.mark.parametrize("method, engine", [("scipy-dop853", "DOP853"), ("scipy-radau", "Radau"),
+                                            ("scipy-lsoda", "LSODA")])
+def test_scipy_stepper_equals_solve_ivp(osc, method, engine):
+    """The budgeted scipy loop (runtime/integrate_scipy.py) is solve_ivp's: the same samples and the
+    same box exit (event root)."""
+    from scipy.integrate import solve_ivp
+    x0 = np.array([1.0, 0.0, 0.0, 1.0])
+    box = Box(iz=1, z_lo=-2.0, z_hi=0.5)          # y = sin t leaves at t = pi / 6
+
+    def leave(t, x):
+        return -box.excess(x)
+    leave.terminal, leave.direction = True, -1
+    for b, events in ((None, None), (box, [leave])):
+        r = integrate(osc, x0, 10.0, method=method, tol=1e-9, n_out=20, box=b, scale=[1, 1, 1, 1])
+        s = solve_ivp(lambda t, x: osc.rhs(x), (0.0, 10.0), x0, method=engine, rtol=1e-9, atol=1e-9,
+                      t_eval=np.linspace(0.0, 10.0, 21), events=events)
+        k = len(s.t)
+        np.testing.assert_array_equal(r.t[:k], s.t)
+        np.testing.assert_array_equal(r.X[:k], s.y.T)
+        if b is None:
+            assert r.status == "completed" and k == len(r.t)
+        else:
+            assert r.status == "left_box"
+            assert r.t_final == pytest.approx(s.t_events[0][0], rel=1e-14)
+            assert r.t_final == pytest.approx(math.pi / 6, rel=1e-7)

@@ -18,6 +18,9 @@ from runtime import linear
 from runtime import scan as sc
 from runtime.errors import UserError
 from runtime.model import load_model
+from runtime.scan_grid import parse_range
+from runtime.scan_physics import linear_interval
+from runtime.scan_runners import N_OUT, point_run
 
 ROOT = Path(__file__).resolve().parent.parent
 SET = ["top.mass=0.0515"]
@@ -117,9 +120,9 @@ def test_height_axis_is_a_fraction_of_z_s(model):
     """--height h starts the top at z_s (1 + h), at rest: a turning point of the vertical bounce
     about z_s (thesis 3.3.3), so the height deviation reaches |h| z_s and, the potential being
     only mildly anharmonic over 2 % of z_s, not much more (an amount in m would be 10x off)."""
-    z_s = sc.linear_interval(model)["z_s"]
+    z_s = linear_interval(model)["z_s"]
     for h in (0.02, -0.02):
-        r = sc.point_run(model, 1000.0, 0.0, h, 1.0, "dop853", 1e-10, n_out=400)
+        r = point_run(model, 1000.0, 0.0, h, 1.0, "dop853", 1e-10, n_out=400)
         assert r["levitating"]
         assert abs(h) * z_s * (1 - 1e-9) <= r["max_height_deviation"] < 1.25 * abs(h) * z_s
     res = run_scan(model, [1000.0], "height", [-0.02, 0.0, 0.02], t_end=2.0)
@@ -131,8 +134,8 @@ def test_point_run_is_simulate(model):
     from runtime.simulate import hover_height, simulate
     z_s = hover_height(model)
     for spin, tilt in ((1000.0, 0.03), (3000.0, 0.01)):
-        a = simulate(model, spin, tilt=tilt, t_end=3.0, n_out=sc.N_OUT)
-        b = sc.point_run(model, spin, tilt=tilt, t_end=3.0, z_s=z_s)
+        a = simulate(model, spin, tilt=tilt, t_end=3.0, n_out=N_OUT)
+        b = point_run(model, spin, tilt=tilt, t_end=3.0, z_s=z_s)
         for key in ("levitating", "t_survived", "rhs_evals", "final_state", "max_excursion"):
             assert a[key] == b[key], key
 
@@ -151,6 +154,12 @@ def test_negative_range_on_the_command_line():
     (["--spin", "100:900:3", "--tilt", "0:0.1:2", "--workers", "0"], "workers"),
     (["--spin", "100:900:3", "--height", "0:0.6:2"], "between -0.5 and 0.5"),
     (["--spin", "100:900", "--tilt", "0:0.1:2"], "LO:HI:N"),
+    (["--spin", "100:900:3", "--tilt", "0:0.1:2", "--tol", "1"], "too loose"),
+    (["--spin", "100:900:3", "--tilt", "0:0.1:2", "--t-end", "1e9"], "budget cap"),
+    (["--spin", "100:1e12:2", "--tilt", "0:0.1:2", "--t-end", "1"], "spin period"),
+    (["--spin", "100:900:3", "--tilt", "0:0.1:2", "--integrator", "rk4", "--step", "1e-12"], "below 1e-09"),
+    (["--spin", "100:900:3", "--tilt", "0:0.1:2", "--step", "1e-4"], "adaptive"),
+    (["--spin", "100:900:3", "--tilt", "0:0.1:2", "--integrator", "verlet"], "unknown integrator"),
 ])
 def test_bad_options_exit_2(args, words):
     res = cli(*args, check_json=False)
@@ -170,8 +179,8 @@ def test_scheduler_without_dask_is_a_user_error(model):
 
 
 def test_parse_range():
-    np.testing.assert_allclose(sc.parse_range("0:1:5", "tilt"), [0, 0.25, 0.5, 0.75, 1])
-    assert sc.parse_range("2:2:1", "tilt").tolist() == [2.0]
+    np.testing.assert_allclose(parse_range("0:1:5", "tilt"), [0, 0.25, 0.5, 0.75, 1])
+    assert parse_range("2:2:1", "tilt").tolist() == [2.0]
     for bad in ("1:2:1", "a:1:2", "0:1:2.5", "0:nan:3"):
         with pytest.raises(UserError):
-            sc.parse_range(bad, "tilt")
+            parse_range(bad, "tilt")

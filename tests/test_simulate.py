@@ -14,8 +14,16 @@ from derive.scene import load_scene
 from runtime.errors import UserError
 from runtime.integrate import integrate
 from runtime.model import load_model
-from runtime.simulate import (ANGLES, angular_momentum_z, coordinates_of, default_box, hover_height,
-                              initial_state, rotation_bs, simulate, state_scales)
+from runtime.simulate import (
+    ANGLES,
+    angular_momentum_z,
+    coordinates_of,
+    hover_height,
+    initial_state,
+    rotation_bs,
+    simulate,
+    state_scales,
+)
 
 ROOT = Path(__file__).resolve().parent.parent
 DESIGN_KEYS = ("levitating", "t_survived", "max_excursion", "energy_drift", "rhs_evals", "wall_s",
@@ -179,7 +187,18 @@ def test_hard_case_axis_near_vertical_euler_vs_tait_bryan(model, zxz_model):
     r, n_ex, e_err = runs[1e-6, "euler-zxz"]
     assert abs(e_err) > 1e-8 * 0.5 * 8 * 1.32e-6 * 200.0 ** 2
     assert r.status != "completed" or np.abs(n_ex[:2] - n_tb[:2]).max() > 0.1e-6
-    assert r.status == "max_steps" and r.rhs_evals > 1000 * runs[1e-6, "tait-bryan"][0].rhs_evals
+    assert r.status == "step_budget" and r.rhs_evals > 1000 * runs[1e-6, "tait-bryan"][0].rhs_evals
+
+
+def test_near_upright_euler_zxz_stops_on_its_default_step_budget(zxz_model):
+    """Reproduces issue 8: near the upright top the z-x-z angles' adaptive step shrinks without end
+    (`simulate --set model.coordinates=euler-zxz --tilt 1e-6` never returned). The default budget
+    (from t_end and the fastest period) stops it with status "step_budget", reported, no exception."""
+    out = simulate(zxz_model, spin=1000.0, tilt=1e-6, t_end=1.0)
+    assert out["status"] == "step_budget" and out["levitating"] is False
+    assert "step budget of" in out["message"] and out["t_survived"] < 1.0
+    for k in DESIGN_KEYS:
+        assert k in out
 
 
 def test_reduced_model_vertical_bounce(model):
@@ -193,6 +212,12 @@ def test_reduced_model_vertical_bounce(model):
 
 @pytest.mark.parametrize("kwargs, words", [
     (dict(tol=-1e-9), "tolerance"),
+    (dict(tol=1.0), "too loose"),
+    (dict(t_end=1e9), "budget cap"),
+    (dict(spin=1e12), "spin period"),
+    (dict(integrator="rk4", h=1e-12), "below 1e-09 of the"),
+    (dict(h=1e-4), "adaptive"),
+    (dict(n_out=10**9), "n_out"),
     (dict(integrator="rk4", h=-1e-4), "step"),
     (dict(integrator="verlet"), "unknown integrator"),
     (dict(t_end=0.0), "run length"),
@@ -217,3 +242,18 @@ def test_cli_simulate_json(capsys):
     assert rc == 2
     err = capsys.readouterr().err
     assert "tolerance" in err and len(err.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--tol", "1"], "too loose"),
+    (["--t-end", "1e9"], "budget cap"),
+    (["--spin", "1e12"], "spin period"),
+    (["--integrator", "rk4", "--step", "1e-12"], "below 1e-09"),
+    (["--n-out", "1000000000"], "n_out"),
+])
+def test_cli_refuses_unbounded_work_in_one_line(capsys, args, words):
+    """Issue 8: each of these ran without end, or raised MemoryError, or (--tol 1) flipped a verdict."""
+    from runtime.cli import main
+    rc = main(["simulate", "thesis", "--spin", "200", "--tilt", "0.01", *args])
+    err = capsys.readouterr().err
+    assert rc == 2 and words in err and len(err.strip().splitlines()) == 1

@@ -1,13 +1,15 @@
 """`levitron scan SCENE`: a stability map over spin and tilt, mass or height (DESIGN.md `scan`;
-thesis fig. 3.8 after Gans et al.). The physics and the runners are in runtime/scan.py."""
+thesis fig. 3.8 after Gans et al.). The map is runtime/scan.py's (grid: scan_grid.py, picture: scan_plot.py)."""
 from __future__ import annotations
 
 import re
 from pathlib import Path
 
-from ..errors import UserError
-from ..integrate import METHODS
 from .. import scan as sc
+from ..errors import UserError
+from ..integrators_table import DEFAULT, METHODS, lookup
+from ..scan_grid import check_axis, parse_range, pick_axis
+from ..scan_plot import draw
 from .common import model_of, scene_of
 
 NAME = "scan"
@@ -41,8 +43,8 @@ def add_arguments(parser) -> None:
                              "motion at the relative equilibrium, the transverse precession/wobble mode "
                              "of the linearisation or the vertical bounce; ~10.5 s for the thesis plate "
                              "with a 51.5 g top)")
-    parser.add_argument("--integrator", default="dop853", metavar="NAME",
-                        help=f"one of: {', '.join(METHODS)} (default dop853)")
+    parser.add_argument("--integrator", default=DEFAULT, metavar="NAME",
+                        help=f"one of: {', '.join(METHODS)} (default {DEFAULT})")
     parser.add_argument("--tol", type=float, default=1e-9, help="tolerance of adaptive integrators (default 1e-9)")
     parser.add_argument("--step", type=float, default=None, metavar="H",
                         help="step of fixed-step integrators, s (default: 1/100 of the fastest period)")
@@ -58,22 +60,17 @@ def add_arguments(parser) -> None:
 def run(args) -> dict:
     if args.spin is None:
         raise UserError("pass --spin LO:HI:N (rad/s); `levitron stability SCENE` gives the linear interval")
-    spins = sc.parse_range(args.spin, "spin")
-    axis, spec = sc.pick_axis({"tilt": args.tilt, "mass": args.mass, "height": args.height})
-    others = sc.parse_range(spec, axis)
-    sc.check_axis(axis, others)
+    spins = parse_range(args.spin, "spin")
+    axis, spec = pick_axis({"tilt": args.tilt, "mass": args.mass, "height": args.height})
+    others = parse_range(spec, axis)
+    check_axis(axis, others)
     if args.t_end is not None and not args.t_end > 0:
         raise UserError(f"--t-end {args.t_end} must be a positive run length in s, e.g. --t-end 5")
     if args.workers is None or args.workers < 1:
         raise UserError(f"--workers {args.workers} must be at least 1 (1 = serial)")
     if args.scheduler is not None and args.workers != 1:
         raise UserError("pass either --workers N (local processes) or --scheduler ADDRESS (dask), not both")
-    if args.integrator not in METHODS:
-        raise UserError(f"unknown integrator {args.integrator!r}; choose one of: {', '.join(METHODS)}")
-    if args.tol is not None and not args.tol > 0:
-        raise UserError(f"--tol {args.tol} must be positive, e.g. --tol 1e-9")
-    if args.step is not None and not args.step > 0:
-        raise UserError(f"--step {args.step} must be positive, e.g. --step 1e-4")
+    lookup(args.integrator)   # an unknown name is a one-line UserError
     if args.out is not None and Path(args.out).suffix.lower() != ".png":
         raise UserError(f"--out {args.out!r} must name a .png file, e.g. --out map.png")
     scene = scene_of(args)
@@ -87,5 +84,5 @@ def run(args) -> dict:
     out.update(res.as_dict())
     out["out"] = None
     if args.out:
-        out["out"] = str(sc.draw(res, args.out, f"{scene.name}: levitating vs spin and {axis}"))
+        out["out"] = str(draw(res, args.out, f"{scene.name}: levitating vs spin and {axis}"))
     return out

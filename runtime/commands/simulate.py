@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from ..errors import UserError
-from ..integrate import METHODS
+from ..integrators_table import DEFAULT, METHODS, lookup
 from ..simulate import simulate
 from .common import model_of
 
@@ -17,8 +17,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--tilt", type=float, default=0.0, metavar="TH", help="initial tilt of the axis, rad")
     parser.add_argument("--offset", type=float, default=0.0, metavar="DX", help="initial offset in x, m")
     parser.add_argument("--t-end", type=float, default=1.0, metavar="T", help="run length, s (default 1)")
-    parser.add_argument("--integrator", default="dop853", metavar="NAME",
-                        help=f"one of: {', '.join(METHODS)} (default dop853)")
+    parser.add_argument("--integrator", default=DEFAULT, metavar="NAME",
+                        help=f"one of: {', '.join(METHODS)} (default {DEFAULT})")
     parser.add_argument("--tol", type=float, default=1e-9, help="tolerance of adaptive integrators (default 1e-9)")
     parser.add_argument("--step", type=float, default=None, metavar="H",
                         help="step of fixed-step integrators, s (default: 1/100 of the fastest period)")
@@ -34,8 +34,7 @@ def run(args) -> dict:
         raise UserError("pass --spin W (rad/s); `levitron stability SCENE` gives the stable spin interval")
     if args.t_end is None or not args.t_end > 0:
         raise UserError(f"--t-end {args.t_end} must be a positive run length in s, e.g. --t-end 1")
-    if args.integrator not in METHODS:
-        raise UserError(f"unknown integrator {args.integrator!r}; choose one of: {', '.join(METHODS)}")
+    lookup(args.integrator)   # an unknown name is a one-line UserError
     model = model_of(args)
     return simulate(model, spin=args.spin, tilt=args.tilt, offset=args.offset, t_end=args.t_end,
                     integrator=args.integrator, tol=args.tol, box=args.box, plot=args.plot,

@@ -152,13 +152,43 @@ const char *lev_status_message(int status)
     case LEV_LEFT_BOX: return "stopped: the state left the box";
     case LEV_NONFINITE: return "stopped: the right-hand side became non-finite (inf/nan)";
     case LEV_STEP_UNDERFLOW: return "stopped: the adaptive step size underflowed";
-    case LEV_MAX_STEPS: return "stopped: the maximum number of steps was reached";
+    case LEV_STEP_BUDGET: return "stopped: the step budget (max_steps) ran out before t_end";
     case LEV_NO_CONVERGENCE: return "stopped: the implicit stage equations did not converge";
     case LEV_BAD_INPUT: return "invalid input: check n, step, tolerances, buffers and t_out";
     case LEV_ENERGY_LIMIT: return "stopped: the energy drifted beyond the requested limit";
     default: return "unknown status";
     }
 }
+
+/* ---- the method table and the struct sizes (checked against runtime/integrators_table.py) ---- */
+
+static const char *const METHOD_NAMES[] = {"euler", "rk4", "dop853", "gauss4", "midpoint",
+                                           "dop853-fixed"};
+#define LEV_N_METHODS ((int)(sizeof METHOD_NAMES / sizeof METHOD_NAMES[0]))
+
+int lev_method_id(const char *name)
+{
+    int k;
+    if (!name) return -1;
+    for (k = 0; k < LEV_N_METHODS; k++)
+        if (strcmp(name, METHOD_NAMES[k]) == 0) return k;
+    return -1;
+}
+
+const char *lev_method_name(int method)
+{
+    return (method >= 0 && method < LEV_N_METHODS) ? METHOD_NAMES[method] : NULL;
+}
+
+int lev_method_fixed_step(int method)
+{
+    if (method < 0 || method >= LEV_N_METHODS) return -1;
+    return method != LEV_DOP853;
+}
+
+size_t lev_sizeof_system(void) { return sizeof(lev_system); }
+size_t lev_sizeof_options(void) { return sizeof(lev_options); }
+size_t lev_sizeof_stats(void) { return sizeof(lev_stats); }
 
 /* ---- work layout ---- */
 
@@ -249,7 +279,7 @@ static int run_fixed(int method, lev_ctx *c, double *x, double *w)
     h = span / (double)N;
     st->h_last = h;
     for (k = 1; k <= N; k++) {
-        if (o->max_steps > 0 && st->steps >= o->max_steps) return LEV_MAX_STEPS;
+        if (st->steps >= o->max_steps) return LEV_STEP_BUDGET;
         if (method == LEV_EULER) {
             euler_step(c, x, h, xn, scratch);
         } else if (method == LEV_RK4) {
@@ -403,12 +433,12 @@ static int run_dop853(lev_ctx *c, double *x, double *w)
     }
 
     while (t < o->t_end) {
-        if (o->max_steps > 0 && st->steps >= o->max_steps) return LEV_MAX_STEPS;
         rejected_here = 0;
         last_nonfinite = 0;
         for (;;) {
             double min_step = 10.0 * (nextafter(t, INFINITY) - t), fac;
             if (h_abs < min_step) return last_nonfinite ? LEV_NONFINITE : LEV_STEP_UNDERFLOW;
+            if (st->steps + st->rejected >= o->max_steps) return LEV_STEP_BUDGET;
             t_new = t + h_abs;
             if (t_new > o->t_end) t_new = o->t_end;
             h = t_new - t;
@@ -595,7 +625,7 @@ static int run_gauss(int method, lev_ctx *c, double *x, double *w)
     for (step = 1; step <= N; step++) {
         double delta = INFINITY, delta_prev = INFINITY;
         int converged = 0;
-        if (o->max_steps > 0 && st->steps >= o->max_steps) return LEV_MAX_STEPS;
+        if (st->steps >= o->max_steps) return LEV_STEP_BUDGET;
         if (step == 1) {
             call_rhs(c, x, Y);
             for (i = 0; i < s; i++)
@@ -701,8 +731,9 @@ int lev_integrate(int method, const lev_system *sys, const lev_options *opt, dou
     st->status = LEV_BAD_INPUT;
     if (!sys || !opt || !x || !work || !sys->rhs || sys->n <= 0) return LEV_BAD_INPUT;
     n = sys->n;
-    fixed = method != LEV_DOP853;
-    if (method < LEV_EULER || method > LEV_DOP853_FIXED) return LEV_BAD_INPUT;
+    fixed = lev_method_fixed_step(method);
+    if (fixed < 0) return LEV_BAD_INPUT;
+    if (opt->max_steps <= 0) return LEV_BAD_INPUT;      /* every run has a step budget */
     if (!(opt->t_end > opt->t0) || !isfinite(opt->t0) || !isfinite(opt->t_end)) return LEV_BAD_INPUT;
     if (fixed && (!(opt->h > 0.0) || !isfinite(opt->h))) return LEV_BAD_INPUT;
     if (fixed && opt->t_out) return LEV_BAD_INPUT;

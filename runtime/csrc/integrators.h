@@ -37,7 +37,7 @@ enum lev_status {
     LEV_LEFT_BOX = 1,        /* the state left the box (event); x is the state at the exit */
     LEV_NONFINITE = 2,       /* the right-hand side produced inf/nan; x is the last finite state */
     LEV_STEP_UNDERFLOW = 3,  /* the adaptive step fell below 10 ulp of t */
-    LEV_MAX_STEPS = 4,       /* max_steps steps were taken before t_end */
+    LEV_STEP_BUDGET = 4,     /* the step budget (max_steps attempted steps) ran out before t_end */
     LEV_NO_CONVERGENCE = 5,  /* the implicit stage equations did not converge */
     LEV_BAD_INPUT = 6,       /* invalid options (see lev_status_message) */
     LEV_ENERGY_LIMIT = 7     /* the energy drifted beyond opt->energy_limit (relative) */
@@ -58,7 +58,7 @@ typedef struct {
     double rtol, atol;  /* DOP853 local error control: |err_k| <= atol_k + rtol |x_k| (RMS norm) */
     const double *atol_v; /* per-component absolute tolerances (n), or NULL: atol for all */
     double h_max;       /* DOP853 largest step; 0 = unlimited */
-    long max_steps;     /* 0 = unlimited */
+    long max_steps;     /* the step budget: attempted steps (accepted + rejected), > 0 required */
     int box_on;         /* 1: stop when the state leaves the box */
     int ix, iy, iz;     /* indices of x, y, z in the state; -1 if absent */
     double z_lo, z_hi;  /* the box in z (absolute heights) */
@@ -97,6 +97,18 @@ int lev_integrate(int method, const lev_system *sys, const lev_options *opt, dou
 
 /* A one-line message for a status code. */
 const char *lev_status_message(int status);
+
+/* The method table (runtime/integrators_table.py holds the same; tests compare the two):
+ * the enum value of a method name (-1 if unknown), the name of an enum value (NULL if unknown),
+ * and 1 if the method takes a fixed step, 0 if adaptive, -1 if unknown. */
+int lev_method_id(const char *name);
+const char *lev_method_name(int method);
+int lev_method_fixed_step(int method);
+
+/* sizeof of the structs passed through ctypes (runtime/integrate.py checks its mirrors). */
+size_t lev_sizeof_system(void);
+size_t lev_sizeof_options(void);
+size_t lev_sizeof_stats(void);
 
 /* Nanoseconds per call of f(x, p, out) measured in C over `reps` calls (clock_gettime). */
 double lev_time_fn(lev_fn f, const double *x, const double *p, int n_out, long reps);

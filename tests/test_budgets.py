@@ -1,0 +1,121 @@
+"""Bounded work: one integrator table that the C library agrees with, and no integrator path without
+a step budget (runtime/integrators_table.py, runtime/step_budget.py; issue 8)."""
+from __future__ import annotations
+
+import ctypes
+import math
+
+import numpy as np
+import pytest
+
+from runtime import cintegrate as ci
+from runtime import integrate as ig
+from runtime.errors import UserError
+from runtime.integrators_table import BY_NAME, METHODS, TABLE
+from runtime.step_budget import MAX_STEPS_CAP, check_options, default_budget, step_cap
+
+T_END = 1000.0     # 160 periods of the unit oscillator: far more than a budget of 3 steps covers
+
+
+@pytest.fixture(scope="module")
+def lib():
+    return ci.csrc_library()
+
+
+@pytest.fixture(scope="module")
+def osc(lib):
+    """The unit oscillator of runtime/csrc/circle.c with a CasADi right-hand side for the casadi
+    backend (scipy reaches it through ctypes)."""
+    import casadi as ca
+
+    class Osc(ci.CSystem):
+        def casadi(self, name):
+            x, p = ca.SX.sym("x", 4), ca.SX.sym("p", 1)
+            return ca.Function("rhs", [x, p], [ca.vertcat(x[2], x[3], -p[0] * x[0], -p[0] * x[1])])
+
+    return Osc(lib, "lev_oscillator", ["x", "y", "vx", "vy"], [1.0])
+
+
+def test_c_method_table_equals_the_python_table(lib):
+    c_entries = [e for e in TABLE if e.backend == "c"]
+    for e in c_entries:
+        assert lib.lev_method_id(e.name.encode()) == e.c_id, e.name
+        assert lib.lev_method_fixed_step(e.c_id) == int(e.fixed_step), e.name
+    ids = sorted(e.c_id for e in c_entries)
+    assert ids == list(range(len(ids)))
+    assert lib.lev_method_name(len(ids)) is None          # C knows no method the table lacks
+    assert [lib.lev_method_name(i).decode() for i in ids] == [
+        next(e.name for e in c_entries if e.c_id == i) for i in ids]
+    assert lib.lev_method_id(b"leapfrog") == -1
+    assert all(e.c_id is None for e in TABLE if e.backend != "c")
+    assert {e.backend for e in TABLE} == {"c", "casadi", "scipy"}
+
+
+def test_struct_sizes_equal_the_ctypes_mirrors(lib):
+    for fn, struct in (("lev_sizeof_system", ci._System), ("lev_sizeof_options", ci._Options),
+                       ("lev_sizeof_stats", ci._Stats)):
+        f = getattr(lib, fn)
+        f.restype = ctypes.c_size_t
+        assert f() == ctypes.sizeof(struct), fn
+
+
+def test_a_wrong_struct_mirror_is_refused():
+    """_bind compares every mirror with the library's sizeof before the first call."""
+    class Fake:
+        def __init__(self):
+            self.lev_integrate = type("F", (), {"argtypes": None})()
+            self.lev_sizeof_system = lambda: ctypes.sizeof(ci._System) + 8
+    with pytest.raises(RuntimeError, match="_System"):
+        ci._bind(Fake())
+
+
+def test_every_table_entry_has_a_default_budget():
+    for e in TABLE:
+        h = 0.01 if e.fixed_step else None
+        n = default_budget(e.name, 10.0, h, time_scale=1.0)
+        assert 1 <= n <= step_cap(e.name) <= MAX_STEPS_CAP, e.name
+        assert default_budget(e.name, 10.0, h, time_scale=None) <= step_cap(e.name)
+        if not e.fixed_step:    # a run far longer than the time scale: the cap binds
+            assert default_budget(e.name, 1e9, None, time_scale=1.0) == step_cap(e.name)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_no_step_budget_free_integrator_path(osc, method):
+    """Each integrator with a tiny budget stops with status "step_budget", quickly, and says so."""
+    kw = {"h": 0.01} if BY_NAME[method].fixed_step else {"tol": 1e-10}
+    r = ig.integrate(osc, [1.0, 0.0, 0.0, 1.0], T_END, method=method, n_out=1, max_steps=3,
+                     scale=[1, 1, 1, 1], **kw)
+    assert r.status == "step_budget", (method, r.status, r.message)
+    assert "step budget of 3 steps" in r.message
+    assert r.t_final < T_END and np.all(np.isfinite(r.x_final))
+    if r.steps:
+        assert r.steps <= 3
+
+
+@pytest.mark.parametrize("method", ["dop853", "rk4", "scipy-dop853", "cvodes", "casadi-rk"])
+def test_default_budget_lets_a_normal_run_finish(osc, method):
+    kw = {"h": 0.01} if BY_NAME[method].fixed_step else {"tol": 1e-10}
+    r = ig.integrate(osc, [1.0, 0.0, 0.0, 1.0], 2 * math.pi, method=method, n_out=10,
+                     scale=[1, 1, 1, 1], time_scale=2 * math.pi, **kw)
+    assert r.status == "completed", (method, r.message)
+    assert np.abs(r.x_final - [1.0, 0.0, 0.0, 1.0]).max() < 1e-6
+
+
+@pytest.mark.parametrize("kwargs, words", [
+    ({"method": "dop853", "tol": 1.0}, "too loose"),
+    ({"method": "dop853", "tol": 0.0}, "positive"),
+    ({"method": "dop853", "tol": 1e-16}, "double precision"),
+    ({"method": "rk4", "h": 1e-12}, "below 1e-09"),
+    ({"method": "rk4", "h": 2.0}, "cannot resolve"),
+    ({"method": "rk4", "h": 1e-6, "t_end": 1e5}, "budget cap"),
+    ({"method": "dop853", "tol": 1e-9, "t_end": 1e9}, "t_end <= "),
+    ({"method": "dop853", "tol": 1e-9, "time_scale": 1e-14}, "resolves"),
+    ({"method": "dop853", "tol": 1e-9, "n_out": 10**9}, "n_out"),
+])
+def test_unreasonable_options_are_refused_with_the_reason(kwargs, words):
+    """Relative to the time scale of the motion (here 1, a dimensionless scene)."""
+    args = {"t_end": 10.0, "time_scale": 1.0}
+    args.update(kwargs)
+    with pytest.raises(UserError, match=words) as err:
+        check_options(**args)
+    assert "\n" not in str(err.value)
