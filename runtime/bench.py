@@ -44,6 +44,7 @@ from runtime import equilibrium as eqm
 from runtime.eigen_route import transverse_matrix
 from runtime.errors import UserError
 from runtime.integrate import backend_of, integrate, run_c, time_fn_ns
+from runtime.integrators_table import lookup
 from runtime.plotting import pyplot, save_figure
 from runtime.simulate import initial_state, state_scales
 from runtime.stability import stability_of
@@ -134,7 +135,8 @@ def plan(quick: bool) -> list[tuple[str, str, list[float]]]:
 
 
 def reference(part, x0, su: Setup, scale):
-    ref = integrate(part, x0, su.t_end, method="dop853", tol=1e-14, p=su.p, scale=scale, n_out=1)
+    ref = integrate(part, x0, su.t_end, method="dop853", tol=1e-14, p=su.p, scale=scale, n_out=1,
+                    time_scale=su.t_fast)
     check = run_c(part.model.lib, "dop853-fixed", part.c_function("rhs"), x0, su.p, su.t_end,
                   h=su.t_fast / REF_STEPS)
     return ref.x_final, float(np.max(np.abs(ref.x_final - check.x_final) / scale))
@@ -153,7 +155,8 @@ def bench_model(model, part_name: str, quick: bool = False, repeats: int | None 
             kw = {"tol": value} if kind == "tol" else {"h": value, "tol": None}
             best = None
             for _ in range(repeats if not method.startswith("casadi-coll") else 1):
-                r = integrate(part, x0, su.t_end, method=method, p=su.p, scale=scale, n_out=1, **kw)
+                r = integrate(part, x0, su.t_end, method=method, p=su.p, scale=scale, n_out=1,
+                              time_scale=su.t_fast, **kw)
                 if best is None or r.wall_s < best.wall_s:
                     best = r
             err = (float(np.max(np.abs(best.x_final - x_ref) / scale))
@@ -200,7 +203,7 @@ def goals(model, full_rows: list[dict], quick: bool, su: Setup | None = None) ->
     for method in ("gauss4", "rk4"):
         every = max(1, n // 1000)
         r = run_c(model.lib, method, part.c_function("rhs"), x0, p, n * h, h=h,
-                  jac=part.c_function("jac") if method == "gauss4" else None,
+                  jac=part.c_function("jac") if lookup(method).needs_jacobian else None,
                   energy=part.c_function("energy"), every=every, max_samples=n // every + 3)
         e_scale = max(abs(r.energy0), eqm.params_of(model, p)["C"] * su.spin ** 2 / 2)
         dev = (r.energy - r.energy0) / e_scale

@@ -25,7 +25,7 @@ needed for an unstable transverse mode to grow.
 
 Default run length: ``PERIODS`` (3) periods of the slowest motion at the relative equilibrium, i.e.
 the slowest transverse (precession/wobble) mode of the 8-D linearisation after thesis 3.3.5
-(runtime.linear.transverse_matrix) at a spin inside the linear interval, or the vertical bounce
+(runtime.eigen_route.transverse_matrix) at a spin inside the linear interval, or the vertical bounce
 2 pi sqrt(m / (mu Phi_3)) (thesis 3.3.3) if that is slower. For the thesis plate with a 51.5 g top
 the slow mode is ~1.8 rad/s (3.5 s), so the default is ~10.5 s; a top that is linearly unstable
 typically leaves the box within a few e-folding times, and over three slow periods even weak
@@ -33,7 +33,7 @@ instabilities near the ends of the interval (growth ~0.5/s from a 0.01 rad seed)
 scan takes the median slow period over the masses that some spin stabilises (near the critical
 height z_c the vertical bounce period diverges, so the longest would be unbounded).
 
-The linear stability interval (thesis 3.3, runtime.linear.analyse: exact discriminant route) is
+The linear stability interval (thesis 3.3, runtime.stability.analyse: exact discriminant route) is
 reported beside the map, per value of the second axis (it changes only with the mass), together
 with the fraction of grid points where the nonlinear run agrees with it.
 
@@ -137,16 +137,13 @@ def check_run_options(model, axis: str, spins: np.ndarray, others: np.ndarray, h
     from runtime.integrators_table import lookup
     from runtime.simulate import time_scale
     from runtime.step_budget import check_options
-    names = list(model.manifest["parameters"])
     spin = float(np.abs(spins).max())
     fastest = None
     for j, z_s in enumerate(hover):
         if z_s is None:
             continue
-        p = model.p.copy()
-        if axis == "mass":
-            p[names.index("m")] = others[j]
-        T = time_scale(model, p, z_s, spin, dict(zip(names, map(float, p))))
+        p = model.with_params({"m": others[j]}) if axis == "mass" else model.p
+        T = time_scale(model, p, z_s, spin, model.pvals(p))
         fastest = T if fastest is None or T[0] < fastest[0] else fastest
     if fastest is None:
         return
@@ -161,7 +158,7 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
          tol: float | None = 1e-9, workers: int = 1, scheduler: str | None = None,
          base_tilt: float = BASE_TILT, h: float | None = None, quiet: bool = False) -> ScanResult:
     """Run the map (module docstring). scene_ref/overrides let the workers load the same model."""
-    from runtime.simulate import hover_height
+    from runtime.equilibrium import hover_height
     if axis not in AXES:
         raise UserError(f"unknown axis {axis!r}; scan over one of --tilt, --mass, --height")
     spins, others = np.asarray(spins, float), np.asarray(others, float)
@@ -179,14 +176,12 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
         raise UserError("--base-tilt must be a finite angle (rad)")
     t_wall = time.perf_counter()
 
-    # the hover heights (runtime.simulate.hover_height, thesis 3.3.2-3.3.3) and the linear picture
+    # the hover heights (runtime.equilibrium.hover_height, thesis 3.3.2-3.3.3) and the linear picture
     status_pre: dict[int, str] = {}
-    names = list(model.manifest["parameters"])
     if axis == "mass":
         lin, hover = [], []
         for j, m in enumerate(others):
-            p = model.p.copy()
-            p[names.index("m")] = m
+            p = model.with_params({"m": m})
             try:
                 hover.append(hover_height(model, p))
             except UserError:

@@ -9,23 +9,16 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from runtime.eigen_route import transverse_matrix
 from runtime.errors import UserError
-
-
-def _pvals(model, p: np.ndarray | None = None) -> dict:
-    pv = model.p if p is None else p
-    return {k: float(v) for k, v in zip(model.manifest["parameters"], pv)}
+from runtime.stability import stability_of
 
 
 def linear_interval(model, mass: float | None = None) -> dict:
     """The linear spin interval (thesis 3.3, exact discriminant route) and z_s, for the scene's top
     or one of another mass."""
-    from runtime import equilibrium as eqm
-    from runtime import linear
-    P = _pvals(model)
-    m = P["m"] if mass is None else float(mass)
-    onaxis = linear.model_onaxis(model)
-    res = linear.analyse(onaxis, m, P["g"], P["A"], P["C"], P["mu"], eqm.length_scale(P))
+    m = model.param("m") if mass is None else float(mass)
+    res = stability_of(model, m)
     iv = res.spin_interval
     return {"mass": m, "z_s": res.z_s, "spin_interval": None if iv is None else [float(iv[0]), float(iv[1])],
             "reason": res.reason}
@@ -35,14 +28,13 @@ def slow_period(model, mass: float, z_s: float, spin: float) -> float:
     """The longest period of the motion near the relative equilibrium at this spin: the slowest
     transverse mode of the 8-D linearisation after thesis 3.3.5, or the vertical bounce
     2 pi sqrt(m / (mu Phi_3(z_s))) (thesis 3.3.3), whichever is slower."""
-    from runtime import linear
-    P = _pvals(model)
+    P = model.pvals()
     ph = np.asarray(model.onaxis(z_s), float)
     periods = []
     k = P["mu"] * ph[3]
     if k > 0:
         periods.append(2 * math.pi * math.sqrt(mass / k))
-    J = linear.transverse_matrix(ph[1], ph[2], ph[3], mass, P["A"], P["C"], P["mu"], spin)
+    J = transverse_matrix(ph[1], ph[2], ph[3], mass, P["A"], P["C"], P["mu"], spin)
     lam = np.linalg.eigvals(J)
     im = np.abs(lam.imag)
     im = im[im > 1e-9 * max(1.0, float(np.abs(lam).max()))]

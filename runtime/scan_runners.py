@@ -79,14 +79,15 @@ def point_run(model, spin: float, tilt: float = 0.0, height: float = 0.0, t_end:
     z_0 = z_s (1 + height), at rest vertically; box and checks stay centred on z_s (thesis 3.3.2).
     With height = 0 the result is simulate()'s, number for number (tests/test_scan.py)."""
     from runtime import simulate as sim
+    from runtime.equilibrium import hover_height
     from runtime.integrate import integrate
     from runtime.integrators_table import lookup
     entry = lookup(integrator)
     pt = model.part("full")
     p = model.p if p is None else p
-    pvals = {k: float(v) for k, v in zip(model.manifest["parameters"], p)}
+    pvals = model.pvals(p)
     if z_s is None:
-        z_s = sim.hover_height(model, p)
+        z_s = hover_height(model, p)
     bx = sim.default_box(pt, z_s)
     T, what = sim.time_scale(model, p, z_s, spin, pvals)
     if entry.fixed_step and h is None:
@@ -104,10 +105,7 @@ def run_point(common: Common, task: tuple[int, int, float, float]) -> dict:
     i, j, spin, other = task
     model = _model(common.scene, common.overrides)
     t0 = time.perf_counter()
-    p = model.p
-    if common.axis == "mass":
-        p = model.p.copy()
-        p[list(model.manifest["parameters"]).index("m")] = other
+    p = model.with_params({"m": other}) if common.axis == "mass" else model.p
     r = point_run(model, spin, tilt=other if common.axis == "tilt" else common.base_tilt,
                   height=other if common.axis == "height" else 0.0, t_end=common.t_end,
                   integrator=common.integrator, tol=common.tol, h=common.h, p=p,

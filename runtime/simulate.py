@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from runtime.equilibrium import hover_height
 from runtime.errors import UserError
 from runtime.integrate import Box, Result, integrate
 from runtime.integrators_table import DEFAULT, lookup
@@ -199,22 +200,6 @@ def initial_state(part, z_s: float, spin: float, tilt: float = 0.0, offset: floa
     return x
 
 
-def hover_height(model, p: np.ndarray | None = None) -> float:
-    """The vertically stable equilibrium z_s (the lowest if several; thesis eqs. 3.3.2-3.3.3)."""
-    from runtime import equilibrium as eqm
-    pv = model.p if p is None else p
-    names = list(model.manifest["parameters"])
-    m, g, mu = (float(pv[names.index(k)]) for k in ("m", "g", "mu"))
-    onaxis = lambda z: model.onaxis(z, pv)
-    eqs = eqm.vertical_equilibria(onaxis, m, g, mu, eqm.length_scale(model.scene.params))
-    stable = [e.z for e in eqs if e.vertically_stable]
-    if not stable:
-        raise UserError(f"scene '{model.scene.name}' has no vertically stable hover height "
-                        f"(equilibria: {[round(e.z, 6) for e in eqs]}); change top.mass or the plate "
-                        "(see `levitron equilibrium`)")
-    return min(stable)
-
-
 def state_scales(part, z_s: float, spin: float, pvals: dict) -> np.ndarray:
     """Magnitudes of the state components (for tolerances and errors): lengths z_s, angles 1 rad,
     linear momenta m sqrt(g z_s), angular momenta max(C |spin|, A sqrt(g / z_s))."""
@@ -279,13 +264,8 @@ def simulate(model, spin: float, tilt: float = 0.0, offset: float = 0.0, t_end: 
     box: the half-width of the box (m), default z_s / 2. params: parameter values overriding the
     scene's for this run (names of manifest.json `parameters`)."""
     pt = model.part(part)
-    names = list(model.manifest["parameters"])
-    p = model.p.copy()
-    for k, v in (params or {}).items():
-        if k not in names:
-            raise UserError(f"unknown parameter {k!r}; the model's parameters are {names}")
-        p[names.index(k)] = float(v)
-    pvals = {k: float(p[names.index(k)]) for k in names}
+    p = model.with_params(params or {})
+    pvals = model.pvals(p)
     for label, v in (("spin", spin), ("tilt", tilt), ("offset", offset)):
         if v is None or not math.isfinite(v):
             raise UserError(f"--{label} must be a finite number")
@@ -312,7 +292,7 @@ def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, i
     X = res.X
     H = res.energy if res.energy is not None else np.array([pt.energy(x, p) for x in X])
     H0 = pt.energy(x0, p)
-    names = list(pt.model.manifest["parameters"]) if hasattr(pt, "model") else []
+    names = pt.model.param_names if hasattr(pt, "model") else []
     pv = dict(zip(names, p))
     terms = abs(H0)
     if names:

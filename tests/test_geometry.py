@@ -295,8 +295,8 @@ def test_reduced_only_scene_has_no_full_model(derived_model):
     model = derived_model("reduced_only")
     files = sorted(p.name for p in model.folder.iterdir())
     assert not any(f.startswith("full_") for f in files), files
-    assert "full" not in model.manifest["parts"]
-    assert not any(n.startswith("full_") for n in model.manifest["functions"])
+    assert "full" not in model.manifest.parts
+    assert not any(n.startswith("full_") for n in model.manifest.functions)
     assert "full_" not in (model.folder / "model.c").read_text()
     assert "full_" not in (model.folder / "model.h").read_text()
 
@@ -357,17 +357,17 @@ def test_field_command_json(tmp_path, monkeypatch, capsys):
 
 def _stability_summary(table, vals, g, A, C, mu, scale, frac=1.1):
     """z_c, largest mass, stable band, and for the top that hovers at frac * z_c its mass and spin
-    interval (runtime/equilibrium.py, runtime/linear.py: exact linear analysis, thesis 3.3). On the
+    interval (runtime/equilibrium.py, runtime/stability.py: exact linear analysis, thesis 3.3). On the
     axis a 4-fold symmetric plate's field equals an axisymmetric one's to second order in x, y, so
     the on-axis Phi_k decide equilibria and linear stability exactly."""
     from runtime import equilibrium as eqm
-    from runtime import linear
+    from runtime import stability
     _, ph = numeric(table, vals, 5)
     onaxis = lambda z: np.array([f(z) for f in ph])
     rep = eqm.analyse(onaxis, 0.01, g, A, C, mu, scale)
     z_s = frac * rep.z_c
     m_s = eqm.hover_mass(onaxis, g, mu, z_s)
-    res = linear.analyse(onaxis, m_s, g, A, C, mu, scale, z_s=z_s)
+    res = stability.analyse(onaxis, m_s, g, A, C, mu, scale, z_s=z_s)
     return {"z_c": rep.z_c, "max_mass": rep.max_mass, "band_z": rep.stable_bands[0].z,
             "band_mass": rep.stable_bands[0].mass, "m_s": m_s, "spin": res.spin_interval}
 

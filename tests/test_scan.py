@@ -14,7 +14,8 @@ import numpy as np
 import pytest
 
 from derive.scene import load_scene
-from runtime import linear
+from runtime.eigen_route import full_equilibrium_state
+from runtime.stability import model_callables
 from runtime import scan as sc
 from runtime.errors import UserError
 from runtime.model import load_model
@@ -80,10 +81,10 @@ def test_default_t_end_is_three_slow_periods(model):
     8-D matrix the scan uses."""
     res = run_scan(model, [1000.0], "tilt", [0.01])
     b = res.t_end_basis
-    onaxis, jac, states = linear.model_callables(model)
+    onaxis, jac, states = model_callables(model)
     z_s = res.linear[0]["z_s"]
     C = model.param("C")
-    lam = np.linalg.eigvals(jac(linear.full_equilibrium_state(states, z_s, C, b["reference_spin"])))
+    lam = np.linalg.eigvals(jac(full_equilibrium_state(states, z_s, C, b["reference_spin"])))
     im = np.abs(lam.imag)
     slowest = im[im > 1e-6].min()
     bounce = 2 * math.pi * math.sqrt(model.param("m") / (model.param("mu") * onaxis(z_s)[3]))

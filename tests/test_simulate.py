@@ -12,13 +12,13 @@ import pytest
 
 from derive.scene import load_scene
 from runtime.errors import UserError
+from runtime.equilibrium import hover_height
 from runtime.integrate import integrate
 from runtime.model import load_model
 from runtime.simulate import (
     ANGLES,
     angular_momentum_z,
     coordinates_of,
-    hover_height,
     initial_state,
     rotation_bs,
     simulate,
@@ -50,13 +50,13 @@ def zxz_model(tmp_path_factory):
 def heavy_top(model) -> dict:
     """Parameters of a top inside the stable band of the thesis plate (runtime.equilibrium: band
     9.95-11.02 cm) that 200 rad/s stabilises: m = 51.4 g, A and C eight times the thesis's."""
-    names = list(model.manifest["parameters"])
+    names = model.param_names
     pv = dict(zip(names, model.p))
     return {"m": 0.0514, "A": 8 * pv["A"], "C": 8 * pv["C"]}
 
 
 def pvec(model, over):
-    names = list(model.manifest["parameters"])
+    names = model.param_names
     p = model.p.copy()
     for k, v in over.items():
         p[names.index(k)] = v
@@ -108,7 +108,7 @@ def test_simulate_json_contract_and_plot(model, tmp_path):
 
 
 def test_hard_case_top_falls_off_event_stops_cleanly(model):
-    """The thesis top at its hover height is not spin-stabilisable (see runtime.linear): tilted by
+    """The thesis top at its hover height is not spin-stabilisable (see runtime.stability): tilted by
     0.01 rad it falls within a second; the box event stops the run, and nothing is NaN."""
     out = simulate(model, spin=200.0, tilt=0.01, offset=1e-3, t_end=5.0)
     assert out["levitating"] is False and out["status"] == "left_box"
@@ -148,7 +148,7 @@ def test_angular_momentum_z_is_conserved_along_the_flow(model):
     part = model.part("full")
     z_s = hover_height(model, p)
     x0 = initial_state(part, z_s, 200.0, 0.02, 2e-3, p)
-    pv = dict(zip(model.manifest["parameters"], p))
+    pv = model.pvals(p)
     r = integrate(part, x0, 5.0, method="dop853", tol=1e-12, p=p, n_out=200,
                   scale=state_scales(part, z_s, 200.0, pv))
     L = np.array([angular_momentum_z(part, x) for x in r.X])
@@ -168,7 +168,7 @@ def test_hard_case_axis_near_vertical_euler_vs_tait_bryan(model, zxz_model):
             part = mod.part("full")
             p = pvec(mod, over)
             z_s = hover_height(mod, p)
-            pv = dict(zip(mod.manifest["parameters"], p))
+            pv = mod.pvals(p)
             x0 = initial_state(part, z_s, 200.0, tilt, 0.0, p)
             r = integrate(part, x0, 0.02, method="dop853", tol=1e-10, p=p, n_out=4,
                           scale=state_scales(part, z_s, 200.0, pv), max_steps=100_000)
