@@ -112,12 +112,12 @@ def one_line(text: str) -> str:
 
 
 def os_error_message(exc: OSError) -> str:
-    """An OSError of a path the user gave (an output file, a folder, the cache) as one line."""
+    """An OSError of a path the user gave (a scene, an output file, a folder, the cache) as one line."""
     why = exc.strerror or type(exc).__name__
     paths = " -> ".join(str(p) for p in (exc.filename, exc.filename2) if p is not None)
     if not paths:
         return f"{why}: {exc}"
-    return f"cannot use {paths}: {why}; give a path to a writable folder or file"
+    return f"{paths}: {why}"
 
 
 def _report(command: str, exc: BaseException) -> int:
