@@ -126,7 +126,8 @@ def _report(command: str, exc: BaseException) -> int:
     if isinstance(exc, (UserError, SceneError)):
         text, code = f"{prefix}: error: {one_line(str(exc))}", EXIT_USER
     elif isinstance(exc, CompileError):
-        detail = next((ln for ln in str(exc).splitlines() if "error" in ln.lower()), "")
+        output = str(exc).splitlines()[1:]          # the first line is the compiler's command
+        detail = next((ln for ln in output if "error:" in ln), "")
         text, code = (f"{prefix}: error: the C compiler failed: {one_line(detail or str(exc))} "
                       "(LEVITRON_DEBUG=1 shows its full output)"), EXIT_USER
     elif isinstance(exc, MemoryError):

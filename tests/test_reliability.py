@@ -58,6 +58,12 @@ def expression_scene(formula: str, params: dict | None = None, name: str = "expr
     return "\n".join(lines) + "\n"
 
 
+def bad_key(case_id: str, mention: str, old: str, new: str) -> Case:
+    """`levitron info` of the thesis scene with one edit."""
+    return Case(case_id, "info {scene}", mention, toml=thesis(old, new))
+
+
+NEEDS = 'needs = ["reduced", "full", "linear"]'
 NESTED = "sin(" * 15 + "z" + ")" * 15
 
 
@@ -201,40 +207,34 @@ BATTERY = [
     Case("derive-unknown-scene", "derive nosuchscene", r"unknown scene"),
     # --- keys and values of a scene
     Case("unknown-top-level-key", "info {scene}", r"unknown key", toml="colour = 3\n" + THESIS),
-    Case("unknown-top-key", "info {scene}", r"colour", toml=thesis("[top]", "[top]\ncolour = 1")),
-    Case("unknown-plate-kind", "info {scene}", r"pyramid",
-         toml=thesis('kind = "annulus"', 'kind = "pyramid"')),
-    Case("missing-plate-section", "info {scene}", r"\[plate\]|plate",
-         toml=thesis("[plate]", "[plate_x]")),
-    Case("mass-is-a-string", "info {scene}", r"top\.mass", toml=thesis("mass = 0.0284", 'mass = "heavy"')),
-    Case("mass-is-nan", "info {scene}", r"top\.mass", toml=thesis("mass = 0.0284", "mass = nan")),
-    Case("mass-is-inf", "info {scene}", r"top\.mass", toml=thesis("mass = 0.0284", "mass = inf")),
-    Case("mass-negative", "info {scene}", r"top\.mass", toml=thesis("mass = 0.0284", "mass = -0.0284")),
-    Case("mass-zero", "info {scene}", r"top\.mass", toml=thesis("mass = 0.0284", "mass = 0")),
-    Case("inertia-A-negative", "info {scene}", r"top\.A", toml=thesis("A = 2.2e-6", "A = -2.2e-6")),
-    Case("inertia-C-negative", "info {scene}", r"top\.C", toml=thesis("C = 1.32e-6", "C = -1.32e-6")),
-    Case("inertia-C-above-2A", "info {scene}", r"top\.C", toml=thesis("C = 1.32e-6", "C = 9e-6")),
-    Case("radius-negative", "info {scene}", r"plate\.radius",
-         toml=thesis("radius = 0.10", "radius = -0.10")),
-    Case("hole-not-below-radius", "info {scene}", r"plate\.hole", toml=thesis("hole = 0.03", "hole = 0.10")),
-    Case("hole-negative", "info {scene}", r"plate\.hole", toml=thesis("hole = 0.03", "hole = -0.03")),
-    Case("murho-zero", "info {scene}", r"murho", toml=thesis("murho = -0.0026209383", "murho = 0")),
-    Case("murho-and-dipole-density", "info {scene}", r"murho|dipole_density",
-         toml=thesis("murho = -0.0026209383", "murho = -0.0026\ndipole_density = 1e4")),
-    Case("gravity-negative", "info {scene}", r"\bg\b", toml=thesis("g = 9.81", "g = -9.81")),
-    Case("name-with-spaces", "info {scene}", r"name", toml=thesis('name = "thesis"', 'name = "a b"')),
-    Case("order-odd", "info {scene}", r"field\.order", toml=thesis("order = 2", "order = 3")),
-    Case("order-negative", "info {scene}", r"field\.order", toml=thesis("order = 2", "order = -2")),
-    Case("order-a-string", "info {scene}", r"field\.order", toml=thesis("order = 2", 'order = "two"')),
-    Case("order-too-high", "info {scene}", r"field\.order", toml=thesis("order = 2", "order = 14")),
-    Case("needs-empty", "info {scene}", r"model\.needs",
-         toml=thesis('needs = ["reduced", "full", "linear"]', "needs = []")),
-    Case("needs-unknown", "info {scene}", r"model\.needs",
-         toml=thesis('needs = ["reduced", "full", "linear"]', 'needs = ["everything"]')),
-    Case("needs-linear-without-full", "info {scene}", r"full",
-         toml=thesis('needs = ["reduced", "full", "linear"]', 'needs = ["reduced", "linear"]')),
-    Case("coordinates-unknown", "info {scene}", r"model\.coordinates",
-         toml=thesis('coordinates = "tait-bryan"', 'coordinates = "polar"')),
+    bad_key("unknown-top-key", r"colour", "[top]", "[top]\ncolour = 1"),
+    bad_key("unknown-plate-kind", r"pyramid", 'kind = "annulus"', 'kind = "pyramid"'),
+    bad_key("missing-plate-section", r"\[plate\]|plate", "[plate]", "[plate_x]"),
+    bad_key("mass-is-a-string", r"top\.mass", "mass = 0.0284", 'mass = "heavy"'),
+    bad_key("mass-is-nan", r"top\.mass", "mass = 0.0284", "mass = nan"),
+    bad_key("mass-is-inf", r"top\.mass", "mass = 0.0284", "mass = inf"),
+    bad_key("mass-negative", r"top\.mass", "mass = 0.0284", "mass = -0.0284"),
+    bad_key("mass-zero", r"top\.mass", "mass = 0.0284", "mass = 0"),
+    bad_key("inertia-A-negative", r"top\.A", "A = 2.2e-6", "A = -2.2e-6"),
+    bad_key("inertia-C-negative", r"top\.C", "C = 1.32e-6", "C = -1.32e-6"),
+    bad_key("inertia-C-above-2A", r"top\.C", "C = 1.32e-6", "C = 9e-6"),
+    bad_key("radius-negative", r"plate\.radius", "radius = 0.10", "radius = -0.10"),
+    bad_key("hole-not-below-radius", r"plate\.hole", "hole = 0.03", "hole = 0.10"),
+    bad_key("hole-negative", r"plate\.hole", "hole = 0.03", "hole = -0.03"),
+    bad_key("murho-zero", r"murho", "murho = -0.0026209383", "murho = 0"),
+    bad_key("murho-and-dipole-density", r"murho|dipole_density", "murho = -0.0026209383",
+            "murho = -0.0026\ndipole_density = 1e4"),
+    bad_key("gravity-negative", r"\bg\b", "g = 9.81", "g = -9.81"),
+    bad_key("name-with-spaces", r"name", 'name = "thesis"', 'name = "a b"'),
+    bad_key("order-odd", r"field\.order", "order = 2", "order = 3"),
+    bad_key("order-negative", r"field\.order", "order = 2", "order = -2"),
+    bad_key("order-a-string", r"field\.order", "order = 2", 'order = "two"'),
+    bad_key("order-too-high", r"field\.order", "order = 2", "order = 14"),
+    bad_key("needs-empty", r"model\.needs", NEEDS, "needs = []"),
+    bad_key("needs-unknown", r"model\.needs", NEEDS, 'needs = ["everything"]'),
+    bad_key("needs-linear-without-full", r"full", NEEDS, 'needs = ["reduced", "linear"]'),
+    bad_key("coordinates-unknown", r"model\.coordinates", 'coordinates = "tait-bryan"',
+            'coordinates = "polar"'),
     Case("ring-r_in-not-below-r_out", "info ring_magnet --set plate.r_in=0.07", r"r_in"),
     Case("expression-unknown-name", "info {scene}", r"bogus|phi0",
          toml=expression_scene("sqrt(z**2 + bogus**2)")),
@@ -243,9 +243,9 @@ BATTERY = [
     Case("expression-reserved-param-name", "info {scene}", r"params",
          toml=expression_scene("z", {"sin": 1.0})),
     Case("expression-abs", "equilibrium {scene}", r"abs", toml=expression_scene("abs(z)")),
-    Case("compound-without-parts", "info {scene}", r"parts",
-         toml=thesis('kind = "annulus"\nradius = 0.10        # m\nhole = 0.03          # m\n'
-                     'murho = -0.0026209383', 'kind = "compound"')),
+    bad_key("compound-without-parts", r"parts",
+            'kind = "annulus"\nradius = 0.10        # m\nhole = 0.03          # m\nmurho = -0.0026209383',
+            'kind = "compound"'),
     # --- --set overrides
     Case("set-without-equals", "info thesis --set top.mass", r"="),
     Case("set-unknown-section", "info thesis --set nosection=1", r"nosection"),
@@ -541,8 +541,8 @@ def test_head_one_is_quiet(tmp_path):
     cmd = (f"{shlex.quote(sys.executable)} -m runtime.cli field thesis {points} | head -1; "
            "exit ${PIPESTATUS[0]}")
     env = dict(os.environ, PYTHONPATH=str(ROOT), LEVITRON_CACHE=str(tmp_path / "cache"))
-    res = subprocess.run(["bash", "-c", cmd], check=False, cwd=tmp_path, env=env, capture_output=True, text=True,
-                         timeout=60)
+    res = subprocess.run(["bash", "-c", cmd], check=False, cwd=tmp_path, env=env,
+                         capture_output=True, text=True, timeout=60)
     assert res.returncode == 0, res.stderr
     assert res.stderr == ""
     assert res.stdout.count("\n") == 1
@@ -632,7 +632,24 @@ def test_the_cli_does_not_import_sympy(tmp_path):
             "assert rc == 0, rc\n"
             "print(sorted(m for m in sys.modules if m.split('.')[0] == 'sympy'))\n")
     env = dict(os.environ, PYTHONPATH=str(ROOT), LEVITRON_CACHE=str(tmp_path / "cache"))
-    res = subprocess.run([sys.executable, "-c", code], check=False, cwd=tmp_path, env=env, capture_output=True,
-                         text=True, timeout=120)
+    res = subprocess.run([sys.executable, "-c", code], check=False, cwd=tmp_path, env=env,
+                         capture_output=True, text=True, timeout=120)
     assert res.returncode == 0, res.stderr
     assert res.stdout.strip() == "[]"
+
+
+def test_compile_error_is_one_line_exit_2(capsys, monkeypatch):
+    """A compiler failure is one line with the compiler's first error (the whole output with
+    LEVITRON_DEBUG=1), not the compiler's command line."""
+    from runtime.cbuild import CompileError
+    from runtime.commands import info
+
+    def fails(args):
+        raise CompileError("C compilation failed (cc -Werror -o x.so model.c):\n"
+                           "model.c:3:1: error: expected ';' before '}' token\n    3 | }\n")
+    monkeypatch.setattr(info, "run", fails)
+    monkeypatch.delenv("LEVITRON_DEBUG", raising=False)
+    code, _, err = _run_inprocess(["info", "thesis"], capsys)
+    assert code == 2
+    assert len(err.splitlines()) == 1
+    assert "model.c:3:1: error: expected ';'" in err and "-Werror" not in err
