@@ -1,7 +1,10 @@
 """The `levitron` command: `levitron <command> SCENE [--set k=v ...] [--json]` (DESIGN.md).
 
-With --json a command prints one JSON object on stdout and nothing else; logs go to stderr. Bad
-input exits 2 with one line saying what is wrong and how to fix it.
+With --json a command prints one JSON object on stdout and nothing else; logs go to stderr.
+Every failure is one line on stderr: bad input (a scene, an option, a path, the cache) exits 2 with
+what is wrong and how to fix it; an unexpected exception is a bug and exits 3 with its type and
+message (LEVITRON_DEBUG=1 shows the traceback). A closed stdout (`levitron ... | head -1`) ends
+the command quietly.
 """
 from __future__ import annotations
 
@@ -9,7 +12,9 @@ import argparse
 import importlib
 import json
 import math
+import os
 import sys
+from pathlib import Path
 
 from derive.scene import SceneError
 
@@ -17,13 +22,36 @@ from .cbuild import CompileError
 from .commands import COMMANDS
 from .errors import UserError
 
+EXIT_USER = 2        # bad input: the message says what to fix
+EXIT_INTERNAL = 3    # a bug: please report it
+EXIT_INTERRUPTED = 130
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse with one-line errors (exit 2): no usage block, a pointer to --help instead."""
+
+    def error(self, message):
+        self.exit(EXIT_USER, f"{self.prog}: error: {message} (see `{self.prog} --help`)\n")
+
+
+def version() -> str:
+    """The installed package's version, else the one in this source tree's pyproject.toml."""
+    from importlib import metadata
+    try:
+        return metadata.version("levitron")
+    except metadata.PackageNotFoundError:
+        import tomllib
+        pyproject = Path(__file__).resolve().parent.parent / "pyproject.toml"
+        return tomllib.loads(pyproject.read_text())["project"]["version"]
+
 
 def _modules():
     return [importlib.import_module(f"runtime.commands.{name}") for name in COMMANDS]
 
 
 def build_parser() -> argparse.ArgumentParser:
-    ap = argparse.ArgumentParser(prog="levitron", description=__doc__.splitlines()[0])
+    ap = Parser(prog="levitron", description=__doc__.splitlines()[0])
+    ap.add_argument("--version", action="version", version=f"levitron {version()}")
     sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for mod in _modules():
         p = sub.add_parser(mod.NAME, help=mod.HELP, description=mod.HELP)
@@ -68,21 +96,89 @@ def _human(obj, indent: int = 0) -> str:
     return f"{pad}{obj}"
 
 
+def _debug() -> bool:
+    return os.environ.get("LEVITRON_DEBUG", "") not in ("", "0")
+
+
+def one_line(text: str) -> str:
+    """The first non-empty line of a message; a longer message is named as cut (the rest is shown
+    with LEVITRON_DEBUG=1)."""
+    lines = [ln.strip() for ln in str(text).splitlines() if ln.strip()]
+    if not lines:
+        return "(no message)"
+    if len(lines) == 1:
+        return lines[0]
+    return f"{lines[0]} [{len(lines) - 1} more lines: set LEVITRON_DEBUG=1 to see them]"
+
+
+def os_error_message(exc: OSError) -> str:
+    """An OSError of a path the user gave (a scene, an output file, a folder, the cache) as one line."""
+    why = exc.strerror or type(exc).__name__
+    paths = " -> ".join(str(p) for p in (exc.filename, exc.filename2) if p is not None)
+    if not paths:
+        return f"{why}: {exc}"
+    return f"{paths}: {why}"
+
+
+def _report(command: str, exc: BaseException) -> int:
+    """Print the one-line message of `exc` and return the exit code."""
+    prefix = f"levitron {command}"
+    if isinstance(exc, (UserError, SceneError)):
+        text, code = f"{prefix}: error: {one_line(str(exc))}", EXIT_USER
+    elif isinstance(exc, CompileError):
+        output = str(exc).splitlines()[1:]          # the first line is the compiler's command
+        detail = next((ln for ln in output if "error:" in ln), "")
+        text, code = (f"{prefix}: error: the C compiler failed: {one_line(detail or str(exc))} "
+                      "(LEVITRON_DEBUG=1 shows its full output)"), EXIT_USER
+    elif isinstance(exc, MemoryError):
+        text, code = (f"{prefix}: error: not enough memory for this request ({one_line(str(exc))}): "
+                      "ask for less (fewer output samples, points or a shorter run)"), EXIT_USER
+    elif isinstance(exc, OSError):
+        text, code = f"{prefix}: error: {os_error_message(exc)}", EXIT_USER
+    else:
+        text, code = (f"{prefix}: internal error: {type(exc).__name__}: {one_line(str(exc))} "
+                      "(set LEVITRON_DEBUG=1 for the traceback; please report it)"), EXIT_INTERNAL
+    print(text, file=sys.stderr)
+    return code
+
+
+def _quiet_stdout() -> None:
+    """After a closed pipe: point stdout at /dev/null, so that the interpreter's final flush
+    raises nothing (the Python docs' recipe for SIGPIPE)."""
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):   # an in-memory stdout (tests) has no descriptor
+        pass
+    finally:
+        os.close(devnull)
+
+
+def _emit(text: str) -> int:
+    """Write the result to stdout; a reader that went away (`| head -1`) is not an error."""
+    try:
+        sys.stdout.write(text + "\n")
+        sys.stdout.flush()
+    except BrokenPipeError:
+        _quiet_stdout()
+    return 0
+
+
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     try:
         result = _clean(args._run(args))
-    except (UserError, SceneError) as exc:
-        print(f"levitron {args.command}: error: {exc}", file=sys.stderr)
-        return 2
-    except CompileError as exc:
-        print(f"levitron {args.command}: {exc}", file=sys.stderr)
-        return 1
-    if args.json:
-        print(json.dumps(result))
-    else:
-        print(_human(result))
-    return 0
+    except KeyboardInterrupt:
+        print(f"levitron {args.command}: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except BrokenPipeError:
+        _quiet_stdout()
+        return 0
+    except Exception as exc:    # every failure is one line; the traceback only on request
+        if _debug() and not isinstance(exc, (UserError, SceneError)):
+            raise
+        return _report(args.command, exc)
+    return _emit(json.dumps(result) if args.json else _human(result))
 
 
 if __name__ == "__main__":
