@@ -5,6 +5,7 @@ from pathlib import Path
 
 import numpy as np
 
+from runtime.plotting import pyplot, save_figure
 from runtime.scan_grid import UNITS
 
 
@@ -20,12 +21,7 @@ def draw(res, path: str | Path, title: str = "") -> Path:
     """The map (thesis fig. 3.8): colour = t_survived / t_end (1 = levitating, marked with dots)
     over spin (x) and the other axis (y); the linear spin interval as vertical lines (for a mass
     scan, one pair per mass row: it moves with the mass)."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    path = Path(path)
-    if path.parent and not path.parent.exists():
-        path.parent.mkdir(parents=True, exist_ok=True)
+    plt = pyplot()
     frac = (res.t_survived / res.t_end).T
     fig, ax = plt.subplots(figsize=(8, 5.5))
     mesh = ax.pcolormesh(_edges(res.spins), _edges(res.others), frac, cmap="viridis", vmin=0, vmax=1,
@@ -51,6 +47,4 @@ def draw(res, path: str | Path, title: str = "") -> Path:
     ax.set_title(title or f"stability map: {res.axis} vs spin, t_end = {res.t_end:.3g} s")
     ax.legend(loc="upper right", fontsize=8, framealpha=0.8)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, "--out")

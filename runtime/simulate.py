@@ -344,8 +344,6 @@ def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, i
 def draw(t, dz, r, tilt, path, info) -> Path:
     """Height above z_s, radial offset and tilt against time (matplotlib, Agg)."""
     plt = pyplot()
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     fig, ax = plt.subplots(3, 1, sharex=True, figsize=(7, 7))
     ax[0].plot(t, dz * 1e3)
     ax[0].set_ylabel("z - z_s (mm)")

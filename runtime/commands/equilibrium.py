@@ -8,6 +8,7 @@ from __future__ import annotations
 import time
 
 from .. import equilibrium as eqm
+from ..plotting import check_plot_path
 from .common import model_of
 
 NAME = "equilibrium"
@@ -24,6 +25,8 @@ def _band(b):
 
 
 def run(args) -> dict:
+    if args.plot is not None:
+        check_plot_path(args.plot)
     model = model_of(args)
     m = eqm.params_of(model)["m"]
     t0 = time.perf_counter()

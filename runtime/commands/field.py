@@ -56,8 +56,8 @@ def run(args) -> dict:
         if r[2] <= 0:
             entry["note"] = "z <= 0: at or below the plate's (top) face, outside the model's domain"
         out.append(entry)
-    result = {"scene": scene.name, "plate": model.manifest.get("plate"),
-              "field_order": model.manifest.get("field_order"), "points": out}
+    result = {"scene": scene.name, "plate": model.manifest.plate,
+              "field_order": model.manifest.field_order, "points": out}
     if exact is None:
         result["exact"] = "no closed form for this plate kind"
     if scene.notes:

@@ -8,6 +8,7 @@ from pathlib import Path
 from .. import scan as sc
 from ..errors import UserError
 from ..integrators_table import DEFAULT, METHODS, lookup
+from ..plotting import check_plot_path
 from ..scan_grid import check_axis, parse_range, pick_axis
 from ..scan_plot import draw
 from .common import model_of, scene_of
@@ -71,8 +72,8 @@ def run(args) -> dict:
     if args.scheduler is not None and args.workers != 1:
         raise UserError("pass either --workers N (local processes) or --scheduler ADDRESS (dask), not both")
     lookup(args.integrator)   # an unknown name is a one-line UserError
-    if args.out is not None and Path(args.out).suffix.lower() != ".png":
-        raise UserError(f"--out {args.out!r} must name a .png file, e.g. --out map.png")
+    if args.out is not None:
+        check_plot_path(args.out, "--out")
     scene = scene_of(args)
     model = model_of(args)
     scene_ref = str(Path(scene.path).resolve()) if scene.path is not None else args.scene

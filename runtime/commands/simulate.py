@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from ..errors import UserError
 from ..integrators_table import DEFAULT, METHODS, lookup
+from ..plotting import check_plot_path
 from ..simulate import simulate
 from .common import model_of
 
@@ -35,6 +36,8 @@ def run(args) -> dict:
     if args.t_end is None or not args.t_end > 0:
         raise UserError(f"--t-end {args.t_end} must be a positive run length in s, e.g. --t-end 1")
     lookup(args.integrator)   # an unknown name is a one-line UserError
+    if args.plot is not None:
+        check_plot_path(args.plot)
     model = model_of(args)
     return simulate(model, spin=args.spin, tilt=args.tilt, offset=args.offset, t_end=args.t_end,
                     integrator=args.integrator, tol=args.tol, box=args.box, plot=args.plot,
