@@ -1,4 +1,4 @@
-"""The stable band and the adiabatic band of heights and masses (DESIGN.md `equilibrium`).
+"""The stable band and the adiabatic band of heights and masses (docs/contract.md `equilibrium`).
 
 The stable band: the heights z where a top of mass m(z) = -mu Phi_2(z)/g hovering there (thesis
 3.3.2) is vertically stable (mu Phi_3 > 0, 3.3.3) and linearly stable for some finite spin (the

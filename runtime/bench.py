@@ -1,4 +1,4 @@
-"""Speed against error (work-precision) for the reduced and the full model (issue 3, DESIGN.md).
+"""Speed against error (work-precision) for the reduced and the full model (issue 3, docs/contract.md).
 
 The run is the scene's own: its top (mass, A, C, moment as the scene gives them), hovering at its
 own height z_s (the lowest vertically stable root of thesis 3.3.2-3.3.3, runtime/equilibrium.py),

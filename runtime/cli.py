@@ -1,4 +1,4 @@
-"""The `levitron` command: `levitron <command> SCENE [--set k=v ...] [--json]` (DESIGN.md).
+"""The `levitron` command: `levitron <command> SCENE [--set k=v ...] [--json]` (docs/contract.md).
 
 With --json a command prints one JSON object on stdout and nothing else; logs go to stderr.
 Every failure is one line on stderr: bad input (a scene, an option, a path, the cache) exits 2 with

@@ -108,7 +108,7 @@ class EquilibriumReport:
 
     @property
     def stable_band(self):
-        """The widest stable band (DESIGN.md reports one; all are in stable_bands)."""
+        """The widest stable band (docs/contract.md reports one; all are in stable_bands)."""
         return max(self.stable_bands, key=lambda b: b.z[1] - b.z[0]) if self.stable_bands else None
 
     @property

@@ -52,7 +52,7 @@ __all__ = ["Box", "CSystem", "Result", "backend_of", "csrc_library", "default_sc
 
 
 def backend_of(method: str) -> str:
-    """The backend name of DESIGN.md's bench rows: "c", "casadi" or "scipy"."""
+    """The backend name of docs/contract.md's bench rows: "c", "casadi" or "scipy"."""
     return lookup(method).backend
 
 

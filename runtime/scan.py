@@ -1,4 +1,4 @@
-"""Stability maps: which (spin, tilt | mass | height) starts keep the top up (DESIGN.md `scan`).
+"""Stability maps: which (spin, tilt | mass | height) starts keep the top up (docs/contract.md `scan`).
 
 The thesis's fig. 3.8 (after Gans, Jones & Nelson / Gans et al.) shows the stable trajectories as a
 function of spin and tilt. Here every grid point is one nonlinear run of the full model
@@ -17,7 +17,7 @@ map is that symmetric solution, not a stability statement.) The second axis is o
   without a run (status "no_hover_height");
 * ``height``: the initial vertical displacement as a FRACTION of z_s: the top starts at rest (apart
   from its spin) at z_0 = z_s (1 + height). A fraction, not a length, because scenes may be
-  dimensionless (DESIGN.md); |height| < 1/2 keeps the start inside the box.
+  dimensionless (docs/contract.md); |height| < 1/2 keeps the start inside the box.
 
 For the mass and height axes the runs start with the small tilt ``base_tilt`` (default 0.01 rad):
 an upright top on the axis stays there by symmetry, whatever its linear stability, so a seed is

@@ -1,4 +1,4 @@
-"""One trajectory of the top from its stable hover height (DESIGN.md `simulate`; thesis 3.1-3.3).
+"""One trajectory of the top from its stable hover height (docs/contract.md `simulate`; thesis 3.1-3.3).
 
 The initial state: the centre of mass at (offset, 0, z_s), where z_s is the vertically stable root
 of m g + mu Phi_2(z) = 0 (thesis eqs. 3.3.2-3.3.3, from runtime.equilibrium); the symmetry axis
@@ -259,7 +259,7 @@ def simulate(model, spin: float, tilt: float = 0.0, offset: float = 0.0, t_end: 
              integrator: str = DEFAULT, tol: float | None = 1e-9, box: float | None = None,
              plot: str | Path | None = None, part: str = "full", h: float | None = None,
              n_out: int = 2000, params: dict | None = None) -> dict:
-    """Run one trajectory and answer DESIGN.md's `simulate` keys (plus details).
+    """Run one trajectory and answer docs/contract.md's `simulate` keys (plus details).
 
     box: the half-width of the box (m), default z_s / 2. params: parameter values overriding the
     scene's for this run (names of manifest.json `parameters`)."""

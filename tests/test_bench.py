@@ -1,4 +1,4 @@
-"""`levitron bench SCENE --quick` runs the scene it is given (DESIGN.md `bench`): its own top, from
+"""`levitron bench SCENE --quick` runs the scene it is given (docs/contract.md `bench`): its own top, from
 its own hover height, at the geometric mean of its stable spin interval; on every scene of scenes/,
 and a clear one-line error exactly where the scene's top has no stable interval.
 Speed is measured, not asserted: benchmarks are not timed tests."""

@@ -1,4 +1,4 @@
-"""Vertical equilibria, z_c, the largest mass and the stable band (thesis 3.3.1-3.3.3; DESIGN.md).
+"""Vertical equilibria, z_c, the largest mass and the stable band (thesis 3.3.1-3.3.3; docs/contract.md).
 
 The plate here is the thesis's thin annulus in closed form (numpy), independent of the generated
 model; one test compares it with the generated model when that is available.

@@ -1,4 +1,4 @@
-"""`levitron scan`: stability maps over spin and tilt / mass / height (DESIGN.md `scan`; thesis fig.
+"""`levitron scan`: stability maps over spin and tilt / mass / height (docs/contract.md `scan`; thesis fig.
 3.8 after Gans et al.). The scene is the thesis plate with a 51.5 g top (`--set top.mass=0.0515`),
 which hovers at z_s = 10.65 cm inside the stable band with the linear spin interval ~[460, 2740]
 rad/s (thesis 3.3); the thesis's own 28.4 g top is not stabilisable by any spin."""
@@ -47,7 +47,7 @@ def cli(*args, check_json=True):
 
 
 def test_cli_small_grid_binding_keys_and_picture(tmp_path):
-    """3 x 2 grid through the command line: DESIGN.md keys, [i_spin][j_other] shapes, the PNG."""
+    """3 x 2 grid through the command line: docs/contract.md keys, [i_spin][j_other] shapes, the PNG."""
     png = tmp_path / "map.png"
     d = cli("--spin", "300:1500:3", "--tilt", "0.01:0.02:2", "--t-end", "1", "--json", "--out", str(png))
     for key in ("grid", "levitating", "wall_s", "t_survived", "spin_interval", "linear"):

@@ -1,4 +1,4 @@
-"""`levitron bench SCENE`: the speed-versus-error report (issue 3; DESIGN.md `bench`)."""
+"""`levitron bench SCENE`: the speed-versus-error report (issue 3; docs/contract.md `bench`)."""
 from __future__ import annotations
 
 from .. import bench as _bench

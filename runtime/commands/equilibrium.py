@@ -1,6 +1,6 @@
 """`levitron equilibrium SCENE`: vertical equilibria, z_c, the largest mass, the stable band.
 
-Thesis 3.3.1-3.3.3 and the stable band of DESIGN.md (runtime/equilibrium.py); beside it the
+Thesis 3.3.1-3.3.3 and the stable band of docs/contract.md (runtime/equilibrium.py); beside it the
 adiabatic (Berry-Simon) band, never instead.
 """
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""`levitron scan SCENE`: a stability map over spin and tilt, mass or height (DESIGN.md `scan`;
+"""`levitron scan SCENE`: a stability map over spin and tilt, mass or height (docs/contract.md `scan`;
 thesis fig. 3.8 after Gans et al.). The map is runtime/scan.py's (grid: scan_grid.py, picture: scan_plot.py)."""
 from __future__ import annotations
 

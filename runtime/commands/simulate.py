@@ -1,4 +1,4 @@
-"""`levitron simulate SCENE`: one trajectory from the stable hover height (DESIGN.md)."""
+"""`levitron simulate SCENE`: one trajectory from the stable hover height (docs/contract.md)."""
 from __future__ import annotations
 
 from ..errors import UserError
