@@ -22,6 +22,8 @@ import numpy as np
 import pytest
 
 from runtime import bench, optimize
+from runtime.scan import scan
+from runtime.simulate import simulate
 from runtime import equilibrium as eqm
 from runtime.cli import _clean
 from runtime.errors import UserError
@@ -49,7 +51,7 @@ murho = -0.51915
 order = 2
 
 [model]
-needs = ["reduced"]
+needs = ["reduced", "full", "linear"]
 """
 
 EXPR_SCENE = """name = "{name}"
@@ -215,6 +217,13 @@ def test_close_roots_every_command(scenes, units, delta):
     # bench's start: the scene's top at its own height, spinning inside its interval
     su = bench.setup(model, p)
     assert su.z_s == hi.z and lo_s < su.spin < hi_s
+    # simulate and scan start from that height too (a short run: where it starts is the point)
+    spin = math.sqrt(lo_s * hi_s)
+    run = simulate(model, spin=spin, tilt=1e-3, t_end=2 * math.pi / spin * 20, params={"m": m})
+    assert run["z_s"] == hi.z
+    res = scan(model, str(scene), [], np.array([spin]), "mass", np.array([m]),
+               t_end=2 * math.pi / spin * 20, quiet=True)
+    assert res.linear[0]["z_s"] == hi.z and res.status[0][0] != "no_hover_height"
     # optimize: fitting m to the upper root gives this mass back, with both roots
     out = optimize.fit_equilibrium_height(model, hi.z, "m")
     assert out["optimum"]["m"] == pytest.approx(m, rel=1e-13)
