@@ -55,7 +55,6 @@ def add_arguments(parser) -> None:
                         help="run on a dask.distributed cluster (e.g. tcp://host:8786); needs the "
                              "`cluster` extra: pip install 'levitron[cluster]'")
     parser.add_argument("--out", default=None, metavar="FILE.png", help="draw the map to FILE.png")
-    parser.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
 
 
 def run(args) -> dict:
