@@ -6,6 +6,7 @@ cache, where the other commands find it: generated/ is never overwritten by one.
 """
 from __future__ import annotations
 
+from ..human import duration, lines
 import json
 import subprocess
 import sys
@@ -22,6 +23,7 @@ NAME = "derive"
 HELP = ("regenerate the models of the given scenes (default: all of scenes/); variants (--set) and "
         "out-of-tree scenes go to the cache, never to generated/")
 MULTI_SCENE = True
+EXAMPLE = 'levitron derive thesis ring_magnet'
 
 
 def add_arguments(parser) -> None:
@@ -60,3 +62,14 @@ def _derive_committed(scenes, force: bool) -> list[dict]:
         last = (res.stderr.strip().splitlines() or ["derive failed"])[-1]
         raise UserError(last.removeprefix("error: "))
     return json.loads(res.stdout)["scenes"]
+
+
+def human(r: dict, scene=None) -> str:
+    """One line per scene: derived or unchanged, how long, where."""
+    rows = []
+    for s in r["scenes"]:
+        what = "unchanged (skipped by hash)" if s.get("skipped") else "derived"
+        where = f" -> {s['folder']}" if s.get("folder") else ""
+        rows.append(f"{s['name']}: {what} in {duration(s.get('seconds'))}{where}")
+    done = sum(1 for s in r["scenes"] if not s.get("skipped"))
+    return lines(f"derive: {done} of {len(r['scenes'])} scenes derived", *rows)
