@@ -63,7 +63,7 @@ def duration(t) -> str:
         return f"{sig(t * 1e3, 3)} ms"
     if t < 120:
         return f"{sig(t, 3)} s"
-    return f"{int(t // 60)} min {int(round(t % 60))} s"
+    return f"{int(t // 60)} min {round(t % 60)} s"
 
 
 @dataclass(frozen=True)
@@ -73,12 +73,12 @@ class Units:
     si: bool
 
     @classmethod
-    def of(cls, g) -> "Units":
+    def of(cls, g) -> Units:
         """SI when G_SI[0] <= g <= G_SI[1] (Earth's gravity in m/s^2); otherwise scene units."""
         return cls(si=g is not None and G_SI[0] <= abs(float(g)) <= G_SI[1])
 
     @classmethod
-    def of_scene(cls, scene) -> "Units":
+    def of_scene(cls, scene) -> Units:
         return cls.of(scene.params.get("g", 9.81))
 
     @property

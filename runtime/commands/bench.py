@@ -1,8 +1,8 @@
 """`levitron bench SCENE`: the speed-versus-error report (issue 3; docs/contract.md `bench`)."""
 from __future__ import annotations
 
-from ..human import duration, lines, sig
 from .. import bench as _bench
+from ..human import duration, lines, sig
 from .common import model_of
 
 NAME = "bench"

@@ -6,7 +6,6 @@ cache, where the other commands find it: generated/ is never overwritten by one.
 """
 from __future__ import annotations
 
-from ..human import duration, lines
 import json
 import subprocess
 import sys
@@ -16,6 +15,7 @@ from pathlib import Path
 from derive.paths import ROOT, SCENES_DIR
 
 from ..errors import UserError
+from ..human import duration, lines
 from ..model import committed_folder, locate
 from .common import load
 

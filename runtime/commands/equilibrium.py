@@ -5,10 +5,10 @@ adiabatic (Berry-Simon) band, never instead.
 """
 from __future__ import annotations
 
-from ..human import Units, lines, reference, restate, span
 import time
 
 from .. import equilibrium as eqm
+from ..human import Units, lines, reference, restate, span
 from ..plotting import check_plot_path
 from .common import model_of
 

@@ -8,12 +8,12 @@ after Derby & Olbert 2010, rectangles after Furlani 2001), or null where the pla
 """
 from __future__ import annotations
 
-from ..human import Units, lines, sig
 import math
 
 import numpy as np
 
 from ..errors import UserError
+from ..human import Units, lines, sig
 from ..plates import plate_field
 from .common import model_of
 

@@ -6,10 +6,10 @@ runtime/solver_compare.py.
 """
 from __future__ import annotations
 
-from ..human import lines
 from pathlib import Path
 
 from .. import figures_stability, solver_compare
+from ..human import lines
 from .common import model_of
 
 NAME = "figures"

@@ -1,12 +1,12 @@
 """`levitron info SCENE`: resolved parameters in SI, what is generated, op counts."""
 from __future__ import annotations
 
-from ..human import Units, lines, sig
 import math
 
 from derive import plates
 from derive.scene import MU0
 
+from ..human import Units, lines, sig
 from .common import model_of
 
 NAME = "info"

@@ -2,12 +2,12 @@
 thesis fig. 3.8 after Gans et al.). The map is runtime/scan.py's (grid: scan_grid.py, picture: scan_plot.py)."""
 from __future__ import annotations
 
-from ..human import Units, duration, lines, sig
 import re
 from pathlib import Path
 
 from .. import scan as sc
 from ..errors import UserError
+from ..human import Units, duration, lines, sig
 from ..integrators_table import DEFAULT, METHODS, lookup
 from ..plotting import check_plot_path
 from ..scan_grid import check_axis, parse_range, pick_axis

@@ -1,8 +1,8 @@
 """`levitron simulate SCENE`: one trajectory from the stable hover height (docs/contract.md)."""
 from __future__ import annotations
 
-from ..human import Units, duration, lines, sig
 from ..errors import UserError
+from ..human import Units, duration, lines, sig
 from ..integrators_table import DEFAULT, METHODS, lookup
 from ..plotting import check_plot_path
 from ..simulate import DEFAULT_AZIMUTH, simulate

@@ -7,10 +7,10 @@ with Hz and rpm beside.
 """
 from __future__ import annotations
 
-from ..human import Units, lines, restate, sig
 import time
 
 from ..errors import UserError
+from ..human import Units, lines, restate, sig
 from ..stability import stability_of
 from .common import model_of
 
