@@ -19,6 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
+from derive import plates
+
 from . import equilibrium as eqm
 from . import progress
 from .human import Units, restate, sig, span
@@ -61,6 +63,7 @@ def build(model, scene_ref: str, overrides=()) -> tuple[str, dict]:
     scene = model.scene
     u = Units.of_scene(scene)
     P = model.pvals()
+    lengths = set(plates.length_names(scene.data["plate"]))
     facts: dict = {"scene": scene.name, "units": "SI" if u.si else "dimensionless"}
     parts = [f"<h1>{html.escape(scene.name)}: does the top levitate?</h1>"]
     with tempfile.TemporaryDirectory(prefix="levitron-report-") as tmp, \
@@ -81,9 +84,10 @@ def build(model, scene_ref: str, overrides=()) -> tuple[str, dict]:
         parts.append(_p(answer, "answer"))
         parts.append("<h2>Scene</h2>")
         parts.append(_table([("file", scene.path), ("plate", scene.data["plate"].get("kind")),
-                             ("top mass", u.mass(P["m"])), ("g", sig(P["g"], 4)),
+                             ("top mass", u.mass(P["m"])), ("g", f"{sig(P['g'], 4)} m/s^2" if u.si else sig(P["g"], 4)),
                              ("A, C (inertia)", f"{sig(P['A'], 4)}, {sig(P['C'], 4)}"),
-                             *[(k, sig(v, 6)) for k, v in P.items() if k.startswith("plate_")]]))
+                             *[(k, u.length(v) if k in lengths else sig(v, 6))
+                               for k, v in P.items() if k.startswith("plate_")]]))
         if u.note:
             parts.append(_p(u.note, "note"))
         parts.append("<h2>Equilibria and the stable band</h2>")
