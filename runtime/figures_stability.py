@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from . import equilibrium as eqm
+from . import progress
 from .human import Units, sig, span
 from .plotting import band, pyplot, save_figure, style
 from .ray_algebra import l_cubic
@@ -162,6 +163,6 @@ def make_figures(outdir, model) -> list[Path]:
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     name = model.scene.name
-    return [figure_3_5(model, outdir / f"{name}_fig3_5_equilibrium.png"),
-            figure_3_6(model, outdir / f"{name}_fig3_6_forces.png"),
-            figure_3_7(model, outdir / f"{name}_fig3_7_critical_spins.png")]
+    jobs = [(figure_3_5, "fig3_5_equilibrium"), (figure_3_6, "fig3_6_forces"),
+            (figure_3_7, "fig3_7_critical_spins")]
+    return [draw(model, outdir / f"{name}_{stem}.png") for draw, stem in progress.track(jobs, "figures")]

@@ -43,6 +43,7 @@ def draw(res, path: str | Path, title: str = "") -> Path:
     elif np.isfinite(los[0]):
         ax.axvline(los[0], color="r", lw=1.5, label="linear stability interval (thesis 3.3)")
         ax.axvline(his[0], color="r", lw=1.5)
+    ax.grid(False)
     ax.set_xlim(_edges(res.spins)[[0, -1]])
     ax.set_xlabel("spin (rad/s)")
     ax.set_ylabel(f"{res.axis} ({UNITS[res.axis]})")

@@ -14,6 +14,7 @@ from pathlib import Path
 
 from derive.paths import ROOT, SCENES_DIR
 
+from .. import progress
 from ..errors import UserError
 from ..human import duration, lines
 from ..model import committed_folder, locate
@@ -39,7 +40,7 @@ def run(args) -> dict:
         done = {r["name"]: r for r in _derive_committed(
             [s for s, c in zip(scenes, committed) if c], args.force)}
     results = []
-    for scene, is_committed in zip(scenes, committed):
+    for scene, is_committed in progress.track(list(zip(scenes, committed)), "derive"):
         if is_committed:
             results.append(done[scene.name])
             continue
