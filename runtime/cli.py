@@ -188,12 +188,13 @@ def _emit(text: str, styled: bool = False) -> int:
     try:
         if styled and sys.stdout.isatty():
             from rich.console import Console
+            from rich.highlighter import ReprHighlighter
             from rich.text import Text
             head, _, rest = text.partition("\n")
-            body = Text(head, style="bold")
+            body = ReprHighlighter()(Text(head, style="bold"))
             if rest:
-                body.append("\n" + rest)
-            Console(highlight=True, soft_wrap=True).print(body)
+                body.append("\n").append_text(ReprHighlighter()(Text(rest)))
+            Console(soft_wrap=True).print(body)
         else:
             sys.stdout.write(text + "\n")
         sys.stdout.flush()

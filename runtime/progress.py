@@ -31,10 +31,32 @@ def active() -> bool:
     """True when a bar would be drawn: enabled, LEVITRON_PROGRESS not 0, stderr a terminal."""
     if not _state["enabled"] or os.environ.get("LEVITRON_PROGRESS", "1") == "0":
         return False
+    if _state.get("bar") is not None:     # a bar is drawn (rich then wraps sys.stderr)
+        return True
     try:
         return sys.stderr.isatty()
     except (AttributeError, ValueError):
         return False
+
+
+def _count_column():
+    from rich.progress import ProgressColumn
+    from rich.text import Text
+
+    class Count(ProgressColumn):
+        """"3/12, 0:00:04 elapsed, eta 0:00:12" with a total, else the elapsed time."""
+
+        def render(self, task):
+            def hms(t):
+                t = int(t or 0)
+                return f"{t // 3600}:{t // 60 % 60:02d}:{t % 60:02d}"
+            text = f"{hms(task.elapsed)} elapsed"
+            if task.total:
+                eta = f", eta {hms(task.time_remaining)}" if task.time_remaining is not None else ""
+                text = f"{int(task.completed)}/{int(task.total)}, {text}{eta}"
+            return Text(text, style="progress.elapsed")
+
+    return Count()
 
 
 def _noop(n: int = 1) -> None:
@@ -57,18 +79,8 @@ def task(description: str, total: int | None = None):
             outer.remove_task(tid)
         return
     from rich.console import Console
-    from rich.progress import (
-        BarColumn,
-        MofNCompleteColumn,
-        Progress,
-        SpinnerColumn,
-        TextColumn,
-        TimeElapsedColumn,
-        TimeRemainingColumn,
-    )
-    columns = [SpinnerColumn(), TextColumn("[bold]{task.description}"), BarColumn(),
-               MofNCompleteColumn(), TextColumn("elapsed"), TimeElapsedColumn(), TextColumn("eta"),
-               TimeRemainingColumn()]
+    from rich.progress import BarColumn, Progress, SpinnerColumn, TextColumn
+    columns = [SpinnerColumn(), TextColumn("[bold]{task.description}"), BarColumn(), _count_column()]
     with Progress(*columns, console=Console(file=sys.stderr), transient=True) as bar:
         _state["bar"] = bar
         tid = bar.add_task(description, total=total)
