@@ -120,3 +120,30 @@ def test_every_command_has_an_example(capsys):
         with pytest.raises(SystemExit):
             cli.main([name, "--help"])
         assert f"example:\n  levitron {name} " in capsys.readouterr().out
+
+
+def test_tilt_azimuth_turns_the_axis_only():
+    """--tilt-azimuth: the axis n = (sin t cos az, sin t sin az, cos t); by the plate's axial
+    symmetry the energy and L_z do not depend on az, the tilt and offset are kept."""
+    import math
+
+    import numpy as np
+
+    from derive.scene import load_scene
+    from runtime.equilibrium import hover_height
+    from runtime.model import load_model
+    from runtime.simulate import (ANGLES, angular_momentum_z, coordinates_of, initial_state,
+                                  rotation_bs, tilt_of)
+    model = load_model(load_scene("thesis_stable"))
+    part, z_s, t = model.part("full"), hover_height(model), 0.05
+    ref = initial_state(part, z_s, 1000.0, t, 0.0)
+    kind = coordinates_of(part)
+    for az in (0.0, 0.7, math.pi, -2.0):
+        x = initial_state(part, z_s, 1000.0, t, 0.0, azimuth=az)
+        ang = [x[list(part.states).index(a)] for a in ANGLES[kind]]
+        n = rotation_bs(kind, ang)[:, 2]
+        assert np.allclose(n, [math.sin(t) * math.cos(az), math.sin(t) * math.sin(az), math.cos(t)],
+                           atol=1e-14)
+        assert math.isclose(part.energy(x), part.energy(ref), rel_tol=1e-12)
+        assert math.isclose(angular_momentum_z(part, x), angular_momentum_z(part, ref), rel_tol=1e-12)
+        assert math.isclose(float(tilt_of(part, x)[0]), t, rel_tol=1e-12)
