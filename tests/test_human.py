@@ -132,8 +132,14 @@ def test_tilt_azimuth_turns_the_axis_only():
     from derive.scene import load_scene
     from runtime.equilibrium import hover_height
     from runtime.model import load_model
-    from runtime.simulate import (ANGLES, angular_momentum_z, coordinates_of, initial_state,
-                                  rotation_bs, tilt_of)
+    from runtime.simulate import (
+        ANGLES,
+        angular_momentum_z,
+        coordinates_of,
+        initial_state,
+        rotation_bs,
+        tilt_of,
+    )
     model = load_model(load_scene("thesis_stable"))
     part, z_s, t = model.part("full"), hover_height(model), 0.05
     ref = initial_state(part, z_s, 1000.0, t, 0.0)
