@@ -47,7 +47,7 @@ def span(lo, hi, fmt) -> str:
     """"lo-hi unit" from a formatter that returns "number unit"."""
     a, b = fmt(lo), fmt(hi)
     ua, ub = a.partition(" ")[2], b.partition(" ")[2]
-    if ua and ua == ub:
+    if ua == ub:               # one unit (or none: a dimensionless scene)
         return f"{a.partition(' ')[0]}-{b}"
     return f"{a} to {b}"
 
@@ -150,12 +150,11 @@ _NUM = r"(-?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)"
 
 def restate(text, units: Units) -> str:
     """A reason sentence of the JSON (SI: "z = 0.157391 m", "[0.0995, 0.110] m", "0.0503 kg",
-    "z_s = 0.157391") with its lengths and masses in the human units."""
+    "z_s = 0.157391") with its lengths and masses in the human units (bare numbers in a
+    dimensionless scene, whose JSON sentences still say m and kg)."""
     import re
     if not text:
         return ""
-    if not units.si:
-        return re.sub(_NUM, lambda m: sig(float(m.group(1))), str(text))
     text = re.sub(rf"\[{_NUM}, {_NUM}\] m\b",
                   lambda m: span(float(m.group(1)), float(m.group(2)), units.cm), str(text))
     text = re.sub(rf"\[{_NUM}, {_NUM}\] kg\b",

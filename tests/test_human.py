@@ -54,6 +54,15 @@ def test_human_output_has_units_and_sensible_digits(name, capsys):
     assert "{" not in out.splitlines()[0]           # an answer, not a JSON dump
 
 
+def test_dimensionless_scene_in_its_own_units(capsys):
+    """g = 1 marks a scene as dimensionless: no cm, g, Hz or rpm anywhere in the view."""
+    assert cli.main(["equilibrium", "thesis", "--set", "g=1"]) == 0
+    out = capsys.readouterr().out
+    assert "dimensionless scene" in out
+    assert not re.search(r"\d (cm|mm|m|g|kg|Hz|rpm)\b", out), out
+    assert too_precise(out) == []
+
+
 def test_json_stays_si_and_complete(capsys):
     assert cli.main(COMMANDS["simulate"] + ["--json"]) == 0
     import json
@@ -72,6 +81,8 @@ def test_units_rule():
     assert "Hz" not in dim.rate(1000)
     assert restate("at z_s = 0.157391 the top, band [0.0994772, 0.110198] m", si) == \
         "at z_s = 15.74 cm the top, band 9.948-11.02 cm"
+    assert restate("hovers at z = 0.3344 m, band [0.09948, 0.1102] m, mass in [0.494, 0.5149] kg", dim) == \
+        "hovers at z = 0.3344, band 0.09948-0.1102, mass in 0.494-0.5149"
     assert [sig(v) for v in (26163.68, 0.0762, 1.5141e-10, 0)] == ["26160", "0.0762", "1.514e-10", "0"]
 
 

@@ -87,9 +87,13 @@ def human(r: dict, scene=None) -> str:
         band_line = (f"stable_band: z {span(*band['z'], u.cm)}, mass {span(*band['mass'], u.mass)}")
         if adia:
             band_line += f"   (Berry-Simon's adiabatic band: {span(*adia['z'], u.cm)})"
+    poles = [f"{s['kind']} at {u.length(s['z'])}" + (f"-{u.length(s['z_end'])}" if s.get("z_end") not in
+                                                        (None, s["z"]) else "")
+             for s in r.get("singularities") or []]
     return lines(
         f"equilibria: {', '.join(roots) if roots else 'none'}",
         band_line,
+        f"singular (not equilibria): {', '.join(poles)}" if poles else "",
         f"reason: {restate(r['reason'], u)}" if r.get("reason") else "",
         f"top {u.mass(r['mass'])}; z_c {u.length(r['z_c'])} (where the band starts); the heaviest top "
         f"that hovers: {u.mass(r['max_mass'])}" if r.get("z_c") is not None else "",
