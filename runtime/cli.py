@@ -1,6 +1,9 @@
 """The `levitron` command: `levitron <command> SCENE [--set k=v ...] [--json]` (docs/contract.md).
 
-With --json a command prints one JSON object on stdout and nothing else; logs go to stderr.
+With --json a command prints one JSON object on stdout and nothing else; logs go to stderr. Without
+it, the command's human view (its module's `human(result, scene)`: the answer first, in cm, g, Hz
+and rpm for SI scenes, runtime/human.py), in colour on a terminal (rich), plain otherwise. Progress
+(runtime/progress.py) goes to stderr only, and only on a terminal without --json or --quiet.
 Every failure is one line on stderr: bad input (a scene, an option, a path, the cache) exits 2 with
 what is wrong and how to fix it; an unexpected exception is a bug and exits 3 with its type and
 message (LEVITRON_DEBUG=1 shows the traceback). A closed stdout (`levitron ... | head -1`) ends
@@ -18,6 +21,7 @@ from pathlib import Path
 
 from derive.scene import SceneError
 
+from . import progress
 from .cbuild import CompileError
 from .commands import COMMANDS
 from .errors import UserError
@@ -54,7 +58,10 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument("--version", action="version", version=f"levitron {version()}")
     sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for mod in _modules():
-        p = sub.add_parser(mod.NAME, help=mod.HELP, description=mod.HELP)
+        example = getattr(mod, "EXAMPLE", None)
+        p = sub.add_parser(mod.NAME, help=mod.HELP, description=mod.HELP,
+                           epilog=f"example:\n  {example}" if example else None,
+                           formatter_class=argparse.RawDescriptionHelpFormatter)
         if getattr(mod, "MULTI_SCENE", False):
             p.add_argument("scenes", nargs="*", metavar="SCENE", help="scene names or .toml paths")
         else:
@@ -62,8 +69,9 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                        help="override a scene key, e.g. --set top.mass=0.03 (repeatable)")
         p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+        p.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
         mod.add_arguments(p)
-        p.set_defaults(_run=mod.run)
+        p.set_defaults(_run=mod.run, _module=mod)
     return ap
 
 
@@ -80,20 +88,40 @@ def _clean(obj):
     return obj
 
 
-def _human(obj, indent: int = 0) -> str:
+def _dump(obj, indent: int = 0) -> str:
+    """The plain listing of a result, for a command without a human view."""
     pad = "  " * indent
     if isinstance(obj, dict):
         lines = []
         for k, v in obj.items():
             if isinstance(v, (dict, list)) and v and not all(isinstance(e, (int, float)) for e in v):
                 lines.append(f"{pad}{k}:")
-                lines.append(_human(v, indent + 1))
+                lines.append(_dump(v, indent + 1))
             else:
                 lines.append(f"{pad}{k}: {json.dumps(v)}")
         return "\n".join(lines)
     if isinstance(obj, list):
         return "\n".join(f"{pad}- {json.dumps(v)}" for v in obj)
     return f"{pad}{obj}"
+
+
+def _scene_or_none(args):
+    """The scene of a one-scene command (its units and stated values), or None."""
+    if not hasattr(args, "scene"):
+        return None
+    from .commands.common import scene_of
+    try:
+        return scene_of(args)
+    except UserError:
+        return None
+
+
+def render(args, result) -> str:
+    """The text printed for `result`: JSON with --json, else the command's human view."""
+    if args.json:
+        return json.dumps(result)
+    view = getattr(args._module, "human", None)
+    return view(result, _scene_or_none(args)) if view else _dump(result)
 
 
 def _debug() -> bool:
@@ -154,10 +182,21 @@ def _quiet_stdout() -> None:
         os.close(devnull)
 
 
-def _emit(text: str) -> int:
-    """Write the result to stdout; a reader that went away (`| head -1`) is not an error."""
+def _emit(text: str, styled: bool = False) -> int:
+    """Write the result to stdout (through rich on a terminal: numbers highlighted, the answer in
+    bold); a reader that went away (`| head -1`) is not an error."""
     try:
-        sys.stdout.write(text + "\n")
+        if styled and sys.stdout.isatty():
+            from rich.console import Console
+            from rich.highlighter import ReprHighlighter
+            from rich.text import Text
+            head, _, rest = text.partition("\n")
+            body = ReprHighlighter()(Text(head, style="bold"))
+            if rest:
+                body.append("\n").append_text(ReprHighlighter()(Text(rest)))
+            Console(soft_wrap=True).print(body)
+        else:
+            sys.stdout.write(text + "\n")
         sys.stdout.flush()
     except BrokenPipeError:
         _quiet_stdout()
@@ -166,8 +205,14 @@ def _emit(text: str) -> int:
 
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
+    if args.json or args.quiet:
+        progress.disable()
+    else:
+        progress.enable()
     try:
-        result = _clean(args._run(args))
+        with progress.task(f"levitron {args.command}"):
+            result = _clean(args._run(args))
+        text = render(args, result)
     except KeyboardInterrupt:
         print(f"levitron {args.command}: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
@@ -178,7 +223,7 @@ def main(argv=None) -> int:
         if _debug() and not isinstance(exc, (UserError, SceneError)):
             raise
         return _report(args.command, exc)
-    return _emit(json.dumps(result) if args.json else _human(result))
+    return _emit(text, styled=not args.json)
 
 
 if __name__ == "__main__":

@@ -18,7 +18,9 @@ from pathlib import Path
 import numpy as np
 
 from . import equilibrium as eqm
-from .plotting import pyplot, save_figure
+from . import progress
+from .human import Units, sig, span
+from .plotting import band, pyplot, save_figure, style
 from .ray_algebra import l_cubic
 
 
@@ -29,36 +31,55 @@ def _variants(model) -> list[tuple[str, np.ndarray]]:
         p0 = model.p.copy()
         p0[names.index("plate_w")] = 0.0
         out.append(("without hole", p0))
-        out.append((f"with hole (w = {model.p[names.index('plate_w')]:.3g})", model.p.copy()))
+        w = model.p[names.index("plate_w")]
+        out.append((f"with hole (w = {Units.of(model.pvals().get('g')).length(w)})", model.p.copy()))
     else:
         out.append(("plate", model.p.copy()))
     return out
 
 
-def figure_3_5(model, path: Path) -> Path:
-    plt = pyplot()
+def _units(model, P: dict):
+    """(Units, length factor and unit, force factor and unit) for the axes: cm and mN in an SI
+    scene, the scene's own units otherwise (runtime/human.py's rule)."""
+    u = Units.of(P["g"])
+    if u.si:
+        return u, 100.0, "cm", 1e3, "mN"
+    return u, 1.0, "scene units", 1.0, "scene units"
 
+
+def figure_3_5(model, path: Path) -> Path:
+    """Thesis fig. 3.5: m g against -mu Phi_2(z) (thesis 3.3.2); the equilibria are the crossings,
+    named in the legend (so that close roots never collide), the stable band shaded."""
+    plt = pyplot()
+    style()
     P = eqm.params_of(model)
     scale = eqm.scale_of(model)
     m, g, mu = P["m"], P["g"], P["mu"]
+    u, kz, lu, kf, fu = _units(model, P)
     variants = _variants(model)
-    fig, axes = plt.subplots(1, len(variants), figsize=(5.2 * len(variants), 4), squeeze=False)
+    fig, axes = plt.subplots(1, len(variants), figsize=(6.4 * len(variants), 5.6), squeeze=False)
     z = np.linspace(0.02 * scale, 2.0 * scale, 600)
     for ax, (label, p) in zip(axes[0], variants):
         on = eqm.model_onaxis(model, p)
+        rep = eqm.equilibria_of(model, p, bands=True)
         force = np.array([-mu * on(float(zz))[2] for zz in z])
-        ax.plot(z, force, "r-", label=r"$-\mu\Phi_2(z)$")
-        ax.axhline(m * g, color="g", label=r"$m g$")
-        for e in eqm.vertical_equilibria(on, m, g, mu, scale):
+        for b in rep.stable_bands:
+            band(ax, b.z[0] * kz, b.z[1] * kz,
+                 f"stable band {span(b.z[0], b.z[1], u.cm)} ({span(b.mass[0], b.mass[1], u.mass)})")
+        ax.plot(z * kz, force * kf, "r-", label=r"magnetic lift $-\mu\Phi_2(z)$")
+        ax.axhline(m * g * kf, color="b", label=f"weight m g (m = {u.mass(m)})")
+        for e in rep.equilibria:
             if e.z <= z[-1]:
-                ax.plot([e.z], [m * g], "ko" if e.vertically_stable else "kx")
-                ax.annotate(f"{e.z:.4g}", (e.z, m * g), textcoords="offset points", xytext=(4, 6))
+                kind = "stable" if e.vertically_stable else "unstable"
+                ax.plot([e.z * kz], [m * g * kf], "ko" if e.vertically_stable else "kx", ms=7,
+                        mfc="k" if e.vertically_stable else "none", ls="none",
+                        label=f"vertically {kind} equilibrium: {u.length(e.z)}")
         top = 1.15 * max(float(force.max()), m * g)
-        ax.set_ylim(max(float(force.min()), -0.5 * top), top)   # the deep dip near the hole is cut
-        ax.set_xlabel("z")
-        ax.set_ylabel("force")
-        ax.set_title(f"equilibrium condition (thesis 3.3.2): {label}")
-        ax.legend()
+        ax.set_ylim(max(float(force.min()), -0.5 * top) * kf, top * kf)   # the deep dip near the hole is cut
+        ax.set_xlabel(f"height above the plate z ({lu})")
+        ax.set_ylabel(f"vertical force ({fu})")
+        ax.set_title(f"{model.scene.name}, {label}: equilibria (thesis 3.3.2, fig. 3.5)")
+        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2)   # below: never on a curve
     fig.tight_layout()
     return save_figure(fig, path)
 
@@ -69,17 +90,19 @@ def figure_3_6(model, path: Path) -> Path:
     P = eqm.params_of(model)
     scale = eqm.scale_of(model)
     m, g, mu = P["m"], P["g"], P["mu"]
+    u, kz, lu, kf, fu = _units(model, P)
+    style()
     z = np.linspace(1.0 * scale, 4.0 * scale, 400)
-    fig, ax = plt.subplots(figsize=(6, 4))
-    ax.axhline(m * g, color="b", label="gravitational force m g")
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    ax.axhline(m * g * kf, color="b", label=f"gravitational force m g (m = {u.mass(m)})")
     colours = {"without hole": "g"}
     for label, p in _variants(model):
         on = eqm.model_onaxis(model, p)
-        ax.plot(z, [-mu * on(float(zz))[2] for zz in z], colours.get(label, "r"),
+        ax.plot(z * kz, [-mu * on(float(zz))[2] * kf for zz in z], colours.get(label, "r"),
                 label=f"magnetic force, {label}")
-    ax.set_xlabel("z")
-    ax.set_ylabel("force")
-    ax.set_title("forces at larger z (thesis fig. 3.6)")
+    ax.set_xlabel(f"height above the plate z ({lu})")
+    ax.set_ylabel(f"vertical force ({fu})")
+    ax.set_title(f"{model.scene.name}: forces at larger z (thesis fig. 3.6)")
     ax.legend()
     fig.tight_layout()
     return save_figure(fig, path)
@@ -115,8 +138,10 @@ def figure_3_7(model, path: Path) -> Path:
     exact = critical_spins_g31_zero(x, g, A, C, m)
     s1 = np.sqrt(g / (2 * rho ** 2 * 0.25 * x * alpha))                 # l1 ~ 1/4 (3.3.17)
     s2 = np.sqrt(g / (2 * rho ** 2 * (27 / 4) * x ** 2 * x * alpha))    # l2 ~ 27 g21^2/4 (3.3.18)
-    hz = 1 / (2 * math.pi)
-    fig, ax = plt.subplots(figsize=(6, 4.2))
+    hz = 1 / (2 * math.pi) if Units.of(g).si else 1.0
+    rate_unit = "Hz" if Units.of(g).si else "rad per time unit"
+    style()
+    fig, ax = plt.subplots(figsize=(6.4, 4.6))
     ax.semilogy(x, exact[:, 0] * hz, "b-", label=r"$\sigma_1$ exact (roots of $L$)")
     ax.semilogy(x, exact[:, 1] * hz, "r-", label=r"$\sigma_2$ exact")
     ax.semilogy(x, s1 * hz, "b--", label=r"$\sigma_1$, $l_1 \approx 1/4$ (3.3.22)")
@@ -124,10 +149,10 @@ def figure_3_7(model, path: Path) -> Path:
     if z_c is not None:
         ph = on(z_c)
         g21c = -alpha * ph[2] / (2 * ph[1])
-        ax.axvline(g21c, color="k", lw=0.8, ls=":", label=f"this plate at z_c: g21 = {g21c:.3g}")
-    ax.set_xlabel(r"$g_{21}$ ($g_{31} = 0$)")
-    ax.set_ylabel("critical spin rate (Hz)")
-    ax.set_title(f"critical spin rates (thesis fig. 3.7), m = {m:.3g}")
+        ax.axvline(g21c, color="k", lw=0.8, ls=":", label=f"this plate at z_c: g21 = {sig(g21c, 3)} (dimensionless)")
+    ax.set_xlabel(r"$g_{21}$ (dimensionless, thesis 3.3.13; $g_{31} = 0$)")
+    ax.set_ylabel(f"critical spin rate ({rate_unit})")
+    ax.set_title(f"{model.scene.name}: critical spin rates (thesis fig. 3.7), m = {Units.of(g).mass(m)}")
     ax.legend(fontsize=8)
     fig.tight_layout()
     return save_figure(fig, path)
@@ -138,6 +163,6 @@ def make_figures(outdir, model) -> list[Path]:
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     name = model.scene.name
-    return [figure_3_5(model, outdir / f"{name}_fig3_5_equilibrium.png"),
-            figure_3_6(model, outdir / f"{name}_fig3_6_forces.png"),
-            figure_3_7(model, outdir / f"{name}_fig3_7_critical_spins.png")]
+    jobs = [(figure_3_5, "fig3_5_equilibrium"), (figure_3_6, "fig3_6_forces"),
+            (figure_3_7, "fig3_7_critical_spins")]
+    return [draw(model, outdir / f"{name}_{stem}.png") for draw, stem in progress.track(jobs, "figures")]

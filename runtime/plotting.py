@@ -1,7 +1,9 @@
 """One place for matplotlib: the non-interactive backend, and saving a figure safely.
 
     check_plot_path(path)         # before the work: a bad output path is a one-line UserError
+    style()                       # the one look of every figure (fonts, grid, colours, size)
     save_figure(fig, path)        # the folder is made, the file appears whole or not at all
+    band(ax, lo, hi, label)       # a shaded interval (the stable band) with its legend entry
 """
 from __future__ import annotations
 
@@ -20,6 +22,33 @@ def pyplot():
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     return plt
+
+
+STYLE = {
+    "figure.figsize": (7.5, 5.0),
+    "figure.dpi": 110,
+    "font.size": 10,
+    "axes.titlesize": "medium",
+    "axes.grid": True,
+    "grid.alpha": 0.3,
+    "axes.spines.top": False,
+    "axes.spines.right": False,
+    "legend.fontsize": "small",
+    "legend.framealpha": 0.85,
+    "lines.linewidth": 1.4,
+}
+BAND_COLOR = "#2ca02c"
+
+
+def style() -> None:
+    """Apply the one style of all figures (matplotlib rcParams)."""
+    pyplot().rcParams.update(STYLE)
+
+
+def band(ax, lo: float, hi: float, label: str, axis: str = "x") -> None:
+    """Shade [lo, hi] on `ax` (along x or y) as the stable band, with a legend entry."""
+    shade = ax.axvspan if axis == "x" else ax.axhspan
+    shade(lo, hi, color=BAND_COLOR, alpha=0.15, lw=0, label=label)
 
 
 def _existing_ancestor(path: Path) -> Path:

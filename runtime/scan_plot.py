@@ -5,7 +5,8 @@ from pathlib import Path
 
 import numpy as np
 
-from runtime.plotting import pyplot, save_figure
+from runtime.human import sig
+from runtime.plotting import pyplot, save_figure, style
 from runtime.scan_grid import UNITS
 
 
@@ -22,6 +23,7 @@ def draw(res, path: str | Path, title: str = "") -> Path:
     over spin (x) and the other axis (y); the linear spin interval as vertical lines (for a mass
     scan, one pair per mass row: it moves with the mass)."""
     plt = pyplot()
+    style()
     frac = (res.t_survived / res.t_end).T
     fig, ax = plt.subplots(figsize=(8, 5.5))
     mesh = ax.pcolormesh(_edges(res.spins), _edges(res.others), frac, cmap="viridis", vmin=0, vmax=1,
@@ -41,10 +43,12 @@ def draw(res, path: str | Path, title: str = "") -> Path:
     elif np.isfinite(los[0]):
         ax.axvline(los[0], color="r", lw=1.5, label="linear stability interval (thesis 3.3)")
         ax.axvline(his[0], color="r", lw=1.5)
+    ax.grid(False)
     ax.set_xlim(_edges(res.spins)[[0, -1]])
     ax.set_xlabel("spin (rad/s)")
     ax.set_ylabel(f"{res.axis} ({UNITS[res.axis]})")
-    ax.set_title(title or f"stability map: {res.axis} vs spin, t_end = {res.t_end:.3g} s")
+    runs = f"{res.spins.size} x {res.others.size} runs of t_end = {sig(res.t_end, 3)} s each"
+    ax.set_title(f"{title}\n{runs}" if title else f"stability map: {res.axis} vs spin, {runs}")
     ax.legend(loc="upper right", fontsize=8, framealpha=0.8)
     fig.tight_layout()
     return save_figure(fig, path, "--out")

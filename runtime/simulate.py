@@ -2,8 +2,10 @@
 
 The initial state: the centre of mass at (offset, 0, z_s), where z_s is the vertically stable root
 of m g + mu Phi_2(z) = 0 (thesis eqs. 3.3.2-3.3.3, from runtime.equilibrium); the symmetry axis
-n tilted by `tilt` rad towards +y, n = (0, sin tilt, cos tilt) (phi = tilt in the Tait-Bryan
-angles of thesis 3.2.2; phi = pi, theta = tilt in the z-x-z Euler angles of 2.1.9); at rest except
+n tilted by `tilt` rad towards the azimuth `azimuth` (rad from +x towards +y; default pi/2, i.e.
+towards +y), n = (sin tilt cos az, sin tilt sin az, cos tilt) (Tait-Bryan angles of thesis 3.2.2:
+vartheta = asin(sin tilt cos az), phi = atan2(sin tilt sin az, cos tilt); z-x-z Euler angles of
+2.1.9: phi = az + pi/2, theta = tilt); at rest except
 for the spin: angular velocity omega = spin * n, i.e. a right-handed spin of `spin` rad/s about n
 (zeta_dot = -spin in Tait-Bryan angles, where omega_3 = -(zeta_dot + phi_dot sin vartheta),
 thesis 3.2.9; psi_dot = +spin in z-x-z angles, 2.1.10). The momenta are built from these
@@ -32,7 +34,8 @@ from runtime.errors import UserError
 from runtime.integrate import Box, Result, integrate
 from runtime.integrators_table import DEFAULT, lookup
 
-from .plotting import pyplot, save_figure
+from .human import Units, sig
+from .plotting import pyplot, save_figure, style
 
 # ---------------------------------------------------------------- rotations (numpy mirrors of
 # derive/kinematics.py: passive elementary matrices of thesis eqs. 2.1.6-2.1.8 and 3.2.3-3.2.5)
@@ -161,8 +164,20 @@ def momenta_from_velocities(part, q: np.ndarray, qdot: np.ndarray, p=None) -> np
     return np.linalg.solve(Minv, np.asarray(qdot, float) - f0)
 
 
+DEFAULT_AZIMUTH = math.pi / 2    # the tilt towards +y
+
+
+def tilt_angles(kind: str, tilt: float, azimuth: float = DEFAULT_AZIMUTH) -> list[float]:
+    """The three angles whose body axis is n = (sin tilt cos az, sin tilt sin az, cos tilt), with
+    no rotation about n (module docstring)."""
+    if kind == "tait-bryan":     # n = (sin vartheta, sin phi cos vartheta, cos phi cos vartheta)
+        return [math.atan2(math.sin(tilt) * math.sin(azimuth), math.cos(tilt)),
+                math.asin(math.sin(tilt) * math.cos(azimuth)), 0.0]
+    return [azimuth + math.pi / 2, tilt, 0.0]    # n = (sin phi sin theta, -cos phi sin theta, cos theta)
+
+
 def initial_state(part, z_s: float, spin: float, tilt: float = 0.0, offset: float = 0.0,
-                  p=None) -> np.ndarray:
+                  p=None, azimuth: float = DEFAULT_AZIMUTH) -> np.ndarray:
     """The state of the module docstring, in the part's state order."""
     s = list(part.states)
     coords = coordinate_names(part)
@@ -177,15 +192,12 @@ def initial_state(part, z_s: float, spin: float, tilt: float = 0.0, offset: floa
         qdot[coords.index("zeta")] = -spin        # as Tait-Bryan on the invariant set: omega_3 = -zeta_dot
     else:
         q[coords.index("x")] = offset
-        angles = [0.0, 0.0, 0.0]
-        if kind == "tait-bryan":
-            angles[0] = tilt                      # n = (0, sin tilt, cos tilt)
-        else:
-            angles[0], angles[1] = math.pi, tilt  # n = R1(pi)^T R2(tilt)^T e_z = (0, sin, cos)
+        angles = tilt_angles(kind, tilt, azimuth)
         for a, v in zip(ANGLES[kind], angles):
             q[coords.index(a)] = v
         n = rotation_bs(kind, angles)[:, 2]
-        if not np.allclose(n, [0.0, math.sin(tilt), math.cos(tilt)], atol=1e-15, rtol=0):
+        want = [math.sin(tilt) * math.cos(azimuth), math.sin(tilt) * math.sin(azimuth), math.cos(tilt)]
+        if not np.allclose(n, want, atol=1e-14, rtol=0):
             raise AssertionError(f"tilt convention broken: n = {n}")
         # the spin angle's rate that gives omega . n = spin, omega = vee(dR/da R^T) a_dot
         ispin = ANGLES[kind].index(SPIN_ANGLE[kind])
@@ -258,7 +270,8 @@ def time_scale(model, p, z_s: float, spin: float, pvals: dict) -> tuple[float, s
 def simulate(model, spin: float, tilt: float = 0.0, offset: float = 0.0, t_end: float = 1.0,
              integrator: str = DEFAULT, tol: float | None = 1e-9, box: float | None = None,
              plot: str | Path | None = None, part: str = "full", h: float | None = None,
-             n_out: int = 2000, params: dict | None = None) -> dict:
+             n_out: int = 2000, params: dict | None = None,
+             azimuth: float = DEFAULT_AZIMUTH) -> dict:
     """Run one trajectory and answer docs/contract.md's `simulate` keys (plus details).
 
     box: the half-width of the box (m), default z_s / 2. params: parameter values overriding the
@@ -266,7 +279,7 @@ def simulate(model, spin: float, tilt: float = 0.0, offset: float = 0.0, t_end: 
     pt = model.part(part)
     p = model.with_params(params or {})
     pvals = model.pvals(p)
-    for label, v in (("spin", spin), ("tilt", tilt), ("offset", offset)):
+    for label, v in (("spin", spin), ("tilt", tilt), ("offset", offset), ("tilt-azimuth", azimuth)):
         if v is None or not math.isfinite(v):
             raise UserError(f"--{label} must be a finite number")
     entry = lookup(integrator)
@@ -275,7 +288,7 @@ def simulate(model, spin: float, tilt: float = 0.0, offset: float = 0.0, t_end: 
     bx = default_box(pt, z_s, box)
     if entry.fixed_step and h is None:
         h = T / 100
-    x0 = initial_state(pt, z_s, spin, tilt, offset, p)
+    x0 = initial_state(pt, z_s, spin, tilt, offset, p, azimuth)
     if bx.excess(x0) > 0:
         raise UserError(f"the initial state is already outside the box (offset {offset} m vs half-width "
                         f"{bx.z_hi - z_s:.4g} m); pass a smaller --offset or a larger --box")
@@ -283,7 +296,28 @@ def simulate(model, spin: float, tilt: float = 0.0, offset: float = 0.0, t_end: 
     res = integrate(pt, x0, t_end, method=integrator, tol=tol if not entry.fixed_step else None,
                     h=h, p=p, box=bx, n_out=n_out, scale=scale,
                     monitor_energy=entry.monitors_energy, time_scale=T, time_scale_what=what)
-    return summarize(pt, res, x0, p, z_s, bx, spin, tilt, offset, t_end, integrator, tol, h, plot)
+    out = summarize(pt, res, x0, p, z_s, bx, spin, tilt, offset, t_end, integrator, tol, h, plot)
+    out["tilt_azimuth"] = azimuth
+    return out
+
+
+def spin_momentum(part, x) -> float:
+    """L.n, the angular momentum about the symmetry axis: -p_zeta (Tait-Bryan, where
+    p_zeta = -C omega_3, thesis 3.2.9) or p_psi (z-x-z, thesis 2.1.10); NaN if neither."""
+    s = list(part.states)
+    if "p_zeta" in s:
+        return -float(x[s.index("p_zeta")])
+    if "p_psi" in s:
+        return float(x[s.index("p_psi")])
+    return float("nan")
+
+
+def largest_deviation(values, scale: float) -> float | None:
+    """max_t |v(t) - v(0)| / scale (None if undefined): an invariant's worst drift over the run."""
+    v = np.asarray(values, float)
+    if not len(v) or not np.all(np.isfinite(v)) or not scale > 0:
+        return None
+    return float(np.abs(v - v[0]).max() / scale)
 
 
 def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, integrator, tol, h,
@@ -332,27 +366,49 @@ def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, i
             "L_z": [lz0, lz1],
             "p_zeta": pz,
         },
+        "conserved_max_deviation": _deviations(pt, X, x0, pv, spin, float(drift.max())),
         "part": pt.name if hasattr(pt, "name") else None,
         "coordinates": coordinates_of(pt),
         "plot": None,
     }
     if plot:
-        out["plot"] = str(draw(res.t, z - z_s, r, tilt_t, plot, out))
+        scene = getattr(getattr(pt, "model", None), "scene", None)
+        out["plot"] = str(draw(res.t, z - z_s, r, tilt_t, plot, out, pv.get("g"),
+                               getattr(scene, "name", "")))
     return out
 
 
-def draw(t, dz, r, tilt, path, info) -> Path:
-    """Height above z_s, radial offset and tilt against time (matplotlib, Agg)."""
+def _deviations(pt, X, x0, pv: dict, spin: float, energy: float) -> dict:
+    """The largest relative deviation over the samples of H (given), L_z and L.n, each relative to
+    max(|its start value|, C |spin|) (the spin's angular momentum: the scale of both)."""
+    c_spin = pv.get("C", 0.0) * abs(spin)
+    lz = [angular_momentum_z(pt, x0)] + [angular_momentum_z(pt, x) for x in X]
+    ln = [spin_momentum(pt, x0)] + [spin_momentum(pt, x) for x in X]
+    return {"energy": energy,
+            "L_z": largest_deviation(lz, max(abs(lz[0]), c_spin)),
+            "L_n": largest_deviation(ln, max(abs(ln[0]), c_spin))}
+
+
+def draw(t, dz, r, tilt, path, info, g=None, scene: str = "") -> Path:
+    """Height above z_s, radial offset and tilt against time (matplotlib, Agg; runtime/plotting.py
+    style): mm and s in an SI scene, the scene's own units otherwise."""
+    u = Units.of(g)
     plt = pyplot()
+    style()
+    k, lu, tu = (1e3, "mm", "s") if u.si else (1.0, "scene units", "time units")
     fig, ax = plt.subplots(3, 1, sharex=True, figsize=(7, 7))
-    ax[0].plot(t, dz * 1e3)
-    ax[0].set_ylabel("z - z_s (mm)")
-    ax[1].plot(t, r * 1e3)
-    ax[1].set_ylabel("radial offset (mm)")
-    ax[2].plot(t, np.degrees(tilt))
+    ax[0].plot(t, dz * k, label="z - z_s")
+    ax[0].axhline(0, color="0.5", lw=0.8, ls="--", label=f"z_s = {u.length(info['z_s'])}")
+    ax[0].set_ylabel(f"height above z_s ({lu})")
+    ax[1].plot(t, r * k, color="C1", label="sqrt(x^2 + y^2)")
+    ax[1].set_ylabel(f"radial offset ({lu})")
+    ax[2].plot(t, np.degrees(tilt), color="C2", label="angle of the axis to the vertical")
     ax[2].set_ylabel("tilt (deg)")
-    ax[2].set_xlabel("t (s)")
-    ax[0].set_title(f"spin {info['spin']['rad_s']:g} rad/s, z_s = {info['z_s'] * 1e3:.2f} mm: "
-                    f"{info['status']} (t = {info['t_survived']:.3g} s)")
+    ax[2].set_xlabel(f"t ({tu})")
+    for a in ax:
+        a.legend(loc="best")
+    verdict = "levitating" if info["levitating"] else info["status"]
+    ax[0].set_title(f"{scene}: spin {u.rate(info['spin']['rad_s'], 4)}, z_s = {u.length(info['z_s'])}\n"
+                    f"{verdict} for {sig(info['t_survived'], 3)} {tu}", fontsize="medium")
     fig.tight_layout()
     return save_figure(fig, path)

@@ -11,4 +11,5 @@ COMMANDS = (
     "simulate",
     "bench",
     "scan",
+    "report",
 )

@@ -2,11 +2,13 @@
 from __future__ import annotations
 
 from .. import bench as _bench
+from ..human import duration, lines, sig
 from .common import model_of
 
 NAME = "bench"
 HELP = ("work-precision report: error of the final state against wall time for every backend and "
         "integrator, reduced and full model; CSV/JSON/PNG in reports/")
+EXAMPLE = 'levitron bench thesis_stable --quick'
 
 
 def add_arguments(parser) -> None:
@@ -19,3 +21,22 @@ def add_arguments(parser) -> None:
 def run(args) -> dict:
     out = args.out or ("out/bench-quick" if args.quick else "reports")
     return _bench.run(model_of(args), out, args.quick)
+
+
+def human(r: dict, scene=None) -> str:
+    """Answer first: the fastest run within the error goal; then the table's size and files."""
+    g = r.get("goals") or {}
+    best = g.get("c_dop853")
+    head = "bench: no run met the error goal"
+    if best:
+        head = (f"bench: C dop853 reaches error {sig(best['error'], 2)} in {duration(best['wall_s'])} "
+                f"({best['model']} model; goal: error below {sig(g.get('error_bound'), 2)})")
+    speed = [f"{k.replace('_', ' ')} {sig(g[k], 3)}x" for k in ("speedup_vs_scipy", "speedup_vs_cvodes")
+             if g.get(k) is not None]
+    rhs = (f"full_rhs: {sig(g['full_rhs_ns'], 3)} ns per call ({g.get('full_rhs_ops')} operations)"
+           if g.get("full_rhs_ns") is not None else "")
+    files = r.get("files")
+    return lines(head, ", ".join(speed), rhs,
+                 f"{len(r['rows'])} runs in {duration(r.get('wall_s'))}",
+                 f"files: {files}" if isinstance(files, int) else
+                 ("files: " + ", ".join(map(str, files)) if files else ""))

@@ -14,7 +14,9 @@ from pathlib import Path
 
 from derive.paths import ROOT, SCENES_DIR
 
+from .. import progress
 from ..errors import UserError
+from ..human import duration, lines
 from ..model import committed_folder, locate
 from .common import load
 
@@ -22,6 +24,7 @@ NAME = "derive"
 HELP = ("regenerate the models of the given scenes (default: all of scenes/); variants (--set) and "
         "out-of-tree scenes go to the cache, never to generated/")
 MULTI_SCENE = True
+EXAMPLE = 'levitron derive thesis ring_magnet'
 
 
 def add_arguments(parser) -> None:
@@ -37,7 +40,7 @@ def run(args) -> dict:
         done = {r["name"]: r for r in _derive_committed(
             [s for s, c in zip(scenes, committed) if c], args.force)}
     results = []
-    for scene, is_committed in zip(scenes, committed):
+    for scene, is_committed in progress.track(list(zip(scenes, committed)), "derive"):
         if is_committed:
             results.append(done[scene.name])
             continue
@@ -60,3 +63,14 @@ def _derive_committed(scenes, force: bool) -> list[dict]:
         last = (res.stderr.strip().splitlines() or ["derive failed"])[-1]
         raise UserError(last.removeprefix("error: "))
     return json.loads(res.stdout)["scenes"]
+
+
+def human(r: dict, scene=None) -> str:
+    """One line per scene: derived or unchanged, how long, where."""
+    rows = []
+    for s in r["scenes"]:
+        what = "unchanged (skipped by hash)" if s.get("skipped") else "derived"
+        where = f" -> {s['folder']}" if s.get("folder") else ""
+        rows.append(f"{s['name']}: {what} in {duration(s.get('seconds'))}{where}")
+    done = sum(1 for s in r["scenes"] if not s.get("skipped"))
+    return lines(f"derive: {done} of {len(r['scenes'])} scenes derived", *rows)

@@ -8,11 +8,13 @@ from __future__ import annotations
 import time
 
 from .. import equilibrium as eqm
+from ..human import Units, lines, reference, restate, span
 from ..plotting import check_plot_path
 from .common import model_of
 
 NAME = "equilibrium"
 HELP = "vertical equilibria, z_c, the largest mass, and the band where a spin can stabilise the top"
+EXAMPLE = 'levitron equilibrium thesis --plot out/thesis_equilibrium.png'
 
 
 def add_arguments(parser) -> None:
@@ -65,3 +67,35 @@ def run(args) -> dict:
         from ..figures_stability import figure_3_5
         out["plot"] = str(figure_3_5(model, Path(args.plot)))
     return out
+
+
+def human(r: dict, scene=None) -> str:
+    """Answer first: the equilibria (with the scene's stated value beside), then the band, the reason."""
+    u = Units.of_scene(scene) if scene is not None else Units(si=True)
+    ref = reference(scene, "z_stable") if scene is not None else None
+    roots = []
+    for e in r["equilibria"]:
+        kind = "vertically stable" if e["vertically_stable"] else "vertically unstable"
+        if e.get("marginal"):
+            kind = "marginal"
+        if ref and e["vertically_stable"]:
+            kind += f"; {ref[1]}: {u.length(ref[0])}"
+        roots.append(f"{u.length(e['z'])} ({kind})")
+    band, adia = r["stable_band"], r["adiabatic_band"]
+    band_line = "stable_band: none (no height where a spin can stabilise the top)"
+    if band:
+        band_line = (f"stable_band: z {span(*band['z'], u.cm)}, mass {span(*band['mass'], u.mass)}")
+        if adia:
+            band_line += f"   (Berry-Simon's adiabatic band: {span(*adia['z'], u.cm)})"
+    poles = [f"{s['kind']} at {u.length(s['z'])}" + (f"-{u.length(s['z_end'])}" if s.get("z_end") not in
+                                                        (None, s["z"]) else "")
+             for s in r.get("singularities") or []]
+    return lines(
+        f"equilibria: {', '.join(roots) if roots else 'none'}",
+        band_line,
+        f"singular (not equilibria): {', '.join(poles)}" if poles else "",
+        f"reason: {restate(r['reason'], u)}" if r.get("reason") else "",
+        f"top {u.mass(r['mass'])}; z_c {u.length(r['z_c'])} (where the band starts); the heaviest top "
+        f"that hovers: {u.mass(r['max_mass'])}" if r.get("z_c") is not None else "",
+        u.note,
+        f"plot: {r['plot']}" if r.get("plot") else "")

@@ -13,11 +13,13 @@ import math
 import numpy as np
 
 from ..errors import UserError
+from ..human import Units, lines, sig
 from ..plates import plate_field
 from .common import model_of
 
 NAME = "field"
 HELP = "magnetic field at points: the model's expansion and the exact closed form"
+EXAMPLE = 'levitron field ring_magnet --at 0.01,0,0.05'
 
 
 def add_arguments(parser) -> None:
@@ -63,3 +65,27 @@ def run(args) -> dict:
     if scene.notes:
         result["notes"] = scene.notes
     return result
+
+
+def human(r: dict, scene=None) -> str:
+    """Per point: B of the expansion, the exact B beside it and their relative difference."""
+    u = Units.of_scene(scene) if scene is not None else Units(si=True)
+    unit = "mT" if u.si else "(scene units)"
+    k = 1e3 if u.si else 1.0
+
+    def vec(b):
+        return "(" + ", ".join(sig(c * k, 4) for c in b) + f") {unit}"
+
+    rows = []
+    for p in r["points"]:
+        where = ", ".join(u.length(c) if c else "0" for c in p["r"])
+        row = f"B at ({where}): {vec(p['B'])}"
+        if p.get("B_exact") is not None:
+            row += f"; exact {vec(p['B_exact'])}"
+            if p.get("relative_difference") is not None:
+                row += f"; the expansion (order {r['field_order']}) differs by {sig(p['relative_difference'], 2)}"
+        if p.get("note"):
+            row += f" ({p['note']})"
+        rows.append(row)
+    return lines(*rows, f"exact: {r['exact']}" if r.get("exact") else "",
+                 *[f"note: {n}" for n in r.get("notes") or []], u.note)

@@ -9,10 +9,13 @@ from __future__ import annotations
 from pathlib import Path
 
 from .. import figures_stability, solver_compare
+from ..human import lines
 from .common import model_of
 
 NAME = "figures"
 HELP = "redraw the thesis's figures (3.2, 3.3, 3.5, 3.6, 3.7) as PNG files"
+EXAMPLE = 'levitron figures thesis --out out/figures'
+
 
 def add_arguments(parser) -> None:
     parser.add_argument("--out", default="out/figures", help="folder for the PNG files")
@@ -26,3 +29,7 @@ def run(args) -> dict:
     files = [f for f in solver_compare.run(outdir, quick=args.quick)["files"] if f.endswith(".png")]
     files += [str(p) for p in figures_stability.make_figures(outdir, model)]
     return {"scene": model.scene.name, "files": files}
+
+
+def human(r: dict, scene=None) -> str:
+    return lines(f"figures of {r['scene']}: {len(r['files'])} files", *r["files"])

@@ -7,6 +7,7 @@ from pathlib import Path
 
 from .. import scan as sc
 from ..errors import UserError
+from ..human import Units, duration, lines, sig
 from ..integrators_table import DEFAULT, METHODS, lookup
 from ..plotting import check_plot_path
 from ..scan_grid import check_axis, parse_range, pick_axis
@@ -22,6 +23,7 @@ HELP = ("stability map: does the top stay up, over --spin LO:HI:N and one of --t
 # negative-number test (a private attribute, present in 3.8-3.13) is widened to ranges; where it is
 # missing, `--height=-0.3:0.3:5` still works.
 _NEGATIVE_RANGE = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?(:.*)?$")
+EXAMPLE = 'levitron scan thesis_stable --spin 200:3500:20 --tilt 0.005:0.1:10 --out out/map.png'
 
 
 def add_arguments(parser) -> None:
@@ -55,7 +57,6 @@ def add_arguments(parser) -> None:
                         help="run on a dask.distributed cluster (e.g. tcp://host:8786); needs the "
                              "`cluster` extra: pip install 'levitron[cluster]'")
     parser.add_argument("--out", default=None, metavar="FILE.png", help="draw the map to FILE.png")
-    parser.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
 
 
 def run(args) -> dict:
@@ -87,3 +88,32 @@ def run(args) -> dict:
     if args.out:
         out["out"] = str(draw(res, args.out, f"{scene.name}: levitating vs spin and {axis}"))
     return out
+
+
+def _axis_value(axis: str, v: float, u: Units) -> str:
+    if axis == "tilt":
+        return u.angle(v)
+    if axis == "mass":
+        return u.mass(v)
+    return f"{sig(v, 3)} z_s"
+
+
+def human(r: dict, scene=None) -> str:
+    """Answer first: where it levitates (the spin range per row), then the linear interval beside."""
+    u = Units.of_scene(scene) if scene is not None else Units(si=True)
+    axis = r["axes"][1]
+    spins = r["grid"]["spin"]
+    rows = []
+    for j, v in enumerate(r["grid"][axis]):
+        up = [spins[i] for i in range(len(spins)) if r["levitating"][i][j]]
+        where = f"stays up for spin {u.rate_span(min(up), max(up))}" if up else "falls at every spin"
+        rows.append(f"  {axis} {_axis_value(axis, v, u)}: {where} ({len(up)} of {len(spins)})")
+    iv = r.get("spin_interval")
+    return lines(
+        f"levitating at {sig(100 * r['fraction_levitating'], 3)}% of {r['points']} points "
+        f"(spin x {axis}, {u.time(r['t_end'])} each)",
+        *rows,
+        f"linear spin interval: {u.rate_span(*iv)}" if iv else "linear spin interval: none",
+        f"{duration(r['wall_s'])} of wall time, {r['runner']['kind']} runner",
+        u.note,
+        f"map: {r['out']}" if r.get("out") else "")

@@ -2,20 +2,24 @@
 from __future__ import annotations
 
 from ..errors import UserError
+from ..human import Units, duration, lines, sig
 from ..integrators_table import DEFAULT, METHODS, lookup
 from ..plotting import check_plot_path
-from ..simulate import simulate
+from ..simulate import DEFAULT_AZIMUTH, simulate
 from .common import model_of
 
 NAME = "simulate"
 HELP = ("one trajectory from the stable hover height: does the top stay levitating, for how long, "
         "energy drift, work and wall time")
+EXAMPLE = 'levitron simulate thesis_stable --spin 1000 --tilt 0.01 --offset 0.001 --t-end 5 --plot out/run.png'
 
 
 def add_arguments(parser) -> None:
     parser.add_argument("--spin", type=float, default=None, metavar="W",
                         help="spin rate about the symmetry axis, rad/s (see `levitron stability`)")
     parser.add_argument("--tilt", type=float, default=0.0, metavar="TH", help="initial tilt of the axis, rad")
+    parser.add_argument("--tilt-azimuth", type=float, default=DEFAULT_AZIMUTH, metavar="AZ",
+                        help="direction of the tilt, rad from +x towards +y (default pi/2: towards +y)")
     parser.add_argument("--offset", type=float, default=0.0, metavar="DX", help="initial offset in x, m")
     parser.add_argument("--t-end", type=float, default=1.0, metavar="T", help="run length, s (default 1)")
     parser.add_argument("--integrator", default=DEFAULT, metavar="NAME",
@@ -41,4 +45,27 @@ def run(args) -> dict:
     model = model_of(args)
     return simulate(model, spin=args.spin, tilt=args.tilt, offset=args.offset, t_end=args.t_end,
                     integrator=args.integrator, tol=args.tol, box=args.box, plot=args.plot,
-                    part=args.part, h=args.step, n_out=args.n_out)
+                    part=args.part, h=args.step, n_out=args.n_out,
+                    azimuth=args.tilt_azimuth)
+
+
+def human(r: dict, scene=None) -> str:
+    """Answer first: does it stay up, for how long; then the launch, the excursions, the invariants."""
+    u = Units.of_scene(scene) if scene is not None else Units(si=True)
+    up = "yes" if r["levitating"] else f"no ({r['status']}: {r['message']})"
+    dev = r.get("conserved_max_deviation") or {}
+    inv = [f"energy {sig(r['energy_drift'], 2)}"]
+    inv += [f"{k} {sig(dev[k], 2)}" for k in ("L_z", "L_n") if dev.get(k) is not None]
+    azi = r.get("tilt_azimuth")
+    toward = f" toward azimuth {u.angle(azi)}" if azi is not None else ""
+    return lines(
+        f"levitating: {up}, {u.time(r['t_survived'])} of flight (of {u.time(r['t_end'])}), "
+        f"{duration(r['wall_s'])} of wall time",
+        f"launch: spin {u.rate(r['spin']['rad_s'])}, tilt {u.angle(r['tilt'])}{toward}, offset "
+        f"{u.length(r['offset'])}, from z_s = {u.length(r['z_s'])}",
+        f"largest excursion: height {u.length(r['max_height_deviation'])}, radial "
+        f"{u.length(r['max_radial_offset'])}, tilt {u.angle(r['max_tilt'])}",
+        f"invariants, largest relative deviation over the run: {', '.join(inv)}",
+        f"integrator: {r['integrator']} ({r['backend']}), {sig(r['rhs_evals'], 6)} rhs evaluations",
+        u.note,
+        f"plot: {r['plot']}" if r.get("plot") else "")

@@ -10,11 +10,13 @@ from __future__ import annotations
 import time
 
 from ..errors import UserError
+from ..human import Units, lines, restate, sig
 from ..stability import stability_of
 from .common import model_of
 
 NAME = "stability"
 HELP = "spin interval of linear stability at the stable height (two routes), thesis approximations"
+EXAMPLE = 'levitron stability thesis_stable'
 
 
 def add_arguments(parser) -> None:
@@ -35,3 +37,31 @@ def run(args) -> dict:
                            else "transverse_matrix (8-D)")
     out["wall_s"] = wall
     return out
+
+
+def _agreement(routes) -> str:
+    a, b = routes.get("discriminant"), routes.get("eigenvalues")
+    if not a or not b:
+        return ""
+    rel = max(abs(x - y) / max(abs(x), 1e-300) for x, y in zip(a, b))
+    return f", both routes agree to {sig(max(rel, 1e-16), 1)}"
+
+
+def human(r: dict, scene=None) -> str:
+    """Answer first: the spin interval (rad/s, Hz, rpm), then where, the thesis's approximations."""
+    u = Units.of_scene(scene) if scene is not None else Units(si=True)
+    iv = r.get("spin_interval")
+    head = (f"spin_interval: {u.rate_span(*iv)}{_agreement(r['routes'])}" if iv
+            else "spin_interval: none: no spin rate stabilises this top")
+    ap = r.get("approximations") or {}
+    approx = ""
+    if ap.get("sigma1") is not None:
+        approx = (f"thesis approximations (eqs. 3.3.22/3.3.23 at z_c = {u.length(ap['z_c'])}): "
+                  f"{u.rate(ap['sigma1'])} to {u.rate(ap['sigma2'])}")
+    more = [ivl for ivl in r["all_intervals"].get("discriminant", [])[1:]]
+    return lines(
+        head,
+        f"at z_s = {u.length(r['z_s'])} for the {u.mass(r['mass'])} top" if r.get("z_s") else "",
+        "further intervals: " + ", ".join(u.rate_span(*ivl) for ivl in more) if more else "",
+        f"reason: {restate(r['reason'], u)}" if r.get("reason") else "",
+        approx, u.note)

@@ -1,0 +1,171 @@
+"""Numbers with units for people: the human view of every command (JSON stays SI, unformatted).
+
+    u = Units.of(g)              # SI scene (cm, g, Hz, rpm) or dimensionless (scene units)
+    u.length(0.1574)  -> "15.74 cm"          u.mass(0.0515) -> "51.5 g"
+    u.rate(459.6)     -> "460 rad/s (73.2 Hz, 4390 rpm)"
+    sig(1.5141e-10)   -> "1.5e-10"
+
+Which units: a scene is SI when its gravity is Earth's, 9 <= g <= 10.5 m/s^2 (the scene key `g`,
+default 9.81); any other g (a dimensionless scene has g = 1) is shown in the scene's own units,
+plain numbers without cm or g, so that nothing assumes SI magnitudes blindly. No number is printed
+with more than 6 significant digits (4 by default).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+G_SI = (9.0, 10.5)     # m/s^2: the range of g that marks a scene as SI
+
+
+def sig(v, digits: int = 4) -> str:
+    """`v` to `digits` significant digits (at most 6), without trailing zeros; None/NaN -> "n/a"."""
+    if v is None:
+        return "n/a"
+    v = float(v)
+    if not math.isfinite(v):
+        return "n/a" if math.isnan(v) else ("inf" if v > 0 else "-inf")
+    digits = max(1, min(6, digits))
+    if v == 0:
+        return "0"
+    mag = math.floor(math.log10(abs(v)))
+    if -4 <= mag < 6:
+        decimals = digits - 1 - mag
+        v = round(v, decimals)
+        decimals = max(0, decimals)
+        text = f"{v:.{decimals}f}"
+        if "." in text:
+            text = text.rstrip("0").rstrip(".")
+        return text
+    mant, exp = f"{v:.{digits - 1}e}".split("e")
+    if "." in mant:
+        mant = mant.rstrip("0").rstrip(".")
+    return f"{mant}e{int(exp)}"
+
+
+def span(lo, hi, fmt) -> str:
+    """"lo-hi unit" from a formatter that returns "number unit"."""
+    a, b = fmt(lo), fmt(hi)
+    ua, ub = a.partition(" ")[2], b.partition(" ")[2]
+    if ua == ub:               # one unit (or none: a dimensionless scene)
+        return f"{a.partition(' ')[0]}-{b}"
+    return f"{a} to {b}"
+
+
+def duration(t) -> str:
+    """A wall time or a run length in seconds: "7 ms", "4.2 s", "3 min 5 s"."""
+    if t is None:
+        return "n/a"
+    t = float(t)
+    if t < 1e-3:
+        return f"{sig(t * 1e6, 3)} us"
+    if t < 1:
+        return f"{sig(t * 1e3, 3)} ms"
+    if t < 120:
+        return f"{sig(t, 3)} s"
+    return f"{int(t // 60)} min {round(t % 60)} s"
+
+
+@dataclass(frozen=True)
+class Units:
+    """How a scene's numbers are shown: SI scenes in cm, g, Hz/rpm; other scenes in their own units."""
+
+    si: bool
+
+    @classmethod
+    def of(cls, g) -> Units:
+        """SI when G_SI[0] <= g <= G_SI[1] (Earth's gravity in m/s^2); otherwise scene units."""
+        return cls(si=g is not None and G_SI[0] <= abs(float(g)) <= G_SI[1])
+
+    @classmethod
+    def of_scene(cls, scene) -> Units:
+        return cls.of(scene.params.get("g", 9.81))
+
+    @property
+    def note(self) -> str:
+        return "" if self.si else "(dimensionless scene: numbers in the scene's own units)"
+
+    def length(self, v, digits: int = 4) -> str:
+        if v is None:
+            return "n/a"
+        if not self.si:
+            return sig(v, digits)
+        if abs(v) >= 1 or v == 0:
+            return f"{sig(v, digits)} m"
+        if abs(v) >= 0.01:
+            return f"{sig(v * 100, digits)} cm"
+        if abs(v) >= 1e-5:
+            return f"{sig(v * 1e3, digits)} mm"
+        return f"{sig(v * 1e6, digits)} um"
+
+    def cm(self, v, digits: int = 4) -> str:
+        """A length in cm always (a fixed unit for ranges and tables), scene units otherwise."""
+        return f"{sig(v * 100, digits)} cm" if self.si else sig(v, digits)
+
+    def mass(self, v, digits: int = 4) -> str:
+        if not self.si:
+            return sig(v, digits)
+        return f"{sig(v * 1e3, digits)} g" if abs(v) < 1 else f"{sig(v, digits)} kg"
+
+    def rate(self, w, digits: int = 4) -> str:
+        """An angular rate: rad/s with Hz and rpm beside (SI); scene units otherwise."""
+        if w is None:
+            return "n/a"
+        if not self.si:
+            return f"{sig(w, digits)} rad/time"
+        return (f"{sig(w, digits)} rad/s ({sig(w / (2 * math.pi), 3)} Hz, "
+                f"{sig(w * 60 / (2 * math.pi), 3)} rpm)")
+
+    def rate_span(self, lo, hi, digits: int = 4) -> str:
+        if not self.si:
+            return f"{sig(lo, digits)}-{sig(hi, digits)} rad/time"
+        hz = 2 * math.pi
+        return (f"{sig(lo, digits)}-{sig(hi, digits)} rad/s ({sig(lo / hz, 3)}-{sig(hi / hz, 3)} Hz, "
+                f"{sig(lo * 60 / hz, 3)}-{sig(hi * 60 / hz, 3)} rpm)")
+
+    def time(self, t) -> str:
+        return duration(t) if self.si else f"{sig(t, 4)} time units"
+
+    def angle(self, a) -> str:
+        """Radians with degrees beside (angles have no scene units)."""
+        return f"{sig(a, 3)} rad ({sig(math.degrees(a), 3)} deg)"
+
+    def field(self, b) -> str:
+        if not self.si:
+            return sig(b, 4)
+        return f"{sig(b * 1e3, 4)} mT" if abs(b) < 1 else f"{sig(b, 4)} T"
+
+
+def reference(scene, key: str):
+    """A value the scene states for comparison (optional `[reference]` table: `key = value`, and
+    `source = "..."`), as (value, source) or None."""
+    table = (getattr(scene, "data", None) or {}).get("reference") or {}
+    if key not in table:
+        return None
+    return float(table[key]), str(table.get("source", "stated"))
+
+
+_NUM = r"(-?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)"
+
+
+def restate(text, units: Units) -> str:
+    """A reason sentence of the JSON (SI: "z = 0.157391 m", "[0.0995, 0.110] m", "0.0503 kg",
+    "z_s = 0.157391") with its lengths and masses in the human units (bare numbers in a
+    dimensionless scene, whose JSON sentences still say m and kg)."""
+    import re
+    if not text:
+        return ""
+    text = re.sub(rf"\[{_NUM}, {_NUM}\] m\b",
+                  lambda m: span(float(m.group(1)), float(m.group(2)), units.cm), str(text))
+    text = re.sub(rf"\[{_NUM}, {_NUM}\] kg\b",
+                  lambda m: span(float(m.group(1)), float(m.group(2)), units.mass), text)
+    text = re.sub(rf"{_NUM} m\b", lambda m: units.length(float(m.group(1))), text)
+    text = re.sub(rf"{_NUM} kg\b", lambda m: units.mass(float(m.group(1))), text)
+    text = re.sub(rf"\b(z_s|z) = {_NUM}(?![\d.eE])(?! ?(?:m|kg|cm|mm|um|g)\b)",
+                  lambda m: f"{m.group(1)} = {units.length(float(m.group(2)))}", text)
+    return text
+
+
+def lines(*items) -> str:
+    """The non-empty items, one a line."""
+    return "\n".join(str(i) for i in items if i)
