@@ -32,6 +32,7 @@ __all__ = ["MU0", "SCENES_DIR", "Scene", "SceneError", "find_scene_file", "load_
 
 NEEDS = ("reduced", "full", "linear")
 COORDINATES = ("tait-bryan", "euler-zxz")
+UNITS = ("SI", "dimensionless")
 
 # The keys of every section but [plate] (whose keys are the plate kinds', derive/plates/); the
 # contract docs/scenes.md is generated from these and the registry (`python -m derive.plates.docs`).
@@ -39,6 +40,12 @@ SCENE_KEYS = (
     Key("name", "", "the scene's name (letters, digits, '-', '_'; default: the file's stem)"),
     Key("description", "", "free text"),
     Key("g", "m/s^2", "gravity (default 9.81; 1 in a dimensionless scene)"),
+    Key("units", "", f"how numbers are shown to a person, one of {list(UNITS)} (default: \"SI\" "
+        "when 9 <= g <= 10.5, else \"dimensionless\"); never how they are computed"),
+)
+REFERENCE_KEYS = (
+    Key("source", "", "where the stated values come from (e.g. \"thesis\"), shown beside them"),
+    Key("z_stable", "m", "a stated height of the vertically stable equilibrium, shown beside ours"),
 )
 TOP_KEYS = (
     Key("mass", "kg", "mass m of the top"),
@@ -175,7 +182,17 @@ def load_scene(name_or_path: str | Path, overrides: list[str] | tuple[str, ...] 
 
 def validate(data: dict, path: Path | None = None) -> Scene:
     """Check every key and resolve the parameters; raises SceneError on the first problem."""
-    check_keys(data, _names(SCENE_KEYS) | {"top", "plate", "field", "model"}, "scene")
+    check_keys(data, _names(SCENE_KEYS) | {"top", "plate", "field", "model", "reference"}, "scene")
+    if data.get("units", "SI") not in UNITS:
+        raise SceneError(f"units = {data['units']!r}: use one of {list(UNITS)}")
+    ref = data.get("reference", {})
+    if not isinstance(ref, dict):
+        raise SceneError("reference = ... is not a section: write [reference] with its keys")
+    check_keys(ref, _names(REFERENCE_KEYS), "reference")
+    if not isinstance(ref.get("source", ""), str):
+        raise SceneError("reference.source must be text, e.g. source = \"thesis\"")
+    if "z_stable" in ref:
+        number(ref, "z_stable", "reference", positive=True)
     for section in ("top", "plate"):
         if section not in data or not isinstance(data[section], dict):
             raise SceneError(f"the scene has no [{section}] section: add it (see docs/contract.md)")

@@ -79,6 +79,10 @@ class Units:
 
     @classmethod
     def of_scene(cls, scene) -> Units:
+        """The scene's `units` key when it gives one, else the g rule of `of`."""
+        stated = (getattr(scene, "data", None) or {}).get("units")
+        if stated is not None:
+            return cls(si=stated == "SI")
         return cls.of(scene.params.get("g", 9.81))
 
     @property

@@ -84,6 +84,12 @@ def render() -> str:
         "",
         *_table(scene.MODEL_KEYS),
         "",
+        "## [reference] (optional)",
+        "",
+        "Values a source states for this scene, shown beside the computed ones (never used in them).",
+        "",
+        *_table(scene.REFERENCE_KEYS),
+        "",
         "## [plate]",
         "",
         "`kind` is one of " + ", ".join(f"`{k}`" for k in KINDS) + "; each kind's keys follow. "
