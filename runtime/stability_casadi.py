@@ -19,7 +19,7 @@ by tests/test_stability_derivation.py). This module only composes them:
 Each is an implicit function, solved by `casadi.rootfinder` (Newton) from a starting point the
 exact float routes supply (runtime/equilibrium.py, runtime/ray_algebra.py); CasADi then gives
 exact derivatives with respect to every parameter by the implicit function theorem. Residuals are
-divided by the sum of their terms' magnitudes (the sensitivities at the root are unchanged: only
+divided by the 2-norm of their terms (the sensitivities at the root are unchanged: only
 the Newton tolerances see the scaling), and the unknowns are the ratios to their starting
 values, so the rootfinder's tolerances are relative whatever the units. No sympy here.
 """
@@ -32,6 +32,8 @@ import casadi as ca
 from .ray_algebra import _g_poly_by_degree
 
 NEWTON = {"abstol": 1e-15, "abstolStep": 1e-15, "max_iter": 40, "error_on_fail": False}
+# inside an NLP: tolerances every well-conditioned root reaches, a failure is an evaluation error
+NEWTON_STRICT = {"abstol": 1e-12, "abstolStep": 1e-14, "max_iter": 40, "error_on_fail": True}
 
 
 @dataclass(frozen=True)
@@ -49,19 +51,19 @@ class Symbols:
         return self.onaxis(z, self.p)
 
     def hover(self, z, mass=None):
-        """(m g + mu Phi_2(z)) / (|m g| + |mu Phi_2|) (thesis 3.3.2), normalised."""
+        """(m g + mu Phi_2(z)) / |(m g, mu Phi_2)| (thesis 3.3.2), normalised."""
         m = self.par("m") if mass is None else mass
         a, b = m * self.par("g"), self.par("mu") * self.phis(z)[2]
-        return (a + b) / (ca.fabs(a) + ca.fabs(b))
+        return (a + b) / _norm([a, b])
 
     def stiffness(self, z):
         """U''(z) = mu Phi_3(z) (thesis 3.3.3), N/m."""
         return self.par("mu") * self.phis(z)[3]
 
     def phi3_normalised(self, z):
-        """Phi_3(z) / (|Phi_2|/z + |Phi_3|): zero at z_c (thesis 3.3.3)."""
+        """Phi_3(z) / |(Phi_2/z, Phi_3)|: zero at z_c (thesis 3.3.3)."""
         ph = self.phis(z)
-        return ph[3] / (ca.fabs(ph[2]) / z + ca.fabs(ph[3]))
+        return ph[3] / _norm([ph[2] / z, ph[3]])
 
     def hover_mass(self, z):
         """m(z) = -mu Phi_2(z) / g, the mass that hovers at z (thesis 3.3.2)."""
@@ -81,16 +83,43 @@ class Symbols:
         return [a[k] * s ** k for k in range(4)]
 
     def q(self, s, z, mass=None):
-        """Q(s) / sum |terms|, normalised (zero at a critical spin s = 1/sigma^2)."""
+        """Q(s) / |terms|, normalised (zero at a critical spin s = 1/sigma^2)."""
         t = self.cubic(s, z, mass)
-        return sum(t) / sum(ca.fabs(v) for v in t)
+        return sum(t) / _norm(t)
+
+    def four_real(self, s, z, mass=None):
+        """[G, P, D] of N(t) (thesis 3.3.11) at s, each normalised by the 2-norm of its terms:
+        N has four distinct real roots (transverse linear stability) iff G > 0, P < 0
+        and D < 0, with P = 8 a c - 3 b^2 and D = 64 e - 16 c^2 + 16 b^2 c - 16 b d - 3 b^4 the
+        quartic's classical invariants (a = 1, b = -1, c = s (c1 + c3), d = -s c3,
+        e = s^2 (c1 c3 - c2^2))."""
+        ph = self.phis(z)
+        m = self.par("m") if mass is None else mass
+        A, C, mu = self.par("A"), self.par("C"), self.par("mu")
+        c1 = mu * ph[1] * A / C ** 2
+        c2sq = mu ** 2 * ph[2] ** 2 * A ** 3 / (4 * C ** 4 * m)
+        c3 = mu * ph[3] * A ** 2 / (2 * C ** 2 * m)
+        c, d, e = s * (c1 + c3), -s * c3, s ** 2 * (c1 * c3 - c2sq)
+        P = [8 * c, ca.SX(-3)]
+        D = [64 * e, -16 * c ** 2, 16 * c, 16 * d, ca.SX(-3)]
+        return [self.q(s, z, mass), sum(P) / _norm(P), sum(D) / _norm(D)]
 
     def third_root_outside(self, s1, s2, z, mass=None):
         """>= 0 iff the third root of Q lies outside (s1, s2), for roots s1, s2 of Q: with Vieta,
-        s3 = -a2/a3 - s1 - s2, this is a3^2 (s3 - s1)(s3 - s2), normalised by a2^2."""
-        ph_terms = self.cubic(ca.SX(1), z, mass)
-        a2, a3 = ph_terms[2], ph_terms[3]
-        return (-a2 - a3 * (2 * s1 + s2)) * (-a2 - a3 * (s1 + 2 * s2)) / (a2 ** 2)
+        s3 = -a2/a3 - s1 - s2, this is a3^2 (s3 - s1)(s3 - s2) / (a2^2 + a3^2 s2^2) (smooth also
+        where a3 changes sign and s3 passes through infinity)."""
+        return third_root_product(*self.cubic(ca.SX(1), z, mass)[2:], s1, s2)
+
+
+def _norm(terms):
+    """The 2-norm of a list of terms (smooth, unlike the sum of magnitudes)."""
+    return ca.sqrt(sum(t ** 2 for t in terms))
+
+
+def third_root_product(a2, a3, s1, s2):
+    """a3^2 (s3 - s1)(s3 - s2) / (a2^2 + a3^2 s2^2), s3 = -a2/a3 - s1 - s2 the third root of the
+    cubic a0 + a1 s + a2 s^2 + a3 s^3 with roots s1, s2 (Vieta); for floats and CasADi alike."""
+    return (-a2 - a3 * (2 * s1 + s2)) * (-a2 - a3 * (s1 + 2 * s2)) / (a2 ** 2 + a3 ** 2 * s2 ** 2)
 
 
 def symbols(model) -> Symbols:
@@ -99,15 +128,18 @@ def symbols(model) -> Symbols:
     return Symbols(ca.SX.sym("p", len(names)), names, model.casadi("onaxis"))
 
 
-def _root(name: str, unknowns: list[str], outputs: list[str], residual, value_of, sy: Symbols):
+def _root(name: str, unknowns: list[str], outputs: list[str], residual, value_of, sy: Symbols,
+          strict: bool = False):
     """casadi.Function name(<unknown>_guess..., p) -> outputs: Newton on residual(values) with
-    values = guess * v (v ~ 1), v the rootfinder's unknowns; value_of(values) -> output list."""
+    values = guess * v (v ~ 1), v the rootfinder's unknowns; value_of(values) -> output list.
+    strict: a Newton failure is an evaluation error (inside an NLP IPOPT then shortens its step)."""
     n = len(unknowns)
     v = ca.SX.sym("v", n)
     guess = ca.SX.sym("guess", n)
     values = [guess[i] * v[i] for i in range(n)]
+    opts = dict(NEWTON_STRICT if strict else NEWTON)
     res = ca.Function(f"{name}_residual", [v, guess, sy.p], [ca.vertcat(*residual(values))])
-    rf = ca.rootfinder(f"{name}_newton", "newton", res, NEWTON)
+    rf = ca.rootfinder(f"{name}_newton", "newton", res, opts)
     g_in = [ca.SX.sym(f"{u}_guess") for u in unknowns]
     sol = rf(ca.DM.ones(n), ca.vertcat(*g_in), sy.p)
     vals = [g_in[i] * sol[i] for i in range(n)]
@@ -127,14 +159,14 @@ def z_c_function(sy: Symbols) -> ca.Function:
                  lambda v: [v[0], sy.hover_mass(v[0])], sy)
 
 
-def spin_function(sy: Symbols) -> ca.Function:
+def spin_function(sy: Symbols, strict: bool = False) -> ca.Function:
     """spin(z_guess, sigma_lo_guess, sigma_hi_guess, p) -> z_s, sigma_lo, sigma_hi (rad/s): the
     critical spins at the hover height, s = 1/sigma^2 roots of the ray cubic (thesis 3.3.13-3.3.16)."""
     def residual(v):
         z, lo, hi = v
         return [sy.hover(z), sy.q(1 / lo ** 2, z), sy.q(1 / hi ** 2, z)]
     return _root("spin", ["z", "sigma_lo", "sigma_hi"], ["z_s", "sigma_lo", "sigma_hi"], residual,
-                 lambda v: list(v), sy)
+                 lambda v: list(v), sy, strict)
 
 
 FUNCTIONS = {"z_s": z_s_function, "z_c": z_c_function, "spin": spin_function}
@@ -150,6 +182,8 @@ class Starts:
     z_s: float | None
     spin: tuple[float, float] | None
     z_c: float | None
+    stiffness: float | None = None                 # mu Phi_3(z_s), N/m
+    intervals: tuple[tuple[float, float], ...] = ()  # every bounded stable spin interval at z_s
 
 
 def starts(model, p=None) -> Starts:
@@ -162,13 +196,12 @@ def starts(model, p=None) -> Starts:
     P = model.pvals(p)
     rep = eqm.equilibria_of(model, p)
     z_s = rep.stable[0].z if rep.stable else None
-    spin = None
-    if z_s is not None:
-        ph = model.onaxis(z_s, p)
-        c = RayCoefficients.from_physics(ph[1], ph[2], ph[3], P["m"], P["A"], P["C"], P["mu"])
-        bounded = [iv for iv in spin_intervals_discriminant(c) if 0 < iv[0] and iv[1] < math.inf]
-        spin = bounded[0] if bounded else None
-    return Starts(z_s, spin, rep.z_c)
+    if z_s is None:
+        return Starts(None, None, rep.z_c)
+    ph = model.onaxis(z_s, p)
+    c = RayCoefficients.from_physics(ph[1], ph[2], ph[3], P["m"], P["A"], P["C"], P["mu"])
+    bounded = tuple(iv for iv in spin_intervals_discriminant(c) if 0 < iv[0] and iv[1] < math.inf)
+    return Starts(z_s, bounded[0] if bounded else None, rep.z_c, rep.stable[0].stiffness, bounded)
 
 
 def guesses(name: str, st: Starts) -> list[float] | None:
