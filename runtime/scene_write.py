@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import tempfile
 from pathlib import Path
 
@@ -55,13 +56,16 @@ def check_target(path: str | Path) -> Path:
     p = Path(path)
     if p.is_dir() or not p.parent.is_dir() or p.suffix != ".toml":
         raise UserError(f"--write-scene {path}: give a .toml file in an existing folder")
+    if not re.fullmatch(r"[A-Za-z0-9_-]+", p.stem):
+        raise UserError(f"--write-scene {path}: the file name names the scene; use letters, digits, "
+                        "'-' and '_' only")
     return p
 
 
 def write_scene(scene: Scene, path: str | Path, comment: str = "") -> Path:
     """Write the scene to path atomically; the text is re-read and must give the same data."""
     p = check_target(path)
-    fd, tmp = tempfile.mkstemp(prefix=".scene-", suffix=".toml", dir=p.parent)
+    fd, tmp = tempfile.mkstemp(prefix=f"{p.stem}_tmp_", suffix=".toml", dir=p.parent)
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as fh:
             fh.write(scene_toml(scene, comment))
