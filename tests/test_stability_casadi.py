@@ -3,7 +3,6 @@ they agree with the exact float routes to 1e-10 and their exact (implicit-functi
 central finite differences to 1e-6, on every scene of scenes/ that has the quantity."""
 from __future__ import annotations
 
-import numpy as np
 import pytest
 
 from derive.paths import SCENES_DIR
