@@ -69,17 +69,19 @@ class Symbols:
         """m(z) = -mu Phi_2(z) / g, the mass that hovers at z (thesis 3.3.2)."""
         return -self.par("mu") * self.phis(z)[2] / self.par("g")
 
-    def cubic(self, s, z, mass=None):
-        """Coefficient terms [a0, a1 s, a2 s^2, a3 s^3] of the ray cubic Q(s) = G(s c)/s^3 (thesis
-        3.3.13) for the top of mass `mass` (default m) at z; c_i as runtime.ray_algebra
-        RayCoefficients (thesis 3.3.10)."""
+    def ray(self, z, mass=None):
+        """(c1, c2^2, c3) = g_i sigma^2 (thesis 3.3.10) for the top of mass `mass` (default m) at
+        z, as runtime.ray_algebra.RayCoefficients."""
         ph = self.phis(z)
         m = self.par("m") if mass is None else mass
         A, C, mu = self.par("A"), self.par("C"), self.par("mu")
-        c1 = mu * ph[1] * A / C ** 2
-        c2sq = mu ** 2 * ph[2] ** 2 * A ** 3 / (4 * C ** 4 * m)
-        c3 = mu * ph[3] * A ** 2 / (2 * C ** 2 * m)
-        a = _g_poly_by_degree(c1, c2sq, c3, ca.SX(1))
+        return (mu * ph[1] * A / C ** 2, mu ** 2 * ph[2] ** 2 * A ** 3 / (4 * C ** 4 * m),
+                mu * ph[3] * A ** 2 / (2 * C ** 2 * m))
+
+    def cubic(self, s, z, mass=None):
+        """Coefficient terms [a0, a1 s, a2 s^2, a3 s^3] of the ray cubic Q(s) = G(s c)/s^3 (thesis
+        3.3.13) for the top of mass `mass` (default m) at z."""
+        a = _g_poly_by_degree(*self.ray(z, mass), ca.SX(1))
         return [a[k] * s ** k for k in range(4)]
 
     def q(self, s, z, mass=None):
@@ -93,12 +95,7 @@ class Symbols:
         and D < 0, with P = 8 a c - 3 b^2 and D = 64 e - 16 c^2 + 16 b^2 c - 16 b d - 3 b^4 the
         quartic's classical invariants (a = 1, b = -1, c = s (c1 + c3), d = -s c3,
         e = s^2 (c1 c3 - c2^2))."""
-        ph = self.phis(z)
-        m = self.par("m") if mass is None else mass
-        A, C, mu = self.par("A"), self.par("C"), self.par("mu")
-        c1 = mu * ph[1] * A / C ** 2
-        c2sq = mu ** 2 * ph[2] ** 2 * A ** 3 / (4 * C ** 4 * m)
-        c3 = mu * ph[3] * A ** 2 / (2 * C ** 2 * m)
+        c1, c2sq, c3 = self.ray(z, mass)
         c, d, e = s * (c1 + c3), -s * c3, s ** 2 * (c1 * c3 - c2sq)
         P = [8 * c, ca.SX(-3)]
         D = [64 * e, -16 * c ** 2, 16 * c, 16 * d, ca.SX(-3)]
