@@ -4,7 +4,8 @@
     over       scene keys x in a box (runtime/scene_keys.py: p = p(x), exact)
     subject to m g + mu Phi_2(z_s) = 0                          (thesis 3.3.2)
                Q(1/sigma_lo^2; z_s) = Q(1/sigma_hi^2; z_s) = 0  (the ray cubic, thesis 3.3.13-3.3.16)
-               the cubic's third root outside [1/sigma_hi^2, 1/sigma_lo^2] by a margin (Vieta),
+               the cubic's third root outside [1/sigma_hi^2, 1/sigma_lo^2] by a margin (the slopes
+               of Q at the two ends have opposite signs),
                sigma_hi >= sigma_lo, and N(t) (thesis 3.3.11) with four real roots at the
                middle s = 1/(sigma_lo sigma_hi): G > 0, P < 0, D < 0 (the quartic's invariants)
                the user's constraints (runtime/constraints.py), e.g. stiffness >= 1 N/m
@@ -53,7 +54,7 @@ OBJECTIVES = {"spin-range": ("sigma_hi - sigma_lo", "rad/s"),
 NOT_YET = {"mass-window": "the stable band's upper edge is a degenerate fold (docs/api.md): no "
                          "exact derivative to optimise; use `levitron equilibrium` to scan it"}
 VERIFY_RTOL = 1e-8
-THIRD_ROOT_MARGIN = 1e-3   # stability_casadi.third_root_product >= this: the edges are simple critical spins
+THIRD_ROOT_MARGIN = 1e-3   # stability_casadi simple_neighbours >= this: the ends are neighbouring simple roots
 MARGIN_SLACK = 1e-8        # the float check's allowance on that normalised margin (IPOPT's tolerance)
 FOUR_REAL_MARGIN = 1e-9    # G > 0, P < 0, D < 0 at the interval's middle, normalised
 GRID_MIN = 20
@@ -116,14 +117,13 @@ def evaluate(model, keymap: KeyMap, x, objective: str, constraints: Sequence[Con
 
 
 def third_root_margin(model, p, z_s: float, lo: float, hi: float) -> float:
-    """stability_casadi.third_root_product with s1 = 1/hi^2, s2 = 1/lo^2 and s3 the third root of the
-    exact ray cubic (runtime/ray_algebra.py, thesis 3.3.13) at z_s: the float twin of
-    stability_casadi.Symbols.third_root_outside."""
+    """stability_casadi.simple_neighbours of the exact ray cubic (runtime/ray_algebra.py, thesis
+    3.3.13) at z_s with s1 = 1/hi^2, s2 = 1/lo^2: the float twin of the NLP's constraint."""
     P = model.pvals(p)
     ph = model.onaxis(z_s, p)
     c = RayCoefficients.from_physics(ph[1], ph[2], ph[3], P["m"], P["A"], P["C"], P["mu"])
     a = [float(v) for v in ray_cubic(c)]
-    return sc.third_root_product(a[2], a[3], 1 / hi ** 2, 1 / lo ** 2)
+    return sc.simple_neighbours(a, 1 / hi ** 2, 1 / lo ** 2)
 
 
 def grid_points(varies: Sequence[Vary], n: int) -> list[tuple[float, ...]]:
@@ -187,7 +187,7 @@ class _Nlp:
         z, slo, shi = sc.spin_function(sy, strict=True)(start.z_s, *start.interval, p)
         w = ca.SX.sym("w", 3)
         g_of = ca.Function("g", [w, sy.p], [ca.vertcat(
-            sy.third_root_outside(1 / w[2] ** 2, 1 / w[1] ** 2, w[0]), (w[2] - w[1]) / w[2],
+            sy.simple_neighbours(1 / w[2] ** 2, 1 / w[1] ** 2, w[0]), (w[2] - w[1]) / w[2],
             *sy.four_real(1 / (w[1] * w[2]), w[0]), sy.stiffness(w[0]))])
         g = g_of(ca.vertcat(z, slo, shi), p)
         quantity = {"z_s": z, "stiffness": g[5], "sigma_lo": slo, "sigma_hi": shi}

@@ -101,11 +101,17 @@ class Symbols:
         D = [64 * e, -16 * c ** 2, 16 * c, 16 * d, ca.SX(-3)]
         return [self.q(s, z, mass), sum(P) / _norm(P), sum(D) / _norm(D)]
 
-    def third_root_outside(self, s1, s2, z, mass=None):
-        """>= 0 iff the third root of Q lies outside (s1, s2), for roots s1, s2 of Q: with Vieta,
-        s3 = -a2/a3 - s1 - s2, this is a3^2 (s3 - s1)(s3 - s2) / (a2^2 + a3^2 s2^2) (smooth also
-        where a3 changes sign and s3 passes through infinity)."""
-        return third_root_product(*self.cubic(ca.SX(1), z, mass)[2:], s1, s2)
+    def slope(self, s, z, mass=None):
+        """s dQ/ds / |terms of Q| at s, normalised like `q`."""
+        t = self.cubic(s, z, mass)
+        return sum(k * t[k] for k in range(1, 4)) / _norm(t)
+
+    def simple_neighbours(self, s1, s2, z, mass=None):
+        """-slope(s1) slope(s2): > 0 iff the roots s1 < s2 of Q are neighbours (the third root
+        lies outside [s1, s2]; Q' = a3 (s - s_j)(s - s_k) + ... changes sign between them). A
+        polynomial in the coefficients, smooth also where a3 changes sign and the third root
+        passes through infinity."""
+        return -self.slope(s1, z, mass) * self.slope(s2, z, mass)
 
 
 def _norm(terms):
@@ -113,10 +119,12 @@ def _norm(terms):
     return ca.sqrt(sum(t ** 2 for t in terms))
 
 
-def third_root_product(a2, a3, s1, s2):
-    """a3^2 (s3 - s1)(s3 - s2) / (a2^2 + a3^2 s2^2), s3 = -a2/a3 - s1 - s2 the third root of the
-    cubic a0 + a1 s + a2 s^2 + a3 s^3 with roots s1, s2 (Vieta); for floats and CasADi alike."""
-    return (-a2 - a3 * (2 * s1 + s2)) * (-a2 - a3 * (s1 + 2 * s2)) / (a2 ** 2 + a3 ** 2 * s2 ** 2)
+def simple_neighbours(a, s1: float, s2: float) -> float:
+    """Symbols.simple_neighbours for a float cubic a = [a0, a1, a2, a3] (the float twin)."""
+    def slope(s):
+        t = [a[k] * s ** k for k in range(4)]
+        return sum(k * t[k] for k in range(1, 4)) / sum(v * v for v in t) ** 0.5
+    return -slope(s1) * slope(s2)
 
 
 def symbols(model) -> Symbols:
