@@ -32,8 +32,11 @@ a check is a UserError naming IPOPT's status or the check.
 """
 from __future__ import annotations
 
+import contextlib
 import itertools
 import math
+import os
+import sys
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -170,6 +173,23 @@ class DesignResult:
                 "verification": self.verification, "wall_s": self.wall_s}
 
 
+@contextlib.contextmanager
+def _quiet_stderr():
+    """Silence file descriptor 2 for the solve: CasADi prints every failed Newton evaluation (an
+    evaluation error IPOPT recovers from) there, and stderr carries one line per error
+    (docs/contract.md); IPOPT's outcome is reported through its status instead."""
+    sys.stderr.flush()
+    saved = os.dup(2)
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(devnull, 2)
+        yield
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+        os.close(devnull)
+
+
 class _Nlp:
     """The NLP (module docstring) over the keys u in [0, 1] of their box: z_s, sigma_lo and
     sigma_hi are the rootfinder Function `spin` of runtime/stability_casadi.py at p(x), started
@@ -206,8 +226,9 @@ class _Nlp:
     def solve(self, start: Point, cell: float):
         """IPOPT from the start within the grid cells around it (cell: one grid step in u)."""
         u0 = (np.array(start.x) - self.lo) / self.span
-        sol = self.solver(x0=u0, lbx=np.maximum(u0 - cell, 0), ubx=np.minimum(u0 + cell, 1),
-                          lbg=self.lbg, ubg=self.ubg)
+        with _quiet_stderr():
+            sol = self.solver(x0=u0, lbx=np.maximum(u0 - cell, 0), ubx=np.minimum(u0 + cell, 1),
+                              lbg=self.lbg, ubg=self.ubg)
         st = self.solver.stats()
         u = np.clip(np.asarray(sol["x"], float).reshape(-1), 0, 1)
         z, slo, shi = (float(v) for v in self.answer(u))

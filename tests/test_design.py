@@ -111,3 +111,19 @@ def test_command_refuses_bad_input(tmp_path):
                              capture_output=True, text=True, cwd=ROOT, check=False)
         assert res.returncode == 2 and word in res.stderr, (args, res.stderr)
         assert len(res.stderr.strip().splitlines()) == 1
+
+
+def test_an_answer_is_verified_or_a_one_line_failure():
+    """square's spin ratio over the block thickness has a cliff next to the grid's best cell
+    (a critical spin enters the interval): either a verified optimum or IPOPT's status, one line."""
+    res = subprocess.run([sys.executable, "-m", "runtime.cli", "optimize", "square", "--maximize",
+                          "spin-ratio", "--vary", "plate.thickness=0.01:0.03", "--constrain",
+                          "stiffness>=0.2", "--json"], capture_output=True, text=True, cwd=ROOT,
+                         check=False)
+    if res.returncode == 0:
+        data = json.loads(res.stdout)
+        assert data["verification"]["grid_best"] <= data["objective"] * (1 + 1e-8)
+    else:
+        assert res.returncode == 2 and res.stdout == ""
+        assert len(res.stderr.strip().splitlines()) == 1
+        assert "IPOPT failed (status " in res.stderr
