@@ -1,0 +1,19 @@
+"""levitron_api: the public Python API of the levitron toolchain (docs/api.md).
+
+    import levitron_api as lev
+    study = lev.load("thesis_stable", {"top.mass": 0.051})
+    study.equilibria().z_c                     # m
+    study.stability().spin_interval            # rad/s
+    study.functions()["spin"]                  # casadi.Function, named inputs and outputs
+    study.optimize("spin-range", {"top.mass": (0.0505, 0.0524)}, ["stiffness>=0.5"]).optimum
+
+Numbers are named by their scene keys (`top.mass`, `plate.hole`); the one mapping to the generated
+parameter vector is runtime/scene_keys.py. Every method returns a typed dataclass whose fields
+carry their units in the docstrings. The command line (`levitron ...`) calls the same functions.
+"""
+from __future__ import annotations
+
+from .results import Equilibria, Simulation, Stability
+from .study import Study, load
+
+__all__ = ["Equilibria", "Simulation", "Stability", "Study", "load"]

@@ -1,0 +1,288 @@
+"""Design optimisation: the widest range of spins that hold the top, by CasADi and IPOPT (thesis 3.3).
+
+    maximise   spin-range  sigma_hi - sigma_lo (rad/s)   or   spin-ratio  sigma_hi / sigma_lo
+    over       scene keys x in a box (runtime/scene_keys.py: p = p(x), exact)
+    subject to m g + mu Phi_2(z_s) = 0                          (thesis 3.3.2)
+               Q(1/sigma_lo^2; z_s) = Q(1/sigma_hi^2; z_s) = 0  (the ray cubic, thesis 3.3.13-3.3.16)
+               the cubic's third root outside [1/sigma_hi^2, 1/sigma_lo^2] by a margin (the slopes
+               of Q at the two ends have opposite signs),
+               sigma_hi >= sigma_lo, and N(t) (thesis 3.3.11) with four real roots at the
+               middle s = 1/(sigma_lo sigma_hi): G > 0, P < 0, D < 0 (the quartic's invariants)
+               the user's constraints (runtime/constraints.py), e.g. stiffness >= 1 N/m
+
+The NLP is over the keys only: z_s, sigma_lo and sigma_hi are the rootfinder Function `spin` of
+runtime/stability_casadi.py, so IPOPT works on exact derivatives (implicit function theorem). IPOPT's iterates may step across a critical spin, so the NLP does not rely on
+tracking: at its answer the interval's ends are critical spins with no third one between them,
+and N(t) has four real roots in the middle, so the whole interval is one of linear stability and
+no larger one contains it. The margin keeps both edges simple
+critical spins: where the third root merges with an edge the float route's verdict degenerates
+(the supremum of the objective can sit there, unattainable), so the grid and the verification apply
+the same margin (`third_root_margin`, from the exact ray cubic). A stiffness lower bound is required for
+the spin objectives: as z_s approaches z_c (mu Phi_3 -> 0) the cubic's constant term -4 c3^3
+vanishes, and sigma_hi grows without bound.
+
+Every answer is verified before it is reported: (1) a brute-force grid of the box (>= 20 points a
+key) by the exact float routes (re-resolved scene, runtime/equilibrium.py, runtime/ray_algebra.py);
+IPOPT starts from its best point and searches the grid cells around it (the objective has cliffs
+where a critical spin enters the interval: a local search from the best cell is what a grid can
+certify); (2) the float routes at the optimum (the re-validated scene)
+must reproduce z_s, sigma_lo and sigma_hi to VERIFY_RTOL and satisfy the constraints; (3) the
+grid's best must not beat the optimum by more than VERIFY_RTOL relative. A failure of IPOPT or of
+a check is a UserError naming IPOPT's status or the check.
+"""
+from __future__ import annotations
+
+import contextlib
+import itertools
+import math
+import os
+import sys
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import casadi as ca
+import numpy as np
+
+from derive.scene import Scene
+
+from . import stability_casadi as sc
+from .constraints import Constraint
+from .errors import UserError
+from .ray_algebra import RayCoefficients, ray_cubic
+from .scene_keys import KeyMap, Vary, key_value
+
+OBJECTIVES = {"spin-range": ("sigma_hi - sigma_lo", "rad/s"),
+              "spin-ratio": ("sigma_hi / sigma_lo", "1")}
+NOT_YET = {"mass-window": "the stable band's upper edge is a degenerate fold (docs/api.md): no "
+                         "exact derivative to optimise; use `levitron equilibrium` to scan it"}
+VERIFY_RTOL = 1e-8
+THIRD_ROOT_MARGIN = 1e-3   # stability_casadi simple_neighbours >= this: the ends are neighbouring simple roots
+MARGIN_SLACK = 1e-8        # the float check's allowance on that normalised margin (IPOPT's tolerance)
+FOUR_REAL_MARGIN = 1e-9    # G > 0, P < 0, D < 0 at the interval's middle, normalised
+GRID_MIN = 20
+IPOPT = {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes", "ipopt.tol": 1e-12,
+         "ipopt.constr_viol_tol": 1e-10, "ipopt.acceptable_constr_viol_tol": 1e-10,
+         "ipopt.max_iter": 300, "show_eval_warnings": False}
+
+
+def objective_of(name: str, lo: float, hi: float) -> float:
+    return hi - lo if name == "spin-range" else hi / lo
+
+
+def check_objective(name: str, constraints: Sequence[Constraint]) -> None:
+    if name in NOT_YET:
+        raise UserError(f"--maximize {name} is not available: {NOT_YET[name]}")
+    if name not in OBJECTIVES:
+        raise UserError(f"--maximize {name!r}: use one of {', '.join(OBJECTIVES)}")
+    if not any(c.name == "stiffness" and c.op == ">=" and c.bound > 0 for c in constraints):
+        raise UserError(f"--maximize {name} needs --constrain stiffness>=K with K > 0 (N/m): as the "
+                        "hover height nears z_c the stiffness vanishes and sigma_hi grows without "
+                        "bound (thesis 3.3.3, 3.3.13)")
+
+
+@dataclass(frozen=True)
+class Point:
+    """The float routes at one x: z_s (m), stiffness (N/m), the chosen spin interval (rad/s) and
+    the objective; interval None where no bounded interval satisfies the constraints."""
+
+    x: tuple[float, ...]
+    z_s: float | None
+    stiffness: float | None
+    interval: tuple[float, float] | None
+    value: float | None
+
+
+def evaluate(model, keymap: KeyMap, x, objective: str, constraints: Sequence[Constraint],
+             near: tuple[float, float] | None = None) -> Point:
+    """The exact float routes at x: the best feasible interval, or the one containing the
+    midpoint of `near` when given (verification of an NLP answer)."""
+    _, p = keymap.exact(x)
+    st = sc.starts(model, p)
+    x = tuple(float(v) for v in x)
+    if st.z_s is None:
+        return Point(x, None, None, None, None)
+    vals = {"z_s": st.z_s, "stiffness": st.stiffness}
+    best = None
+    for lo, hi in st.intervals:
+        if near is not None and not lo <= math.sqrt(near[0] * near[1]) <= hi:
+            continue
+        if third_root_margin(model, p, st.z_s, lo, hi) < THIRD_ROOT_MARGIN - MARGIN_SLACK:
+            continue
+        vals.update(sigma_lo=lo, sigma_hi=hi)
+        if all(c.margin(vals[c.name]) >= -VERIFY_RTOL * max(abs(c.bound), abs(vals[c.name]))
+               for c in constraints):
+            v = objective_of(objective, lo, hi)
+            if best is None or v > best[0]:
+                best = (v, (lo, hi))
+    return Point(x, st.z_s, st.stiffness, None if best is None else best[1],
+                 None if best is None else best[0])
+
+
+def third_root_margin(model, p, z_s: float, lo: float, hi: float) -> float:
+    """stability_casadi.simple_neighbours of the exact ray cubic (runtime/ray_algebra.py, thesis
+    3.3.13) at z_s with s1 = 1/hi^2, s2 = 1/lo^2: the float twin of the NLP's constraint."""
+    P = model.pvals(p)
+    ph = model.onaxis(z_s, p)
+    c = RayCoefficients.from_physics(ph[1], ph[2], ph[3], P["m"], P["A"], P["C"], P["mu"])
+    a = [float(v) for v in ray_cubic(c)]
+    return sc.simple_neighbours(a, 1 / hi ** 2, 1 / lo ** 2)
+
+
+def grid_points(varies: Sequence[Vary], n: int) -> list[tuple[float, ...]]:
+    axes = [np.linspace(v.lo, v.hi, n) for v in varies]
+    return list(itertools.product(*axes))
+
+
+@dataclass
+class DesignResult:
+    """A verified design optimum (docs/contract.md `optimize`).
+
+    objective: name; value: objective at the optimum (spin-range in rad/s, spin-ratio
+    dimensionless); optimum: scene key -> value (the key's unit, docs/scenes.md); start: where
+    IPOPT started (the grid's best point); z_s (m), stiffness (N/m), spin_interval (rad/s) at the
+    optimum; scene: the re-validated scene at the optimum; verification: float_route (the
+    objective by the exact float routes), grid_best, grid_points, grid_feasible,
+    max_relative_gap (NLP vs float route)."""
+
+    objective: str
+    value: float
+    optimum: dict[str, float]
+    start: dict[str, float]
+    start_value: float
+    scene_value: float | None
+    solver_status: str
+    iterations: int
+    z_s: float
+    stiffness: float
+    spin_interval: tuple[float, float]
+    constraints: list[str]
+    verification: dict
+    scene: Scene = field(repr=False)
+    wall_s: float = 0.0
+
+    def as_dict(self) -> dict:
+        return {"objective": self.value, "objective_name": self.objective,
+                "objective_unit": OBJECTIVES[self.objective][1],
+                "objective_formula": OBJECTIVES[self.objective][0],
+                "optimum": self.optimum, "start": self.start, "start_objective": self.start_value,
+                "scene_objective": self.scene_value,
+                "solver_status": self.solver_status, "iterations": self.iterations,
+                "z_s": self.z_s, "stiffness": self.stiffness,
+                "spin_interval": list(self.spin_interval), "constraints": self.constraints,
+                "verification": self.verification, "wall_s": self.wall_s}
+
+
+@contextlib.contextmanager
+def _quiet_stderr():
+    """Silence file descriptor 2 for the solve: CasADi prints every failed Newton evaluation (an
+    evaluation error IPOPT recovers from) there, and stderr carries one line per error
+    (docs/contract.md); IPOPT's outcome is reported through its status instead."""
+    sys.stderr.flush()
+    saved = os.dup(2)
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(devnull, 2)
+        yield
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+        os.close(devnull)
+
+
+class _Nlp:
+    """The NLP (module docstring) over the keys u in [0, 1] of their box: z_s, sigma_lo and
+    sigma_hi are the rootfinder Function `spin` of runtime/stability_casadi.py at p(x), started
+    from the grid point's float values (a Newton failure is an evaluation error, after which IPOPT
+    shortens its step); their exact derivatives come through the implicit function theorem."""
+
+    def __init__(self, model, keymap: KeyMap, objective: str, constraints: Sequence[Constraint],
+                 start: Point):
+        sy = sc.symbols(model)
+        n = len(keymap.varies)
+        lo = np.array([v.lo for v in keymap.varies])
+        span = np.array([v.hi - v.lo for v in keymap.varies])
+        u = ca.SX.sym("u", n)
+        p = keymap.p_casadi(lo + span * u)
+        z, slo, shi = sc.spin_function(sy, strict=True)(start.z_s, *start.interval, p)
+        w = ca.SX.sym("w", 3)
+        g_of = ca.Function("g", [w, sy.p], [ca.vertcat(
+            sy.simple_neighbours(1 / w[2] ** 2, 1 / w[1] ** 2, w[0]), (w[2] - w[1]) / w[2],
+            *sy.four_real(1 / (w[1] * w[2]), w[0]), sy.stiffness(w[0]))])
+        g = g_of(ca.vertcat(z, slo, shi), p)
+        quantity = {"z_s": z, "stiffness": g[5], "sigma_lo": slo, "sigma_hi": shi}
+        rows = [g[0], g[1], g[2], g[3], g[4]]
+        lbg = [THIRD_ROOT_MARGIN, 0, FOUR_REAL_MARGIN, -ca.inf, -ca.inf]
+        ubg = [ca.inf, ca.inf, ca.inf, -FOUR_REAL_MARGIN, -FOUR_REAL_MARGIN]
+        for c in constraints:
+            rows.append(c.margin(quantity[c.name]) / max(abs(c.bound), 1e-300))
+            lbg.append(0)
+            ubg.append(ca.inf)
+        f = -objective_of(objective, slo, shi) / objective_of(objective, *start.interval)
+        self.solver = ca.nlpsol("design", "ipopt", {"x": u, "f": f, "g": ca.vertcat(*rows)}, IPOPT)
+        self.answer = ca.Function("answer", [u], [z, slo, shi])
+        self.lbg, self.ubg, self.lo, self.span, self.n = lbg, ubg, lo, span, n
+
+    def solve(self, start: Point, cell: float):
+        """IPOPT from the start within the grid cells around it (cell: one grid step in u)."""
+        u0 = (np.array(start.x) - self.lo) / self.span
+        with _quiet_stderr():
+            sol = self.solver(x0=u0, lbx=np.maximum(u0 - cell, 0), ubx=np.minimum(u0 + cell, 1),
+                              lbg=self.lbg, ubg=self.ubg)
+        st = self.solver.stats()
+        u = np.clip(np.asarray(sol["x"], float).reshape(-1), 0, 1)
+        z, slo, shi = (float(v) for v in self.answer(u))
+        return st, self.lo + self.span * u, z, slo, shi
+
+
+def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequence[Constraint] = (),
+             n_grid: int = GRID_MIN) -> DesignResult:
+    """Maximise `objective` over the varied scene keys (module docstring); verified."""
+    t0 = time.perf_counter()
+    check_objective(objective, constraints)
+    if not 1 <= len(varies) <= 3:
+        raise UserError("--vary: give one to three keys (the verification grid has n^k points)")
+    if n_grid < GRID_MIN:
+        raise UserError(f"--grid {n_grid}: at least {GRID_MIN} points a key")
+    keymap = KeyMap(model.scene, model.param_names, varies)
+    pts = [evaluate(model, keymap, x, objective, constraints) for x in grid_points(varies, n_grid)]
+    feasible = [pt for pt in pts if pt.value is not None]
+    if not feasible:
+        raise UserError(f"no point of the {len(pts)}-point grid over the box has a stable spin "
+                        "interval that meets the constraints: widen the bounds or relax "
+                        f"{', '.join(map(str, constraints)) or 'them'}")
+    start = max(feasible, key=lambda pt: pt.value)
+    nlp = _Nlp(model, keymap, objective, constraints, start)
+    stats, x, z, slo, shi = nlp.solve(start, 1 / (n_grid - 1))
+    status = str(stats.get("return_status"))
+    if not stats.get("success"):
+        raise UserError(f"IPOPT failed (status {status}, {stats.get('iter_count')} iterations) from "
+                        f"{keymap.describe(start.x)}: change the bounds or constraints")
+    keys = [v.key for v in varies]
+    check = evaluate(model, keymap, x, objective, constraints, near=(slo, shi))
+    if check.interval is None:
+        raise UserError(f"verification failed: at the IPOPT optimum {keymap.describe(x)} the float "
+                        "routes find no stable spin interval meeting the constraints there")
+    gap = max(abs(a - b) / abs(b) for a, b in zip((z, slo, shi), (check.z_s, *check.interval)))
+    if gap > VERIFY_RTOL:
+        raise UserError(f"verification failed: at {keymap.describe(x)} the NLP's z_s, sigma_lo, "
+                        f"sigma_hi differ from the float routes by {gap:.2g} (relative)")
+    if start.value > check.value * (1 + VERIFY_RTOL):
+        raise UserError(f"verification failed: the grid point {keymap.describe(start.x)} gives "
+                        f"{start.value:.10g}, more than the IPOPT optimum {check.value:.10g}")
+    scene_x = [key_value(model.scene.data, k) for k in keys]
+    inside = all(v.lo <= s <= v.hi for v, s in zip(varies, scene_x))
+    scene_pt = evaluate(model, keymap, scene_x, objective, constraints) if inside else None
+    return DesignResult(
+        objective=objective, value=check.value, optimum=dict(zip(keys, map(float, x))),
+        start=dict(zip(keys, start.x)), start_value=start.value,
+        scene_value=None if scene_pt is None else scene_pt.value,
+        solver_status=status, iterations=int(stats.get("iter_count", -1)), z_s=check.z_s,
+        stiffness=check.stiffness, spin_interval=check.interval,
+        constraints=[str(c) for c in constraints],
+        verification={"float_route": check.value, "nlp": objective_of(objective, slo, shi),
+                      "max_relative_gap": gap, "grid_best": start.value, "grid_points": len(pts),
+                      "grid_feasible": len(feasible), "grid_per_key": n_grid,
+                      "tolerance": VERIFY_RTOL},
+        scene=keymap.resolve(x), wall_s=time.perf_counter() - t0)
+
