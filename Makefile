@@ -4,12 +4,14 @@ export PYTHONHASHSEED := 0
 
 .PHONY: setup demo derive test bench golden clean-cache
 
-.venv/bin/python:
-	python3 -m venv .venv
+# (re)install whenever pyproject.toml changes: a new dependency or package reaches an old .venv too
+.venv/.installed: pyproject.toml
+	test -x .venv/bin/python || python3 -m venv .venv
 	.venv/bin/pip install --quiet --upgrade pip
 	.venv/bin/pip install --quiet -e '.[test]'
+	touch $@
 
-setup: .venv/bin/python
+setup: .venv/.installed
 
 # The main job: derive every scene, print the thesis scene's equilibria, draw one picture.
 demo: setup derive

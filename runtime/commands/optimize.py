@@ -109,8 +109,8 @@ def human(r: dict, scene=None) -> str:
     return lines(
         f"optimum: {best}: {r['objective_name']} {sig(r['objective'], 6)} {unit}".rstrip(),
         f"spin interval {u.rate_span(lo, hi)} at z_s = {u.length(r['z_s'])}",
-        f"the scene itself: {r['objective_name']} {sig(r['scene_objective'], 6)}"
+        f"the scene itself: {r['objective_name']} {sig(r['scene_objective'], 6)} {unit}".rstrip()
         if r.get("scene_objective") is not None else "",
         f"verified: float route at the optimum, best of {ver['grid_points']} grid points "
-        f"{sig(ver['grid_best'], 6) if ver.get('grid_best') is not None else 'none feasible'}",
+        f"{sig(ver['grid_best'], 6) if ver.get('grid_best') is not None else 'none feasible'} {unit}".rstrip(),
         status, u.note)
