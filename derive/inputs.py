@@ -3,8 +3,8 @@
 The hash covers the scene's structure (plate kind, formulas, field, model; numbers that become
 runtime parameters are left out, so `--set top.mass=...` needs no new derivation, but every
 structural decision a plate kind declares, e.g. the ring magnet's "hollow: r_in > 0", is in:
-derive/plates/), the source of derive/ (code and templates) and the versions of sympy and casadi. The runtime computes the same
-hash without importing sympy, to tell whether generated/<scene>/ is current.
+derive/plates/), the source of derive/ (code and templates) and the versions of sympy and casadi.
+The runtime computes the same hash without importing sympy, to tell whether generated/<scene>/ is current.
 """
 from __future__ import annotations
 

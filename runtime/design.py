@@ -11,8 +11,8 @@
                the user's constraints (runtime/constraints.py), e.g. stiffness >= 1 N/m
 
 The NLP is over the keys only: z_s, sigma_lo and sigma_hi are the rootfinder Function `spin` of
-runtime/stability_casadi.py, so IPOPT works on exact derivatives (implicit function theorem). IPOPT's iterates may step across a critical spin, so the NLP does not rely on
-tracking: at its answer the interval's ends are critical spins with no third one between them,
+runtime/stability_casadi.py, so IPOPT works on exact derivatives (implicit function theorem).
+IPOPT's iterates may step across a critical spin, so the NLP does not rely on tracking: at its answer the interval's ends are critical spins with no third one between them,
 and N(t) has four real roots in the middle, so the whole interval is one of linear stability and
 no larger one contains it. The margin keeps both edges simple
 critical spins: where the third root merges with an edge the float route's verdict degenerates

@@ -15,7 +15,7 @@ Building blocks
   NASA/TM-2013-217919) divides by rho and cancels near the axis and far away; the two brackets are
   rewritten exactly as single cel integrals with positive weights (derivation in `loop_field`), so
   that the field is accurate near the axis (rho -> 0, the limit rho = 0 included) and far away.
-- `solenoid_field`: a cylindrical current sheet (ideal finite solenoid), Derby & Olbert (2010) eq. 
+- `solenoid_field`: a cylindrical current sheet (ideal finite solenoid), Derby & Olbert (2010) eq.
   for B_rho and B_z in cel form. An axially magnetised cylinder of magnetisation M is the sheet with
   surface current K = M (Jackson 5.8); a ring magnet is the outer sheet minus the inner one.
 - `annulus_field`: the thesis's thin annulus (thesis eq. 2.2.11) as a dipole layer of density D
@@ -157,7 +157,8 @@ def loop_field(points, radius: float, current: float, z0: float = 0.0) -> np.nda
         B_z   = mu0 I a / (pi D^1.5) cel(kc, 1, (a - rho) / kc^2, a + rho)
         B_rho = mu0 I a zeta / (pi D^1.5 kc^2) cel(kc, 1, 1, -kc^2)
 
-    with cel(kc, 1, 1, -kc^2) = O(m) started from m = 4 a rho / D (see `_cel_p1`), which has no 1/rho (the limit rho -> 0 is the value at rho = 0: B_rho = 0, B_z on-axis) and no
+    with cel(kc, 1, 1, -kc^2) = O(m) started from m = 4 a rho / D (see `_cel_p1`), which has no 1/rho
+    (the limit rho -> 0 is the value at rho = 0: B_rho = 0, B_z on-axis) and no
     difference of large terms far away. Singular: the wire (rho = a, z = z0) -> NaN.
     """
     pts = _points(points)

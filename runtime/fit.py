@@ -181,7 +181,7 @@ def fit(model, rows: Sequence[Row], varies: Sequence[Vary]) -> FitResult:
         raise UserError(f"--fit refused: {why}")
     lam, status, it = 1e-3, "max_iter", 0
     cost = float(r @ r)
-    for it in range(1, MAX_ITER + 1):
+    for it in range(1, MAX_ITER + 1):  # noqa: B007 (it: the iteration count reported)
         H, g = J.T @ J, J.T @ r
         step = -np.linalg.solve(H + lam * np.diag(np.diag(H)), g)       # in log x
         x_new = np.clip(x * np.exp(np.clip(step, -0.5, 0.5)), lo, hi)

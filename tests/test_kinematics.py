@@ -16,7 +16,8 @@ def test_eq_2_1_9_rotation_product():
     R = R3(psi) * R2(theta) * R1(phi)
     thesis = sp.Matrix([
         [c(psi) * c(phi) - c(theta) * s(phi) * s(psi), c(psi) * s(phi) + c(theta) * c(phi) * s(psi), s(psi) * s(theta)],
-        [-s(psi) * c(phi) - c(theta) * s(phi) * c(psi), -s(psi) * s(phi) + c(theta) * c(phi) * c(psi), c(psi) * s(theta)],
+        [-s(psi) * c(phi) - c(theta) * s(phi) * c(psi), -s(psi) * s(phi) + c(theta) * c(phi) * c(psi),
+         c(psi) * s(theta)],
         [s(theta) * s(phi), -s(theta) * c(phi), c(theta)]])
     assert (R - thesis).applyfunc(sp.expand) == sp.zeros(3, 3)
     assert (R * R.T).applyfunc(sp.simplify) == sp.eye(3)

@@ -83,7 +83,8 @@ def test_eq_2_2_15_erratum_moment_direction():
     2.3.16 claims p_phi conserved; with n it is the other way round, as symmetry demands."""
     sysm = euler()
     phi, theta, psi = sysm.rotation.angles
-    assert (sysm.rotation.n - sp.Matrix([s(theta) * s(phi), -s(theta) * c(phi), c(theta)])).applyfunc(sp.simplify) == sp.zeros(3, 1)
+    n_thesis = sp.Matrix([s(theta) * s(phi), -s(theta) * c(phi), c(theta)])
+    assert (sysm.rotation.n - n_thesis).applyfunc(sp.simplify) == sp.zeros(3, 1)
     assert sp.diff(sysm.U, psi) == 0                       # so p_psi = L.n is conserved
     assert sysm.rhs[11] == 0                                 # p_psi dot = 0 (the corrected 2.3.15)
     assert not _zero(sysm.rhs[9])                            # p_phi dot != 0 off the axis (2.3.16 wrong)

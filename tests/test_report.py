@@ -83,7 +83,8 @@ def test_bad_out_is_one_line(tmp_path, capsys):
 
 
 @pytest.mark.slow
-@pytest.mark.skipif(shutil.which("chromium") is None, reason="chromium not installed (Debian: apt-get install chromium)")
+@pytest.mark.skipif(shutil.which("chromium") is None,
+                    reason="chromium not installed (Debian: apt-get install chromium)")
 def test_page_renders_in_chromium(report, tmp_path):
     path, _ = report
     shot = tmp_path / "report.png"
