@@ -12,14 +12,14 @@
 
 The NLP is over the keys only: z_s, sigma_lo and sigma_hi are the rootfinder Function `spin` of
 runtime/stability_casadi.py, so IPOPT works on exact derivatives (implicit function theorem).
-IPOPT's iterates may step across a critical spin, so the NLP does not rely on tracking: at its answer the interval's ends are critical spins with no third one between them,
-and N(t) has four real roots in the middle, so the whole interval is one of linear stability and
-no larger one contains it. The margin keeps both edges simple
-critical spins: where the third root merges with an edge the float route's verdict degenerates
-(the supremum of the objective can sit there, unattainable), so the grid and the verification apply
-the same margin (`third_root_margin`, from the exact ray cubic). A stiffness lower bound is required for
-the spin objectives: as z_s approaches z_c (mu Phi_3 -> 0) the cubic's constant term -4 c3^3
-vanishes, and sigma_hi grows without bound.
+IPOPT's iterates may step across a critical spin, so the NLP does not rely on tracking: at its
+answer the interval's ends are critical spins with no third one between them, and N(t) has four real
+roots in the middle, so the whole interval is one of linear stability and no larger one contains it.
+The margin keeps both edges simple critical spins: where the third root merges with an edge the
+float route's verdict degenerates (the supremum of the objective can sit there, unattainable), so
+the grid and the verification apply the same margin (`third_root_margin`, from the exact ray cubic).
+A stiffness lower bound is required for the spin objectives: as z_s approaches z_c (mu Phi_3 -> 0)
+the cubic's constant term -4 c3^3 vanishes, and sigma_hi grows without bound.
 
 Every answer is verified before it is reported: (1) a brute-force grid of the box (>= 20 points a
 key) by the exact float routes (re-resolved scene, runtime/equilibrium.py, runtime/ray_algebra.py);
