@@ -28,6 +28,7 @@ from runtime.errors import UserError
 from runtime.integrators_table import DEFAULT
 
 N_OUT = 100            # dense-output samples per run: only the survival matters here
+CONNECT_TIMEOUT_S = 20  # how long to try to reach a dask scheduler
 
 
 @dataclass(frozen=True)
@@ -229,7 +230,7 @@ def dask_client(address: str):
                         "pip install 'levitron[cluster]' (or 'dask[distributed]'), or use --workers N "
                         "for local processes") from None
     try:
-        return Client(address, timeout=20)
+        return Client(address, timeout=CONNECT_TIMEOUT_S)
     except (OSError, TimeoutError, ValueError) as exc:
         raise UserError(f"cannot reach the dask scheduler at {address!r} ({exc}); start one with "
                         "`dask scheduler` and workers with `dask worker ADDRESS`, or use --workers N"
