@@ -14,7 +14,8 @@ interval, worker start, integration), cpu_s (CPU time of the threads that ran th
 cpu_total_s (this process and its finished children, the whole call), rhs_evals, and
 cpu_over_rhs = cpu_s / (rhs_evals * rhs_ns): the integration's CPU time over the time its
 right-hand-side calls take, where rhs_ns is the cost of one call of the generated rhs timed in C
-(lev_time_fn, the median of RHS_REPEATS loops) at a mid-map state. `same_map` says whether every run
+(lev_time_fn, the median of RHS_REPEATS loops) at a mid-map state, measured before and after the
+runs (`rhs_ns_before_after`; the mean of the two is used: on a shared machine it drifts). `same_map` says whether every run
 gave the serial run's status and survival time point for point.
 
     python -m runtime.bench_maps SCENE [--quick] [--n N] [--t-end T] [--json] [--out DIR]
@@ -73,9 +74,9 @@ def _cpu_total() -> float:
     return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
 
 
-def one_run(model, scene_ref: str, overrides, spins, tilts, t_end, workers: int, engine: str,
-            ns: float) -> tuple[dict, object]:
-    """One scan and its row (module docstring)."""
+def one_run(model, scene_ref: str, overrides, spins, tilts, t_end, workers: int,
+            engine: str) -> tuple[dict, object]:
+    """One scan and its row (module docstring; rhs_ns and cpu_over_rhs are added by `run`)."""
     from runtime import scan as sc
     cpu0 = _cpu_total()
     res = sc.scan(model, scene_ref, overrides, spins, "tilt", tilts, t_end=t_end, workers=workers,
@@ -85,9 +86,7 @@ def one_run(model, scene_ref: str, overrides, spins, tilts, t_end, workers: int,
     row = {"engine": engine, "workers": workers, "grid": [int(spins.size), int(tilts.size)],
            "points": points, "t_end": res.t_end, "wall_s": res.wall_s,
            "points_per_s": points / res.wall_s, "cpu_s": res.cpu_s, "cpu_total_s": cpu_total,
-           "rhs_evals": res.rhs_evals, "rhs_ns": ns,
-           "cpu_over_rhs": res.cpu_s / (res.rhs_evals * ns * 1e-9) if res.rhs_evals else None,
-           "fraction_levitating": float(res.levitating.mean())}
+           "rhs_evals": res.rhs_evals, "fraction_levitating": float(res.levitating.mean())}
     return row, res
 
 
@@ -111,22 +110,26 @@ def run(model, scene_ref: str, overrides=(), n: int | None = None, t_end: float 
     spins, tilts, lin = map_axes(model, n)
     if t_end is None and quick:        # one slow period (the scan's default is PERIODS of them)
         t_end = slow_period(model, lin["mass"], lin["z_s"], reference_spin(lin["spin_interval"], spins))
-    ns = rhs_ns(model, spins, tilts)
+    ns_before = rhs_ns(model, spins, tilts)
     rows, maps = [], []
     for w in WORKERS:
-        row, res = one_run(model, scene_ref, overrides, spins, tilts, t_end, w, "c", ns)
-        rows.append(row)
-        maps.append(res)
+        maps.append(one_run(model, scene_ref, overrides, spins, tilts, t_end, w, "c"))
     idx = np.unique(np.linspace(0, n - 1, python_n).round().astype(int))
-    row, py = one_run(model, scene_ref, overrides, spins[idx], tilts[idx], maps[0].t_end, 1,
-                      "python", ns)
-    rows.append(row)
+    py = one_run(model, scene_ref, overrides, spins[idx], tilts[idx], maps[0][1].t_end, 1, "python")
+    ns_after = rhs_ns(model, spins, tilts)
+    ns = 0.5 * (ns_before + ns_after)
+    for row, _ in maps + [py]:
+        row["rhs_ns"] = ns
+        row["cpu_over_rhs"] = row["cpu_s"] / (row["rhs_evals"] * ns * 1e-9) if row["rhs_evals"] else None
+        rows.append(row)
+    maps, py = [m for _, m in maps], py[1]
     same = all(_same(maps[0], m) for m in maps[1:]) and _same(maps[0], py, idx, idx)
     return {
         "scene": model.scene.name,
         "map": {"axes": ["spin", "tilt"], "spin": [float(spins[0]), float(spins[-1]), n],
                 "tilt": [0.0, MAX_TILT, n], "t_end": maps[0].t_end},
         "rhs_ns": ns,
+        "rhs_ns_before_after": [ns_before, ns_after],
         "rows": rows,
         "same_map": bool(same),
         "speedup_2_workers": rows[1]["points_per_s"] / rows[0]["points_per_s"],

@@ -105,3 +105,21 @@ def test_mass_and_height_maps_equal_the_python_path(model):
 
 def test_fixed_step_map_equals_the_python_path(model):
     _both(model, [300.0, 1500.0], "tilt", [0.02], t_end=0.3, integrator="rk4")
+
+
+def test_bench_maps_quick(model):
+    """The maps bench (--quick): the C driver at 1 and 2 workers and the Python path, the same map
+    from all three, points per second and the CPU time over the rhs-call time of each."""
+    from runtime import bench_maps
+    out = bench_maps.run(model, "thesis", SET, quick=True)
+    assert [(r["engine"], r["workers"]) for r in out["rows"]] == [("c", 1), ("c", 2), ("python", 1)]
+    assert out["same_map"] is True
+    n = bench_maps.QUICK_N
+    for r in out["rows"]:
+        assert r["points"] == n * n and r["points_per_s"] == pytest.approx(r["points"] / r["wall_s"])
+        assert r["rhs_evals"] > 0 and 0.5 < r["cpu_over_rhs"] < 100
+        assert r["rhs_ns"] == out["rhs_ns"] > 0
+    # no dense output and no energy monitor in the driver: fewer calls than the Python path
+    assert out["rows"][0]["rhs_evals"] < out["rows"][2]["rhs_evals"]
+    lo, hi = out["map"]["spin"][:2]
+    assert lo < 460 and hi > 2740              # the linear interval ~[460, 2740] rad/s inside
