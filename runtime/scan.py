@@ -38,9 +38,13 @@ reported beside the map, per value of the second axis (it changes only with the 
 with the fraction of grid points where the nonlinear run agrees with it.
 
 This module orchestrates the map (`scan`, `ScanResult`). The pieces, one idea each:
-runtime/scan_grid.py (the axes and their ranges), runtime/scan_runners.py (one grid point, and the
-serial, process and dask runners), runtime/scan_physics.py (the linear interval and the slow
+runtime/scan_grid.py (the axes and their ranges), runtime/scan_runners.py (one grid point, the
+chunks of the grid, and the serial, process and dask runners), runtime/scan_c.py (a chunk in one
+C call: runtime/csrc/scan_driver.c), runtime/scan_physics.py (the linear interval and the slow
 period), runtime/scan_plot.py (the picture).
+
+cpu_s is the CPU time of the chunks (the threads that ran them: inputs and integration, not the
+start of worker processes), to compare with rhs_evals times the cost of one right-hand side.
 """
 from __future__ import annotations
 
@@ -58,15 +62,20 @@ from runtime.scan_physics import linear_interval, reference_spin, slow_period
 from runtime.scan_runners import (
     N_OUT,
     Common,
+    dask_client,
+    dask_threads,
     remember,
     run_dask,
     run_processes,
     run_serial,
+    split,
 )
 
 PERIODS = 3            # default run length in slow periods (see the module docstring)
 BASE_TILT = 0.01       # rad, the seed tilt of mass and height scans
 MAX_POINTS = 1_000_000
+CHUNKS_PER_WORKER = 8  # chunks per worker (process or dask thread): the last ones balance the load
+ENGINES = ("c", "python")
 
 
 @dataclass
@@ -156,8 +165,11 @@ def check_run_options(model, axis: str, spins: np.ndarray, others: np.ndarray, h
 def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axis: str,
          others: np.ndarray, t_end: float | None = None, integrator: str = DEFAULT,
          tol: float | None = 1e-9, workers: int = 1, scheduler: str | None = None,
-         base_tilt: float = BASE_TILT, h: float | None = None, quiet: bool = False) -> ScanResult:
-    """Run the map (module docstring). scene_ref/overrides let the workers load the same model."""
+         base_tilt: float = BASE_TILT, h: float | None = None, quiet: bool = False,
+         engine: str = "c") -> ScanResult:
+    """Run the map (module docstring). scene_ref/overrides let the workers load the same model.
+    engine "c": chunks of points through the C chunk driver (runtime/scan_c.py) when the integrator
+    is a C one; "python": one runtime.simulate-style run per point (the reference path)."""
     from runtime.equilibrium import hover_height
     if axis not in AXES:
         raise UserError(f"unknown axis {axis!r}; scan over one of --tilt, --mass, --height")
@@ -172,6 +184,8 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
         raise UserError("pass either --workers N (local processes) or --scheduler ADDRESS (dask), not both")
     if t_end is not None and not (math.isfinite(t_end) and t_end > 0):
         raise UserError(f"--t-end {t_end} must be a positive run length in s, e.g. --t-end 5")
+    if engine not in ENGINES:
+        raise UserError(f"unknown engine {engine!r}; choose one of: {', '.join(ENGINES)}")
     if not math.isfinite(base_tilt):
         raise UserError("--base-tilt must be a finite angle (rad)")
     t_wall = time.perf_counter()
@@ -218,20 +232,31 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
 
     check_run_options(model, axis, spins, others, hover, float(t_end), integrator, tol, h)
     common = Common(scene_ref, tuple(overrides), axis, float(t_end), integrator, tol,
-                    float(base_tilt), tuple(hover), h)
+                    float(base_tilt), tuple(hover), h, engine)
     tasks = [(i, j, float(s), float(o)) for i, s in enumerate(spins) for j, o in enumerate(others)
              if j not in status_pre]
     if scheduler is not None:
-        runner = {"kind": "dask", "scheduler": scheduler}
-        results = run_dask(common, tasks, scheduler, quiet)
+        client = dask_client(scheduler)
+        try:
+            threads = dask_threads(client)
+            chunks = split(tasks, CHUNKS_PER_WORKER * threads)
+            runner = {"kind": "dask", "scheduler": scheduler, "threads": threads}
+            chunk_results = run_dask(common, chunks, client, quiet)
+        finally:
+            client.close()
     elif workers > 1 and len(tasks) > 1:
         n = min(workers, len(tasks))
+        chunks = split(tasks, CHUNKS_PER_WORKER * n)
         runner = {"kind": "processes", "workers": n}
-        results = run_processes(common, tasks, n, quiet)
+        chunk_results = run_processes(common, chunks, n, quiet)
     else:
+        chunks = split(tasks, CHUNKS_PER_WORKER)
         runner = {"kind": "serial", "workers": 1}
         remember(common, model)
-        results = run_serial(common, tasks, quiet)
+        chunk_results = run_serial(common, chunks, quiet)
+    runner["chunks"] = len(chunks)
+    runner["engine"] = "+".join(sorted({c["engine"] for c in chunk_results})) or None
+    results = [r for c in chunk_results for r in c["points"]]
 
     shape = (spins.size, others.size)
     lev = np.zeros(shape, bool)
@@ -241,13 +266,12 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
         for j, why in status_pre.items():
             status[i][j] = why
     rhs = 0
-    cpu = 0.0
+    cpu = sum(c["cpu_s"] for c in chunk_results)
     for r in results:
         lev[r["i"], r["j"]] = r["levitating"]
         ts[r["i"], r["j"]] = r["t_survived"]
         status[r["i"]][r["j"]] = r["status"]
         rhs += int(r["rhs_evals"] or 0)
-        cpu += r["wall_s"]
     return ScanResult(axis, spins, others, lev, ts, status, lin, float(t_end), basis,
                       time.perf_counter() - t_wall, runner, rhs, cpu,
                       extra={"scene_linear": scene_lin,

@@ -1,11 +1,18 @@
-"""One grid point of a stability map and the runners that share the grid out (runtime/scan.py).
+"""The grid points of a stability map and the runners that share the grid out (runtime/scan.py).
 
-Every grid point is one nonlinear run of the full model (`point_run`: runtime.simulate's pieces,
-thesis 3.1-3.2). Runners: serial, local processes (concurrent.futures.ProcessPoolExecutor, spawn;
-each worker loads the model once in its initializer, and the compiled C library is found in the
-content-hash cache of runtime/cbuild.py, so no worker recompiles), or a dask.distributed cluster
-(optional dependency, the `cluster` extra; the workers need this package and the scene file at the
-same path). Runs are deterministic, so all three give the same map.
+Every grid point is one nonlinear run of the full model from runtime.simulate's pieces
+(`point_setup`: initial state, box, time scale, scales; thesis 3.1-3.3). The grid is dealt into
+chunks (`split`); a chunk runs in one thread (`run_chunk`): for the C integrators through the C
+chunk driver (runtime/scan_c.py: one C call per chunk, no Python per run, no output samples, no
+energy monitor), otherwise (or with engine "python") one `point_run` per point, which is
+runtime.simulate.simulate number for number. Both give the same status and survival time per point
+(tests/test_scan_driver.py).
+
+Runners: serial, local processes (concurrent.futures.ProcessPoolExecutor, spawn; each worker loads
+the model once in its initializer, and the compiled C library is found in the content-hash cache
+of runtime/cbuild.py, so no worker recompiles), or a dask.distributed cluster (optional dependency,
+the `cluster` extra; the workers need this package and the scene file at the same path). Runs are
+deterministic, so all three give the same map.
 """
 from __future__ import annotations
 
@@ -21,6 +28,7 @@ from runtime.errors import UserError
 from runtime.integrators_table import DEFAULT
 
 N_OUT = 100            # dense-output samples per run: only the survival matters here
+CONNECT_TIMEOUT_S = 20  # how long to try to reach a dask scheduler
 
 
 @dataclass(frozen=True)
@@ -35,6 +43,7 @@ class Common:
     base_tilt: float
     hover: tuple = ()           # z_s per value of the other axis (None: that mass does not hover)
     h: float | None = None      # fixed-step integrators: None = runtime.simulate's default step
+    engine: str = "c"           # "c": the chunk driver (C integrators); "python": run_point per point
 
 
 _MODELS: dict = {}
@@ -67,7 +76,44 @@ def remember(common: Common, model) -> None:
 
 def _init_worker(scene: str, overrides: tuple[str, ...]) -> None:
     _model(scene, overrides)
-    import runtime.simulate  # noqa: F401  (import once here, not inside the first timed point)
+    import runtime.scan_c  # noqa: F401  (import once here, not inside the first timed chunk)
+
+
+@dataclass(frozen=True)
+class PointSetup:
+    """Everything one run of a grid point needs (runtime.simulate's pieces, thesis 3.1-3.3)."""
+    part: object
+    p: np.ndarray
+    z_s: float
+    box: object                 # runtime.trajectory.Box
+    time_scale: float
+    time_scale_what: str
+    h: float | None             # fixed-step integrators: the step; adaptive: None
+    x0: np.ndarray
+    scale: np.ndarray           # state magnitudes: atol = tol * scale
+
+
+def point_setup(model, spin: float, tilt: float = 0.0, height: float = 0.0,
+                integrator: str = DEFAULT, h: float | None = None, p: np.ndarray | None = None,
+                z_s: float | None = None) -> PointSetup:
+    """The initial state (runtime.simulate.initial_state: the Legendre map of the generated rhs),
+    box, fastest time scale and state scales of one grid point, started at z_0 = z_s (1 + height)
+    (thesis 3.3.2); shared by `point_run` and the C chunk driver (runtime/scan_c.py), so that both
+    integrate the same problem."""
+    from runtime import simulate as sim
+    from runtime.equilibrium import hover_height
+    from runtime.integrators_table import lookup
+    pt = model.part("full")
+    p = model.p if p is None else p
+    pvals = model.pvals(p)
+    if z_s is None:
+        z_s = hover_height(model, p)
+    T, what = sim.time_scale(model, p, z_s, spin, pvals)
+    if lookup(integrator).fixed_step and h is None:
+        h = T / 100
+    return PointSetup(pt, p, z_s, sim.default_box(pt, z_s), T, what, h,
+                      sim.initial_state(pt, z_s * (1.0 + height), spin, tilt, 0.0, p),
+                      sim.state_scales(pt, z_s, spin, pvals))
 
 
 def point_run(model, spin: float, tilt: float = 0.0, height: float = 0.0, t_end: float = 1.0,
@@ -79,82 +125,104 @@ def point_run(model, spin: float, tilt: float = 0.0, height: float = 0.0, t_end:
     z_0 = z_s (1 + height), at rest vertically; box and checks stay centred on z_s (thesis 3.3.2).
     With height = 0 the result is simulate()'s, number for number (tests/test_scan.py)."""
     from runtime import simulate as sim
-    from runtime.equilibrium import hover_height
     from runtime.integrate import integrate
     from runtime.integrators_table import lookup
     entry = lookup(integrator)
-    pt = model.part("full")
-    p = model.p if p is None else p
-    pvals = model.pvals(p)
-    if z_s is None:
-        z_s = hover_height(model, p)
-    bx = sim.default_box(pt, z_s)
-    T, what = sim.time_scale(model, p, z_s, spin, pvals)
-    if entry.fixed_step and h is None:
-        h = T / 100
-    x0 = sim.initial_state(pt, z_s * (1.0 + height), spin, tilt, 0.0, p)
-    scale = sim.state_scales(pt, z_s, spin, pvals)
-    res = integrate(pt, x0, t_end, method=integrator, tol=None if entry.fixed_step else tol, h=h,
-                    p=p, box=bx, n_out=n_out, scale=scale, monitor_energy=entry.monitors_energy,
-                    time_scale=T, time_scale_what=what)
-    return sim.summarize(pt, res, x0, p, z_s, bx, spin, tilt, 0.0, t_end, integrator, tol, h, None)
+    su = point_setup(model, spin, tilt, height, integrator, h, p, z_s)
+    res = integrate(su.part, su.x0, t_end, method=integrator, tol=None if entry.fixed_step else tol,
+                    h=su.h, p=su.p, box=su.box, n_out=n_out, scale=su.scale,
+                    monitor_energy=entry.monitors_energy, time_scale=su.time_scale,
+                    time_scale_what=su.time_scale_what)
+    return sim.summarize(su.part, res, su.x0, su.p, su.z_s, su.box, spin, tilt, 0.0, t_end,
+                         integrator, tol, su.h, None)
+
+
+def task_point(common: Common, task: tuple[int, int, float, float]) -> dict:
+    """The keyword arguments of point_setup / point_run for one task (i, j, spin, other)."""
+    _, j, spin, other = task
+    model = _model(common.scene, common.overrides)
+    return {"spin": spin, "tilt": other if common.axis == "tilt" else common.base_tilt,
+            "height": other if common.axis == "height" else 0.0, "integrator": common.integrator,
+            "h": common.h, "z_s": common.hover[j],
+            "p": model.with_params({"m": other}) if common.axis == "mass" else model.p}
 
 
 def run_point(common: Common, task: tuple[int, int, float, float]) -> dict:
-    """One grid point (i_spin, j_other, spin, other) -> its survival (a thesis 3.1-3.2 run)."""
-    i, j, spin, other = task
+    """One grid point (i_spin, j_other, spin, other) -> its survival (a thesis 3.1-3.2 run), through
+    runtime.simulate's Python path (one integrate call with dense output and energy monitor)."""
     model = _model(common.scene, common.overrides)
-    t0 = time.perf_counter()
-    p = model.with_params({"m": other}) if common.axis == "mass" else model.p
-    r = point_run(model, spin, tilt=other if common.axis == "tilt" else common.base_tilt,
-                  height=other if common.axis == "height" else 0.0, t_end=common.t_end,
-                  integrator=common.integrator, tol=common.tol, h=common.h, p=p,
-                  z_s=common.hover[j])
-    return {"i": i, "j": j, "levitating": bool(r["levitating"]), "t_survived": float(r["t_survived"]),
-            "status": r["status"], "rhs_evals": r["rhs_evals"], "wall_s": time.perf_counter() - t0}
+    r = point_run(model, t_end=common.t_end, tol=common.tol, **task_point(common, task))
+    return {"i": task[0], "j": task[1], "levitating": bool(r["levitating"]),
+            "t_survived": float(r["t_survived"]), "status": r["status"], "rhs_evals": r["rhs_evals"]}
 
 
-def _run_point_packed(args: tuple) -> dict:
-    return run_point(*args)
+def run_chunk(common: Common, tasks: Sequence[tuple]) -> dict:
+    """A chunk of grid points in this thread: through the C chunk driver (runtime/scan_c.py, one C
+    call, no Python per run) for the C integrators unless common.engine is "python", else one
+    `run_point` per point. Returns the points and the chunk's CPU time (this thread's)."""
+    from runtime.integrators_table import lookup
+    model = _model(common.scene, common.overrides)
+    cpu0 = time.thread_time()
+    if common.engine == "c" and lookup(common.integrator).backend == "c":
+        from runtime.scan_c import run_chunk_c
+        points = run_chunk_c(model, common, [(t, task_point(common, t)) for t in tasks])
+        engine = "c"
+    else:
+        points = [run_point(common, t) for t in tasks]
+        engine = "python"
+    return {"points": points, "cpu_s": time.thread_time() - cpu0, "engine": engine}
+
+
+def _run_chunk_packed(args: tuple) -> dict:
+    return run_chunk(*args)
+
+
+def split(tasks: Sequence[tuple], n_chunks: int) -> list[list[tuple]]:
+    """`tasks` dealt into at most n_chunks chunks, every n_chunks-th task into the same one, so
+    that each chunk samples the whole grid and the chunks take about the same time."""
+    n = max(1, min(int(n_chunks), len(tasks)))
+    return [list(tasks[c::n]) for c in range(n)] if tasks else []
 
 
 def _progress(done: int, total: int, t0: float, quiet: bool) -> None:
     if quiet:
         return
-    step = max(1, total // 10)
-    if done % step == 0 or done == total:
-        print(f"levitron scan: {done}/{total} points, {time.perf_counter() - t0:.1f} s",
-              file=sys.stderr, flush=True)
+    print(f"levitron scan: {done}/{total} points, {time.perf_counter() - t0:.1f} s",
+          file=sys.stderr, flush=True)
 
 
-def run_serial(common: Common, tasks: Sequence[tuple], quiet: bool = False) -> list[dict]:
+def run_serial(common: Common, chunks: Sequence[list], quiet: bool = False) -> list[dict]:
+    """The chunks one after the other in this process."""
     t0 = time.perf_counter()
-    out = []
-    for k, t in enumerate(tasks, 1):
-        out.append(run_point(common, t))
-        _progress(k, len(tasks), t0, quiet)
+    total, done, out = sum(map(len, chunks)), 0, []
+    for chunk in chunks:
+        out.append(run_chunk(common, chunk))
+        done += len(chunk)
+        _progress(done, total, t0, quiet)
     return out
 
 
-def run_processes(common: Common, tasks: Sequence[tuple], workers: int,
+def run_processes(common: Common, chunks: Sequence[list], workers: int,
                   quiet: bool = False) -> list[dict]:
     """Local processes (spawn: no fork of a process holding BLAS threads or a loaded library)."""
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor, as_completed
     ctx = multiprocessing.get_context("spawn")
     t0 = time.perf_counter()
-    out = []
+    total, done, out = sum(map(len, chunks)), 0, []
     with ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
                              initargs=(common.scene, tuple(common.overrides))) as ex:
-        futures = [ex.submit(run_point, common, t) for t in tasks]
-        for k, fut in enumerate(as_completed(futures), 1):
+        futures = [ex.submit(run_chunk, common, c) for c in chunks]
+        for fut in as_completed(futures):
             out.append(fut.result())
-            _progress(k, len(tasks), t0, quiet)
+            done += len(out[-1]["points"])
+            _progress(done, total, t0, quiet)
     return out
 
 
-def run_dask(common: Common, tasks: Sequence[tuple], address: str, quiet: bool = False) -> list[dict]:
-    """A dask.distributed cluster at `address` (e.g. tcp://host:8786)."""
+def dask_client(address: str):
+    """A dask.distributed Client of the scheduler at `address` (one-line UserErrors when dask is
+    missing or the scheduler cannot be reached)."""
     try:
         from dask.distributed import Client
     except ImportError:
@@ -162,16 +230,28 @@ def run_dask(common: Common, tasks: Sequence[tuple], address: str, quiet: bool =
                         "pip install 'levitron[cluster]' (or 'dask[distributed]'), or use --workers N "
                         "for local processes") from None
     try:
-        client = Client(address, timeout=20)
+        return Client(address, timeout=CONNECT_TIMEOUT_S)
     except (OSError, TimeoutError, ValueError) as exc:
         raise UserError(f"cannot reach the dask scheduler at {address!r} ({exc}); start one with "
                         "`dask scheduler` and workers with `dask worker ADDRESS`, or use --workers N"
                         ) from None
+
+
+def dask_threads(client) -> int:
+    """The number of worker threads of the cluster (at least 1)."""
+    return max(1, sum(client.nthreads().values()))
+
+
+def run_dask(common: Common, chunks: Sequence[list], client, quiet: bool = False) -> list[dict]:
+    """The chunks as tasks of a dask.distributed cluster (`client`, from dask_client). Every worker
+    loads the model once (runtime.scan_runners._model, per process) and runs its chunks through the
+    C chunk driver, which releases the GIL: threads of one worker run in parallel."""
+    from dask.distributed import as_completed
     t0 = time.perf_counter()
-    try:
-        futures = client.map(_run_point_packed, [(common, t) for t in tasks], pure=False)
-        out = client.gather(futures)
-    finally:
-        client.close()
-    _progress(len(tasks), len(tasks), t0, quiet)
-    return list(out)
+    total, done, out = sum(map(len, chunks)), 0, []
+    futures = client.map(_run_chunk_packed, [(common, c) for c in chunks], pure=False)
+    for fut in as_completed(futures):
+        out.append(fut.result())
+        done += len(out[-1]["points"])
+        _progress(done, total, t0, quiet)
+    return out

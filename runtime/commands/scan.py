@@ -16,7 +16,7 @@ from .common import model_of, scene_of
 
 NAME = "scan"
 HELP = ("stability map: does the top stay up, over --spin LO:HI:N and one of --tilt, --mass, --height "
-        "(one nonlinear run per point, local processes or a dask cluster)")
+        "(one nonlinear run per point, chunks of points per C call; local processes or a dask cluster)")
 
 
 # "LO:HI:N" with a negative LO ("-0.3:0.3:5") must not be taken for an option: argparse's own
@@ -52,10 +52,13 @@ def add_arguments(parser) -> None:
     parser.add_argument("--step", type=float, default=None, metavar="H",
                         help="step of fixed-step integrators, s (default: 1/100 of the fastest period)")
     parser.add_argument("--workers", type=int, default=1, metavar="N",
-                        help="local worker processes (default 1: serial)")
+                        help="local worker processes (default 1: serial); the grid is dealt into "
+                             "chunks, each run by one C call")
     parser.add_argument("--scheduler", default=None, metavar="ADDRESS",
-                        help="run on a dask.distributed cluster (e.g. tcp://host:8786); needs the "
-                             "`cluster` extra: pip install 'levitron[cluster]'")
+                        help="run on a dask.distributed cluster (e.g. tcp://host:8786; start it with "
+                             "`dask scheduler` and `dask worker ADDRESS` on each machine, which needs "
+                             "this package and the scene at the same path); needs the `cluster` "
+                             "extra: pip install 'levitron[cluster]'")
     parser.add_argument("--out", default=None, metavar="FILE.png", help="draw the map to FILE.png")
 
 

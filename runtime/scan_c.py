@@ -1,0 +1,149 @@
+"""A chunk of a stability map in one C call (runtime/csrc/scan_driver.c; thesis 3.1-3.2, fig. 3.8).
+
+The Python side builds, once per chunk, the inputs of every point from runtime.simulate's pieces
+(runtime.scan_runners.point_setup: the initial state through the Legendre map of the generated
+rhs, thesis eq. 2.3.8; the box; the fastest time scale; the state scales), and the step budget of
+runtime/step_budget.py exactly as runtime.integrate gives it; then `lev_scan_chunk` integrates all
+points in C, each stopped at its first exit from the box, with no output samples and no energy
+monitor (neither changes the steps of a run, so status and survival time equal those of the
+Python path, point_run). It returns status, t_survived and rhs_evals per point.
+"""
+from __future__ import annotations
+
+import ctypes
+from collections.abc import Sequence
+
+import numpy as np
+
+from runtime.cintegrate import STATUS, _bind, fn_address
+from runtime.errors import UserError
+from runtime.integrators_table import lookup
+from runtime.step_budget import check_options, default_budget
+
+_DP = ctypes.POINTER(ctypes.c_double)
+_LP = ctypes.POINTER(ctypes.c_long)
+_IP = ctypes.POINTER(ctypes.c_int)
+MAX_STATES = 256       # scan_driver.c's limit on the state dimension
+
+
+class _MemoPart:
+    """A model part whose rhs remembers its values (exact: the same call gives the same numbers)."""
+
+    def __init__(self, part):
+        self._part, self._rhs = part, {}
+
+    def __getattr__(self, name):
+        return getattr(self._part, name)
+
+    def rhs(self, x, p=None, backend: str = "c") -> np.ndarray:
+        key = (np.asarray(x, float).tobytes(), None if p is None else np.asarray(p, float).tobytes(),
+               backend)
+        if key not in self._rhs:
+            self._rhs[key] = self._part.rhs(x, p, backend)
+        return self._rhs[key].copy()
+
+
+class MemoModel:
+    """A model whose full part's rhs and whose on-axis field remember their values, for the inputs of
+    one chunk: the Legendre map of runtime.simulate.initial_state (thesis eq. 2.3.8) evaluates the
+    rhs at states that depend on the coordinates alone, shared by every spin of a column of the
+    map, and the time scale needs the field at z_s (thesis 3.3.3), shared by the whole map. A
+    Python call of a generated function costs ~0.1 ms, more than the rest of a point's inputs."""
+
+    def __init__(self, model):
+        self._model, self._onaxis, self._parts = model, {}, {}
+
+    def __getattr__(self, name):
+        return getattr(self._model, name)
+
+    def part(self, name: str):
+        if name not in self._parts:
+            self._parts[name] = _MemoPart(self._model.part(name))
+        return self._parts[name]
+
+    def onaxis(self, z, p=None, backend: str = "c") -> np.ndarray:
+        key = (float(z), None if p is None else np.asarray(p, float).tobytes(), backend)
+        if key not in self._onaxis:
+            self._onaxis[key] = self._model.onaxis(z, p, backend)
+        return self._onaxis[key].copy()
+
+
+def bind_driver(lib: ctypes.CDLL) -> ctypes.CDLL:
+    """Declare lev_scan_chunk's signature (idempotent; the integrators' through cintegrate._bind)."""
+    _bind(lib)
+    f = lib.lev_scan_chunk
+    if f.argtypes is None:
+        f.argtypes = [ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_int, ctypes.c_int,
+                      ctypes.c_double, ctypes.c_double, ctypes.c_int, ctypes.c_int, ctypes.c_int,
+                      ctypes.c_int, ctypes.c_long, _DP, _DP, _DP, _DP, _DP, _LP, ctypes.c_void_p,
+                      _IP, _DP, _LP, _LP, _DP]
+        f.restype = ctypes.c_long
+    return lib
+
+
+def _p(a: np.ndarray | None, kind=_DP):
+    return None if a is None else a.ctypes.data_as(kind)
+
+
+def drive(lib: ctypes.CDLL, method: str, rhs, jac, t_end: float, rtol: float, ix: int, iy: int,
+          iz: int, x0: np.ndarray, p: np.ndarray, atol: np.ndarray | None, h: np.ndarray,
+          box: np.ndarray, max_steps: np.ndarray, max_iter: int = 0) -> dict:
+    """One lev_scan_chunk call over k points: x0 (k, n), p (k, n_p), atol (k, n) or None (fixed
+    step), h (k,), box (k, 3) = z_lo, z_hi, r_max, max_steps (k,). Returns the arrays status
+    (names of runtime.cintegrate.STATUS), t_final, rhs_evals, steps, x_final."""
+    bind_driver(lib)
+    entry = lookup(method)
+    x0 = np.ascontiguousarray(x0, float)
+    k, n = x0.shape
+    if n > MAX_STATES:
+        raise UserError(f"the chunk driver takes at most {MAX_STATES} states, the model has {n}")
+    p = np.ascontiguousarray(p, float).reshape(k, -1)
+    atol = None if atol is None else np.ascontiguousarray(atol, float).reshape(k, n)
+    h = np.ascontiguousarray(h, float).reshape(k)
+    box = np.ascontiguousarray(box, float).reshape(k, 3)
+    max_steps = np.ascontiguousarray(max_steps, np.int64).reshape(k)
+    work = np.zeros(int(lib.lev_work_bytes(entry.c_id, n)) // 8 + 2)
+    status = np.zeros(k, np.intc)
+    t_final = np.zeros(k)
+    rhs_evals = np.zeros(k, np.int64)
+    steps = np.zeros(k, np.int64)
+    x_final = np.zeros((k, n))
+    ran = lib.lev_scan_chunk(entry.c_id, fn_address(rhs), fn_address(jac), n, p.shape[1],
+                             float(t_end), float(rtol), ix, iy, iz, int(max_iter), k, _p(x0), _p(p),
+                             _p(atol), _p(h), _p(box), _p(max_steps, _LP),
+                             work.ctypes.data_as(ctypes.c_void_p), _p(status, _IP), _p(t_final),
+                             _p(rhs_evals, _LP), _p(steps, _LP), _p(x_final))
+    if ran != k:
+        raise ValueError(f"lev_scan_chunk refused its arguments ({method}, {k} points of {n} states)")
+    return {"status": [STATUS.get(int(s), str(int(s))) for s in status], "t_final": t_final,
+            "rhs_evals": rhs_evals, "steps": steps, "x_final": x_final}
+
+
+def run_chunk_c(model, common, points: Sequence[tuple]) -> list[dict]:
+    """The grid points [(task, point_setup keywords)] of one chunk through lev_scan_chunk, with the
+    options runtime.integrate would give each run (atol = tol * scale, rtol = tol; the default step
+    budget at the point's fastest time scale; the same option checks)."""
+    from runtime.scan_runners import N_OUT, point_setup
+    entry = lookup(common.integrator)
+    tol = None if entry.fixed_step else common.tol
+    memo = MemoModel(model)
+    setups = [point_setup(memo, **kw) for _, kw in points]
+    if not setups:
+        return []
+    for su in setups:
+        check_options(common.integrator, common.t_end, tol, su.h, N_OUT, su.time_scale,
+                      su.time_scale_what)
+    pt, bx = setups[0].part, setups[0].box
+    jac = (pt.c_function("jac") if entry.needs_jacobian and pt.has("jac") else None)
+    res = drive(model.lib, common.integrator, pt.c_function("rhs"), jac, common.t_end,
+                0.0 if tol is None else tol, bx.ix, bx.iy, bx.iz,
+                np.array([su.x0 for su in setups]), np.array([su.p for su in setups]),
+                None if tol is None else np.array([tol * su.scale for su in setups]),
+                np.array([su.h or 0.0 for su in setups]),
+                np.array([(su.box.z_lo, su.box.z_hi, su.box.r_max) for su in setups]),
+                np.array([default_budget(common.integrator, common.t_end, su.h, su.time_scale)
+                          for su in setups]))
+    return [{"i": task[0], "j": task[1], "levitating": res["status"][k] == "completed",
+             "t_survived": float(res["t_final"][k]), "status": res["status"][k],
+             "rhs_evals": int(res["rhs_evals"][k])}
+            for k, (task, _) in enumerate(points)]
