@@ -15,8 +15,8 @@ cpu_total_s (this process and its finished children, the whole call), rhs_evals,
 cpu_over_rhs = cpu_s / (rhs_evals * rhs_ns): the integration's CPU time over the time its
 right-hand-side calls take, where rhs_ns is the cost of one call of the generated rhs timed in C
 (lev_time_fn, the median of RHS_REPEATS loops) at a mid-map state, measured before and after the
-runs (`rhs_ns_before_after`; the mean of the two is used: on a shared machine it drifts). `same_map` says whether every run
-gave the serial run's status and survival time point for point.
+runs (`rhs_ns_before_after`; the mean of the two is used: on a shared machine it drifts).
+`same_map` says whether every run gave the serial run's status and survival time point for point.
 
     python -m runtime.bench_maps SCENE [--quick] [--n N] [--t-end T] [--json] [--out DIR]
 

@@ -64,10 +64,10 @@ def _noop(n: int = 1) -> None:
 
 
 @contextlib.contextmanager
-def task(description: str, total: int | None = None):
+def task(description: str, total: int | None = None, quiet: bool = False):
     """A progress bar for `total` steps (None: a spinner with elapsed time); yields tick(n=1).
-    Tasks opened inside another share its display (one line each)."""
-    if not active():
+    Tasks opened inside another share its display (one line each). quiet: none at all."""
+    if quiet or not active():
         yield _noop
         return
     outer = _state.get("bar")

@@ -16,7 +16,6 @@ deterministic, so all three give the same map.
 """
 from __future__ import annotations
 
-import sys
 import threading
 import time
 from collections.abc import Sequence
@@ -24,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from runtime import progress
 from runtime.errors import UserError
 from runtime.integrators_table import DEFAULT
 
@@ -184,21 +184,13 @@ def split(tasks: Sequence[tuple], n_chunks: int) -> list[list[tuple]]:
     return [list(tasks[c::n]) for c in range(n)] if tasks else []
 
 
-def _progress(done: int, total: int, t0: float, quiet: bool) -> None:
-    if quiet:
-        return
-    print(f"levitron scan: {done}/{total} points, {time.perf_counter() - t0:.1f} s",
-          file=sys.stderr, flush=True)
-
-
 def run_serial(common: Common, chunks: Sequence[list], quiet: bool = False) -> list[dict]:
-    """The chunks one after the other in this process."""
-    t0 = time.perf_counter()
-    total, done, out = sum(map(len, chunks)), 0, []
-    for chunk in chunks:
-        out.append(run_chunk(common, chunk))
-        done += len(chunk)
-        _progress(done, total, t0, quiet)
+    """The chunks one after the other in this process (progress: runtime/progress.py, points)."""
+    out = []
+    with progress.task("scan", total=sum(map(len, chunks)), quiet=quiet) as tick:
+        for chunk in chunks:
+            out.append(run_chunk(common, chunk))
+            tick(len(chunk))
     return out
 
 
@@ -208,15 +200,14 @@ def run_processes(common: Common, chunks: Sequence[list], workers: int,
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor, as_completed
     ctx = multiprocessing.get_context("spawn")
-    t0 = time.perf_counter()
-    total, done, out = sum(map(len, chunks)), 0, []
-    with ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
-                             initargs=(common.scene, tuple(common.overrides))) as ex:
+    out = []
+    with progress.task(f"scan ({workers} processes)", total=sum(map(len, chunks)), quiet=quiet) as tick, \
+            ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
+                                initargs=(common.scene, tuple(common.overrides))) as ex:
         futures = [ex.submit(run_chunk, common, c) for c in chunks]
         for fut in as_completed(futures):
             out.append(fut.result())
-            done += len(out[-1]["points"])
-            _progress(done, total, t0, quiet)
+            tick(len(out[-1]["points"]))
     return out
 
 
@@ -247,11 +238,10 @@ def run_dask(common: Common, chunks: Sequence[list], client, quiet: bool = False
     loads the model once (runtime.scan_runners._model, per process) and runs its chunks through the
     C chunk driver, which releases the GIL: threads of one worker run in parallel."""
     from dask.distributed import as_completed
-    t0 = time.perf_counter()
-    total, done, out = sum(map(len, chunks)), 0, []
-    futures = client.map(_run_chunk_packed, [(common, c) for c in chunks], pure=False)
-    for fut in as_completed(futures):
-        out.append(fut.result())
-        done += len(out[-1]["points"])
-        _progress(done, total, t0, quiet)
+    out = []
+    with progress.task("scan (dask)", total=sum(map(len, chunks)), quiet=quiet) as tick:
+        futures = client.map(_run_chunk_packed, [(common, c) for c in chunks], pure=False)
+        for fut in as_completed(futures):
+            out.append(fut.result())
+            tick(len(out[-1]["points"]))
     return out
