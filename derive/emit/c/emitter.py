@@ -27,9 +27,7 @@ def _env() -> jinja2.Environment:
 
 def body_lines(f: Lowered, printer: LevitronCPrinter) -> list[str]:
     lines = [f"const double {s} = {fn}({a});" for s, fn, a in f.trig]
-    lines += [f"const double {s} = {printer.doprint(e)};"
-              for s, e in f.phi]
-    lines += [f"const double {s} = {printer.doprint(e)};" for s, e in f.main]
+    lines += [f"const double {s} = {printer.doprint(e)};" for s, e in f.body]
     lines += [f"out[{i}] = {printer.doprint(e)};" for i, e in enumerate(f.outputs)]
     return lines
 
