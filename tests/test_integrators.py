@@ -3,6 +3,7 @@ convergence orders measured by slopes, DOP853 against scipy's, dense output, the
 non-finite states, bounded energy of the symplectic method, bad options, concurrency."""
 from __future__ import annotations
 
+import itertools
 import math
 from concurrent.futures import ThreadPoolExecutor
 
@@ -345,7 +346,7 @@ def test_vern9_adaptive_tracks_the_tolerance(kepler):
         assert r.status == "completed" and r.t_final == 3 * TWO_PI
         errs.append(np.abs(r.x_final - x0).max())
         work.append(r.rhs_evals)
-    assert all(a > b for a, b in zip(errs, errs[1:]))
+    assert all(a > b for a, b in itertools.pairwise(errs))
     assert slope(work, errs) == pytest.approx(-9.0, abs=1.2)
     assert slope(tols, errs) == pytest.approx(1.0, abs=0.15)
 

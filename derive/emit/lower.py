@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from ..spec import Function, ModelSpec
-from ..symbols import B_FUNCS, Phi, X, Y, Z, phi_orders
+from ..symbols import B_FUNCS, Phi, Z, phi_orders
 
 
 @dataclass
@@ -110,6 +110,33 @@ def _power_name(base: sp.Symbol, e: sp.Rational) -> str:
     return f"{base}_{sign}{abs(e.p)}" + ("h" if e.q == 2 else "")
 
 
+def _power(bs: sp.Symbol, k: sp.Rational, chain: dict, defs: list) -> sp.Symbol:
+    """The symbol of bs**k, defined (appended to defs) from smaller links of bs's chain."""
+    if k == 1:
+        return bs
+    if k in chain:
+        return chain[k]
+    sym = sp.Symbol(_power_name(bs, k), real=True)
+    half = sp.Rational(1, 2)
+    if k == half:
+        expr = sp.sqrt(bs)
+    elif k == -1:
+        expr = 1 / bs
+    elif k == -half:
+        expr = sp.Mul(_power(bs, sp.Integer(-1), chain, defs), _power(bs, half, chain, defs),
+                      evaluate=False)
+    elif k.q == 2:
+        h = half if k > 0 else -half
+        expr = sp.Mul(_power(bs, k - h, chain, defs), _power(bs, h, chain, defs), evaluate=False)
+    else:
+        a = (abs(k) + 1) // 2 * (1 if k > 0 else -1)
+        expr = sp.Mul(_power(bs, sp.Integer(a), chain, defs), _power(bs, k - a, chain, defs),
+                      evaluate=False)
+    chain[k] = sym
+    defs.append((sym, expr))
+    return sym
+
+
 def _fold_powers(assigns: list, outputs: list) -> tuple[list, list]:
     """Every power b**e with e an integer or a half-integer becomes one multiplication of a chain
     shared by all powers of the same base b: s = sqrt(b) and r = 1/b (independent, so they overlap),
@@ -137,31 +164,9 @@ def _fold_powers(assigns: list, outputs: list) -> tuple[list, list]:
         else:
             bs = named[b] = sp.Symbol(f"b{n}", real=True)
             bases.append(bs)
-        chain = {}                   # exponent (Rational) -> symbol
-        def power(k: sp.Rational):
-            """The symbol of bs**k, defined from smaller links of the chain."""
-            if k == 1:
-                return bs
-            if k in chain:
-                return chain[k]
-            sym = sp.Symbol(_power_name(bs, k), real=True)
-            if k == sp.Rational(1, 2):
-                expr = sp.sqrt(bs)
-            elif k == -1:
-                expr = 1 / bs
-            elif k == sp.Rational(-1, 2):
-                expr = sp.Mul(power(sp.Integer(-1)), power(sp.Rational(1, 2)), evaluate=False)
-            elif k.q == 2:
-                half_k = sp.Rational(1, 2) if k > 0 else sp.Rational(-1, 2)
-                expr = sp.Mul(power(k - half_k), power(half_k), evaluate=False)
-            else:
-                a = (abs(k) + 1) // 2 * (1 if k > 0 else -1)
-                expr = sp.Mul(power(sp.Integer(a)), power(k - a), evaluate=False)
-            chain[k] = sym
-            new_defs.append((sym, expr))
-            return sym
+        chain: dict = {}             # exponent (Rational) -> symbol
         for x in xs:
-            repl[sp.Pow(bs, x)] = power(x)
+            repl[sp.Pow(bs, x)] = _power(bs, x, chain, new_defs)
     # chain expressions are built with evaluate=False so that b*b stays a product of two symbols
     def sub(e):
         return e.xreplace(named).xreplace(repl)
