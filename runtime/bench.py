@@ -20,8 +20,9 @@ error  = max_k |x_k(T) - x_ref,k(T)| / scale_k, the largest deviation of the fin
          m sqrt(g z_s), angular momenta C * spin; runtime.simulate.state_scales);
 x_ref  = C DOP853 at rtol = 1e-14 (atol = 1e-14 * scale), cross-checked against the fixed-step
          8th-order DOP853 formula at h = T_fast / 300 (the difference is `reference_check`);
-wall_s = the minimum over repeats (at least 3, and up to MAX_REPEATS while under MIN_TIMED_S in all) of the integrator call alone (model loading and CasADi
-         construction excluded, identically for all backends);
+wall_s = the minimum over repeats (at least 3; short runs repeat until MIN_TIMED_S is spent, at
+         most MAX_REPEATS times) of the integrator call alone (model loading, argument conversion
+         and CasADi construction excluded, identically for all backends);
 rhs_evals = right-hand-side calls (CasADi's collocation does not expose its count: null).
 
 Backends: "c" (runtime/csrc/integrators.c over the generated C), "casadi" (casadi.integrator over

@@ -85,19 +85,25 @@ def test_gauss4_order_4_and_midpoint_order_2(kepler):
     assert slope(1.0 / np.array(steps), e2) == pytest.approx(2.0, abs=0.1)
 
 
-def test_dop853_adaptive_work_precision_slope(kepler):
-    """Adaptive DOP853 on the circular Kepler orbit: the error falls like (rhs calls)^-8 as the
-    tolerance tightens, and is proportional to the tolerance (one decade per decade)."""
-    x0 = kepler_x0(0.0)
+def adaptive_runs(kepler, method, x0, tols):
+    """Errors after three closed Kepler orbits and rhs calls of an adaptive method, per tolerance;
+    the errors fall strictly as the tolerance tightens."""
     errs, work = [], []
-    tols = [1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13]
     for tol in tols:
-        r = run_c(kepler.lib, "dop853", kepler.c_function("rhs"), x0, kepler.p, 3 * TWO_PI,
+        r = run_c(kepler.lib, method, kepler.c_function("rhs"), x0, kepler.p, 3 * TWO_PI,
                   rtol=tol, atol=tol)
         assert r.status == "completed" and r.t_final == 3 * TWO_PI
         errs.append(np.abs(r.x_final - x0).max())
         work.append(r.rhs_evals)
-    assert all(a > b for a, b in zip(errs, errs[1:]))
+    assert all(a > b for a, b in itertools.pairwise(errs))
+    return errs, work
+
+
+def test_dop853_adaptive_work_precision_slope(kepler):
+    """Adaptive DOP853 on the circular Kepler orbit: the error falls like (rhs calls)^-8 as the
+    tolerance tightens, and is proportional to the tolerance (one decade per decade)."""
+    tols = [1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13]
+    errs, work = adaptive_runs(kepler, "dop853", kepler_x0(0.0), tols)
     assert slope(work, errs) == pytest.approx(-8.0, abs=0.6)
     assert slope(tols, errs) == pytest.approx(1.0, abs=0.1)
 
@@ -337,16 +343,8 @@ def test_vern9_order_9_on_kepler(kepler):
 def test_vern9_adaptive_tracks_the_tolerance(kepler):
     """Adaptive Verner 9(8) on an eccentric orbit: the error is proportional to the tolerance and
     falls like (rhs calls)^-9."""
-    x0 = kepler_x0(0.6)
-    errs, work = [], []
     tols = [1e-8, 1e-9, 1e-10, 1e-11, 1e-12]
-    for tol in tols:
-        r = run_c(kepler.lib, "vern9", kepler.c_function("rhs"), x0, kepler.p, 3 * TWO_PI,
-                  rtol=tol, atol=tol)
-        assert r.status == "completed" and r.t_final == 3 * TWO_PI
-        errs.append(np.abs(r.x_final - x0).max())
-        work.append(r.rhs_evals)
-    assert all(a > b for a, b in itertools.pairwise(errs))
+    errs, work = adaptive_runs(kepler, "vern9", kepler_x0(0.6), tols)
     assert slope(work, errs) == pytest.approx(-9.0, abs=1.2)
     assert slope(tols, errs) == pytest.approx(1.0, abs=0.15)
 

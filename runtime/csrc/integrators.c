@@ -282,30 +282,30 @@ static void rk4_step(lev_ctx *c, const double *x, double h, double *xn, double *
 }
 
 /* One DOP853 step from (x, f = rhs(x)): stages K[0..12] (n each), xn, and K[12] = rhs(xn). */
+/* out = x + h sum_{j < s} a_j K_j (the nonzero a_j, accumulated in acc, which may be out). */
+static void rk_combine(int n, const double *x, double h, const double *K, const double *a, int s,
+                       double *acc, double *out)
+{
+    int i, j;
+    for (i = 0; i < n; i++) acc[i] = 0.0;
+    for (j = 0; j < s; j++) {
+        const double *Kj = K + (size_t)j * n;
+        if (a[j] == 0.0) continue;
+        for (i = 0; i < n; i++) acc[i] += a[j] * Kj[i];
+    }
+    for (i = 0; i < n; i++) out[i] = x[i] + h * acc[i];
+}
+
 static void dp_step(lev_ctx *c, const double *x, const double *f, double h, double *K,
                     double *xn, double *tmp)
 {
-    int s, j, i, n = c->sys->n;
+    int s, n = c->sys->n;
     memcpy(K, f, (size_t)n * sizeof(double));
     for (s = 1; s < 12; s++) {
-        for (i = 0; i < n; i++) tmp[i] = 0.0;
-        for (j = 0; j < s; j++) {
-            double a = DP_A[s][j];
-            const double *Kj = K + (size_t)j * n;
-            if (a == 0.0) continue;
-            for (i = 0; i < n; i++) tmp[i] += a * Kj[i];
-        }
-        for (i = 0; i < n; i++) tmp[i] = x[i] + h * tmp[i];
+        rk_combine(n, x, h, K, DP_A[s], s, tmp, tmp);
         call_rhs(c, tmp, K + (size_t)s * n);
     }
-    for (i = 0; i < n; i++) tmp[i] = 0.0;
-    for (j = 0; j < 12; j++) {
-        double b = DP_B[j];
-        const double *Kj = K + (size_t)j * n;
-        if (b == 0.0) continue;
-        for (i = 0; i < n; i++) tmp[i] += b * Kj[i];
-    }
-    for (i = 0; i < n; i++) xn[i] = x[i] + h * tmp[i];
+    rk_combine(n, x, h, K, DP_B, 12, tmp, xn);
     call_rhs(c, xn, K + (size_t)12 * n);
 }
 
@@ -468,27 +468,13 @@ static void dp_eval(lev_ctx *c, double theta, double h, const double *yo, const 
 static void vn_stages(lev_ctx *c, const double *x, const double *f, double h, double *K, double *xn,
                       double *tmp, int with_estimate, int with_f)
 {
-    int s, j, i, n = c->sys->n, last = with_estimate ? 16 : 15;
+    int s, n = c->sys->n, last = with_estimate ? 16 : 15;
     memcpy(K, f, (size_t)n * sizeof(double));
     for (s = 1; s < last; s++) {
-        for (i = 0; i < n; i++) tmp[i] = 0.0;
-        for (j = 0; j < s; j++) {
-            double a = VN_A[s][j];
-            const double *Kj = K + (size_t)j * n;
-            if (a == 0.0) continue;
-            for (i = 0; i < n; i++) tmp[i] += a * Kj[i];
-        }
-        for (i = 0; i < n; i++) tmp[i] = x[i] + h * tmp[i];
+        rk_combine(n, x, h, K, VN_A[s], s, tmp, tmp);
         call_rhs(c, tmp, K + (size_t)s * n);
     }
-    for (i = 0; i < n; i++) tmp[i] = 0.0;
-    for (j = 0; j < 15; j++) {
-        double b = VN_B[j];
-        const double *Kj = K + (size_t)j * n;
-        if (b == 0.0) continue;
-        for (i = 0; i < n; i++) tmp[i] += b * Kj[i];
-    }
-    for (i = 0; i < n; i++) xn[i] = x[i] + h * tmp[i];
+    rk_combine(n, x, h, K, VN_B, 15, tmp, xn);
     if (with_f) call_rhs(c, xn, K + (size_t)16 * n);
 }
 
