@@ -31,7 +31,7 @@ test: setup
 BENCH_SCENES ?= thesis_stable ring_magnet square loop reduced_only
 bench: setup
 	.venv/bin/pip install --quiet -e '.[bench]'
-	for s in $(BENCH_SCENES); do .venv/bin/levitron bench $$s --out reports/$$s || exit 1; done
+	for s in $(BENCH_SCENES); do .venv/bin/levitron bench $$s || exit 1; done
 
 clean-cache:
 	rm -rf $${LEVITRON_CACHE:-$$HOME/.cache/levitron}
