@@ -28,8 +28,13 @@ golden: setup
 test: setup
 	$(PY) -m pytest -q
 
+# Work-precision reports (reports/<scene>/) against heyoka (the optional extra `bench`) and the
+# other backends, for the scenes whose top has a stable spin interval (or only a reduced model).
+BENCH_SCENES ?= thesis_stable ring_magnet square loop reduced_only
 bench: setup
-	.venv/bin/levitron bench thesis
+	.venv/bin/pip install --quiet -e '.[bench]'
+	for s in $(BENCH_SCENES); do .venv/bin/levitron bench $$s || exit 1; done
+	$(PY) -m runtime.bench_maps thesis_stable --t-end 10 --out reports/maps
 
 clean-cache:
 	rm -rf $${LEVITRON_CACHE:-$$HOME/.cache/levitron}

@@ -20,14 +20,20 @@ error  = max_k |x_k(T) - x_ref,k(T)| / scale_k, the largest deviation of the fin
          m sqrt(g z_s), angular momenta C * spin; runtime.simulate.state_scales);
 x_ref  = C DOP853 at rtol = 1e-14 (atol = 1e-14 * scale), cross-checked against the fixed-step
          8th-order DOP853 formula at h = T_fast / 300 (the difference is `reference_check`);
-wall_s = the minimum over repeats of the integrator call alone (model loading and CasADi
-         construction excluded, identically for all backends);
+wall_s = the minimum over repeats (at least 3; short runs repeat until MIN_TIMED_S is spent, at
+         most MAX_REPEATS times) of the integrator call alone (model loading, argument conversion
+         and CasADi construction excluded, identically for all backends);
 rhs_evals = right-hand-side calls (CasADi's collocation does not expose its count: null).
 
 Backends: "c" (runtime/csrc/integrators.c over the generated C), "casadi" (casadi.integrator over
 the generated CasADi function), "scipy" (solve_ivp with the generated C right-hand side called
 through ctypes, ~19 us per call; the runtime exposes no lambdified numpy rhs, which would cost about
-the same per call).
+the same per call), "heyoka" (integrator "taylor": Taylor's method compiled by LLVM at run time,
+on the same lowered expressions, runtime/bench_heyoka.py; its compile time is the row's
+`compile_s`, not in wall_s; only when heyoka is installed: pip install '.[bench]'; not in --quick).
+
+cheapest_by_bound: for each error bound 1e-5 .. 1e-13 and each backend, the run with the least
+wall_s whose error is within the bound (bench_cheapest_<model>.csv).
 """
 from __future__ import annotations
 
@@ -41,6 +47,7 @@ from pathlib import Path
 import numpy as np
 
 from runtime import equilibrium as eqm
+from runtime import progress
 from runtime.eigen_route import transverse_matrix
 from runtime.errors import UserError
 from runtime.integrate import backend_of, integrate, run_c, time_fn_ns
@@ -50,9 +57,14 @@ from runtime.simulate import initial_state, state_scales
 from runtime.stability import stability_of
 
 ROW_KEYS = ("model", "backend", "integrator", "tol", "error", "wall_s", "rhs_evals")
+EXTRA_KEYS = ("step_or_tol", "status", "steps", "compile_s")
+BOUNDS = tuple(10.0 ** -k for k in range(5, 14))      # the error bounds of cheapest_by_bound
+BACKENDS = ("c", "heyoka", "casadi", "scipy")
 DELTA = 0.01            # the perturbation: tilt DELTA rad, offset DELTA z_s, lift 2 DELTA z_s
 SPIN_PERIODS = 32       # the length of a run
 REF_STEPS = 300         # the fixed-step reference check: h = T_fast / REF_STEPS
+MIN_TIMED_S = 0.03      # short runs repeat until this much time is spent (at most MAX_REPEATS)
+MAX_REPEATS = 100
 
 
 @dataclass(frozen=True)
@@ -90,7 +102,8 @@ def setup(model, p: np.ndarray | None = None) -> Setup:
     else:
         rho = P["C"] / P["A"]
         spin = math.sqrt(abs(P["mu"] * ph[1]) / P["A"]) / rho
-        basis = "g1 = 1 (thesis 3.3.10): the scene's top has no stable interval; the reduced model does not depend on it"
+        basis = ("g1 = 1 (thesis 3.3.10): the scene's top has no stable interval; the reduced model "
+                 "does not depend on it")
     if not (spin > 0 and math.isfinite(spin)):
         raise UserError(f"scene '{name}': no finite spin to bench at (spin {spin})")
     rates = [spin]
@@ -123,9 +136,11 @@ def plan(quick: bool) -> list[tuple[str, str, list[float]]]:
                 ("cvodes", "tol", [1e-6]), ("casadi-rk", "h", [1 / 30]),
                 ("scipy-dop853", "tol", [1e-6])]
     tols = [1e-4, 1e-6, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12]
+    fine = [10.0 ** (-k / 2) for k in range(8, 28)]   # 1e-4 .. 10^-13.5 (1e-14 is the reference)
     return [("euler", "h", [1 / 30, 1 / 300, 1 / 3000, 1 / 30000]),
             ("rk4", "h", [1 / 3, 1 / 10, 1 / 30, 1 / 100, 1 / 300, 1 / 1000]),
-            ("dop853", "tol", tols + [1e-13]),
+            ("dop853", "tol", fine),
+            ("vern9", "tol", fine),
             ("gauss4", "h", [1 / 3, 1 / 10, 1 / 30, 1 / 100, 1 / 300]),
             ("midpoint", "h", [1 / 30, 1 / 300, 1 / 3000]),
             ("cvodes", "tol", tols),
@@ -149,23 +164,83 @@ def bench_model(model, part_name: str, quick: bool = False, repeats: int | None 
     x_ref, ref_check = reference(part, x0, su, scale)
     repeats = repeats or (1 if quick else 3)
     rows = []
-    for method, kind, values in plan(quick):
-        for v in values:
-            value = v * su.t_fast if kind == "h" else v
-            kw = {"tol": value} if kind == "tol" else {"h": value, "tol": None}
-            best = None
-            for _ in range(repeats if not method.startswith("casadi-coll") else 1):
-                r = integrate(part, x0, su.t_end, method=method, p=su.p, scale=scale, n_out=1,
-                              time_scale=su.t_fast, **kw)
-                if best is None or r.wall_s < best.wall_s:
-                    best = r
-            err = (float(np.max(np.abs(best.x_final - x_ref) / scale))
-                   if best.status == "completed" else math.inf)
-            rows.append({"model": part_name, "backend": backend_of(method), "integrator": method,
-                         "tol": value, "error": err, "wall_s": best.wall_s, "rhs_evals": best.rhs_evals,
-                         "step_or_tol": kind, "status": best.status})
+    runs = [(method, kind, v) for method, kind, values in plan(quick) for v in values]
+    for method, kind, v in progress.track(runs, f"bench {model.scene.name} ({part_name})"):
+        value = v * su.t_fast if kind == "h" else v
+        kw = {"tol": value} if kind == "tol" else {"h": value, "tol": None}
+        best, spent, k = None, 0.0, 0
+        while k < (repeats if not method.startswith("casadi-coll") else 1) or more(k, spent):
+            r = integrate(part, x0, su.t_end, method=method, p=su.p, scale=scale, n_out=1,
+                          time_scale=su.t_fast, **kw)
+            k, spent = k + 1, spent + r.wall_s
+            if best is None or r.wall_s < best.wall_s:
+                best = r
+        err = (float(np.max(np.abs(best.x_final - x_ref) / scale))
+               if best.status == "completed" else math.inf)
+        rows.append({"model": part_name, "backend": backend_of(method), "integrator": method,
+                     "tol": value, "error": err, "wall_s": best.wall_s, "rhs_evals": best.rhs_evals,
+                     "step_or_tol": kind, "status": best.status})
+    heyoka = heyoka_rows(model, part_name, x0, su, scale, x_ref, repeats) if not quick else []
+    rows += heyoka or []
     return {"rows": rows, "reference_check": ref_check, "setup": su.as_dict(), "z_s": su.z_s,
-            "x0": x0.tolist(), "states": list(part.states)}
+            "x0": x0.tolist(), "states": list(part.states),
+            "heyoka": ("not run in --quick (it compiles for seconds per tolerance)" if quick
+                       else "not installed: pip install '.[bench]'" if heyoka is None
+                       else "installed"),
+            "cheapest_by_bound": cheapest_by_bound(rows)}
+
+
+HEYOKA_TOLS = tuple(10.0 ** (-k / 2) for k in range(8, 29))     # 1e-4 .. 1e-14, half decades
+
+
+def more(k: int, spent: float) -> bool:
+    """Repeat a short run (the same rule for every backend): on a busy machine the minimum of
+    many short runs is the run's own cost, so runs under MIN_TIMED_S in total repeat up to
+    MAX_REPEATS times."""
+    return spent < MIN_TIMED_S and k < MAX_REPEATS
+
+
+def heyoka_rows(model, part_name: str, x0, su: Setup, scale, x_ref, repeats: int,
+                tols=HEYOKA_TOLS) -> list | None:
+    """heyoka's Taylor integrator on the same problem (runtime/bench_heyoka.py); None when absent."""
+    from runtime import bench_heyoka
+    if not bench_heyoka.available():
+        return None
+    sys_ = bench_heyoka.system(bench_heyoka.lowered_rhs(model.scene, part_name), scale)
+    rows = []
+    for tol in tols:
+        r = bench_heyoka.run(sys_, x0, su.p, scale, su.t_end, tol, repeats, more)
+        err = (float(np.max(np.abs(r["x_final"] - x_ref) / scale))
+               if r["status"] == "completed" else math.inf)
+        rows.append({"model": part_name, "backend": "heyoka", "integrator": "taylor", "tol": tol,
+                     "error": err, "wall_s": r["wall_s"], "rhs_evals": None, "step_or_tol": "tol",
+                     "status": r["status"], "steps": r["steps"], "compile_s": r["compile_s"]})
+    return rows
+
+
+def cheapest_by_bound(rows: list[dict]) -> list[dict]:
+    """For each error bound and backend, the cheapest run within it (module docstring)."""
+    out = []
+    for bound in BOUNDS:
+        row = {"bound": bound}
+        for b in BACKENDS:
+            ok = [r for r in rows if r["backend"] == b and r["error"] <= bound]
+            best = min(ok, key=lambda r: r["wall_s"]) if ok else None
+            row[b] = None if best is None else {k: best[k] for k in ("integrator", "tol", "error", "wall_s")}
+        out.append(row)
+    return out
+
+
+def write_cheapest(table: list[dict], path: Path) -> None:
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["bound"] + [f"{b}_{k}" for b in BACKENDS for k in ("integrator", "wall_s", "error")])
+        for row in table:
+            cells = [row["bound"]]
+            for b in BACKENDS:
+                c = row[b]
+                cells += ["", "", ""] if c is None else [c["integrator"], c["wall_s"], c["error"]]
+            w.writerow(cells)
 
 
 def cheapest(rows, integrator, bound=1e-8):
@@ -195,6 +270,7 @@ def goals(model, full_rows: list[dict], quick: bool, su: Setup | None = None) ->
     out["full_rhs_ns"] = ns
     out["full_rhs_ops"] = model.function(f"{part.name}_rhs").ops
     out["full_rhs_goal_met"] = ns <= 150
+    out["rhs"] = rhs_costs(model, su, reps)
     # long run: 1e6 steps (quick: 2e4) of gauss4 and RK4 at h = T_fast / 30, energy monitored in C
     n = 20_000 if quick else 1_000_000
     h = su.t_fast / 30
@@ -217,10 +293,23 @@ def goals(model, full_rows: list[dict], quick: bool, su: Setup | None = None) ->
     return out
 
 
+def rhs_costs(model, su: Setup, reps: int) -> dict:
+    """ns per call (best of 3 loops in C) and operation count of every part's rhs, at the bench's
+    initial state."""
+    out = {}
+    for name in ("reduced", "full"):
+        if name in model.parts:
+            part, x0, _ = start(model, name, su)
+            ns = min(time_fn_ns(model.lib, part.c_function("rhs"), x0, su.p, len(x0), reps)
+                     for _ in range(3))
+            out[name] = {"ns": ns, "ops": model.function(f"{name}_rhs").ops}
+    return out
+
+
 def draw(rows: list[dict], path: Path, title: str) -> Path:
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(7.5, 5.5))
-    markers = {"c": "o", "casadi": "s", "scipy": "^"}
+    markers = {"c": "o", "casadi": "s", "scipy": "^", "heyoka": "D"}
     for integ in dict.fromkeys(r["integrator"] for r in rows):
         rs = [r for r in rows if r["integrator"] == integ and math.isfinite(r["error"]) and r["error"] > 0]
         if not rs:
@@ -250,14 +339,15 @@ def run(model, out_dir: str | Path = "reports", quick: bool = False) -> dict:
         rows += res["rows"]
         stem = out / f"bench_{name}"
         with open(f"{stem}.csv", "w", newline="") as fh:
-            w = csv.DictWriter(fh, fieldnames=list(ROW_KEYS) + ["step_or_tol", "status"])
+            w = csv.DictWriter(fh, fieldnames=list(ROW_KEYS) + list(EXTRA_KEYS), restval="")
             w.writeheader()
             w.writerows(res["rows"])
         Path(f"{stem}.json").write_text(json.dumps({"model": name, "scene": model.scene.name,
                                                      "description": __doc__, **res}, indent=1, default=_json))
         draw(res["rows"], Path(f"{stem}.png"),
              f"{model.scene.name}, {name} model: {su.t_end:.3g} s at {su.spin:.4g} rad/s")
-        files += [f"{stem}.csv", f"{stem}.json", f"{stem}.png"]
+        write_cheapest(res["cheapest_by_bound"], out / f"bench_cheapest_{name}.csv")
+        files += [f"{stem}.csv", f"{stem}.json", f"{stem}.png", str(out / f"bench_cheapest_{name}.csv")]
     g = goals(model, [r for r in rows if r["model"] == "full"], quick, su) if "full" in model.parts else {}
     (out / "bench_goals.json").write_text(json.dumps(g, indent=1, default=_json))
     files.append(str(out / "bench_goals.json"))

@@ -30,6 +30,7 @@ TABLE: tuple[Integrator, ...] = (
     Integrator("gauss4", "c", True, needs_jacobian=True, monitors_energy=True, c_id=3),
     Integrator("midpoint", "c", True, needs_jacobian=True, monitors_energy=True, c_id=4),
     Integrator("dop853-fixed", "c", True, monitors_energy=True, c_id=5),
+    Integrator("vern9", "c", False, monitors_energy=True, c_id=6),         # Verner 9(8), 2010
     Integrator("cvodes", "casadi", False, engine="cvodes"),
     Integrator("casadi-rk", "casadi", True, engine="rk"),
     Integrator("casadi-collocation", "casadi", True, engine="collocation"),

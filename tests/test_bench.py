@@ -88,3 +88,38 @@ def test_bench_errors_shrink_with_tolerance():
     assert by["dop853"][1] < 1e-3 * by["dop853"][0]
     assert by["rk4"][1] < 1e-3 * by["rk4"][0]
     assert all(math.isfinite(e) for e in by["scipy-dop853"] + by["cvodes"])
+
+
+def test_cheapest_by_bound_picks_the_fastest_run_within_each_bound():
+    from runtime.bench import BOUNDS, cheapest_by_bound
+    rows = [{"backend": "c", "integrator": "dop853", "tol": 1e-6, "error": 3e-6, "wall_s": 1.0},
+            {"backend": "c", "integrator": "dop853", "tol": 1e-9, "error": 2e-9, "wall_s": 2.0},
+            {"backend": "c", "integrator": "rk4", "tol": None, "error": 5e-8, "wall_s": 1.5},
+            {"backend": "heyoka", "integrator": "taylor", "tol": 1e-9, "error": 4e-10, "wall_s": 3.0},
+            {"backend": "scipy", "integrator": "scipy-dop853", "tol": 1e-6, "error": math.inf,
+             "wall_s": 0.1}]
+    table = {r["bound"]: r for r in cheapest_by_bound(rows)}
+    assert set(table) == set(BOUNDS)
+    assert table[1e-5]["c"]["wall_s"] == 1.0                     # dop853 at 3e-6 is the cheapest
+    assert table[1e-7]["c"]["integrator"] == "rk4"               # 5e-8: rk4 beats dop853 at 2e-9
+    assert table[1e-8]["c"]["wall_s"] == 2.0
+    assert table[1e-9]["heyoka"]["wall_s"] == 3.0 and table[1e-10]["heyoka"] is None
+    assert all(table[b]["scipy"] is None for b in BOUNDS)        # a failed run (inf) is never cheapest
+    assert all(table[b]["casadi"] is None for b in BOUNDS)
+
+
+def test_heyoka_backend_integrates_the_same_problem():
+    """heyoka (optional extra `bench`) on the same lowered equations, parameters, initial state and
+    error measure as the C rows: its error against the C reference follows its tolerance."""
+    pytest.importorskip("heyoka")
+    from runtime import bench
+    from runtime.model import load_model
+    model = load_model(load_scene("thesis_stable"))
+    su = bench.setup(model)
+    part, x0, scale = bench.start(model, "reduced", su)
+    x_ref, _ = bench.reference(part, x0, su, scale)
+    rows = bench.heyoka_rows(model, "reduced", x0, su, scale, x_ref, 1, tols=(1e-6, 1e-11))
+    assert [r["backend"] for r in rows] == ["heyoka", "heyoka"]
+    assert all(r["status"] == "completed" and r["compile_s"] > 0 and r["steps"] > 0 for r in rows)
+    assert rows[0]["error"] < 1e-4 and rows[1]["error"] < 1e-9
+    assert rows[1]["error"] < rows[0]["error"]

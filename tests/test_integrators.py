@@ -3,6 +3,7 @@ convergence orders measured by slopes, DOP853 against scipy's, dense output, the
 non-finite states, bounded energy of the symplectic method, bad options, concurrency."""
 from __future__ import annotations
 
+import itertools
 import math
 from concurrent.futures import ThreadPoolExecutor
 
@@ -84,19 +85,25 @@ def test_gauss4_order_4_and_midpoint_order_2(kepler):
     assert slope(1.0 / np.array(steps), e2) == pytest.approx(2.0, abs=0.1)
 
 
-def test_dop853_adaptive_work_precision_slope(kepler):
-    """Adaptive DOP853 on the circular Kepler orbit: the error falls like (rhs calls)^-8 as the
-    tolerance tightens, and is proportional to the tolerance (one decade per decade)."""
-    x0 = kepler_x0(0.0)
+def adaptive_runs(kepler, method, x0, tols):
+    """Errors after three closed Kepler orbits and rhs calls of an adaptive method, per tolerance;
+    the errors fall strictly as the tolerance tightens."""
     errs, work = [], []
-    tols = [1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13]
     for tol in tols:
-        r = run_c(kepler.lib, "dop853", kepler.c_function("rhs"), x0, kepler.p, 3 * TWO_PI,
+        r = run_c(kepler.lib, method, kepler.c_function("rhs"), x0, kepler.p, 3 * TWO_PI,
                   rtol=tol, atol=tol)
         assert r.status == "completed" and r.t_final == 3 * TWO_PI
         errs.append(np.abs(r.x_final - x0).max())
         work.append(r.rhs_evals)
-    assert all(a > b for a, b in zip(errs, errs[1:]))
+    assert all(a > b for a, b in itertools.pairwise(errs))
+    return errs, work
+
+
+def test_dop853_adaptive_work_precision_slope(kepler):
+    """Adaptive DOP853 on the circular Kepler orbit: the error falls like (rhs calls)^-8 as the
+    tolerance tightens, and is proportional to the tolerance (one decade per decade)."""
+    tols = [1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13]
+    errs, work = adaptive_runs(kepler, "dop853", kepler_x0(0.0), tols)
     assert slope(work, errs) == pytest.approx(-8.0, abs=0.6)
     assert slope(tols, errs) == pytest.approx(1.0, abs=0.1)
 
@@ -308,3 +315,64 @@ def test_scipy_stepper_equals_solve_ivp(osc, method, engine):
             assert r.status == "left_box"
             assert r.t_final == pytest.approx(s.t_events[0][0], rel=1e-14)
             assert r.t_final == pytest.approx(math.pi / 6, rel=1e-7)
+
+
+def vern9_fixed_errors(kepler, x0, steps):
+    """Verner 9(8) held at a fixed step: the tolerance is loose enough that every step is accepted
+    and h_max (= the initial step h) caps it, so the run takes exactly n steps of 2 pi / n."""
+    errs = []
+    for n in steps:
+        h = TWO_PI / n
+        r = run_c(kepler.lib, "vern9", kepler.c_function("rhs"), x0, kepler.p, TWO_PI,
+                  rtol=1e-2, atol=1e-2, h=h, h_max=h * (1 + 1e-12))
+        assert r.status == "completed" and r.steps == n and r.rejected == 0
+        assert r.rhs_evals == 16 * n + 1                  # 16 per step, and rhs(x0)
+        errs.append(np.abs(r.x_final - x0).max())
+    return np.array(errs)
+
+
+def test_vern9_order_9_on_kepler(kepler):
+    """Verner's 9(8) pair (its 9th-order solution) on a nonlinear problem with a known solution:
+    the Kepler orbit (e = 0.5) closes after one period; the global error falls like h^9."""
+    steps = [80, 100, 120, 160]
+    errs = vern9_fixed_errors(kepler, kepler_x0(0.5), steps)
+    assert errs[-1] > 1e-13                           # still above round-off
+    assert slope(1.0 / np.array(steps), errs) == pytest.approx(9.0, abs=0.5)
+
+
+def test_vern9_adaptive_tracks_the_tolerance(kepler):
+    """Adaptive Verner 9(8) on an eccentric orbit: the error is proportional to the tolerance and
+    falls like (rhs calls)^-9."""
+    tols = [1e-8, 1e-9, 1e-10, 1e-11, 1e-12]
+    errs, work = adaptive_runs(kepler, "vern9", kepler_x0(0.6), tols)
+    assert slope(work, errs) == pytest.approx(-9.0, abs=1.2)
+    assert slope(tols, errs) == pytest.approx(1.0, abs=0.15)
+
+
+def test_vern9_dense_output(osc):
+    """Samples inside steps come from a Verner step of theta h: they match the exact circle."""
+    t_out = np.sort(np.random.default_rng(2).uniform(0, 10, 41))
+    t_out = np.concatenate([[0.0], t_out, [10.0]])
+    r = run_c(osc.lib, "vern9", osc.c_function("rhs"), [1, 0, 0, 1], osc.p, 10.0,
+              rtol=1e-12, atol=1e-12, t_out=t_out)
+    assert r.status == "completed" and r.steps < len(t_out)
+    np.testing.assert_array_equal(r.t, t_out)
+    exact = np.c_[np.cos(t_out), np.sin(t_out), -np.sin(t_out), np.cos(t_out)]
+    assert np.abs(r.X - exact).max() < 1e-10
+
+
+def test_vern9_box_event(lib, kepler):
+    """The box event on the dense output: the unstable oscillator leaves x <= 1 at acosh(10);
+    the eccentric orbit crosses r = 1.2 before its apoapsis."""
+    fly = CSystem(lib, "lev_oscillator", ["x", "y", "vx", "vy"], [-1.0])
+    r = integrate(fly, [0.1, 0, 0, 0], 10.0, method="vern9", tol=1e-11,
+                  box=Box(iz=0, z_lo=-1.0, z_hi=1.0), n_out=10, scale=[1, 1, 1, 1])
+    assert r.status == "left_box"
+    assert r.t_final == pytest.approx(math.acosh(10.0), abs=1e-8)
+    assert r.x_final[0] == pytest.approx(1.0, abs=1e-9) and np.isfinite(r.X).all()
+    assert r.t[-1] == r.t_final and np.all(np.diff(r.t) > 0)
+    box = Box(iz=-1, z_lo=-math.inf, z_hi=math.inf, ix=0, iy=1, r_max=1.2)
+    r = integrate(kepler, kepler_x0(0.6), 10.0, method="vern9", tol=1e-10, box=box,
+                  scale=[1, 1, 1, 1])
+    assert r.status == "left_box" and 0 < r.t_final < math.pi
+    assert math.hypot(r.x_final[0], r.x_final[1]) == pytest.approx(1.2, abs=1e-9)

@@ -3,6 +3,8 @@
  * Euler (thesis 3.1.2) and classical Runge-Kutta 4 (thesis 3.1.3-3.1.4) at a fixed step;
  * Dormand-Prince 8(5,3) with the step-size control, error norm and 7th-degree dense output of
  * Hairer's dop853 (coefficients as in scipy.integrate._ivp.dop853_coefficients, exact doubles);
+ * Verner's "most efficient" 9(8) pair (Numer. Algor. 53, 2010) under the same driver
+ * (run_adaptive), its dense output a Verner step of theta h (order 9, 15 evaluations per point);
  * s-stage Gauss-Legendre collocation (s = 1: implicit midpoint, s = 2: order 4), symplectic,
  * with the stage equations solved to round-off by simplified Newton (generated Jacobian) or by
  * fixed-point iteration, and compensated summation of the state update.
@@ -57,6 +59,47 @@ static const double DP_D[4][16] = {
     {19.985053242002433, 0.0, 0.0, 0.0, 0.0, -387.0373087493518, -189.17813819516758, 527.8081592054236, -11.57390253995963, 6.8812326946963, -1.0006050966910838, 0.7777137798053443, -2.778205752353508, -60.19669523126412, 84.32040550667716, 11.99229113618279},
     {-25.69393346270375, 0.0, 0.0, 0.0, 0.0, -154.18974869023643, -231.5293791760455, 357.6391179106141, 93.40532418362432, -37.45832313645163, 104.0996495089623, 29.8402934266605, -43.53345659001114, 96.32455395918828, -39.17726167561544, -149.72683625798564},
 };
+
+/* ---- Verner's "most efficient" 9(8) pair (J. H. Verner, Numer. Algor. 53 (2010) 383-396) ----
+ * 16 stages: the 9th-order solution uses k1, k8..k15; the 8th-order embedded one differs from it
+ * by h sum VN_D_i k_i (k16 at c = 1 only serves the estimate). Coefficients as double values. */
+static const double VN_A[16][16] = {
+    {0},
+    {0.03462},
+    {-0.03893354388572875, 0.13595789452450918},
+    {0.03638413148954267, 0.0, 0.10915239446862801},
+    {2.0257639143939694, 0.0, -7.638023836496291, 6.173259922102322},
+    {0.05112275589406061, 0.0, 0.0, 0.17708237945550218, 0.0008027762409222536},
+    {0.13160063579752163, 0.0, 0.0, -0.2957276252669636, 0.08781378035642955, 0.6213052975225274},
+    {0.07166666666666667, 0.0, 0.0, 0.0, 0.0, 0.33055335789153195, 0.2427799754418014},
+    {0.071806640625, 0.0, 0.0, 0.0, 0.0, 0.3294380283228177, 0.1165190029271823, -0.034013671875},
+    {0.04836757646340646, 0.0, 0.0, 0.0, 0.0, 0.03928989925676164, 0.10547409458903446,
+     -0.021438652846483126, -0.10412291746271944},
+    {-0.026645614872014785, 0.0, 0.0, 0.0, 0.0, 0.03333333333333333, -0.1631072244872467,
+     0.03396081684127761, 0.1572319413814626, 0.21522674780318796},
+    {0.03689009248708622, 0.0, 0.0, 0.0, 0.0, -0.1465181576725543, 0.2242577768172024,
+     0.02294405717066073, -0.0035850052905728597, 0.08669223316444385, 0.43838406519683376},
+    {-0.4866012215113341, 0.0, 0.0, 0.0, 0.0, -6.304602650282853, -0.2812456182894729,
+     -2.679019236219849, 0.5188156639241577, 1.3653531876033418, 5.8850910885039465,
+     2.8028087862720628},
+    {0.4185367457753472, 0.0, 0.0, 0.0, 0.0, 6.724547581906459, -0.42544428016461133,
+     3.3432791530012653, 0.6170816631175374, -0.9299661239399329, -6.099948804751011,
+     -3.002206187889399, 0.2553202529443446},
+    {-0.7793740861228848, 0.0, 0.0, 0.0, 0.0, -13.937342538107776, 1.2520488533793563,
+     -14.691500408016868, -0.494705058533141, 2.2429749091462368, 13.367893803828643,
+     14.396650486650687, -0.79758133317768, 0.4409353709534278},
+    {2.0580513374668867, 0.0, 0.0, 0.0, 0.0, 22.357937727968032, 0.9094981099755646,
+     35.89110098240264, -3.442515027624454, -4.865481358036369, -18.909803813543427,
+     -34.26354448030452, 1.2647565216956427},
+};
+static const double VN_B[16] = {
+    0.014611976858423152, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -0.3915211862331339,
+    0.23109325002895065, 0.12747667699928525, 0.2246434176204158, 0.5684352689748513,
+    0.058258715572158275, 0.13643174034822156, 0.030570139830827976, 0.0};
+static const double VN_D[16] = {
+    -0.005357988290444578, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -2.583020491182464,
+    0.14252253154686625, 0.013420653512688676, -0.02867296291409493, 2.624999655215792,
+    -0.2825509643291537, 0.13643174034822156, 0.030570139830827976, -0.04834231373823958};
 
 /* ---- bookkeeping shared by all methods ---- */
 
@@ -163,7 +206,7 @@ const char *lev_status_message(int status)
 /* ---- the method table and the struct sizes (checked against runtime/integrators_table.py) ---- */
 
 static const char *const METHOD_NAMES[] = {"euler", "rk4", "dop853", "gauss4", "midpoint",
-                                           "dop853-fixed"};
+                                           "dop853-fixed", "vern9"};
 #define LEV_N_METHODS ((int)(sizeof METHOD_NAMES / sizeof METHOD_NAMES[0]))
 
 int lev_method_id(const char *name)
@@ -183,7 +226,7 @@ const char *lev_method_name(int method)
 int lev_method_fixed_step(int method)
 {
     if (method < 0 || method >= LEV_N_METHODS) return -1;
-    return method != LEV_DOP853;
+    return method != LEV_DOP853 && method != LEV_VERN9;
 }
 
 size_t lev_sizeof_system(void) { return sizeof(lev_system); }
@@ -201,7 +244,8 @@ size_t lev_work_bytes(int method, int n)
     case LEV_EULER: return 2 * N * sizeof(double);
     case LEV_RK4: return 6 * N * sizeof(double);
     case LEV_DOP853:
-    case LEV_DOP853_FIXED: return 30 * N * sizeof(double);
+    case LEV_VERN9:
+    case LEV_DOP853_FIXED: return 31 * N * sizeof(double);
     case LEV_GAUSS4:
     case LEV_MIDPOINT:
         s = gauss_stages(method);
@@ -238,30 +282,30 @@ static void rk4_step(lev_ctx *c, const double *x, double h, double *xn, double *
 }
 
 /* One DOP853 step from (x, f = rhs(x)): stages K[0..12] (n each), xn, and K[12] = rhs(xn). */
+/* out = x + h sum_{j < s} a_j K_j (the nonzero a_j, accumulated in acc, which may be out). */
+static void rk_combine(int n, const double *x, double h, const double *K, const double *a, int s,
+                       double *acc, double *out)
+{
+    int i, j;
+    for (i = 0; i < n; i++) acc[i] = 0.0;
+    for (j = 0; j < s; j++) {
+        const double *Kj = K + (size_t)j * n;
+        if (a[j] == 0.0) continue;
+        for (i = 0; i < n; i++) acc[i] += a[j] * Kj[i];
+    }
+    for (i = 0; i < n; i++) out[i] = x[i] + h * acc[i];
+}
+
 static void dp_step(lev_ctx *c, const double *x, const double *f, double h, double *K,
                     double *xn, double *tmp)
 {
-    int s, j, i, n = c->sys->n;
+    int s, n = c->sys->n;
     memcpy(K, f, (size_t)n * sizeof(double));
     for (s = 1; s < 12; s++) {
-        for (i = 0; i < n; i++) tmp[i] = 0.0;
-        for (j = 0; j < s; j++) {
-            double a = DP_A[s][j];
-            const double *Kj = K + (size_t)j * n;
-            if (a == 0.0) continue;
-            for (i = 0; i < n; i++) tmp[i] += a * Kj[i];
-        }
-        for (i = 0; i < n; i++) tmp[i] = x[i] + h * tmp[i];
+        rk_combine(n, x, h, K, DP_A[s], s, tmp, tmp);
         call_rhs(c, tmp, K + (size_t)s * n);
     }
-    for (i = 0; i < n; i++) tmp[i] = 0.0;
-    for (j = 0; j < 12; j++) {
-        double b = DP_B[j];
-        const double *Kj = K + (size_t)j * n;
-        if (b == 0.0) continue;
-        for (i = 0; i < n; i++) tmp[i] += b * Kj[i];
-    }
-    for (i = 0; i < n; i++) xn[i] = x[i] + h * tmp[i];
+    rk_combine(n, x, h, K, DP_B, 12, tmp, xn);
     call_rhs(c, xn, K + (size_t)12 * n);
 }
 
@@ -412,13 +456,89 @@ static double dp_initial_step(lev_ctx *c, const double *x, const double *f, doub
     return fmin(fmin(100.0 * h0, h1), fmin(span, hmax));
 }
 
-static int run_dop853(lev_ctx *c, double *x, double *w)
+static void dp_eval(lev_ctx *c, double theta, double h, const double *yo, const double *F,
+                    double *y, double *K, double *tmp)
+{
+    (void)h; (void)K; (void)tmp;
+    dp_dense_eval(c->sys->n, theta, yo, F, y);
+}
+
+/* Verner 9(8): stages k2..k16 from (x, f = k1) over h, the 9th-order xn; with_f: K[16] = rhs(xn).
+ * Without the estimate (dense output), k16 is skipped. */
+static void vn_stages(lev_ctx *c, const double *x, const double *f, double h, double *K, double *xn,
+                      double *tmp, int with_estimate, int with_f)
+{
+    int s, n = c->sys->n, last = with_estimate ? 16 : 15;
+    memcpy(K, f, (size_t)n * sizeof(double));
+    for (s = 1; s < last; s++) {
+        rk_combine(n, x, h, K, VN_A[s], s, tmp, tmp);
+        call_rhs(c, tmp, K + (size_t)s * n);
+    }
+    rk_combine(n, x, h, K, VN_B, 15, tmp, xn);
+    if (with_f) call_rhs(c, xn, K + (size_t)16 * n);
+}
+
+static void vn_step(lev_ctx *c, const double *x, const double *f, double h, double *K, double *xn,
+                    double *tmp)
+{
+    vn_stages(c, x, f, h, K, xn, tmp, 1, 1);
+}
+
+/* RMS over the components of h sum_i VN_D_i k_i / (atol_k + rtol max(|x_k|, |xn_k|)). */
+static double vn_error_norm(int n, const double *K, double h, const double *x, const double *xn,
+                            double rtol, double atol, const double *atol_v)
+{
+    int i, j;
+    double acc = 0.0;
+    for (i = 0; i < n; i++) {
+        double sc = (atol_v ? atol_v[i] : atol) + rtol * fmax(fabs(x[i]), fabs(xn[i]));
+        double e = 0.0;
+        for (j = 0; j < 16; j++) e += VN_D[j] * K[(size_t)j * n + i];
+        e *= h / sc;
+        acc += e * e;
+    }
+    return sqrt(acc / (double)n);
+}
+
+/* Dense output of order 9: a Verner step of theta h from the start of the step (F = rhs(yo)). */
+static void vn_prepare(lev_ctx *c, const double *y_old, const double *y_new, const double *f_new,
+                       double h, double *K, double *F, double *tmp)
+{
+    (void)y_old; (void)y_new; (void)f_new; (void)h; (void)tmp;
+    memcpy(F, K, (size_t)c->sys->n * sizeof(double));
+}
+
+static void vn_eval(lev_ctx *c, double theta, double h, const double *yo, const double *F,
+                    double *y, double *K, double *tmp)
+{
+    vn_stages(c, yo, F, theta * h, K, y, tmp, 0, 0);
+}
+
+/* An embedded pair with dense output, run by run_adaptive. */
+typedef struct {
+    int f_slot;             /* the slot of K that holds rhs(xn) after a step */
+    double expo;            /* the step-size exponent, 1 / (order of the estimate + 1) */
+    void (*step)(lev_ctx *, const double *, const double *, double, double *, double *, double *);
+    double (*err)(int, const double *, double, const double *, const double *, double, double,
+                  const double *);
+    void (*prepare)(lev_ctx *, const double *, const double *, const double *, double, double *,
+                    double *, double *);
+    void (*eval)(lev_ctx *, double, double, const double *, const double *, double *, double *,
+                 double *);
+} adaptive_method;
+
+static const adaptive_method DOP853_M = {12, 1.0 / 8.0, dp_step, dp_error_norm, dp_dense_prepare,
+                                         dp_eval};
+static const adaptive_method VERN9_M = {16, 1.0 / 9.0, vn_step, vn_error_norm, vn_prepare,
+                                        vn_eval};
+
+static int run_adaptive(lev_ctx *c, double *x, double *w, const adaptive_method *m)
 {
     const lev_options *o = c->opt;
     lev_stats *st = c->st;
     int n = c->sys->n, dense_ready, last_nonfinite, rejected_here, it;
-    double *K = w, *xn = w + 16 * n, *f = w + 17 * n, *tmp = w + 18 * n, *F = w + 19 * n;
-    double *yd = w + 26 * n, *yo = w + 27 * n, *f1 = w + 28 * n;
+    double *K = w, *xn = w + 17 * n, *f = w + 18 * n, *tmp = w + 19 * n, *F = w + 20 * n;
+    double *yd = w + 27 * n, *yo = w + 28 * n, *f1 = w + 29 * n;
     double t = o->t0, t_old, t_new, h = 0.0, h_abs, hmax, span = o->t_end - o->t0, err, e = 0.0;
     long i_out = 0;
 
@@ -442,9 +562,9 @@ static int run_dop853(lev_ctx *c, double *x, double *w)
             t_new = t + h_abs;
             if (t_new > o->t_end) t_new = o->t_end;
             h = t_new - t;
-            dp_step(c, x, f, h, K, xn, tmp);
-            err = dp_error_norm(n, K, h, x, xn, o->rtol, o->atol, o->atol_v);
-            if (!isfinite(err) || !all_finite(xn, n) || !all_finite(K + (size_t)12 * n, n)) {
+            m->step(c, x, f, h, K, xn, tmp);
+            err = m->err(n, K, h, x, xn, o->rtol, o->atol, o->atol_v);
+            if (!isfinite(err) || !all_finite(xn, n) || !all_finite(K + (size_t)m->f_slot * n, n)) {
                 h_abs *= 0.2;
                 st->rejected++;
                 rejected_here = 1;
@@ -452,7 +572,7 @@ static int run_dop853(lev_ctx *c, double *x, double *w)
                 continue;
             }
             last_nonfinite = 0;
-            fac = 0.9 * pow(err, -1.0 / 8.0);
+            fac = 0.9 * pow(err, -m->expo);
             if (err < 1.0) {
                 double factor = (err == 0.0) ? 10.0 : fmin(10.0, fac);
                 if (rejected_here) factor = fmin(1.0, factor);
@@ -467,7 +587,7 @@ static int run_dop853(lev_ctx *c, double *x, double *w)
         memcpy(yo, x, (size_t)n * sizeof(double));
         t_old = t;
         memcpy(x, xn, (size_t)n * sizeof(double));
-        memcpy(f, K + (size_t)12 * n, (size_t)n * sizeof(double));
+        memcpy(f, K + (size_t)m->f_slot * n, (size_t)n * sizeof(double));
         t = t_new;
         st->steps++;
         st->h_last = h;
@@ -479,15 +599,15 @@ static int run_dop853(lev_ctx *c, double *x, double *w)
         if (o->box_on && box_excess(o, x) > 0.0) {
             /* event: locate the first exit on the dense output by bisection */
             double lo = 0.0, hi = 1.0;
-            dp_dense_prepare(c, yo, x, f, h, K, F, tmp);
+            m->prepare(c, yo, x, f, h, K, F, tmp);
             dense_ready = 1;
             for (it = 0; it < 80 && (hi - lo) * h > 2.0 * DBL_EPSILON * fabs(t); it++) {
                 double mid = 0.5 * (lo + hi);
-                dp_dense_eval(n, mid, yo, F, yd);
+                m->eval(c, mid, h, yo, F, yd, K, tmp);
                 if (all_finite(yd, n) && box_excess(o, yd) <= 0.0) lo = mid; else hi = mid;
             }
             if (hi < 1.0) {
-                dp_dense_eval(n, hi, yo, F, yd);
+                m->eval(c, hi, h, yo, F, yd, K, tmp);
                 if (all_finite(yd, n) && box_excess(o, yd) > 0.0) {
                     memcpy(x, yd, (size_t)n * sizeof(double));
                     t = t_old + hi * h;
@@ -497,7 +617,7 @@ static int run_dop853(lev_ctx *c, double *x, double *w)
             }
             while (o->t_out && i_out < o->n_out && o->t_out[i_out] < t) {
                 double th = (o->t_out[i_out] - t_old) / h;
-                dp_dense_eval(n, th, yo, F, yd);
+                m->eval(c, th, h, yo, F, yd, K, tmp);
                 record(c, o->t_out[i_out], yd, c->sys->energy ? call_energy(c, yd) : 0.0);
                 i_out++;
             }
@@ -512,10 +632,10 @@ static int run_dop853(lev_ctx *c, double *x, double *w)
                 } else {
                     double th = (o->t_out[i_out] - t_old) / h;
                     if (!dense_ready) {
-                        dp_dense_prepare(c, yo, x, f, h, K, F, tmp);
+                        m->prepare(c, yo, x, f, h, K, F, tmp);
                         dense_ready = 1;
                     }
-                    dp_dense_eval(n, th, yo, F, yd);
+                    m->eval(c, th, h, yo, F, yd, K, tmp);
                     record(c, o->t_out[i_out], yd, c->sys->energy ? call_energy(c, yd) : 0.0);
                 }
                 i_out++;
@@ -770,7 +890,9 @@ int lev_integrate(int method, const lev_system *sys, const lev_options *opt, dou
         return st->status;
     }
     if (method == LEV_DOP853)
-        status = run_dop853(&c, x, (double *)work);
+        status = run_adaptive(&c, x, (double *)work, &DOP853_M);
+    else if (method == LEV_VERN9)
+        status = run_adaptive(&c, x, (double *)work, &VERN9_M);
     else if (method == LEV_GAUSS4 || method == LEV_MIDPOINT)
         status = run_gauss(method, &c, x, (double *)work);
     else

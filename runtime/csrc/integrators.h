@@ -11,6 +11,8 @@
  *   LEV_GAUSS4       2-stage Gauss-Legendre collocation, order 4, symplectic, fixed step
  *   LEV_MIDPOINT     implicit midpoint rule (1-stage Gauss), order 2, symplectic, fixed step
  *   LEV_DOP853_FIXED the 8th-order DOP853 formula at a fixed step (for order tests)
+ *   LEV_VERN9        Verner's "most efficient" 9(8) pair, adaptive, dense output of order 9
+ *                    (a Verner step of theta h from the start of the step; Numer. Algor. 53, 2010)
  *
  * Thread safety: there is no global mutable state.  All memory is provided by the caller
  * (`work`, of lev_work_bytes(method, n) bytes, 16-byte aligned; the output buffers), so any
@@ -29,7 +31,8 @@ enum lev_method {
     LEV_DOP853 = 2,
     LEV_GAUSS4 = 3,
     LEV_MIDPOINT = 4,
-    LEV_DOP853_FIXED = 5
+    LEV_DOP853_FIXED = 5,
+    LEV_VERN9 = 6
 };
 
 enum lev_status {

@@ -25,11 +25,25 @@ def _env() -> jinja2.Environment:
                               undefined=jinja2.StrictUndefined, autoescape=False)
 
 
+def trig_lines(trig: list) -> list[str]:
+    """sin and cos of one angle from one inline lev_sincos (model.c.j2); a lone one from libm."""
+    by_angle: dict = {}
+    for s, fn, a in trig:
+        by_angle.setdefault(a, {})[fn] = s
+    lines = []
+    for a, fns in by_angle.items():
+        if len(fns) == 2:
+            lines.append(f"double {fns['sin']}, {fns['cos']};")
+            lines.append(f"lev_sincos({a}, &{fns['sin']}, &{fns['cos']});")
+        else:
+            (fn, s), = fns.items()
+            lines.append(f"const double {s} = {fn}({a});")
+    return lines
+
+
 def body_lines(f: Lowered, printer: LevitronCPrinter) -> list[str]:
-    lines = [f"const double {s} = {fn}({a});" for s, fn, a in f.trig]
-    lines += [f"const double {s} = {printer.doprint(e)};"
-              for s, e in f.phi]
-    lines += [f"const double {s} = {printer.doprint(e)};" for s, e in f.main]
+    lines = trig_lines(f.trig)
+    lines += [f"const double {s} = {printer.doprint(e)};" for s, e in f.body]
     lines += [f"out[{i}] = {printer.doprint(e)};" for i, e in enumerate(f.outputs)]
     return lines
 
@@ -59,6 +73,7 @@ def render(banner: str, guard: str, params: list[str], parts: dict, kmax: int,
                       "inputs": f.inputs, "params": f.params, "lines": body_lines(f, printer)})
     env = _env()
     table_json = json.dumps(table, sort_keys=True, separators=(",", ":"), ensure_ascii=True)
-    ctx = {"banner": banner, "guard": guard, "params": params, "parts": parts, "kmax": kmax,
+    uses_sincos = any(line.startswith("lev_sincos(") for f in funcs for line in f["lines"])
+    ctx = {"uses_sincos": uses_sincos, "banner": banner, "guard": guard, "params": params, "parts": parts, "kmax": kmax,
            "functions": funcs, "table_lines": c_string_chunks(table_json)}
     return env.get_template("model.h.j2").render(**ctx), env.get_template("model.c.j2").render(**ctx)

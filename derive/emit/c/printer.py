@@ -5,7 +5,6 @@ no pow() call for the small powers that the field expansion is full of.
 """
 from __future__ import annotations
 
-import sympy as sp
 from sympy.printing.c import C99CodePrinter
 
 MAX_INLINE_POWER = 8

@@ -85,7 +85,7 @@ def build_function(f: Lowered, n_params: int) -> ca.Function:
     b = SXBuilder(env)
     for s, fn, a in f.trig:
         b.env[s] = (ca.sin if fn == "sin" else ca.cos)(b.env[a])
-    for s, e in f.phi + f.main:
+    for s, e in f.body:
         b.assign(s, e)
     out = ca.vertcat(*[b(e) for e in f.outputs]) if f.outputs else ca.SX(0, 1)
     return ca.Function(f.name, [x, p], [out], ["in", "p"], ["out"])
