@@ -1,8 +1,8 @@
-# levitron: `make setup` once, then `make demo`, `make derive`, `make test`, `make bench`.
+# levitron: `make setup` once, then `make demo`, `make derive`, `make test`, `make bench`, `make lint`.
 PY ?= .venv/bin/python
 export PYTHONHASHSEED := 0
 
-.PHONY: setup demo derive test bench golden clean-cache
+.PHONY: setup demo derive test lint bench golden clean-cache
 
 # (re)install whenever pyproject.toml changes: a new dependency or package reaches an old .venv too
 .venv/.installed: pyproject.toml
@@ -24,6 +24,9 @@ derive: setup
 # Regenerate everything even where the hash matches (the golden files' update command).
 golden: setup
 	$(PY) -m derive --force
+
+lint: setup
+	$(PY) -m ruff check .
 
 test: setup
 	$(PY) -m pytest -q
