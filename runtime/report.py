@@ -85,7 +85,7 @@ def build(model, scene_ref: str, overrides=()) -> tuple[str, dict]:
         parts.append("<h2>Scene</h2>")
         parts.append(_table([("file", scene.path), ("plate", scene.data["plate"].get("kind")),
                              ("top mass", u.mass(P["m"])), ("g", f"{sig(P['g'], 4)} m/s^2" if u.si else sig(P["g"], 4)),
-                             ("A, C (inertia)", f"{sig(P['A'], 4)}, {sig(P['C'], 4)}"),
+                             ("A, C (inertia)", f"{sig(P['A'], 4)}, {sig(P['C'], 4)}" + (" kg m^2" if u.si else "")),
                              *[(k, u.length(v) if k in lengths else sig(v, 6))
                                for k, v in P.items() if k.startswith("plate_")]]))
         if u.note:
