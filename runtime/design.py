@@ -172,7 +172,7 @@ class DesignResult:
     objective: name; value: objective at the optimum (spin-range in rad/s, spin-ratio
     and mass-window dimensionless); optimum: scene key -> value (the key's unit,
     docs/scenes.md); start: where IPOPT started (the grid's best point); z_s (m), stiffness (N/m),
-    spin_interval (rad/s; None for mass-window) of the scene's top at the optimum; band (mass-window:
+    spin_interval (rad/s; None where it has none) of the scene's top at the optimum; band (mass-window:
     {"z": [z_lo, z_hi] m, "mass": [m_lo, m_hi] kg}, the float route's); scene: the re-validated
     scene at the optimum; verification: float_route (the objective by the exact float routes),
     grid_best, grid_points, grid_feasible, max_relative_gap (NLP vs float route)."""
@@ -341,6 +341,9 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
     if start.value > check.value * (1 + VERIFY_RTOL):
         raise UserError(f"verification failed: the grid point {keymap.describe(start.x)} gives "
                         f"{start.value:.10g}, more than the IPOPT optimum {check.value:.10g}")
+    interval = check.interval
+    if band:    # the scene's top at the optimum: its spin interval, for the record (None if none)
+        interval = sc.starts(model, keymap.exact(x)[1]).spin
     scene_x = [key_value(model.scene.data, k) for k in keys]
     inside = all(v.lo <= s <= v.hi for v, s in zip(varies, scene_x))
     scene_pt = evaluate(model, keymap, scene_x, objective, constraints) if inside else None
@@ -349,7 +352,7 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
         start=dict(zip(keys, start.x)), start_value=start.value,
         scene_value=None if scene_pt is None else scene_pt.value,
         solver_status=status, iterations=int(stats.get("iter_count", -1)), z_s=check.z_s,
-        stiffness=check.stiffness, spin_interval=check.interval,
+        stiffness=check.stiffness, spin_interval=interval,
         band=None if check.band is None else {"z": list(check.band[0]), "mass": list(check.band[1])},
         constraints=[str(c) for c in constraints],
         verification={"float_route": check.value,
