@@ -56,7 +56,8 @@ class Study:
         """casadi.Functions: the generated ones ((in, p) -> out: onaxis, reduced_rhs, full_jac, ...)
         and the stability ones of runtime/stability_casadi.py with named inputs and outputs:
         z_s(z_guess, p) -> (z_s, stiffness), z_c(z_guess, p) -> (z_c, max_mass),
-        spin(z_guess, sigma_lo_guess, sigma_hi_guess, p) -> (z_s, sigma_lo, sigma_hi)."""
+        spin(z_guess, sigma_lo_guess, sigma_hi_guess, p) -> (z_s, sigma_lo, sigma_hi),
+        band(z_c_guess, z_hi_guess, s_guess, t_guess, p) -> (z_lo, z_hi, m_hi, m_lo, mass_window)."""
         out = {name: self.model.casadi(name) for name in self.model.manifest.functions}
         out.update(self.casadi_stability.functions)
         return out
@@ -69,7 +70,8 @@ class Study:
 
     def gradient(self, quantity: str, keys: Sequence[str]) -> dict[str, float]:
         """d quantity / d key for scene keys (quantity: z_s, stiffness, z_c, max_mass, sigma_lo,
-        sigma_hi; exact, through the rootfinders), at the scene's values."""
+        sigma_hi, z_lo, z_hi, m_lo, m_hi, mass_window; exact, through the rootfinders), at the
+        scene's values."""
         from runtime.scene_keys import KeyMap
         x = np.array([self.value(k) for k in keys])
         km = KeyMap(self.scene, self.model.param_names,

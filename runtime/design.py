@@ -53,9 +53,9 @@ from .ray_algebra import RayCoefficients, ray_cubic
 from .scene_keys import KeyMap, Vary, key_value
 
 OBJECTIVES = {"spin-range": ("sigma_hi - sigma_lo", "rad/s"),
-              "spin-ratio": ("sigma_hi / sigma_lo", "1")}
-NOT_YET = {"mass-window": "the stable band's upper edge is a degenerate fold (docs/api.md): no "
-                         "exact derivative to optimise; use `levitron equilibrium` to scan it"}
+              "spin-ratio": ("sigma_hi / sigma_lo", "1"),
+              "mass-window": ("(m_hi - m_lo) / m_hi", "1")}
+BAND_CONSTRAINTS = ("z_s", "stiffness")   # the constraints mass-window takes (the scene's top)
 VERIFY_RTOL = 1e-8
 THIRD_ROOT_MARGIN = 1e-3   # stability_casadi simple_neighbours >= this: the ends are neighbouring simple roots
 MARGIN_SLACK = 1e-8        # the float check's allowance on that normalised margin (IPOPT's tolerance)
@@ -67,14 +67,19 @@ IPOPT = {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes", "ipopt.
 
 
 def objective_of(name: str, lo: float, hi: float) -> float:
-    return hi - lo if name == "spin-range" else hi / lo
+    """spin-range, spin-ratio of the spin interval (lo, hi); mass-window of the masses (lo, hi)."""
+    return hi - lo if name == "spin-range" else hi / lo if name == "spin-ratio" else (hi - lo) / hi
 
 
 def check_objective(name: str, constraints: Sequence[Constraint]) -> None:
-    if name in NOT_YET:
-        raise UserError(f"--maximize {name} is not available: {NOT_YET[name]}")
     if name not in OBJECTIVES:
         raise UserError(f"--maximize {name!r}: use one of {', '.join(OBJECTIVES)}")
+    if name == "mass-window":
+        bad = [str(c) for c in constraints if c.name not in BAND_CONSTRAINTS]
+        if bad:
+            raise UserError(f"--maximize mass-window takes constraints on {' and '.join(BAND_CONSTRAINTS)}"
+                            f" (the scene's top) only, not {', '.join(bad)}")
+        return
     if not any(c.name == "stiffness" and c.op == ">=" and c.bound > 0 for c in constraints):
         raise UserError(f"--maximize {name} needs --constrain stiffness>=K with K > 0 (N/m): as the "
                         "hover height nears z_c the stiffness vanishes and sigma_hi grows without "
@@ -91,12 +96,15 @@ class Point:
     stiffness: float | None
     interval: tuple[float, float] | None
     value: float | None
+    band: tuple[tuple[float, float], tuple[float, float]] | None = None   # mass-window: (z, mass)
 
 
 def evaluate(model, keymap: KeyMap, x, objective: str, constraints: Sequence[Constraint],
              near: tuple[float, float] | None = None) -> Point:
     """The exact float routes at x: the best feasible interval, or the one containing the
     midpoint of `near` when given (verification of an NLP answer)."""
+    if objective == "mass-window":
+        return evaluate_band(model, keymap, x, constraints, near)
     _, p = keymap.exact(x)
     st = sc.starts(model, p)
     x = tuple(float(v) for v in x)
@@ -119,6 +127,29 @@ def evaluate(model, keymap: KeyMap, x, objective: str, constraints: Sequence[Con
                  None if best is None else best[0])
 
 
+def evaluate_band(model, keymap: KeyMap, x, constraints: Sequence[Constraint],
+                  near: tuple[float, float] | None = None) -> Point:
+    """mass-window by the exact float route (runtime/bands.py): the widest stable band, or the one
+    containing the middle of the heights `near`; the constraints on the scene's top (z_s,
+    stiffness, thesis 3.3.2-3.3.3)."""
+    from . import equilibrium as eqm
+    _, p = keymap.exact(x)
+    x = tuple(float(v) for v in x)
+    rep = eqm.equilibria_of(model, p, bands=True)
+    z_s, k = (rep.stable[0].z, rep.stable[0].stiffness) if rep.stable else (None, None)
+    bands = rep.stable_bands if near is None else [
+        b for b in rep.stable_bands if b.z[0] <= 0.5 * (near[0] + near[1]) <= b.z[1]]
+    band = max(bands, key=lambda b: b.z[1] - b.z[0]) if bands else None
+    vals = {"z_s": z_s, "stiffness": k}
+    ok = band is not None and all(
+        vals[c.name] is not None
+        and c.margin(vals[c.name]) >= -VERIFY_RTOL * max(abs(c.bound), abs(vals[c.name]))
+        for c in constraints)
+    if not ok:
+        return Point(x, z_s, k, None, None)
+    return Point(x, z_s, k, None, objective_of("mass-window", *band.mass), (band.z, band.mass))
+
+
 def third_root_margin(model, p, z_s: float, lo: float, hi: float) -> float:
     """stability_casadi.simple_neighbours of the exact ray cubic (runtime/ray_algebra.py, thesis
     3.3.13) at z_s with s1 = 1/hi^2, s2 = 1/lo^2: the float twin of the NLP's constraint."""
@@ -139,11 +170,12 @@ class DesignResult:
     """A verified design optimum (docs/contract.md `optimize`).
 
     objective: name; value: objective at the optimum (spin-range in rad/s, spin-ratio
-    dimensionless); optimum: scene key -> value (the key's unit, docs/scenes.md); start: where
-    IPOPT started (the grid's best point); z_s (m), stiffness (N/m), spin_interval (rad/s) at the
-    optimum; scene: the re-validated scene at the optimum; verification: float_route (the
-    objective by the exact float routes), grid_best, grid_points, grid_feasible,
-    max_relative_gap (NLP vs float route)."""
+    and mass-window dimensionless); optimum: scene key -> value (the key's unit,
+    docs/scenes.md); start: where IPOPT started (the grid's best point); z_s (m), stiffness (N/m),
+    spin_interval (rad/s; None where it has none) of the scene's top at the optimum; band (mass-window:
+    {"z": [z_lo, z_hi] m, "mass": [m_lo, m_hi] kg}, the float route's); scene: the re-validated
+    scene at the optimum; verification: float_route (the objective by the exact float routes),
+    grid_best, grid_points, grid_feasible, max_relative_gap (NLP vs float route)."""
 
     objective: str
     value: float
@@ -153,9 +185,10 @@ class DesignResult:
     scene_value: float | None
     solver_status: str
     iterations: int
-    z_s: float
-    stiffness: float
-    spin_interval: tuple[float, float]
+    z_s: float | None
+    stiffness: float | None
+    spin_interval: tuple[float, float] | None
+    band: dict | None
     constraints: list[str]
     verification: dict
     scene: Scene = field(repr=False)
@@ -169,7 +202,8 @@ class DesignResult:
                 "scene_objective": self.scene_value,
                 "solver_status": self.solver_status, "iterations": self.iterations,
                 "z_s": self.z_s, "stiffness": self.stiffness,
-                "spin_interval": list(self.spin_interval), "constraints": self.constraints,
+                "spin_interval": None if self.spin_interval is None else list(self.spin_interval),
+                "band": self.band, "constraints": self.constraints,
                 "verification": self.verification, "wall_s": self.wall_s}
 
 
@@ -231,8 +265,40 @@ class _Nlp:
                               lbg=self.lbg, ubg=self.ubg)
         st = self.solver.stats()
         u = np.clip(np.asarray(sol["x"], float).reshape(-1), 0, 1)
-        z, slo, shi = (float(v) for v in self.answer(u))
-        return st, self.lo + self.span * u, z, slo, shi
+        return st, self.lo + self.span * u, tuple(float(v) for v in self.answer(u))
+
+
+class _BandNlp(_Nlp):
+    """mass-window: maximise (m_hi - m_lo) / m_hi with the band's edges the rootfinder Function
+    `band` of runtime/stability_casadi.py (z_c: Phi_3 = 0; z_hi: N(t) with a triple root, thesis
+    3.3.3, 3.3.11), started from the float band at the grid point; z_s and the stiffness of the
+    scene's top (Function `z_s`) for the user's constraints; z_hi >= z_lo."""
+
+    def __init__(self, model, keymap: KeyMap, constraints: Sequence[Constraint], start: Point):
+        sy = sc.symbols(model)
+        n = len(keymap.varies)
+        lo = np.array([v.lo for v in keymap.varies])
+        span = np.array([v.hi - v.lo for v in keymap.varies])
+        _, p0 = keymap.exact(start.x)
+        st = sc.starts(model, p0, band=True)
+        if st.band is None or st.z_c is None:
+            raise UserError(f"no start for the band's edges at {keymap.describe(start.x)}: the float "
+                            "band has no upper edge where two critical spins merge")
+        u = ca.SX.sym("u", n)
+        p = keymap.p_casadi(lo + span * u)
+        z_lo, z_hi, m_hi, m_lo, window = sc.band_function(sy, strict=True)(st.z_c, *st.band, p)
+        rows, lbg, ubg = [(z_hi - z_lo) / z_hi], [0], [ca.inf]
+        if constraints:
+            z, k = sc.z_s_function(sy)(start.z_s, p)
+            quantity = {"z_s": z, "stiffness": k}
+            for c in constraints:
+                rows.append(c.margin(quantity[c.name]) / max(abs(c.bound), 1e-300))
+                lbg.append(0)
+                ubg.append(ca.inf)
+        f = -window / start.value
+        self.solver = ca.nlpsol("design", "ipopt", {"x": u, "f": f, "g": ca.vertcat(*rows)}, IPOPT)
+        self.answer = ca.Function("answer", [u], [z_lo, z_hi, m_lo, m_hi])
+        self.lbg, self.ubg, self.lo, self.span, self.n = lbg, ubg, lo, span, n
 
 
 def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequence[Constraint] = (),
@@ -252,24 +318,32 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
                         "interval that meets the constraints: widen the bounds or relax "
                         f"{', '.join(map(str, constraints)) or 'them'}")
     start = max(feasible, key=lambda pt: pt.value)
-    nlp = _Nlp(model, keymap, objective, constraints, start)
-    stats, x, z, slo, shi = nlp.solve(start, 1 / (n_grid - 1))
+    band = objective == "mass-window"
+    nlp = _BandNlp(model, keymap, constraints, start) if band else \
+        _Nlp(model, keymap, objective, constraints, start)
+    stats, x, ans = nlp.solve(start, 1 / (n_grid - 1))
     status = str(stats.get("return_status"))
     if not stats.get("success"):
         raise UserError(f"IPOPT failed (status {status}, {stats.get('iter_count')} iterations) from "
                         f"{keymap.describe(start.x)}: change the bounds or constraints")
     keys = [v.key for v in varies]
-    check = evaluate(model, keymap, x, objective, constraints, near=(slo, shi))
-    if check.interval is None:
+    check = evaluate(model, keymap, x, objective, constraints, near=ans[:2] if band else ans[1:])
+    if check.value is None:
         raise UserError(f"verification failed: at the IPOPT optimum {keymap.describe(x)} the float "
-                        "routes find no stable spin interval meeting the constraints there")
-    gap = max(abs(a - b) / abs(b) for a, b in zip((z, slo, shi), (check.z_s, *check.interval)))
+                        f"routes find no {'stable band' if band else 'stable spin interval'} "
+                        "meeting the constraints there")
+    what = "z_lo, z_hi, m_lo, m_hi" if band else "z_s, sigma_lo, sigma_hi"
+    ref = (*check.band[0], *check.band[1]) if band else (check.z_s, *check.interval)
+    gap = max(abs(a - b) / abs(b) for a, b in zip(ans, ref))
     if gap > VERIFY_RTOL:
-        raise UserError(f"verification failed: at {keymap.describe(x)} the NLP's z_s, sigma_lo, "
-                        f"sigma_hi differ from the float routes by {gap:.2g} (relative)")
+        raise UserError(f"verification failed: at {keymap.describe(x)} the NLP's {what} differ "
+                        f"from the float routes by {gap:.2g} (relative)")
     if start.value > check.value * (1 + VERIFY_RTOL):
         raise UserError(f"verification failed: the grid point {keymap.describe(start.x)} gives "
                         f"{start.value:.10g}, more than the IPOPT optimum {check.value:.10g}")
+    interval = check.interval
+    if band:    # the scene's top at the optimum: its spin interval, for the record (None if none)
+        interval = sc.starts(model, keymap.exact(x)[1]).spin
     scene_x = [key_value(model.scene.data, k) for k in keys]
     inside = all(v.lo <= s <= v.hi for v, s in zip(varies, scene_x))
     scene_pt = evaluate(model, keymap, scene_x, objective, constraints) if inside else None
@@ -278,9 +352,11 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
         start=dict(zip(keys, start.x)), start_value=start.value,
         scene_value=None if scene_pt is None else scene_pt.value,
         solver_status=status, iterations=int(stats.get("iter_count", -1)), z_s=check.z_s,
-        stiffness=check.stiffness, spin_interval=check.interval,
+        stiffness=check.stiffness, spin_interval=interval,
+        band=None if check.band is None else {"z": list(check.band[0]), "mass": list(check.band[1])},
         constraints=[str(c) for c in constraints],
-        verification={"float_route": check.value, "nlp": objective_of(objective, slo, shi),
+        verification={"float_route": check.value,
+                      "nlp": objective_of(objective, *(ans[2:] if band else ans[1:])),
                       "max_relative_gap": gap, "grid_best": start.value, "grid_points": len(pts),
                       "grid_feasible": len(feasible), "grid_per_key": n_grid,
                       "tolerance": VERIFY_RTOL},

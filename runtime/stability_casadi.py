@@ -10,11 +10,14 @@ by tests/test_stability_derivation.py). This module only composes them:
 * sigma_lo, sigma_hi: the critical spins, s = 1/sigma^2 the positive roots of the ray cubic
   Q(s) = G(s c1, s c2, s c3) / s^3 (thesis 3.3.13-3.3.16) at z_s, between which the top is
   linearly stable;
-* the stable band's lower edge z_lo = z_c and its largest mass m(z_c) (docs/contract.md "The
-  stable band"). Its upper edge is not here: there two critical spins are born together with a
-  separation growing like (z_hi - z)^(3/2), so the residual is flat in z and its floating-point
-  zero is located only to ~1e-6 (the exact rational route of runtime/bands.py is the reference;
-  docs/api.md).
+* the stable band (docs/contract.md "The stable band"): its lower edge z_lo = z_c with the
+  largest mass m(z_c), and its upper edge z_hi with the mass m(z_hi), where the two critical
+  spins of the stable interval merge. There the ray crosses the cuspidal edge of the quartic's
+  discriminant surface: N(t) (thesis 3.3.11) has a triple root t0, N = (t - t0)^3 (t - 1 + 3 t0).
+  The discriminant of the ray cubic in s therefore has a triple zero in z (separation of the
+  two spins ~ (z_hi - z)^(3/2); measured on thesis_stable), useless for Newton, but the system
+  N = N' = N'' = 0 in (z, s, t0) is regular (its Jacobian is nonsingular on every scene), so
+  z_hi is an implicit function with exact derivatives; `band_function`.
 
 Each is an implicit function, solved by `casadi.rootfinder` (Newton) from a starting point the
 exact float routes supply (runtime/equilibrium.py, runtime/ray_algebra.py); CasADi then gives
@@ -174,7 +177,34 @@ def spin_function(sy: Symbols, strict: bool = False) -> ca.Function:
                  lambda v: list(v), sy, strict)
 
 
-FUNCTIONS = {"z_s": z_s_function, "z_c": z_c_function, "spin": spin_function}
+def triple_root(sy: Symbols, z, s, t):
+    """N(t) = (t - t0)^3 (t - 1 + 3 t0), t0 = t, at s = 1/sigma^2 for the top of mass m(z) hovering at z:
+    the quartic of thesis 3.3.11 matched coefficient by coefficient (t^2, t^1, t^0), each residual
+    normalised by the 2-norm of its terms."""
+    c1, c2sq, c3 = sy.ray(z, sy.hover_mass(z))
+    rows = [[3 * t, -6 * t ** 2, -s * c1, -s * c3],
+            [3 * t ** 2, -8 * t ** 3, -s * c3],
+            [t ** 3, -3 * t ** 4, -s ** 2 * c1 * c3, s ** 2 * c2sq]]
+    return [sum(r) / _norm(r) for r in rows]
+
+
+def band_function(sy: Symbols, strict: bool = False) -> ca.Function:
+    """band(z_c_guess, z_hi_guess, s_guess, t_guess, p) -> z_lo, z_hi (m), m_hi, m_lo (kg),
+    mass_window (1): the stable band's edges, z_lo = z_c (Phi_3 = 0, thesis 3.3.3) and z_hi where
+    N(t) has a triple root at the merging critical spin s = 1/sigma^2 (thesis 3.3.11-3.3.16), the
+    masses m(z) = -mu Phi_2(z)/g there (3.3.2) and (m_hi - m_lo) / m_hi."""
+    def residual(v):
+        return [sy.phi3_normalised(v[0]), *triple_root(sy, v[1], v[2], v[3])]
+
+    def value_of(v):
+        m_hi, m_lo = sy.hover_mass(v[0]), sy.hover_mass(v[1])
+        return [v[0], v[1], m_hi, m_lo, (m_hi - m_lo) / m_hi]
+    return _root("band", ["z_c", "z_hi", "s", "t"], ["z_lo", "z_hi", "m_hi", "m_lo", "mass_window"],
+                 residual, value_of, sy, strict)
+
+
+FUNCTIONS = {"z_s": z_s_function, "z_c": z_c_function, "spin": spin_function,
+             "band": band_function}
 
 
 # ------------------------------------------------ evaluation from the float routes' starting points
@@ -189,24 +219,52 @@ class Starts:
     z_c: float | None
     stiffness: float | None = None                 # mu Phi_3(z_s), N/m
     intervals: tuple[tuple[float, float], ...] = ()  # every bounded stable spin interval at z_s
+    band: tuple[float, float, float] | None = None   # (z_hi, s, t0) near the band's upper edge
 
 
-def starts(model, p=None) -> Starts:
-    """The float routes' answers at p (default the scene's) to start the rootfinders from."""
+def starts(model, p=None, band: bool = False) -> Starts:
+    """The float routes' answers at p (default the scene's) to start the rootfinders from; with
+    band=True also the stable band's upper edge (runtime/bands.py, `band_start`)."""
     import math
 
     from . import equilibrium as eqm
     from .ray_algebra import RayCoefficients, spin_intervals_discriminant
     p = model.p if p is None else p
     P = model.pvals(p)
-    rep = eqm.equilibria_of(model, p)
+    rep = eqm.equilibria_of(model, p, bands=band)
+    edge = band_start(model, p, rep.stable_band) if band and rep.stable_band else None
     z_s = rep.stable[0].z if rep.stable else None
     if z_s is None:
-        return Starts(None, None, rep.z_c)
+        return Starts(None, None, rep.z_c, band=edge)
     ph = model.onaxis(z_s, p)
     c = RayCoefficients.from_physics(ph[1], ph[2], ph[3], P["m"], P["A"], P["C"], P["mu"])
     bounded = tuple(iv for iv in spin_intervals_discriminant(c) if 0 < iv[0] and iv[1] < math.inf)
-    return Starts(z_s, bounded[0] if bounded else None, rep.z_c, rep.stable[0].stiffness, bounded)
+    return Starts(z_s, bounded[0] if bounded else None, rep.z_c, rep.stable[0].stiffness, bounded,
+                  edge)
+
+
+def band_start(model, p, band) -> tuple[float, float, float] | None:
+    """(z, s, t0) to start `band_function`'s z_hi from: a height just inside the float band's
+    upper edge (runtime/bands.py), the middle s of its (nearly merged) stable spin interval and
+    the mean of the three clustered roots of N(t) there (thesis 3.3.11)."""
+    import numpy as np
+
+    from .ray_algebra import RayCoefficients, spin_intervals_discriminant
+    P = model.pvals(p)
+    lo, hi = band.z
+    for frac in (1e-6, 1e-4, 1e-2):
+        z = hi - frac * (hi - lo)
+        ph = model.onaxis(z, p)
+        m = -P["mu"] * ph[2] / P["g"]
+        c = RayCoefficients.from_physics(ph[1], ph[2], ph[3], m, P["A"], P["C"], P["mu"])
+        bounded = [iv for iv in spin_intervals_discriminant(c) if 0 < iv[0] and iv[1] < np.inf]
+        if bounded:
+            s = 1 / (bounded[0][0] * bounded[0][1])
+            c1, c2sq, c3 = c.floats()
+            t = np.sort(np.roots([1, -1, s * (c1 + c3), -s * c3, s * s * (c1 * c3 - c2sq)]).real)
+            k = min(range(2), key=lambda i: t[i + 2] - t[i])
+            return float(hi), float(s), float(t[k:k + 3].mean())
+    return None
 
 
 def guesses(name: str, st: Starts) -> list[float] | None:
@@ -215,6 +273,8 @@ def guesses(name: str, st: Starts) -> list[float] | None:
         return None if st.z_s is None else [st.z_s]
     if name == "z_c":
         return None if st.z_c is None else [st.z_c]
+    if name == "band":
+        return None if st.band is None or st.z_c is None else [st.z_c, *st.band]
     return None if st.spin is None else [st.z_s, *st.spin]
 
 
@@ -230,7 +290,7 @@ class CasadiStability:
     def values(self, p=None, st: Starts | None = None) -> dict[str, float]:
         """{output name: value} of every Function whose quantity exists at p (SI units)."""
         p = self.model.p if p is None else p
-        st = starts(self.model, p) if st is None else st
+        st = starts(self.model, p, band=True) if st is None else st
         out = {}
         for name, F in self.functions.items():
             g = guesses(name, st)
@@ -245,7 +305,7 @@ class CasadiStability:
         theorem through the rootfinder), or None where the quantity does not exist."""
         import numpy as np
         p = self.model.p if p is None else p
-        st = starts(self.model, p) if st is None else st
+        st = starts(self.model, p, band=True) if st is None else st
         for name, F in self.functions.items():
             if output in F.name_out():
                 g = guesses(name, st)

@@ -79,8 +79,31 @@ def test_constraint_grammar_is_safe():
 def test_spin_objectives_need_a_stiffness_floor():
     with pytest.raises(UserError, match="stiffness"):
         design.check_objective("spin-range", [])
+    design.check_objective("mass-window", [])       # the band needs no stiffness floor
     with pytest.raises(UserError, match="mass-window"):
-        design.check_objective("mass-window", [Constraint.parse("stiffness>=1")])
+        design.check_objective("mass-window", [Constraint.parse("sigma_hi>=1")])
+
+
+def test_mass_window_optimum_is_verified():
+    """mass-window (thesis 3.3.3, 3.3.11; the band's edges by runtime/stability_casadi.py) grows
+    with the plate's radius while the scene top's stiffness falls: the optimum sits on the
+    stiffness constraint inside the box, verified by the float band (runtime/bands.py) to 1e-8 and
+    by the 20-point grid; just beyond it the constraint fails, just inside the window is smaller."""
+    model = load_model(load_scene("thesis_stable"))
+    box, floor = Vary.parse("plate.radius=0.06:0.14"), [Constraint.parse("stiffness>=3")]
+    res = design.optimize(model, [box], "mass-window", floor)
+    ver = res.verification
+    assert res.solver_status == "Solve_Succeeded" and ver["grid_points"] == 20
+    assert ver["grid_best"] <= res.value * (1 + 1e-8) and ver["max_relative_gap"] <= 1e-8
+    lo, hi = res.band["mass"]
+    assert res.value == pytest.approx((hi - lo) / hi, rel=1e-15)
+    assert res.stiffness == pytest.approx(3.0, rel=1e-6)
+    x = res.optimum["plate.radius"]
+    assert box.lo < x < box.hi
+    km = KeyMap(model.scene, model.param_names, [box])
+    assert design.evaluate(model, km, (x * (1 + 1e-4),), "mass-window", floor).value is None
+    inside = design.evaluate(model, km, (x * (1 - 1e-4),), "mass-window", floor).value
+    assert inside is not None and inside < res.value
 
 
 def test_command_writes_a_scene_that_reads_back(tmp_path):

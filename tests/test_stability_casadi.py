@@ -18,7 +18,7 @@ SCENES = sorted(p.stem for p in SCENES_DIR.glob("*.toml"))
 @pytest.fixture(scope="module", params=SCENES)
 def built(request):
     model = load_model(load_scene(request.param))
-    return model, sc.CasadiStability(model), sc.starts(model)
+    return model, sc.CasadiStability(model), sc.starts(model, band=True)
 
 
 def test_values_agree_with_float_routes(built):
@@ -39,14 +39,27 @@ def test_values_agree_with_float_routes(built):
             assert (v["sigma_lo"], v["sigma_hi"]) == pytest.approx(interval, rel=1e-10)
 
 
+def test_band_agrees_with_float_band(built):
+    """The stable band's edges (z_lo = z_c, z_hi: N(t) with a triple root, thesis 3.3.11) and masses
+    against runtime/bands.py's bisection (rtol 1e-12): 1e-10 relative (measured: < 5e-12)."""
+    model, cs, st = built
+    v = cs.values(st=st)
+    band = eqm.equilibria_of(model, bands=True).stable_band
+    assert band is not None and st.band is not None
+    assert (v["z_lo"], v["z_hi"]) == pytest.approx(band.z, rel=1e-10)
+    assert (v["m_lo"], v["m_hi"]) == pytest.approx(band.mass, rel=1e-10)
+    assert v["mass_window"] == pytest.approx((band.mass[1] - band.mass[0]) / band.mass[1], rel=1e-8)
+
+
 def test_gradients_match_central_differences(built):
     """Central differences of the rootfinders' values, step 1e-6 relative on each parameter; a
     component is compared against the size of its terms, |dy/dp_k| + |y / p_k| (the contract's
     rule near a zero of the quantity)."""
     model, cs, st = built
     v = cs.values(st=st)
-    names = [k for k in ("z_s", "z_c", "sigma_lo", "sigma_hi") if k in v]
-    assert {"z_s", "z_c"} <= set(names)
+    names = [k for k in ("z_s", "z_c", "sigma_lo", "sigma_hi", "z_hi", "m_lo", "mass_window")
+             if k in v]
+    assert {"z_s", "z_c", "z_hi", "mass_window"} <= set(names)
     for out in names:
         J = cs.jacobian(out, st=st)
         for k, pk in enumerate(model.p):

@@ -1,0 +1,27 @@
+"""The design bench (runtime/bench_design.py, issue 9) in --quick mode: one verified design
+optimisation over one key on thesis_stable, reported to JSON and CSV (no timing asserted)."""
+from __future__ import annotations
+
+import csv
+import json
+import subprocess
+import sys
+
+from derive.paths import ROOT
+
+
+def test_quick_bench_writes_json_and_csv(tmp_path):
+    res = subprocess.run([sys.executable, "-m", "runtime.bench_design", "--quick", "--out",
+                          str(tmp_path)], capture_output=True, text=True, cwd=ROOT, check=False)
+    assert res.returncode == 0, res.stderr
+    data = json.loads((tmp_path / "bench_design.json").read_text())
+    assert data["scene"] == "thesis_stable" and data["quick"] is True
+    (case,) = data["cases"]
+    assert case["case"] == "one_key" and case["objective"] == "spin-range" and not case["error"]
+    assert case["solver_status"] in ("Solve_Succeeded", "Solved_To_Acceptable_Level")
+    assert case["iterations"] > 0 and case["grid_points"] == 20 and case["wall_s"] > 0
+    assert case["max_relative_gap"] <= 1e-8
+    rows = list(csv.DictReader((tmp_path / "bench_design.csv").open()))
+    assert [r["case"] for r in rows] == ["one_key"]
+    assert int(rows[0]["iterations"]) == case["iterations"]
+    assert "one_key: spin-range over top.mass=" in res.stdout
