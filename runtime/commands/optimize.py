@@ -103,12 +103,17 @@ def human(r: dict, scene=None) -> str:
                      + (f"; largest residual {sig(worst, 3)} sigma" if worst is not None else ""),
                      status, u.note)
     best = ", ".join(f"{k} = {sig(v, 6)}" for k, v in r["optimum"].items())
-    lo, hi = r["spin_interval"]
+    iv, band = r.get("spin_interval"), r.get("band")
     ver = r["verification"]
     unit = r.get("objective_unit") or ""
+    unit = "" if unit == "1" else unit          # a ratio: no unit to show
     return lines(
         f"optimum: {best}: {r['objective_name']} {sig(r['objective'], 6)} {unit}".rstrip(),
-        f"spin interval {u.rate_span(lo, hi)} at z_s = {u.length(r['z_s'])}",
+        f"stable band {u.length(band['z'][0])} to {u.length(band['z'][1])}, tops of "
+        f"{u.mass(band['mass'][0])} to {u.mass(band['mass'][1])}" if band else "",
+        (f"{'the scene top' + chr(39) + 's ' if band else ''}spin interval {u.rate_span(*iv)} "
+         f"at z_s = {u.length(r['z_s'])}") if iv
+        else "the scene's top has no stable spin interval there" if band else "",
         f"the scene itself: {r['objective_name']} {sig(r['scene_objective'], 6)} {unit}".rstrip()
         if r.get("scene_objective") is not None else "",
         f"verified: float route at the optimum, best of {ver['grid_points']} grid points "
