@@ -28,7 +28,8 @@ def human(r: dict, scene=None) -> str:
     """Answer first: the fastest run within the error goal; then the table's size and files."""
     g = r.get("goals") or {}
     best = g.get("c_dop853")
-    head = "bench: no run met the error goal"
+    head = ("bench: no run met the error goal" if g.get("error_bound") is not None else
+            "bench: the reduced model only (the scene has no full model, which the goals are about)")
     if best:
         head = (f"bench: C dop853 reaches error {sig(best['error'], 2)} in {duration(best['wall_s'])} "
                 f"({best['model']} model; goal: error below {sig(g.get('error_bound'), 2)})")
