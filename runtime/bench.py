@@ -206,7 +206,8 @@ def heyoka_rows(model, part_name: str, x0, su: Setup, scale, x_ref, repeats: int
     from runtime import bench_heyoka
     if not bench_heyoka.available():
         return None
-    sys_ = bench_heyoka.system(bench_heyoka.lowered_rhs(model.scene, part_name), scale)
+    from derive.emit.heyoka import lowered_rhs, system
+    sys_ = system(lowered_rhs(model.scene, part_name), scale)
     rows = []
     for tol in tols:
         r = bench_heyoka.run(sys_, x0, su.p, scale, su.t_end, tol, repeats, more)

@@ -1,10 +1,11 @@
 """heyoka (Taylor's method, compiled by LLVM at run time) as a bench backend: BENCHMARK-ONLY.
 
-This is the one runtime module that imports sympy and derive: it hands heyoka the model's own
-expressions (the lowered right-hand side of derive/emit/lower.py, the graph the generated C
-computes: Hamilton's equations, thesis 2.3.9-2.3.16 / 3.2.12) through `heyoka.from_sympy`, so both
-integrate the same equations. runtime/bench.py imports it only when heyoka is installed (the
-optional extra: pip install '.[bench]'); nothing else in the runtime imports it.
+heyoka gets the model's own expressions: derive/emit/heyoka.py (the heyoka backend of the emitter)
+turns the lowered right-hand side of derive/emit/lower.py, the graph the generated C computes
+(Hamilton's equations, thesis 2.3.9-2.3.16 / 3.2.12), into heyoka expressions through
+`heyoka.from_sympy`, so both integrate the same equations. That needs sympy, so this path is the
+one place where a runtime process loads sympy: runtime/bench.py imports it only when heyoka is
+installed (the optional extra: pip install '.[bench]'), and nothing else in the runtime does.
 
 Same problem as every other backend: the same parameter vector, initial state and error measure.
 heyoka's single tolerance is relative-or-absolute per component, so it integrates the state in the
@@ -23,36 +24,6 @@ import numpy as np
 def available() -> bool:
     """Whether heyoka is installed (the bench says so when it is not)."""
     return importlib.util.find_spec("heyoka") is not None
-
-
-def lowered_rhs(scene, part_name: str):
-    """The lowered `<part>_rhs` of the scene (derive's spec -> derive/emit/lower.py)."""
-    from derive.build import field_order
-    from derive.emit.lower import lower
-    from derive.geometry import build_plate
-    from derive.spec import build_spec
-    order, _ = field_order(scene)
-    spec = build_spec(scene.name, build_plate(scene.data["plate"]), order, scene.coordinates,
-                      scene.needs)
-    fn = next(f for f in spec.functions if f.name == f"{part_name}_rhs")
-    return lower(fn, spec)
-
-
-def system(low, scale: np.ndarray):
-    """heyoka's [(X_k, dX_k/dt)] in scaled states X_k = x_k / scale_k, parameters as par[i]."""
-    import heyoka as hy
-    import sympy as sp
-    n = low.n_in
-    X = hy.make_vars(*[f"X{i}" for i in range(n)])
-    env = {v: X[i] * float(scale[i]) for i, v in low.inputs}
-    env.update({v: hy.par[i] for i, v in low.params})
-    for s, fn, a in low.trig:
-        env[s] = (hy.sin if fn == "sin" else hy.cos)(env[a])
-    for s, e in low.body:
-        env[s] = hy.from_sympy(e, env)
-    rhs = [hy.from_sympy(sp.sympify(e), env) / float(scale[i]) if e != 0 else hy.expression(0.0)
-           for i, e in enumerate(low.outputs)]
-    return list(zip(X, rhs))
 
 
 def run(sys_, x0: np.ndarray, p: np.ndarray, scale: np.ndarray, t_end: float, tol: float,

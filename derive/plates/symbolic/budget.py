@@ -1,7 +1,10 @@
 """A wall-clock budget for sympy work on scene text (expression plates; issue 8, bounded work).
 
 Sympy cannot be interrupted cooperatively, so `time_budget` arms a real-time timer (SIGALRM) that
-raises inside the computation; the budget then ends as one SceneError line. Where no timer can be
+raises inside the computation; the budget then ends as one SceneError line. The timer repeats
+(every RETRY_S after the budget) until the block has ended: an exception raised while Python runs
+a finaliser or a weakref callback is printed and dropped, and a one-shot timer would then let the
+work run on forever. Where no timer can be
 armed (not the main thread, or a platform without setitimer) the work runs unbounded in time, still
 bounded in size by the parser's limits (derive/expr_parse.py) and the expression plate's operation
 budget (derive/plates/symbolic/expression.py).
@@ -16,6 +19,9 @@ from contextlib import contextmanager
 from ...checks import SceneError
 
 
+RETRY_S = 0.05
+
+
 class _OutOfTime(BaseException):
     """Raised by the timer; a BaseException so that no `except Exception` inside sympy hides it."""
 
@@ -27,17 +33,22 @@ def time_budget(seconds: float, what: str):
         yield
         return
 
+    over = []          # set once the block has ended: a late tick must not raise again
+
     def _alarm(signum, frame):
-        raise _OutOfTime
+        if not over:
+            raise _OutOfTime
 
     old = signal.signal(signal.SIGALRM, _alarm)
     t0 = time.monotonic()
-    signal.setitimer(signal.ITIMER_REAL, max(seconds, 1e-3))
+    signal.setitimer(signal.ITIMER_REAL, max(seconds, 1e-3), RETRY_S)
     try:
         yield
     except _OutOfTime:
+        over.append(True)
         raise SceneError(f"{what} took more than {seconds:g} s of symbolic work "
                          f"({time.monotonic() - t0:.1f} s): simplify it") from None
     finally:
+        over.append(True)
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, old)
