@@ -23,7 +23,7 @@ from runtime.step_budget import check_options, default_budget
 _DP = ctypes.POINTER(ctypes.c_double)
 _LP = ctypes.POINTER(ctypes.c_long)
 _IP = ctypes.POINTER(ctypes.c_int)
-MAX_STATES = 256       # scan_driver.c's limit on the state dimension
+MAX_STATES = 256       # LEV_MAX_STATES (integrators.h): the C limit on the state dimension
 
 
 class _MemoPart:

@@ -235,17 +235,22 @@ size_t lev_sizeof_stats(void) { return sizeof(lev_stats); }
 
 /* ---- work layout ---- */
 
+/* Work of an adaptive run (adaptive_start): K (17 n), xn, f, tmp, F (7 n), yd, yo, f1, comp,
+ * comp_new, P. */
+#define ADAPTIVE_WORK 33
+
 static size_t gauss_stages(int method) { return method == LEV_MIDPOINT ? 1u : 2u; }
 
 size_t lev_work_bytes(int method, int n)
 {
     size_t N = (size_t)(n > 0 ? n : 1), s, m;
     switch (method) {
-    case LEV_EULER: return 2 * N * sizeof(double);
-    case LEV_RK4: return 6 * N * sizeof(double);
+    /* fixed steps: xn, comp, comp_new, slope, then the method's own (run_fixed) */
+    case LEV_EULER: return 4 * N * sizeof(double);
+    case LEV_RK4: return 9 * N * sizeof(double);
+    case LEV_DOP853_FIXED: return 17 * N * sizeof(double);
     case LEV_DOP853:
-    case LEV_VERN9:
-    case LEV_DOP853_FIXED: return 31 * N * sizeof(double);
+    case LEV_VERN9: return ADAPTIVE_WORK * N * sizeof(double);
     case LEV_GAUSS4:
     case LEV_MIDPOINT:
         s = gauss_stages(method);
@@ -258,14 +263,14 @@ size_t lev_work_bytes(int method, int n)
 
 /* ---- fixed-step explicit methods: Euler (3.1.2), RK4 (3.1.3-3.1.4), DOP853 formula ---- */
 
-static void euler_step(lev_ctx *c, const double *x, double h, double *xn, double *k)
+/* The slope of an Euler step, x_{n+1} = x_n + h k (thesis eq. 3.1.2). */
+static void euler_slope(lev_ctx *c, const double *x, double *k)
 {
-    int i, n = c->sys->n;
     call_rhs(c, x, k);
-    for (i = 0; i < n; i++) xn[i] = x[i] + h * k[i];            /* thesis eq. 3.1.2 */
 }
 
-static void rk4_step(lev_ctx *c, const double *x, double h, double *xn, double *w)
+/* The slope of a classical Runge-Kutta step, x_{n+1} = x_n + h slope (thesis eq. 3.1.3). */
+static void rk4_slope(lev_ctx *c, const double *x, double h, double *slope, double *w)
 {
     int i, n = c->sys->n;
     double *a = w, *b = w + n, *cc = w + 2 * n, *d = w + 3 * n, *tmp = w + 4 * n;
@@ -278,100 +283,140 @@ static void rk4_step(lev_ctx *c, const double *x, double h, double *xn, double *
     for (i = 0; i < n; i++) tmp[i] = x[i] + h * cc[i];
     call_rhs(c, tmp, d);
     for (i = 0; i < n; i++)                                      /* thesis eq. 3.1.3 */
-        xn[i] = x[i] + h / 6.0 * (a[i] + 2.0 * b[i] + 2.0 * cc[i] + d[i]);
+        slope[i] = (a[i] + 2.0 * b[i] + 2.0 * cc[i] + d[i]) / 6.0;
 }
 
-/* One DOP853 step from (x, f = rhs(x)): stages K[0..12] (n each), xn, and K[12] = rhs(xn). */
-/* out = x + h sum_{j < s} a_j K_j (the nonzero a_j, accumulated in acc, which may be out). */
-static void rk_combine(int n, const double *x, double h, const double *K, const double *a, int s,
-                       double *acc, double *out)
+/* ---- explicit Runge-Kutta stages: the DOP853 formula and Verner 9(8) ---- */
+
+#ifdef FP_FAST_FMA
+#define LEV_MADD(a, b, c) fma(a, b, c)      /* C99: fma is a hardware instruction here */
+#else
+#define LEV_MADD(a, b, c) ((a) * (b) + (c))
+#endif
+
+/* Specialised copies for a constant n need the inlining forced: left to itself the compiler
+ * clones on another argument and keeps a run-time n (perf showed a `rep stos` for the zeroing). */
+#if defined(__GNUC__) || defined(__clang__)
+#define LEV_FORCE_INLINE static inline __attribute__((always_inline))
+#else
+#define LEV_FORCE_INLINE static inline
+#endif
+
+/* max(|a|, |b|) without fmax's NaN handling, which costs a libm call here (a NaN is caught by
+ * the error test anyway). */
+#define LEV_MAXABS(a, b) (fabs(a) > fabs(b) ? fabs(a) : fabs(b))
+
+/* out = x + h sum_{j < s} a_j K_j over the nonzero a_j (x == NULL: the sum alone).  Inlined with
+ * a constant n for the two model sizes (12: full, 4: reduced), and summed in a local array that
+ * cannot alias K, so that the sums stay in vector registers: with a run-time n and the sum in
+ * `out` the combinations cost a third of a DOP853 step (issue 10, measured with perf). */
+LEV_FORCE_INLINE void rk_sum_n(int n, const double *x, double h, const double *K, const double *a,
+                            int s, double *out)
 {
+    double acc[LEV_MAX_STATES];
     int i, j;
     for (i = 0; i < n; i++) acc[i] = 0.0;
     for (j = 0; j < s; j++) {
+        const double aj = a[j];
         const double *Kj = K + (size_t)j * n;
-        if (a[j] == 0.0) continue;
-        for (i = 0; i < n; i++) acc[i] += a[j] * Kj[i];
+        if (aj == 0.0) continue;
+        for (i = 0; i < n; i++) acc[i] = LEV_MADD(aj, Kj[i], acc[i]);
     }
-    for (i = 0; i < n; i++) out[i] = x[i] + h * acc[i];
+    if (x)
+        for (i = 0; i < n; i++) out[i] = LEV_MADD(h, acc[i], x[i]);
+    else
+        for (i = 0; i < n; i++) out[i] = acc[i];
 }
 
-static void dp_step(lev_ctx *c, const double *x, const double *f, double h, double *K,
-                    double *xn, double *tmp)
+static void rk_sum_or_combine(int n, const double *x, double h, const double *K, const double *a,
+                              int s, double *out)
 {
-    int s, n = c->sys->n;
-    memcpy(K, f, (size_t)n * sizeof(double));
-    for (s = 1; s < 12; s++) {
-        rk_combine(n, x, h, K, DP_A[s], s, tmp, tmp);
-        call_rhs(c, tmp, K + (size_t)s * n);
-    }
-    rk_combine(n, x, h, K, DP_B, 12, tmp, xn);
-    call_rhs(c, xn, K + (size_t)12 * n);
+    if (n == 12) rk_sum_n(12, x, h, K, a, s, out);
+    else if (n == 4) rk_sum_n(4, x, h, K, a, s, out);
+    else rk_sum_n(n, x, h, K, a, s, out);
 }
 
-static int run_fixed(int method, lev_ctx *c, double *x, double *w)
+/* acc = sum_{j < s} a_j K_j. */
+static void rk_sum(int n, const double *K, const double *a, int s, double *acc)
 {
-    const lev_options *o = c->opt;
-    lev_stats *st = c->st;
-    int n = c->sys->n;
-    double span = o->t_end - o->t0, h, e;
-    double *xn = w, *scratch = w + n;
-    long N, k;
-
-    N = (long)ceil(span / o->h * (1.0 - 1e-12));
-    if (N < 1) N = 1;
-    h = span / (double)N;
-    st->h_last = h;
-    for (k = 1; k <= N; k++) {
-        if (st->steps >= o->max_steps) return LEV_STEP_BUDGET;
-        if (method == LEV_EULER) {
-            euler_step(c, x, h, xn, scratch);
-        } else if (method == LEV_RK4) {
-            rk4_step(c, x, h, xn, scratch);
-        } else {
-            double *K = scratch, *tmp = scratch + 13 * n, *f = scratch + 14 * n;
-            call_rhs(c, x, f);
-            dp_step(c, x, f, h, K, xn, tmp);
-        }
-        if (!all_finite(xn, n)) return LEV_NONFINITE;   /* x keeps the last finite state */
-        memcpy(x, xn, (size_t)n * sizeof(double));
-        st->steps++;
-        st->t_final = (k == N) ? o->t_end : o->t0 + (double)k * h;
-        e = monitor(c, x);
-        if (outside(o, x)) {
-            record(c, st->t_final, x, e);
-            return LEV_LEFT_BOX;
-        }
-        if (energy_exceeded(c)) return LEV_ENERGY_LIMIT;
-        if (o->every > 0 && k % o->every == 0) record(c, st->t_final, x, e);
-    }
-    return LEV_COMPLETED;
+    rk_sum_or_combine(n, NULL, 0.0, K, a, s, acc);
 }
+
+/* out = x + h sum_{j < s} a_j K_j: the argument of a stage. */
+static void rk_combine(int n, const double *x, double h, const double *K, const double *a, int s,
+                       double *out)
+{
+    rk_sum_or_combine(n, x, h, K, a, s, out);
+}
+
+/* xn = x + h acc by compensated summation (Kahan; Hairer, Lubich & Wanner, Geometric Numerical
+ * Integration, VIII.5): comp holds what earlier updates lost to rounding and comp_new receives
+ * what this one loses (acc may be comp_new).  A step's increment is tiny against a state that
+ * grows (the spin angle reaches hundreds of radians), and without it the rounding of
+ * x + increment random-walks into the result: about 2e-13 of the bench's error measure. */
+static void add_compensated(int n, const double *x, double h, const double *acc, const double *comp,
+                            double *xn, double *comp_new)
+{
+    int i;
+    for (i = 0; i < n; i++) {
+        const double inc = LEV_MADD(h, acc[i], comp[i]);
+        xn[i] = x[i] + inc;
+        comp_new[i] = (x[i] - xn[i]) + inc;
+    }
+}
+
+/* An explicit embedded pair with dense output, run by the adaptive driver (run_adaptive). */
+typedef struct {
+    int stages;             /* stages k_1 .. k_stages of a step; k_1 = rhs(x) (FSAL) */
+    const double (*A)[16];  /* A[s][j], j < s: the argument of stage s */
+    const double *B;        /* the solution's weights over the first n_b stages */
+    int n_b;
+    int f_slot;             /* the slot of K that holds rhs(xn) after a step */
+    double expo;            /* the step-size exponent, 1 / (order of the estimate + 1) */
+    double (*err)(int, const double *, double, const double *, const double *, double, double,
+                  const double *);
+    void (*prepare)(lev_ctx *, const double *, const double *, const double *, double, double *,
+                    double *, double *);
+    void (*eval)(lev_ctx *, double, double, const double *, const double *, double *, double *,
+                 double *);
+} adaptive_method;
 
 /* ---- Dormand-Prince 8(5,3), adaptive, with dense output ---- */
 
-/* Hairer's error norm: err5 and err3 combined, RMS over the components (scipy's DOP853). */
-static double dp_error_norm(int n, const double *K, double h, const double *x, const double *xn,
-                            double rtol, double atol, const double *atol_v)
+/* Hairer's error norm: err5 and err3 combined, RMS over the components (scipy's DOP853).  The
+ * weighted sums run over the stages with a nonzero weight, vectorised over the components. */
+LEV_FORCE_INLINE double dp_error_norm_n(int n, const double *K, double h, const double *x,
+                                     const double *xn, double rtol, double atol,
+                                     const double *atol_v)
 {
-    int i, j;
-    double e5 = 0.0, e3 = 0.0, denom;
-    for (i = 0; i < n; i++) {
-        double sc = (atol_v ? atol_v[i] : atol) + rtol * fmax(fabs(x[i]), fabs(xn[i]));
-        double s5 = 0.0, s3 = 0.0;
-        for (j = 0; j < 13; j++) {
-            double kij = K[(size_t)j * n + i];
-            s5 += DP_E5[j] * kij;
-            s3 += DP_E3[j] * kij;
+    static const int NZ[9] = {0, 5, 6, 7, 8, 9, 10, 11, 12};   /* DP_E5, DP_E3 != 0 */
+    double s5[LEV_MAX_STATES], s3[LEV_MAX_STATES], e5 = 0.0, e3 = 0.0, denom;
+    int i, q;
+    for (i = 0; i < n; i++) s5[i] = s3[i] = 0.0;
+    for (q = 0; q < 9; q++) {
+        const double *Kq = K + (size_t)NZ[q] * n, w5 = DP_E5[NZ[q]], w3 = DP_E3[NZ[q]];
+        for (i = 0; i < n; i++) {
+            s5[i] = LEV_MADD(w5, Kq[i], s5[i]);
+            s3[i] = LEV_MADD(w3, Kq[i], s3[i]);
         }
-        s5 /= sc;
-        s3 /= sc;
-        e5 += s5 * s5;
-        e3 += s3 * s3;
+    }
+    for (i = 0; i < n; i++) {
+        const double r = 1.0 / ((atol_v ? atol_v[i] : atol) + rtol * LEV_MAXABS(x[i], xn[i]));
+        const double a5 = s5[i] * r, a3 = s3[i] * r;
+        e5 += a5 * a5;
+        e3 += a3 * a3;
     }
     if (e5 == 0.0 && e3 == 0.0) return 0.0;
     denom = e5 + 0.01 * e3;
     return fabs(h) * e5 / sqrt(denom * (double)n);
+}
+
+static double dp_error_norm(int n, const double *K, double h, const double *x, const double *xn,
+                            double rtol, double atol, const double *atol_v)
+{
+    if (n == 12) return dp_error_norm_n(12, K, h, x, xn, rtol, atol, atol_v);
+    if (n == 4) return dp_error_norm_n(4, K, h, x, xn, rtol, atol, atol_v);
+    return dp_error_norm_n(n, K, h, x, xn, rtol, atol, atol_v);
 }
 
 /* The three extra stages and the coefficients F[0..6] of the 7th-degree interpolant. */
@@ -381,14 +426,7 @@ static void dp_dense_prepare(lev_ctx *c, const double *y_old, const double *y_ne
     int s, j, i, r, n = c->sys->n;
     const double *f_old = K;
     for (s = 13; s < 16; s++) {
-        for (i = 0; i < n; i++) tmp[i] = 0.0;
-        for (j = 0; j < s; j++) {
-            double a = DP_A[s][j];
-            const double *Kj = K + (size_t)j * n;
-            if (a == 0.0) continue;
-            for (i = 0; i < n; i++) tmp[i] += a * Kj[i];
-        }
-        for (i = 0; i < n; i++) tmp[i] = y_old[i] + h * tmp[i];
+        rk_combine(n, y_old, h, K, DP_A[s], s, tmp);
         call_rhs(c, tmp, K + (size_t)s * n);
     }
     for (i = 0; i < n; i++) {
@@ -463,38 +501,29 @@ static void dp_eval(lev_ctx *c, double theta, double h, const double *yo, const 
     dp_dense_eval(c->sys->n, theta, yo, F, y);
 }
 
-/* Verner 9(8): stages k2..k16 from (x, f = k1) over h, the 9th-order xn; with_f: K[16] = rhs(xn).
- * Without the estimate (dense output), k16 is skipped. */
+/* Verner 9(8) without its estimate: stages k2..k15 from (x, f = k1) over h and the 9th-order
+ * xn (the dense output; a step of the adaptive driver also computes k16 and rhs(xn)). */
 static void vn_stages(lev_ctx *c, const double *x, const double *f, double h, double *K, double *xn,
-                      double *tmp, int with_estimate, int with_f)
+                      double *tmp)
 {
-    int s, n = c->sys->n, last = with_estimate ? 16 : 15;
+    int s, n = c->sys->n;
     memcpy(K, f, (size_t)n * sizeof(double));
-    for (s = 1; s < last; s++) {
-        rk_combine(n, x, h, K, VN_A[s], s, tmp, tmp);
+    for (s = 1; s < 15; s++) {
+        rk_combine(n, x, h, K, VN_A[s], s, tmp);
         call_rhs(c, tmp, K + (size_t)s * n);
     }
-    rk_combine(n, x, h, K, VN_B, 15, tmp, xn);
-    if (with_f) call_rhs(c, xn, K + (size_t)16 * n);
-}
-
-static void vn_step(lev_ctx *c, const double *x, const double *f, double h, double *K, double *xn,
-                    double *tmp)
-{
-    vn_stages(c, x, f, h, K, xn, tmp, 1, 1);
+    rk_combine(n, x, h, K, VN_B, 15, xn);
 }
 
 /* RMS over the components of h sum_i VN_D_i k_i / (atol_k + rtol max(|x_k|, |xn_k|)). */
 static double vn_error_norm(int n, const double *K, double h, const double *x, const double *xn,
                             double rtol, double atol, const double *atol_v)
 {
-    int i, j;
-    double acc = 0.0;
+    double d[LEV_MAX_STATES], acc = 0.0;
+    int i;
+    rk_sum(n, K, VN_D, 16, d);
     for (i = 0; i < n; i++) {
-        double sc = (atol_v ? atol_v[i] : atol) + rtol * fmax(fabs(x[i]), fabs(xn[i]));
-        double e = 0.0;
-        for (j = 0; j < 16; j++) e += VN_D[j] * K[(size_t)j * n + i];
-        e *= h / sc;
+        const double e = d[i] * (h / ((atol_v ? atol_v[i] : atol) + rtol * LEV_MAXABS(x[i], xn[i])));
         acc += e * e;
     }
     return sqrt(acc / (double)n);
@@ -511,141 +540,303 @@ static void vn_prepare(lev_ctx *c, const double *y_old, const double *y_new, con
 static void vn_eval(lev_ctx *c, double theta, double h, const double *yo, const double *F,
                     double *y, double *K, double *tmp)
 {
-    vn_stages(c, yo, F, theta * h, K, y, tmp, 0, 0);
+    vn_stages(c, yo, F, theta * h, K, y, tmp);
 }
 
-/* An embedded pair with dense output, run by run_adaptive. */
-typedef struct {
-    int f_slot;             /* the slot of K that holds rhs(xn) after a step */
-    double expo;            /* the step-size exponent, 1 / (order of the estimate + 1) */
-    void (*step)(lev_ctx *, const double *, const double *, double, double *, double *, double *);
-    double (*err)(int, const double *, double, const double *, const double *, double, double,
-                  const double *);
-    void (*prepare)(lev_ctx *, const double *, const double *, const double *, double, double *,
-                    double *, double *);
-    void (*eval)(lev_ctx *, double, double, const double *, const double *, double *, double *,
-                 double *);
-} adaptive_method;
-
-static const adaptive_method DOP853_M = {12, 1.0 / 8.0, dp_step, dp_error_norm, dp_dense_prepare,
-                                         dp_eval};
-static const adaptive_method VERN9_M = {16, 1.0 / 9.0, vn_step, vn_error_norm, vn_prepare,
+static const adaptive_method DOP853_M = {12, DP_A, DP_B, 12, 12, 1.0 / 8.0, dp_error_norm,
+                                         dp_dense_prepare, dp_eval};
+static const adaptive_method VERN9_M = {16, VN_A, VN_B, 15, 16, 1.0 / 9.0, vn_error_norm, vn_prepare,
                                         vn_eval};
 
-static int run_adaptive(lev_ctx *c, double *x, double *w, const adaptive_method *m)
+
+/* Euler, RK4 and the DOP853 formula at a fixed step, the state updated by compensated summation
+ * (add_compensated). */
+static int run_fixed(int method, lev_ctx *c, double *x, double *w)
 {
     const lev_options *o = c->opt;
     lev_stats *st = c->st;
-    int n = c->sys->n, dense_ready, last_nonfinite, rejected_here, it;
-    double *K = w, *xn = w + 17 * n, *f = w + 18 * n, *tmp = w + 19 * n, *F = w + 20 * n;
-    double *yd = w + 27 * n, *yo = w + 28 * n, *f1 = w + 29 * n;
-    double t = o->t0, t_old, t_new, h = 0.0, h_abs, hmax, span = o->t_end - o->t0, err, e = 0.0;
-    long i_out = 0;
+    int i, n = c->sys->n, s;
+    double span = o->t_end - o->t0, h, e;
+    double *xn = w, *comp = w + n, *comp_new = w + 2 * n, *slope = w + 3 * n, *scratch = w + 4 * n;
+    double *swap;
+    long N, k;
 
-    call_rhs(c, x, f);
-    if (!all_finite(f, n)) return LEV_NONFINITE;
-    hmax = o->h_max > 0.0 ? o->h_max : span;
-    h_abs = o->h > 0.0 ? o->h : dp_initial_step(c, x, f, span, hmax, tmp, f1);
-    if (h_abs > hmax) h_abs = hmax;
-    while (o->t_out && i_out < o->n_out && o->t_out[i_out] <= t) {
-        record(c, t, x, st->energy0);
-        i_out++;
-    }
-
-    while (t < o->t_end) {
-        rejected_here = 0;
-        last_nonfinite = 0;
-        for (;;) {
-            double min_step = 10.0 * (nextafter(t, INFINITY) - t), fac;
-            if (h_abs < min_step) return last_nonfinite ? LEV_NONFINITE : LEV_STEP_UNDERFLOW;
-            if (st->steps + st->rejected >= o->max_steps) return LEV_STEP_BUDGET;
-            t_new = t + h_abs;
-            if (t_new > o->t_end) t_new = o->t_end;
-            h = t_new - t;
-            m->step(c, x, f, h, K, xn, tmp);
-            err = m->err(n, K, h, x, xn, o->rtol, o->atol, o->atol_v);
-            if (!isfinite(err) || !all_finite(xn, n) || !all_finite(K + (size_t)m->f_slot * n, n)) {
-                h_abs *= 0.2;
-                st->rejected++;
-                rejected_here = 1;
-                last_nonfinite = 1;
-                continue;
+    N = (long)ceil(span / o->h * (1.0 - 1e-12));
+    if (N < 1) N = 1;
+    h = span / (double)N;
+    st->h_last = h;
+    for (i = 0; i < n; i++) comp[i] = 0.0;
+    for (k = 1; k <= N; k++) {
+        if (st->steps >= o->max_steps) return LEV_STEP_BUDGET;
+        if (method == LEV_EULER) {
+            euler_slope(c, x, slope);
+        } else if (method == LEV_RK4) {
+            rk4_slope(c, x, h, slope, scratch);
+        } else {                                     /* the DOP853 formula: stages k_1 .. k_12 */
+            double *K = scratch, *tmp = scratch + 12 * n;
+            call_rhs(c, x, K);
+            for (s = 1; s < 12; s++) {
+                rk_combine(n, x, h, K, DP_A[s], s, tmp);
+                call_rhs(c, tmp, K + (size_t)s * n);
             }
-            last_nonfinite = 0;
-            fac = 0.9 * pow(err, -m->expo);
-            if (err < 1.0) {
-                double factor = (err == 0.0) ? 10.0 : fmin(10.0, fac);
-                if (rejected_here) factor = fmin(1.0, factor);
-                h_abs *= factor;
-                break;
-            }
-            h_abs *= fmax(0.2, fac);
-            st->rejected++;
-            rejected_here = 1;
+            rk_sum(n, K, DP_B, 12, slope);
         }
-        /* accept */
-        memcpy(yo, x, (size_t)n * sizeof(double));
-        t_old = t;
+        add_compensated(n, x, h, slope, comp, xn, comp_new);
+        if (!all_finite(xn, n)) return LEV_NONFINITE;   /* x keeps the last finite state */
         memcpy(x, xn, (size_t)n * sizeof(double));
-        memcpy(f, K + (size_t)m->f_slot * n, (size_t)n * sizeof(double));
-        t = t_new;
+        swap = comp;
+        comp = comp_new;
+        comp_new = swap;
         st->steps++;
-        st->h_last = h;
-        st->t_final = t;
-        if (h_abs > hmax) h_abs = hmax;
-        dense_ready = 0;
+        st->t_final = (k == N) ? o->t_end : o->t0 + (double)k * h;
         e = monitor(c, x);
-
-        if (o->box_on && box_excess(o, x) > 0.0) {
-            /* event: locate the first exit on the dense output by bisection */
-            double lo = 0.0, hi = 1.0;
-            m->prepare(c, yo, x, f, h, K, F, tmp);
-            dense_ready = 1;
-            for (it = 0; it < 80 && (hi - lo) * h > 2.0 * DBL_EPSILON * fabs(t); it++) {
-                double mid = 0.5 * (lo + hi);
-                m->eval(c, mid, h, yo, F, yd, K, tmp);
-                if (all_finite(yd, n) && box_excess(o, yd) <= 0.0) lo = mid; else hi = mid;
-            }
-            if (hi < 1.0) {
-                m->eval(c, hi, h, yo, F, yd, K, tmp);
-                if (all_finite(yd, n) && box_excess(o, yd) > 0.0) {
-                    memcpy(x, yd, (size_t)n * sizeof(double));
-                    t = t_old + hi * h;
-                    st->t_final = t;
-                    e = c->sys->energy ? call_energy(c, x) : 0.0;
-                }
-            }
-            while (o->t_out && i_out < o->n_out && o->t_out[i_out] < t) {
-                double th = (o->t_out[i_out] - t_old) / h;
-                m->eval(c, th, h, yo, F, yd, K, tmp);
-                record(c, o->t_out[i_out], yd, c->sys->energy ? call_energy(c, yd) : 0.0);
-                i_out++;
-            }
-            record(c, t, x, e);
+        if (outside(o, x)) {
+            record(c, st->t_final, x, e);
             return LEV_LEFT_BOX;
         }
         if (energy_exceeded(c)) return LEV_ENERGY_LIMIT;
-        if (o->t_out) {
-            while (i_out < o->n_out && o->t_out[i_out] <= t) {
-                if (o->t_out[i_out] == t) {
-                    record(c, t, x, e);
-                } else {
-                    double th = (o->t_out[i_out] - t_old) / h;
-                    if (!dense_ready) {
-                        m->prepare(c, yo, x, f, h, K, F, tmp);
-                        dense_ready = 1;
-                    }
-                    m->eval(c, th, h, yo, F, yd, K, tmp);
-                    record(c, o->t_out[i_out], yd, c->sys->energy ? call_energy(c, yd) : 0.0);
-                }
-                i_out++;
-            }
-        } else if (o->every > 0 && st->steps % o->every == 0) {
-            record(c, t, x, e);
-        }
+        if (o->every > 0 && k % o->every == 0) record(c, st->t_final, x, e);
     }
     return LEV_COMPLETED;
 }
+
+/* ---- the adaptive driver ---- */
+
+/* One adaptive run between step attempts (run_adaptive: start, then per attempt next, the
+ * stages, judge). */
+typedef struct {
+    lev_ctx *c;
+    const adaptive_method *m;
+    double *x;                       /* the state: the caller's buffer */
+    double *K, *xn, *f, *tmp, *F, *yd, *yo, *f1, *comp, *comp_new, *P;
+    double t, t_new, h, h_abs, hmax;
+    double err, fac;                 /* the attempt's error estimate and step factor */
+    long i_out;
+    int rejected_here, last_nonfinite;
+} adaptive_run;
+
+#define LEV_RUNNING (-1)
+
+
+/* The first evaluation, the first step size and the samples at t0; LEV_RUNNING or a status. */
+static int adaptive_start(adaptive_run *r, lev_ctx *c, double *x, double *w,
+                          const adaptive_method *m)
+{
+    const lev_options *o = c->opt;
+    int i, n = c->sys->n;
+    double span = o->t_end - o->t0;
+    r->c = c;
+    r->m = m;
+    r->x = x;
+    r->K = w;
+    r->xn = w + 17 * n;
+    r->f = w + 18 * n;
+    r->tmp = w + 19 * n;
+    r->F = w + 20 * n;
+    r->yd = w + 27 * n;
+    r->yo = w + 28 * n;
+    r->f1 = w + 29 * n;
+    r->comp = w + 30 * n;
+    r->comp_new = w + 31 * n;
+    r->P = w + 32 * n;
+    r->t = o->t0;
+    r->h = 0.0;
+    r->i_out = 0;
+    r->rejected_here = r->last_nonfinite = 0;
+    for (i = 0; i < n; i++) r->comp[i] = 0.0;
+    call_rhs(c, x, r->f);
+    if (!all_finite(r->f, n)) return LEV_NONFINITE;
+    r->hmax = o->h_max > 0.0 ? o->h_max : span;
+    r->h_abs = o->h > 0.0 ? o->h : dp_initial_step(c, x, r->f, span, r->hmax, r->tmp, r->f1);
+    if (r->h_abs > r->hmax) r->h_abs = r->hmax;
+    while (o->t_out && r->i_out < o->n_out && o->t_out[r->i_out] <= r->t) {
+        record(c, r->t, x, c->st->energy0);
+        r->i_out++;
+    }
+    return LEV_RUNNING;
+}
+
+/* Before an attempt: the step size, the budget; K[0] = rhs(x).  LEV_RUNNING or a status. */
+static int adaptive_next(adaptive_run *r)
+{
+    const lev_options *o = r->c->opt;
+    lev_stats *st = r->c->st;
+    double min_step = 10.0 * (nextafter(r->t, INFINITY) - r->t), t_new;
+    if (r->h_abs < min_step) return r->last_nonfinite ? LEV_NONFINITE : LEV_STEP_UNDERFLOW;
+    if (st->steps + st->rejected >= o->max_steps) return LEV_STEP_BUDGET;
+    t_new = r->t + r->h_abs;
+    if (t_new > o->t_end) t_new = o->t_end;
+    r->t_new = t_new;
+    r->h = t_new - r->t;
+    memcpy(r->K, r->f, (size_t)r->c->sys->n * sizeof(double));
+    memset(r->P, 0, (size_t)r->c->sys->n * sizeof(double));    /* stage 1 has no older stage */
+    return LEV_RUNNING;
+}
+
+/* Stage s (1 <= s < stages) of the attempt, or for s == stages the solution xn (compensated),
+ * its error estimate and K[f_slot] = rhs(xn).
+ *
+ * Only the newest stage is on the critical path: the sum over the older stages (P) for the next
+ * combination is formed before this stage's rhs is called, so that the processor computes it
+ * while the rhs runs; the error estimate likewise precedes rhs(xn).  The sums are the plain
+ * sums, term for term in the same order (rk_sum_n), so the result is the same bit for bit. */
+LEV_FORCE_INLINE void adaptive_stage(adaptive_run *r, int s, const adaptive_method *m, const int n)
+{
+    const lev_options *o = r->c->opt;
+    const int last = s == m->stages;
+    const double *row = last ? m->B : m->A[s], *Knew = r->K + (size_t)(s - 1) * n;
+    const double a = (!last || s - 1 < m->n_b) ? row[s - 1] : 0.0;
+    const double *next;
+    int i, n_old;
+
+    if (a != 0.0)
+        for (i = 0; i < n; i++) r->P[i] = LEV_MADD(a, Knew[i], r->P[i]);
+    if (last) {
+        add_compensated(n, r->x, r->h, r->P, r->comp, r->xn, r->comp_new);
+        r->err = m->err(n, r->K, r->h, r->x, r->xn, o->rtol, o->atol, o->atol_v);
+        r->fac = 0.9 * pow(r->err, -m->expo);
+        call_rhs(r->c, r->xn, r->K + (size_t)m->f_slot * n);
+        return;
+    }
+    for (i = 0; i < n; i++) r->tmp[i] = LEV_MADD(r->h, r->P[i], r->x[i]);
+    /* the older part of the next combination: stage s + 1's row, or the solution's weights */
+    next = s + 1 < m->stages ? m->A[s + 1] : m->B;
+    n_old = s + 1 < m->stages ? s : (s < m->n_b ? s : m->n_b);
+    rk_sum_n(n, NULL, 0.0, r->K, next, n_old, r->P);
+    call_rhs(r->c, r->tmp, r->K + (size_t)s * n);
+}
+
+/* After the stages: the error estimate, then a rejection (a smaller step, LEV_RUNNING) or the
+ * step accepted: the energy monitor, the box event (located on the dense output by bisection),
+ * the samples.  LEV_RUNNING or the run's final status. */
+static int adaptive_judge(adaptive_run *r)
+{
+    lev_ctx *c = r->c;
+    const lev_options *o = c->opt;
+    const adaptive_method *m = r->m;
+    lev_stats *st = c->st;
+    int n = c->sys->n, dense_ready = 0, it;
+    double *x = r->x, *swap, h = r->h, t_old, err, fac, e;
+
+    err = r->err;
+    if (!isfinite(err) || !all_finite(r->xn, n) || !all_finite(r->K + (size_t)m->f_slot * n, n)) {
+        r->h_abs *= 0.2;
+        st->rejected++;
+        r->rejected_here = r->last_nonfinite = 1;
+        return LEV_RUNNING;
+    }
+    r->last_nonfinite = 0;
+    fac = r->fac;
+    if (!(err < 1.0)) {
+        r->h_abs *= fmax(0.2, fac);
+        st->rejected++;
+        r->rejected_here = 1;
+        return LEV_RUNNING;
+    }
+    {
+        double factor = (err == 0.0) ? 10.0 : fmin(10.0, fac);
+        if (r->rejected_here) factor = fmin(1.0, factor);
+        r->h_abs *= factor;
+    }
+    /* accept */
+    r->rejected_here = 0;
+    memcpy(r->yo, x, (size_t)n * sizeof(double));
+    t_old = r->t;
+    memcpy(x, r->xn, (size_t)n * sizeof(double));
+    memcpy(r->f, r->K + (size_t)m->f_slot * n, (size_t)n * sizeof(double));
+    swap = r->comp;
+    r->comp = r->comp_new;
+    r->comp_new = swap;
+    r->t = r->t_new;
+    st->steps++;
+    st->h_last = h;
+    st->t_final = r->t;
+    if (r->h_abs > r->hmax) r->h_abs = r->hmax;
+    e = monitor(c, x);
+
+    if (o->box_on && box_excess(o, x) > 0.0) {
+        double lo = 0.0, hi = 1.0;
+        m->prepare(c, r->yo, x, r->f, h, r->K, r->F, r->tmp);
+        dense_ready = 1;
+        for (it = 0; it < 80 && (hi - lo) * h > 2.0 * DBL_EPSILON * fabs(r->t); it++) {
+            double mid = 0.5 * (lo + hi);
+            m->eval(c, mid, h, r->yo, r->F, r->yd, r->K, r->tmp);
+            if (all_finite(r->yd, n) && box_excess(o, r->yd) <= 0.0) lo = mid; else hi = mid;
+        }
+        if (hi < 1.0) {
+            m->eval(c, hi, h, r->yo, r->F, r->yd, r->K, r->tmp);
+            if (all_finite(r->yd, n) && box_excess(o, r->yd) > 0.0) {
+                memcpy(x, r->yd, (size_t)n * sizeof(double));
+                r->t = t_old + hi * h;
+                st->t_final = r->t;
+                e = c->sys->energy ? call_energy(c, x) : 0.0;
+            }
+        }
+        while (o->t_out && r->i_out < o->n_out && o->t_out[r->i_out] < r->t) {
+            double th = (o->t_out[r->i_out] - t_old) / h;
+            m->eval(c, th, h, r->yo, r->F, r->yd, r->K, r->tmp);
+            record(c, o->t_out[r->i_out], r->yd, c->sys->energy ? call_energy(c, r->yd) : 0.0);
+            r->i_out++;
+        }
+        record(c, r->t, x, e);
+        return LEV_LEFT_BOX;
+    }
+    if (energy_exceeded(c)) return LEV_ENERGY_LIMIT;
+    if (o->t_out) {
+        while (r->i_out < o->n_out && o->t_out[r->i_out] <= r->t) {
+            if (o->t_out[r->i_out] == r->t) {
+                record(c, r->t, x, e);
+            } else {
+                double th = (o->t_out[r->i_out] - t_old) / h;
+                if (!dense_ready) {
+                    m->prepare(c, r->yo, x, r->f, h, r->K, r->F, r->tmp);
+                    dense_ready = 1;
+                }
+                m->eval(c, th, h, r->yo, r->F, r->yd, r->K, r->tmp);
+                record(c, o->t_out[r->i_out], r->yd, c->sys->energy ? call_energy(c, r->yd) : 0.0);
+            }
+            r->i_out++;
+        }
+    } else if (o->every > 0 && st->steps % o->every == 0) {
+        record(c, r->t, x, e);
+    }
+    return r->t < o->t_end ? LEV_RUNNING : LEV_COMPLETED;
+}
+
+/* All stages of an attempt.  Inlined with the method and n constant, and the stage loop unrolled,
+ * the tableau's entries become constants in the code: the zero entries vanish, and no loop or
+ * branch is left between the rhs calls (about 10% of a step of the full model, issue 10). */
+LEV_FORCE_INLINE void stages_of(adaptive_run *r, const adaptive_method *m, const int n)
+{
+    int s;
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC unroll 17
+#endif
+    for (s = 1; s <= m->stages; s++) adaptive_stage(r, s, m, n);
+}
+
+/* The specialised copies: the two methods for the full (12) and reduced (4) models. */
+static void attempt_stages(adaptive_run *r)
+{
+    const int n = r->c->sys->n;
+    if (r->m == &DOP853_M && n == 12) stages_of(r, &DOP853_M, 12);
+    else if (r->m == &VERN9_M && n == 12) stages_of(r, &VERN9_M, 12);
+    else if (r->m == &DOP853_M && n == 4) stages_of(r, &DOP853_M, 4);
+    else if (r->m == &VERN9_M && n == 4) stages_of(r, &VERN9_M, 4);
+    else stages_of(r, r->m, n);
+}
+
+static int run_adaptive(lev_ctx *c, double *x, double *w, const adaptive_method *m)
+{
+    adaptive_run r;
+    int status = adaptive_start(&r, c, x, w, m);
+    while (status == LEV_RUNNING && (status = adaptive_next(&r)) == LEV_RUNNING) {
+        attempt_stages(&r);
+        status = adaptive_judge(&r);
+    }
+    return status;
+}
+
 
 /* ---- Gauss-Legendre collocation (s = 1: implicit midpoint; s = 2: order 4), symplectic ---- */
 
@@ -838,18 +1029,21 @@ static int run_gauss(int method, lev_ctx *c, double *x, double *w)
 
 /* ---- driver ---- */
 
-int lev_integrate(int method, const lev_system *sys, const lev_options *opt, double *x,
-                  void *work, double *out_t, double *out_x, double *out_e, lev_stats *st)
+/* lev_integrate's checks and its first sample: LEV_RUNNING, or the status of a run that ends here
+ * (st->status set).  c is filled for the method's loop. */
+static int integrate_begin(int method, const lev_system *sys, const lev_options *opt, double *x,
+                           void *work, double *out_t, double *out_x, double *out_e, lev_stats *st,
+                           lev_ctx *c)
 {
-    lev_ctx c;
-    int status, fixed, n;
+    int fixed, n;
     double e0 = 0.0;
 
     if (!st) return LEV_BAD_INPUT;
     memset(st, 0, sizeof *st);
     st->t_final = opt ? opt->t0 : 0.0;
     st->status = LEV_BAD_INPUT;
-    if (!sys || !opt || !x || !work || !sys->rhs || sys->n <= 0) return LEV_BAD_INPUT;
+    if (!sys || !opt || !x || !work || !sys->rhs || sys->n <= 0 || sys->n > LEV_MAX_STATES)
+        return LEV_BAD_INPUT;
     n = sys->n;
     fixed = lev_method_fixed_step(method);
     if (fixed < 0) return LEV_BAD_INPUT;
@@ -871,24 +1065,43 @@ int lev_integrate(int method, const lev_system *sys, const lev_options *opt, dou
         return LEV_BAD_INPUT;
     if (!all_finite(x, n)) return LEV_BAD_INPUT;
 
-    c.sys = sys;
-    c.opt = opt;
-    c.st = st;
-    c.out_t = out_t;
-    c.out_x = out_x;
-    c.out_e = out_e;
-    c.t_last_rec = 0.0;
-    c.recorded_any = 0;
+    c->sys = sys;
+    c->opt = opt;
+    c->st = st;
+    c->out_t = out_t;
+    c->out_x = out_x;
+    c->out_e = out_e;
+    c->t_last_rec = 0.0;
+    c->recorded_any = 0;
 
     if (sys->energy) {
-        e0 = call_energy(&c, x);
+        e0 = call_energy(c, x);
         st->energy0 = e0;
     }
-    if (!opt->t_out) record(&c, opt->t0, x, e0);
+    if (!opt->t_out) record(c, opt->t0, x, e0);
     if (outside(opt, x)) {
         st->status = LEV_LEFT_BOX;
         return st->status;
     }
+    return LEV_RUNNING;
+}
+
+/* The last sample of a run that went through its method's loop; st->status. */
+static int integrate_end(lev_ctx *c, double *x, int status)
+{
+    const lev_system *sys = c->sys;
+    if (!c->opt->t_out || status != LEV_COMPLETED)
+        record(c, c->st->t_final, x, sys->energy ? call_energy(c, x) : 0.0);
+    c->st->status = status;
+    return status;
+}
+
+int lev_integrate(int method, const lev_system *sys, const lev_options *opt, double *x,
+                  void *work, double *out_t, double *out_x, double *out_e, lev_stats *st)
+{
+    lev_ctx c;
+    int status = integrate_begin(method, sys, opt, x, work, out_t, out_x, out_e, st, &c);
+    if (status != LEV_RUNNING) return status;
     if (method == LEV_DOP853)
         status = run_adaptive(&c, x, (double *)work, &DOP853_M);
     else if (method == LEV_VERN9)
@@ -897,10 +1110,7 @@ int lev_integrate(int method, const lev_system *sys, const lev_options *opt, dou
         status = run_gauss(method, &c, x, (double *)work);
     else
         status = run_fixed(method, &c, x, (double *)work);
-    if (!opt->t_out || status != LEV_COMPLETED)
-        record(&c, st->t_final, x, sys->energy ? call_energy(&c, x) : 0.0);
-    st->status = status;
-    return status;
+    return integrate_end(&c, x, status);
 }
 
 /* ---- timing ---- */

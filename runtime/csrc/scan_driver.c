@@ -13,11 +13,11 @@ long lev_scan_chunk(int method, lev_fn rhs, lev_fn jac, int n, int n_p, double t
     lev_system sys;
     lev_options opt;
     lev_stats st;
-    double xbuf[256];
+    double xbuf[LEV_MAX_STATES];
     long k;
     int fixed = lev_method_fixed_step(method);
 
-    if (fixed < 0 || !rhs || n <= 0 || n > 256 || n_p < 0 || n_points < 0 || !x0 || (n_p > 0 && !p)
+    if (fixed < 0 || !rhs || n <= 0 || n > LEV_MAX_STATES || n_p < 0 || n_points < 0 || !x0 || (n_p > 0 && !p)
         || (!fixed && !atol) || !h || !box || !max_steps || !work || !status || !t_final
         || !rhs_evals || !steps)
         return -1;

@@ -17,7 +17,7 @@
 /* Integrate n_points runs of d state/dt = rhs(state, p_k) from t = 0 to t_end.
  *
  *   method, rhs, jac    as lev_integrate (jac may be NULL)
- *   n, n_p              state dimension (at most 256) and parameters per point
+ *   n, n_p              state dimension (at most LEV_MAX_STATES) and parameters per point
  *   t_end, rtol         shared by all points (rtol: adaptive methods only)
  *   ix, iy, iz          indices of x, y, z in the state (-1 if absent)
  *   max_iter            implicit methods: iteration limit per step (0 = default)
