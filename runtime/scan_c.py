@@ -12,12 +12,13 @@ from __future__ import annotations
 
 import ctypes
 from collections.abc import Sequence
+from dataclasses import replace
 
 import numpy as np
 
 from runtime.cintegrate import STATUS, _bind, fn_address
 from runtime.errors import UserError
-from runtime.integrators_table import lookup
+from runtime.integrators_table import lookup, resolve
 from runtime.step_budget import check_options, default_budget
 
 _DP = ctypes.POINTER(ctypes.c_double)
@@ -124,6 +125,7 @@ def run_chunk_c(model, common, points: Sequence[tuple]) -> list[dict]:
     options runtime.integrate would give each run (atol = tol * scale, rtol = tol; the default step
     budget at the point's fastest time scale; the same option checks)."""
     from runtime.scan_runners import N_OUT, point_setup
+    common = replace(common, integrator=resolve(common.integrator, common.tol, common.h))
     entry = lookup(common.integrator)
     tol = None if entry.fixed_step else common.tol
     memo = MemoModel(model)

@@ -19,7 +19,7 @@ from __future__ import annotations
 import threading
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -126,7 +126,8 @@ def point_run(model, spin: float, tilt: float = 0.0, height: float = 0.0, t_end:
     With height = 0 the result is simulate()'s, number for number (tests/test_scan.py)."""
     from runtime import simulate as sim
     from runtime.integrate import integrate
-    from runtime.integrators_table import lookup
+    from runtime.integrators_table import lookup, resolve
+    integrator = resolve(integrator, tol, h)     # "auto": the method simulate() would run
     entry = lookup(integrator)
     su = point_setup(model, spin, tilt, height, integrator, h, p, z_s)
     res = integrate(su.part, su.x0, t_end, method=integrator, tol=None if entry.fixed_step else tol,
@@ -159,8 +160,10 @@ def run_point(common: Common, task: tuple[int, int, float, float]) -> dict:
 def run_chunk(common: Common, tasks: Sequence[tuple]) -> dict:
     """A chunk of grid points in this thread: through the C chunk driver (runtime/scan_c.py, one C
     call, no Python per run) for the C integrators unless common.engine is "python", else one
-    `run_point` per point. Returns the points and the chunk's CPU time (this thread's)."""
-    from runtime.integrators_table import lookup
+    `run_point` per point. Returns the points, the chunk's CPU time (this thread's) and the method
+    that ran (common.integrator, or for "auto" the one runtime.integrators_table.resolve picks)."""
+    from runtime.integrators_table import lookup, resolve
+    common = replace(common, integrator=resolve(common.integrator, common.tol, common.h))
     model = _model(common.scene, common.overrides)
     cpu0 = time.thread_time()
     if common.engine == "c" and lookup(common.integrator).backend == "c":
@@ -170,7 +173,8 @@ def run_chunk(common: Common, tasks: Sequence[tuple]) -> dict:
     else:
         points = [run_point(common, t) for t in tasks]
         engine = "python"
-    return {"points": points, "cpu_s": time.thread_time() - cpu0, "engine": engine}
+    return {"points": points, "cpu_s": time.thread_time() - cpu0, "engine": engine,
+            "method": common.integrator}
 
 
 def _run_chunk_packed(args: tuple) -> dict:

@@ -32,7 +32,7 @@ import numpy as np
 from runtime.equilibrium import hover_height
 from runtime.errors import UserError
 from runtime.integrate import Box, Result, integrate
-from runtime.integrators_table import DEFAULT, lookup
+from runtime.integrators_table import AUTO, DEFAULT, auto_note, lookup, resolve
 
 from .human import Units, sig
 from .plotting import pyplot, save_figure, style
@@ -275,13 +275,16 @@ def simulate(model, spin: float, tilt: float = 0.0, offset: float = 0.0, t_end: 
     """Run one trajectory and answer docs/contract.md's `simulate` keys (plus details).
 
     box: the half-width of the box (m), default z_s / 2. params: parameter values overriding the
-    scene's for this run (names of manifest.json `parameters`)."""
+    scene's for this run (names of manifest.json `parameters`). integrator: a name of
+    runtime/integrators_table.py or "auto" (resolved from tol: the answer's `integrator` is the
+    method that ran, `integrator_requested` the name asked for, `integrator_choice` auto's reason)."""
     pt = model.part(part)
     p = model.with_params(params or {})
     pvals = model.pvals(p)
     for label, v in (("spin", spin), ("tilt", tilt), ("offset", offset), ("tilt-azimuth", azimuth)):
         if v is None or not math.isfinite(v):
             raise UserError(f"--{label} must be a finite number")
+    requested, integrator = integrator, resolve(integrator, tol, h)   # "auto": dop853 or vern9
     entry = lookup(integrator)
     z_s = hover_height(model, p)
     T, what = time_scale(model, p, z_s, spin, pvals)
@@ -298,6 +301,9 @@ def simulate(model, spin: float, tilt: float = 0.0, offset: float = 0.0, t_end: 
                     monitor_energy=entry.monitors_energy, time_scale=T, time_scale_what=what)
     out = summarize(pt, res, x0, p, z_s, bx, spin, tilt, offset, t_end, integrator, tol, h, plot)
     out["tilt_azimuth"] = azimuth
+    out["integrator_requested"] = requested
+    if requested == AUTO:
+        out["integrator_choice"] = auto_note(tol)
     return out
 
 
