@@ -19,7 +19,7 @@ import numpy as np
 
 from runtime.cbuild import DEFAULT_FLAGS, compile_shared
 from runtime.errors import UserError
-from runtime.integrators_table import lookup
+from runtime.integrators_table import choice_details, lookup, resolve
 from runtime.step_budget import MAX_STEPS_CAP, budget_message, default_budget
 from runtime.trajectory import Box, Result
 
@@ -149,8 +149,10 @@ def run_c(lib: ctypes.CDLL, method: str, rhs: Any, x0, p, t_end: float, *, t0: f
     first and the last state. Energy, when given, is monitored after every step in C; with
     ``energy_limit`` > 0 the run stops once |H - H0| > energy_limit |H0| (status "energy_limit").
     max_steps: the step budget (attempted steps; status "step_budget"); None: the number of fixed
-    steps, or runtime.step_budget.MAX_STEPS_CAP for DOP853."""
+    steps, or runtime.step_budget.MAX_STEPS_CAP for DOP853. method "auto": the method resolve(rtol)
+    picks (runtime/integrators_table.py), named in Result.method."""
     _bind(lib)
+    requested, method = method, resolve(method, rtol, h or None)
     code = lookup(method).c_id
     if code is None:
         raise UserError(f"integrator {method!r} is not a C integrator")
@@ -191,14 +193,17 @@ def run_c(lib: ctypes.CDLL, method: str, rhs: Any, x0, p, t_end: float, *, t0: f
     message = lib.lev_status_message(status).decode()
     if name == "step_budget":
         message = budget_message(max_steps, float(st.t_final))
-    return Result(t=out_t[:k].copy(), X=out_x[:k].copy(), status=name, message=message, rhs_evals=int(st.rhs_evals),
-                  wall_s=wall, t_final=float(st.t_final), x_final=x.copy(), method=method, backend="c",
-                  steps=int(st.steps), rejected=int(st.rejected), jac_evals=int(st.jac_evals),
-                  iterations=int(st.iterations),
-                  energy=out_e[:k].copy() if energy is not None else None,
-                  energy0=float(st.energy0) if energy is not None else None,
-                  energy_max_dev=float(st.energy_max_dev) if energy is not None else None,
-                  details={"h_last": float(st.h_last), "dropped_samples": int(st.dropped)})
+    res = Result(t=out_t[:k].copy(), X=out_x[:k].copy(), status=name, message=message,
+                 rhs_evals=int(st.rhs_evals), wall_s=wall, t_final=float(st.t_final),
+                 x_final=x.copy(), method=method, backend="c", steps=int(st.steps),
+                 rejected=int(st.rejected), jac_evals=int(st.jac_evals),
+                 iterations=int(st.iterations),
+                 energy=out_e[:k].copy() if energy is not None else None,
+                 energy0=float(st.energy0) if energy is not None else None,
+                 energy_max_dev=float(st.energy_max_dev) if energy is not None else None,
+                 details={"h_last": float(st.h_last), "dropped_samples": int(st.dropped)})
+    res.details.update(choice_details(requested, rtol))
+    return res
 
 
 class CSystem:

@@ -47,7 +47,7 @@ from runtime.cintegrate import CSystem, _bind, _f64, csrc_library, run_c, time_f
 from runtime.errors import UserError
 from runtime.integrate_casadi import integrate_casadi
 from runtime.integrate_scipy import integrate_scipy
-from runtime.integrators_table import AUTO, DEFAULT, auto_note, lookup, resolve
+from runtime.integrators_table import DEFAULT, choice_details, lookup, resolve
 from runtime.step_budget import check_options, default_budget, fixed_steps
 from runtime.trajectory import Box, Result
 
@@ -116,9 +116,7 @@ def integrate(part, x0, t_end: float, method: str = DEFAULT, tol: float | None =
     requested, method = method, resolve(method, tol, h)
     res = _integrate(part, x0, t_end, method, tol, h, p, box, n_out, scale, monitor_energy,
                      max_steps, scipy_rhs, time_scale, time_scale_what)
-    if requested == AUTO:
-        res.details["integrator_requested"] = AUTO
-        res.details["auto"] = auto_note(tol)
+    res.details.update(choice_details(requested, tol))
     return res
 
 

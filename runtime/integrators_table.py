@@ -105,3 +105,9 @@ def auto_note(tol: float) -> str:
     side = "below" if used == "vern9" else "at or above"
     return (f"auto: {used} for tol {tol:g} ({side} the crossover {AUTO_VERN9_BELOW_TOL:g}: "
             "vern9 below, dop853 at or above; runtime/integrators_table.py)")
+
+
+def choice_details(requested: str, tol: float | None) -> dict:
+    """What a run records of how its method was chosen (Result.details): nothing for a named
+    method; for ``auto`` the request and auto_note(tol)."""
+    return {"integrator_requested": AUTO, "auto": auto_note(tol)} if requested == AUTO else {}

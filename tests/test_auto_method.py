@@ -64,6 +64,17 @@ def test_integrate_auto_is_the_chosen_method_bit_for_bit(osc, tol, method):
     assert "integrator_requested" not in b.details
 
 
+def test_run_c_takes_auto_too(osc):
+    from runtime.cintegrate import run_c
+    for tol, method in ((1e-6, "dop853"), (1e-12, "vern9")):
+        a, b = (run_c(osc.lib, m, osc.c_function("rhs"), OSC["x0"], osc.p, 5.0, rtol=tol, atol=tol)
+                for m in (AUTO, method))
+        np.testing.assert_array_equal(a.x_final, b.x_final)
+        assert a.method == method and a.details["integrator_requested"] == AUTO
+    with pytest.raises(UserError, match="name a fixed-step method"):
+        run_c(osc.lib, AUTO, osc.c_function("rhs"), OSC["x0"], osc.p, 5.0, h=0.01)
+
+
 @pytest.mark.parametrize("tol, method", [(1e-6, "dop853"), (1e-12, "vern9")])
 def test_simulate_auto_on_the_full_model(model, tol, method):
     kw = dict(spin=1000.0, tilt=0.02, t_end=0.05, tol=tol, n_out=10)
