@@ -230,7 +230,7 @@ def launch_state(la: Launch, spin: float) -> np.ndarray:
     """The initial state of a Launch at `spin`: the momenta solve dq/dt = M(q)^-1 p (thesis eq.
     2.3.8) for the coordinate rates, at rest except for the spin angle's rate spin / along."""
     qdot = np.zeros(len(la.q))
-    qdot[la.i_spin] = spin / la.along       # exact: along is +1 or -1
+    qdot[la.i_spin] = spin / la.along       # the reduced model: along = -1, exactly -spin
     x = np.zeros(la.n)
     x[la.ic] = la.q
     x[la.ip] = np.linalg.solve(la.Minv, qdot - la.f0)
