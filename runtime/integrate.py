@@ -11,6 +11,11 @@ generated right-hand side, with no Python call per step:
                    to round-off by simplified Newton with the generated Jacobian
 - ``midpoint``     implicit midpoint (1-stage Gauss), order 2, symplectic, fixed step h
 - ``dop853-fixed`` the 8th-order DOP853 formula at a fixed step (used by the order tests)
+- ``vern9``        Verner's 9(8) pair, adaptive like dop853, dense output, box event
+- ``auto``         dop853 or vern9, whichever the bench measured cheapest at the requested tol
+                   (runtime.integrators_table.resolve); the Result names the method that ran
+                   (``method``) and records the request (``details["integrator_requested"]``,
+                   ``details["auto"]``)
 
 CasADi (through ``part.casadi("rhs")``): ``cvodes`` (adaptive BDF/Adams of SUNDIALS, here
 Adams-Moulton for the non-stiff levitron), ``casadi-rk`` (CasADi's fixed-step RK4) and
@@ -42,7 +47,7 @@ from runtime.cintegrate import CSystem, _bind, _f64, csrc_library, run_c, time_f
 from runtime.errors import UserError
 from runtime.integrate_casadi import integrate_casadi
 from runtime.integrate_scipy import integrate_scipy
-from runtime.integrators_table import DEFAULT, lookup
+from runtime.integrators_table import DEFAULT, choice_details, lookup, resolve
 from runtime.step_budget import check_options, default_budget, fixed_steps
 from runtime.trajectory import Box, Result
 
@@ -106,7 +111,17 @@ def integrate(part, x0, t_end: float, method: str = DEFAULT, tol: float | None =
     ceil(N / n_out)-th step). time_scale: the fastest period of the motion (runtime.simulate);
     it sets the default step budget and the limits of runtime.step_budget.check_options.
     max_steps: the step budget (None: runtime.step_budget.default_budget). A run that uses it up
-    stops with status "step_budget". Raises UserError for bad options."""
+    stops with status "step_budget". method "auto": the C method resolve(tol) picks (its name in
+    Result.method, the request in Result.details). Raises UserError for bad options."""
+    requested, method = method, resolve(method, tol, h)
+    res = _integrate(part, x0, t_end, method, tol, h, p, box, n_out, scale, monitor_energy,
+                     max_steps, scipy_rhs, time_scale, time_scale_what)
+    res.details.update(choice_details(requested, tol))
+    return res
+
+
+def _integrate(part, x0, t_end, method, tol, h, p, box, n_out, scale, monitor_energy, max_steps,
+               scipy_rhs, time_scale, time_scale_what) -> Result:
     x0 = _f64(x0)
     n = len(part.states)
     _validate(method, x0, n, t_end, tol, h, n_out, scale, time_scale, time_scale_what, max_steps)

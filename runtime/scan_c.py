@@ -12,60 +12,19 @@ from __future__ import annotations
 
 import ctypes
 from collections.abc import Sequence
+from dataclasses import replace
 
 import numpy as np
 
 from runtime.cintegrate import STATUS, _bind, fn_address
 from runtime.errors import UserError
-from runtime.integrators_table import lookup
+from runtime.integrators_table import lookup, resolve
 from runtime.step_budget import check_options, default_budget
 
 _DP = ctypes.POINTER(ctypes.c_double)
 _LP = ctypes.POINTER(ctypes.c_long)
 _IP = ctypes.POINTER(ctypes.c_int)
 MAX_STATES = 256       # LEV_MAX_STATES (integrators.h): the C limit on the state dimension
-
-
-class _MemoPart:
-    """A model part whose rhs remembers its values (exact: the same call gives the same numbers)."""
-
-    def __init__(self, part):
-        self._part, self._rhs = part, {}
-
-    def __getattr__(self, name):
-        return getattr(self._part, name)
-
-    def rhs(self, x, p=None, backend: str = "c") -> np.ndarray:
-        key = (np.asarray(x, float).tobytes(), None if p is None else np.asarray(p, float).tobytes(),
-               backend)
-        if key not in self._rhs:
-            self._rhs[key] = self._part.rhs(x, p, backend)
-        return self._rhs[key].copy()
-
-
-class MemoModel:
-    """A model whose full part's rhs and whose on-axis field remember their values, for the inputs of
-    one chunk: the Legendre map of runtime.simulate.initial_state (thesis eq. 2.3.8) evaluates the
-    rhs at states that depend on the coordinates alone, shared by every spin of a column of the
-    map, and the time scale needs the field at z_s (thesis 3.3.3), shared by the whole map. A
-    Python call of a generated function costs ~0.1 ms, more than the rest of a point's inputs."""
-
-    def __init__(self, model):
-        self._model, self._onaxis, self._parts = model, {}, {}
-
-    def __getattr__(self, name):
-        return getattr(self._model, name)
-
-    def part(self, name: str):
-        if name not in self._parts:
-            self._parts[name] = _MemoPart(self._model.part(name))
-        return self._parts[name]
-
-    def onaxis(self, z, p=None, backend: str = "c") -> np.ndarray:
-        key = (float(z), None if p is None else np.asarray(p, float).tobytes(), backend)
-        if key not in self._onaxis:
-            self._onaxis[key] = self._model.onaxis(z, p, backend)
-        return self._onaxis[key].copy()
 
 
 def bind_driver(lib: ctypes.CDLL) -> ctypes.CDLL:
@@ -124,10 +83,11 @@ def run_chunk_c(model, common, points: Sequence[tuple]) -> list[dict]:
     options runtime.integrate would give each run (atol = tol * scale, rtol = tol; the default step
     budget at the point's fastest time scale; the same option checks)."""
     from runtime.scan_runners import N_OUT, point_setup
+    common = replace(common, integrator=resolve(common.integrator, common.tol, common.h))
     entry = lookup(common.integrator)
     tol = None if entry.fixed_step else common.tol
-    memo = MemoModel(model)
-    setups = [point_setup(memo, **kw) for _, kw in points]
+    memo: dict = {}      # the spin-free inputs, once per tilt (or height, mass) of the chunk
+    setups = [point_setup(model, memo=memo, **kw) for _, kw in points]
     if not setups:
         return []
     for su in setups:

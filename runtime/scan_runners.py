@@ -19,7 +19,7 @@ from __future__ import annotations
 import threading
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -95,24 +95,35 @@ class PointSetup:
 
 def point_setup(model, spin: float, tilt: float = 0.0, height: float = 0.0,
                 integrator: str = DEFAULT, h: float | None = None, p: np.ndarray | None = None,
-                z_s: float | None = None) -> PointSetup:
+                z_s: float | None = None, memo: dict | None = None) -> PointSetup:
     """The initial state (runtime.simulate.initial_state: the Legendre map of the generated rhs),
     box, fastest time scale and state scales of one grid point, started at z_0 = z_s (1 + height)
     (thesis 3.3.2); shared by `point_run` and the C chunk driver (runtime/scan_c.py), so that both
-    integrate the same problem."""
+    integrate the same problem. memo: a dict shared by the points of a chunk, which keeps the
+    spin-free inputs (hover height, vertical stiffness, box, the simulate.Launch with its Legendre
+    map) per parameters, hover height, tilt and height: the same numbers, computed once."""
     from runtime import simulate as sim
-    from runtime.equilibrium import hover_height
     from runtime.integrators_table import lookup
-    pt = model.part("full")
     p = model.p if p is None else p
-    pvals = model.pvals(p)
-    if z_s is None:
-        z_s = hover_height(model, p)
-    T, what = sim.time_scale(model, p, z_s, spin, pvals)
+    memo = {} if memo is None else memo
+    site_key = (np.asarray(p).tobytes(), z_s)
+    site = memo.get(site_key)
+    if site is None:
+        pt, pvals = model.part("full"), model.pvals(p)
+        if z_s is None:
+            from runtime.equilibrium import hover_height
+            z_s = hover_height(model, p)
+        site = memo[site_key] = (pt, pvals, z_s, sim.vertical_stiffness(model, p, z_s, pvals),
+                                 sim.default_box(pt, z_s))
+    pt, pvals, z_s, stiffness, box = site
+    launch_key = (site_key, tilt, height)
+    la = memo.get(launch_key)
+    if la is None:
+        la = memo[launch_key] = sim.launch(pt, z_s * (1.0 + height), tilt, 0.0, p)
+    T, what = sim.fastest_period(spin, pvals, stiffness)
     if lookup(integrator).fixed_step and h is None:
         h = T / 100
-    return PointSetup(pt, p, z_s, sim.default_box(pt, z_s), T, what, h,
-                      sim.initial_state(pt, z_s * (1.0 + height), spin, tilt, 0.0, p),
+    return PointSetup(pt, p, z_s, box, T, what, h, sim.launch_state(la, spin),
                       sim.state_scales(pt, z_s, spin, pvals))
 
 
@@ -126,7 +137,8 @@ def point_run(model, spin: float, tilt: float = 0.0, height: float = 0.0, t_end:
     With height = 0 the result is simulate()'s, number for number (tests/test_scan.py)."""
     from runtime import simulate as sim
     from runtime.integrate import integrate
-    from runtime.integrators_table import lookup
+    from runtime.integrators_table import lookup, resolve
+    integrator = resolve(integrator, tol, h)     # "auto": the method simulate() would run
     entry = lookup(integrator)
     su = point_setup(model, spin, tilt, height, integrator, h, p, z_s)
     res = integrate(su.part, su.x0, t_end, method=integrator, tol=None if entry.fixed_step else tol,
@@ -159,8 +171,10 @@ def run_point(common: Common, task: tuple[int, int, float, float]) -> dict:
 def run_chunk(common: Common, tasks: Sequence[tuple]) -> dict:
     """A chunk of grid points in this thread: through the C chunk driver (runtime/scan_c.py, one C
     call, no Python per run) for the C integrators unless common.engine is "python", else one
-    `run_point` per point. Returns the points and the chunk's CPU time (this thread's)."""
-    from runtime.integrators_table import lookup
+    `run_point` per point. Returns the points, the chunk's CPU time (this thread's) and the method
+    that ran (common.integrator, or for "auto" the one runtime.integrators_table.resolve picks)."""
+    from runtime.integrators_table import lookup, resolve
+    common = replace(common, integrator=resolve(common.integrator, common.tol, common.h))
     model = _model(common.scene, common.overrides)
     cpu0 = time.thread_time()
     if common.engine == "c" and lookup(common.integrator).backend == "c":
@@ -170,7 +184,8 @@ def run_chunk(common: Common, tasks: Sequence[tuple]) -> dict:
     else:
         points = [run_point(common, t) for t in tasks]
         engine = "python"
-    return {"points": points, "cpu_s": time.thread_time() - cpu0, "engine": engine}
+    return {"points": points, "cpu_s": time.thread_time() - cpu0, "engine": engine,
+            "method": common.integrator}
 
 
 def _run_chunk_packed(args: tuple) -> dict:

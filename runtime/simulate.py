@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -32,7 +33,7 @@ import numpy as np
 from runtime.equilibrium import hover_height
 from runtime.errors import UserError
 from runtime.integrate import Box, Result, integrate
-from runtime.integrators_table import DEFAULT, lookup
+from runtime.integrators_table import AUTO, DEFAULT, auto_note, lookup, resolve
 
 from .human import Units, sig
 from .plotting import pyplot, save_figure, style
@@ -146,8 +147,10 @@ def coordinate_names(part) -> list[str]:
     return [s for s in part.states if not s.startswith("p_")]
 
 
-def momenta_from_velocities(part, q: np.ndarray, qdot: np.ndarray, p=None) -> np.ndarray:
-    """Solve dq/dt = M(q)^-1 p (the coordinate rows of the generated rhs, linear in p) for p."""
+def legendre_map(part, q: np.ndarray, p=None) -> tuple[np.ndarray, np.ndarray]:
+    """The coordinate rows of the generated rhs at coordinates q, dq/dt = M(q)^-1 p_q (thesis eq.
+    2.3.8), linear in the momenta: (f0, Minv), f0 the rows at p_q = 0 and Minv's column k the rows
+    at p_k = 1 less f0."""
     s = list(part.states)
     coords = coordinate_names(part)
     ic = [s.index(c) for c in coords]
@@ -160,8 +163,7 @@ def momenta_from_velocities(part, q: np.ndarray, qdot: np.ndarray, p=None) -> np
         e = base.copy()
         e[k] = 1.0
         cols.append(part.rhs(e, p)[ic] - f0)
-    Minv = np.array(cols).T
-    return np.linalg.solve(Minv, np.asarray(qdot, float) - f0)
+    return f0, np.array(cols).T
 
 
 DEFAULT_AZIMUTH = math.pi / 2    # the tilt towards +y
@@ -176,20 +178,35 @@ def tilt_angles(kind: str, tilt: float, azimuth: float = DEFAULT_AZIMUTH) -> lis
     return [azimuth + math.pi / 2, tilt, 0.0]    # n = (sin phi sin theta, -cos phi sin theta, cos theta)
 
 
-def initial_state(part, z_s: float, spin: float, tilt: float = 0.0, offset: float = 0.0,
-                  p=None, azimuth: float = DEFAULT_AZIMUTH) -> np.ndarray:
-    """The state of the module docstring, in the part's state order."""
+@dataclass(frozen=True)
+class Launch:
+    """The spin-free part of the initial state (module docstring): the coordinates q, the Legendre
+    map at q (legendre_map: f0, Minv) and the spin angle's rate per unit spin, 1 / along. A map
+    (runtime/scan_runners.py) computes it once per launch position and tilt for all its spins."""
+    q: np.ndarray
+    f0: np.ndarray
+    Minv: np.ndarray
+    i_spin: int          # the spin angle's index among the coordinates
+    along: float         # omega . n per unit rate of the spin angle: +1 or -1
+    ic: list             # the state indices of the coordinates ...
+    ip: list             # ... and of their momenta
+    n: int               # the number of states
+
+
+def launch(part, z_s: float, tilt: float = 0.0, offset: float = 0.0, p=None,
+           azimuth: float = DEFAULT_AZIMUTH) -> Launch:
+    """The Launch of initial_state(part, z_s, spin, tilt, offset, p, azimuth), for every spin."""
     s = list(part.states)
     coords = coordinate_names(part)
     q = np.zeros(len(coords))
-    qdot = np.zeros(len(coords))
     q[coords.index("z")] = z_s
     kind = coordinates_of(part)
     if kind is None:
         if tilt != 0.0 or offset != 0.0:
             raise UserError("the reduced model keeps the top upright on the axis: use tilt = offset "
                             "= 0, or simulate the full model (--part full)")
-        qdot[coords.index("zeta")] = -spin        # as Tait-Bryan on the invariant set: omega_3 = -zeta_dot
+        # as Tait-Bryan on the invariant set: omega_3 = -zeta_dot
+        i_spin, along = coords.index("zeta"), -1.0
     else:
         q[coords.index("x")] = offset
         angles = tilt_angles(kind, tilt, azimuth)
@@ -203,13 +220,27 @@ def initial_state(part, z_s: float, spin: float, tilt: float = 0.0, offset: floa
         ispin = ANGLES[kind].index(SPIN_ANGLE[kind])
         W = rotation_bs_derivatives(kind, angles)[ispin] @ rotation_bs(kind, angles).T
         along = float(np.dot([W[2, 1], W[0, 2], W[1, 0]], n))    # = +1 or -1
-        qdot[coords.index(SPIN_ANGLE[kind])] = spin / along
-    x = np.zeros(len(s))
-    for c, v in zip(coords, q):
-        x[s.index(c)] = v
-    for c, v in zip(coords, momenta_from_velocities(part, q, qdot, p)):
-        x[s.index("p_" + c)] = v
+        i_spin = coords.index(SPIN_ANGLE[kind])
+    f0, Minv = legendre_map(part, q, p)
+    return Launch(q, f0, Minv, i_spin, along, [s.index(c) for c in coords],
+                  [s.index("p_" + c) for c in coords], len(s))
+
+
+def launch_state(la: Launch, spin: float) -> np.ndarray:
+    """The initial state of a Launch at `spin`: the momenta solve dq/dt = M(q)^-1 p (thesis eq.
+    2.3.8) for the coordinate rates, at rest except for the spin angle's rate spin / along."""
+    qdot = np.zeros(len(la.q))
+    qdot[la.i_spin] = spin / la.along       # the reduced model: along = -1, exactly -spin
+    x = np.zeros(la.n)
+    x[la.ic] = la.q
+    x[la.ip] = np.linalg.solve(la.Minv, qdot - la.f0)
     return x
+
+
+def initial_state(part, z_s: float, spin: float, tilt: float = 0.0, offset: float = 0.0,
+                  p=None, azimuth: float = DEFAULT_AZIMUTH) -> np.ndarray:
+    """The state of the module docstring, in the part's state order."""
+    return launch_state(launch(part, z_s, tilt, offset, p, azimuth), spin)
 
 
 def state_scales(part, z_s: float, spin: float, pvals: dict) -> np.ndarray:
@@ -261,10 +292,14 @@ def fastest_period(spin: float, pvals: dict, stiffness: float) -> tuple[float, s
     return min(periods)
 
 
+def vertical_stiffness(model, p, z_s: float, pvals: dict) -> float:
+    """U''(z_s) = mu Phi_3(z_s), the vertical stiffness at the hover height (thesis 3.3.3)."""
+    return pvals["mu"] * float(model.onaxis(z_s, p)[3])
+
+
 def time_scale(model, p, z_s: float, spin: float, pvals: dict) -> tuple[float, str]:
     """fastest_period at the hover height z_s of parameters p."""
-    stiffness = pvals["mu"] * float(model.onaxis(z_s, p)[3])
-    return fastest_period(spin, pvals, stiffness)
+    return fastest_period(spin, pvals, vertical_stiffness(model, p, z_s, pvals))
 
 
 def simulate(model, spin: float, tilt: float = 0.0, offset: float = 0.0, t_end: float = 1.0,
@@ -275,13 +310,16 @@ def simulate(model, spin: float, tilt: float = 0.0, offset: float = 0.0, t_end: 
     """Run one trajectory and answer docs/contract.md's `simulate` keys (plus details).
 
     box: the half-width of the box (m), default z_s / 2. params: parameter values overriding the
-    scene's for this run (names of manifest.json `parameters`)."""
+    scene's for this run (names of manifest.json `parameters`). integrator: a name of
+    runtime/integrators_table.py or "auto" (resolved from tol: the answer's `integrator` is the
+    method that ran, `integrator_requested` the name asked for, `integrator_choice` auto's reason)."""
     pt = model.part(part)
     p = model.with_params(params or {})
     pvals = model.pvals(p)
     for label, v in (("spin", spin), ("tilt", tilt), ("offset", offset), ("tilt-azimuth", azimuth)):
         if v is None or not math.isfinite(v):
             raise UserError(f"--{label} must be a finite number")
+    requested, integrator = integrator, resolve(integrator, tol, h)   # "auto": dop853 or vern9
     entry = lookup(integrator)
     z_s = hover_height(model, p)
     T, what = time_scale(model, p, z_s, spin, pvals)
@@ -298,6 +336,9 @@ def simulate(model, spin: float, tilt: float = 0.0, offset: float = 0.0, t_end: 
                     monitor_energy=entry.monitors_energy, time_scale=T, time_scale_what=what)
     out = summarize(pt, res, x0, p, z_s, bx, spin, tilt, offset, t_end, integrator, tol, h, plot)
     out["tilt_azimuth"] = azimuth
+    out["integrator_requested"] = requested
+    if requested == AUTO:
+        out["integrator_choice"] = auto_note(tol)
     return out
 
 
