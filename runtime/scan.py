@@ -230,6 +230,8 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
     else:
         basis = {"given": True}
 
+    from runtime.integrators_table import resolve
+    requested, integrator = integrator, resolve(integrator, tol, h)    # "auto": the method it picks
     check_run_options(model, axis, spins, others, hover, float(t_end), integrator, tol, h)
     common = Common(scene_ref, tuple(overrides), axis, float(t_end), integrator, tol,
                     float(base_tilt), tuple(hover), h, engine)
@@ -275,5 +277,6 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
     return ScanResult(axis, spins, others, lev, ts, status, lin, float(t_end), basis,
                       time.perf_counter() - t_wall, runner, rhs, cpu,
                       extra={"scene_linear": scene_lin,
-                             "public": {"integrator": integrator, "tol": tol,
+                             "public": {"integrator": integrator, "integrator_requested": requested,
+                                        "tol": tol,
                                         "base_tilt": base_tilt if axis != "tilt" else None}})

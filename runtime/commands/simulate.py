@@ -66,6 +66,8 @@ def human(r: dict, scene=None) -> str:
         f"largest excursion: height {u.length(r['max_height_deviation'])}, radial "
         f"{u.length(r['max_radial_offset'])}, tilt {u.angle(r['max_tilt'])}",
         f"invariants, largest relative deviation over the run: {', '.join(inv)}",
-        f"integrator: {r['integrator']} ({r['backend']}), {sig(r['rhs_evals'], 6)} rhs evaluations",
+        f"integrator: {r['integrator']} ({r['backend']}"
+        f"{', chosen by auto' if r.get('integrator_requested') == 'auto' else ''}), "
+        f"{sig(r['rhs_evals'], 6)} rhs evaluations",
         u.note,
         f"plot: {r['plot']}" if r.get("plot") else "")
