@@ -18,6 +18,12 @@ right-hand-side calls take, where rhs_ns is the cost of one call of the generate
 runs (`rhs_ns_before_after`; the mean of the two is used: on a shared machine it drifts).
 `same_map` says whether every run gave the serial run's status and survival time point for point.
 
+The machine's speed drifts by up to 30% over tens of seconds (a shared virtual machine), and the
+two figures of cpu_over_rhs are taken a minute apart, so the bench also measures it matched:
+`matched` runs a sub-grid (every MATCHED_STRIDE-th spin and tilt) serially, MATCHED_SPINS spins
+per scan call, and times the rhs (lev_time_fn, the median of MATCHED_REPEATS loops) just before
+and after each call; cpu_over_rhs = sum cpu_s / sum (rhs_evals * the mean of the two).
+
     python -m runtime.bench_maps SCENE [--quick] [--n N] [--t-end T] [--json] [--out DIR]
 
 --quick: a small map (QUICK_N x QUICK_N, one slow period per point) in a few seconds.
@@ -42,6 +48,7 @@ FULL_N, QUICK_N = 100, 6             # points per axis
 PYTHON_N = 20                        # points per axis of the Python-path sub-grid (full bench)
 RHS_REPEATS, RHS_REPS = 5, 200_000   # lev_time_fn: loops and calls per loop
 WORKERS = (1, 2)
+MATCHED_STRIDE, MATCHED_SPINS, MATCHED_REPEATS = 2, 5, 3
 
 
 def map_axes(model, n: int) -> tuple[np.ndarray, np.ndarray, dict]:
@@ -58,15 +65,34 @@ def map_axes(model, n: int) -> tuple[np.ndarray, np.ndarray, dict]:
             lin)
 
 
-def rhs_ns(model, spins: np.ndarray, tilts: np.ndarray) -> float:
+def rhs_ns(model, spins: np.ndarray, tilts: np.ndarray, repeats: int = RHS_REPEATS) -> float:
     """ns per call of the full rhs (lev_time_fn in C) at the start of a mid-map point: the median
-    of RHS_REPEATS loops of RHS_REPS calls."""
+    of `repeats` loops of RHS_REPS calls."""
     from runtime.integrate import time_fn_ns
     from runtime.scan_runners import point_setup
     su = point_setup(model, float(np.median(spins)), float(np.median(tilts)))
     fn = su.part.c_function("rhs")
     return statistics.median(time_fn_ns(model.lib, fn, su.x0, su.p, su.x0.size, RHS_REPS)
-                             for _ in range(RHS_REPEATS))
+                             for _ in range(repeats))
+
+
+def matched(model, scene_ref: str, overrides, spins, tilts, t_end) -> dict:
+    """cpu_over_rhs with the rhs timed next to every scan call (module docstring)."""
+    from runtime import scan as sc
+    spins, tilts = spins[::MATCHED_STRIDE], tilts[::MATCHED_STRIDE]
+    cpu = rhs_cost = 0.0
+    evals = 0
+    for k in range(0, spins.size, MATCHED_SPINS):
+        before = rhs_ns(model, spins, tilts, MATCHED_REPEATS)
+        res = sc.scan(model, scene_ref, overrides, spins[k:k + MATCHED_SPINS], "tilt", tilts,
+                      t_end=t_end, workers=1, quiet=True, engine="c")
+        after = rhs_ns(model, spins, tilts, MATCHED_REPEATS)
+        cpu += res.cpu_s
+        evals += res.rhs_evals
+        rhs_cost += res.rhs_evals * 0.5 * (before + after) * 1e-9
+    return {"grid": [int(spins.size), int(tilts.size)], "cpu_s": cpu, "rhs_evals": evals,
+            "rhs_ns": rhs_cost / evals * 1e9 if evals else None,
+            "cpu_over_rhs": cpu / rhs_cost if rhs_cost else None}
 
 
 def _cpu_total() -> float:
@@ -118,6 +144,7 @@ def run(model, scene_ref: str, overrides=(), n: int | None = None, t_end: float 
     py = one_run(model, scene_ref, overrides, spins[idx], tilts[idx], maps[0][1].t_end, 1, "python")
     ns_after = rhs_ns(model, spins, tilts)
     ns = 0.5 * (ns_before + ns_after)
+    match = matched(model, scene_ref, overrides, spins, tilts, maps[0][1].t_end)
     for row, _ in maps + [py]:
         row["rhs_ns"] = ns
         row["cpu_over_rhs"] = row["cpu_s"] / (row["rhs_evals"] * ns * 1e-9) if row["rhs_evals"] else None
@@ -133,7 +160,9 @@ def run(model, scene_ref: str, overrides=(), n: int | None = None, t_end: float 
         "rows": rows,
         "same_map": bool(same),
         "speedup_2_workers": rows[1]["points_per_s"] / rows[0]["points_per_s"],
-        "cpu_over_rhs": {"c_driver": rows[0]["cpu_over_rhs"], "python_path": rows[-1]["cpu_over_rhs"]},
+        "cpu_over_rhs": {"c_driver": rows[0]["cpu_over_rhs"], "python_path": rows[-1]["cpu_over_rhs"],
+                         "c_driver_matched": match["cpu_over_rhs"]},
+        "matched": match,
         "note": __doc__.split("\n\n")[2].replace("\n", " "),
     }
 
@@ -173,6 +202,9 @@ def main(argv=None) -> int:
             print(f"  {r['engine']:6s} {r['workers']} worker(s) {r['points']:6d} points "
                   f"{r['wall_s']:8.2f} s wall {r['points_per_s']:8.1f} points/s  cpu {r['cpu_s']:.2f} s "
                   f"(total {r['cpu_total_s']:.2f} s)  cpu/rhs {r['cpu_over_rhs']:.2f}")
+        mt = out["matched"]
+        print(f"  matched: {mt['grid'][0]} x {mt['grid'][1]} sub-grid, rhs {mt['rhs_ns']:.0f} ns timed beside "
+              f"each call, cpu {mt['cpu_s']:.2f} s, cpu/rhs {mt['cpu_over_rhs']:.2f}")
         print(f"  same map point for point: {out['same_map']}")
     return 0 if math.isfinite(out["rhs_ns"]) else 1
 

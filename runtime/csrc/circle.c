@@ -8,6 +8,9 @@
  *                   whose circular orbits coincide with the circle test's): energy and Jacobian.
  * lev_kepler_*      the Kepler problem a = -GM r / |r|^3, p[0] = GM: energy and Jacobian.
  * lev_blowup_rhs    x' = x^2 (one state): x(t) = x0 / (1 - x0 t) blows up in finite time.
+ * lev_drift_rhs     x' = p[0] (one state): an angle at a constant rate, like the top's spin angle;
+ *                   every method is exact on it, so what remains is the rounding of x + increment
+ *                   (the test of the compensated summation).
  */
 #include <math.h>
 
@@ -88,4 +91,10 @@ void lev_blowup_rhs(const double *in, const double *p, double *out)
 {
     (void)p;
     out[0] = in[0] * in[0];
+}
+
+void lev_drift_rhs(const double *in, const double *p, double *out)
+{
+    (void)in;
+    out[0] = p[0];
 }

@@ -134,24 +134,21 @@ static int all_finite(const double *x, int n)
     return 1;
 }
 
-/* > 0 iff the state is outside the box: the largest violation of the z and r limits. */
-static double box_excess(const lev_options *o, const double *x)
+/* 1 iff the state is outside the box: z below z_lo or above z_hi, or sqrt(x^2 + y^2) > r_max
+ * (compared squared: no hypot call on every step). */
+static int box_outside(const lev_options *o, const double *x)
 {
-    double g = -INFINITY;
-    if (o->iz >= 0) {
-        if (x[o->iz] - o->z_hi > g) g = x[o->iz] - o->z_hi;
-        if (o->z_lo - x[o->iz] > g) g = o->z_lo - x[o->iz];
-    }
+    if (o->iz >= 0 && (x[o->iz] > o->z_hi || x[o->iz] < o->z_lo)) return 1;
     if (isfinite(o->r_max) && (o->ix >= 0 || o->iy >= 0)) {
-        double r = hypot(o->ix >= 0 ? x[o->ix] : 0.0, o->iy >= 0 ? x[o->iy] : 0.0);
-        if (r - o->r_max > g) g = r - o->r_max;
+        const double a = o->ix >= 0 ? x[o->ix] : 0.0, b = o->iy >= 0 ? x[o->iy] : 0.0;
+        return a * a + b * b > o->r_max * o->r_max;
     }
-    return g;
+    return 0;
 }
 
 static int outside(const lev_options *o, const double *x)
 {
-    return o->box_on && box_excess(o, x) > 0.0;
+    return o->box_on && box_outside(o, x);
 }
 
 static void record(lev_ctx *c, double t, const double *x, double e)
@@ -661,8 +658,11 @@ static int adaptive_next(adaptive_run *r)
 {
     const lev_options *o = r->c->opt;
     lev_stats *st = r->c->st;
-    double min_step = 10.0 * (nextafter(r->t, INFINITY) - r->t), t_new;
-    if (r->h_abs < min_step) return r->last_nonfinite ? LEV_NONFINITE : LEV_STEP_UNDERFLOW;
+    double t_new;
+    /* the step may not fall below 10 ulp of t (nextafter, a libm call, only when it could) */
+    if (!(r->h_abs > 1e-13 * fabs(r->t) && r->h_abs > 1e-300)
+        && r->h_abs < 10.0 * (nextafter(r->t, INFINITY) - r->t))
+        return r->last_nonfinite ? LEV_NONFINITE : LEV_STEP_UNDERFLOW;
     if (st->steps + st->rejected >= o->max_steps) return LEV_STEP_BUDGET;
     t_new = r->t + r->h_abs;
     if (t_new > o->t_end) t_new = o->t_end;
@@ -754,18 +754,18 @@ static int adaptive_judge(adaptive_run *r)
     if (r->h_abs > r->hmax) r->h_abs = r->hmax;
     e = monitor(c, x);
 
-    if (o->box_on && box_excess(o, x) > 0.0) {
+    if (o->box_on && box_outside(o, x)) {
         double lo = 0.0, hi = 1.0;
         m->prepare(c, r->yo, x, r->f, h, r->K, r->F, r->tmp);
         dense_ready = 1;
         for (it = 0; it < 80 && (hi - lo) * h > 2.0 * DBL_EPSILON * fabs(r->t); it++) {
             double mid = 0.5 * (lo + hi);
             m->eval(c, mid, h, r->yo, r->F, r->yd, r->K, r->tmp);
-            if (all_finite(r->yd, n) && box_excess(o, r->yd) <= 0.0) lo = mid; else hi = mid;
+            if (all_finite(r->yd, n) && !box_outside(o, r->yd)) lo = mid; else hi = mid;
         }
         if (hi < 1.0) {
             m->eval(c, hi, h, r->yo, r->F, r->yd, r->K, r->tmp);
-            if (all_finite(r->yd, n) && box_excess(o, r->yd) > 0.0) {
+            if (all_finite(r->yd, n) && box_outside(o, r->yd)) {
                 memcpy(x, r->yd, (size_t)n * sizeof(double));
                 r->t = t_old + hi * h;
                 st->t_final = r->t;
