@@ -387,7 +387,7 @@ LEV_FORCE_INLINE double dp_error_norm_n(int n, const double *K, double h, const 
                                      const double *atol_v)
 {
     static const int NZ[9] = {0, 5, 6, 7, 8, 9, 10, 11, 12};   /* DP_E5, DP_E3 != 0 */
-    double s5[LEV_MAX_STATES], s3[LEV_MAX_STATES], e5 = 0.0, e3 = 0.0, denom;
+    double s5[LEV_MAX_STATES], s3[LEV_MAX_STATES], r[LEV_MAX_STATES], e5 = 0.0, e3 = 0.0, denom;
     int i, q;
     for (i = 0; i < n; i++) s5[i] = s3[i] = 0.0;
     for (q = 0; q < 9; q++) {
@@ -397,9 +397,12 @@ LEV_FORCE_INLINE double dp_error_norm_n(int n, const double *K, double h, const 
             s3[i] = LEV_MADD(w3, Kq[i], s3[i]);
         }
     }
+    if (atol_v)
+        for (i = 0; i < n; i++) r[i] = 1.0 / (atol_v[i] + rtol * LEV_MAXABS(x[i], xn[i]));
+    else
+        for (i = 0; i < n; i++) r[i] = 1.0 / (atol + rtol * LEV_MAXABS(x[i], xn[i]));
     for (i = 0; i < n; i++) {
-        const double r = 1.0 / ((atol_v ? atol_v[i] : atol) + rtol * LEV_MAXABS(x[i], xn[i]));
-        const double a5 = s5[i] * r, a3 = s3[i] * r;
+        const double a5 = s5[i] * r[i], a3 = s3[i] * r[i];
         e5 += a5 * a5;
         e3 += a3 * a3;
     }
