@@ -44,7 +44,7 @@ def spin_stabilisable(phis: Sequence[float], g: float, A: float, C: float, mu: f
     if not (m > 0 and mu * phis[3] > 0):
         return False
     c = ray_algebra.RayCoefficients.from_physics(phis[1], phis[2], phis[3], m, A, C, mu)
-    return any(hi < math.inf for lo, hi in ray_algebra.spin_intervals_discriminant(c))
+    return ray_algebra.has_bounded_spin_interval(c)
 
 
 def adiabatic_trap(phis: Sequence[float], g: float, mu: float) -> bool:

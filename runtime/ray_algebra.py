@@ -149,6 +149,18 @@ def sturm_real_root_count(p: Sequence[Fraction]) -> int:
     return changes(at_neg) - changes(at_pos)
 
 
+def _roots(coeffs: Sequence[float]) -> np.ndarray:
+    """The roots of a polynomial (coefficients from the highest degree, the leading one nonzero):
+    the eigenvalues of its companion matrix, as np.roots computes them, without its checks and
+    trimming (a third of the time per call, which the band scans make by the thousand)."""
+    c = np.asarray(coeffs, float)
+    n = c.size - 1
+    M = np.zeros((n, n))
+    M[0, :] = -c[1:] / c[0]
+    M[np.arange(1, n), np.arange(n - 1)] = 1.0
+    return np.linalg.eigvals(M)
+
+
 def _four_real_filtered(c: RayCoefficients, s: float) -> bool:
     """Does N(t) at s have four distinct real roots? A floating-point filter with an exact fallback.
 
@@ -159,7 +171,7 @@ def _four_real_filtered(c: RayCoefficients, s: float) -> bool:
     correct methods runs; the answer is the exact one either way.
     """
     c1, c2sq, c3 = c.floats()
-    roots = np.roots([1.0, -1.0, s * (c1 + c3), -s * c3, s * s * (c1 * c3 - c2sq)])
+    roots = _roots([1.0, -1.0, s * (c1 + c3), -s * c3, s * s * (c1 * c3 - c2sq)])
     scale = max(1.0, float(np.max(np.abs(roots))))
     im = np.abs(roots.imag)
     if im.max() > 1e-4 * scale:
@@ -297,6 +309,59 @@ def spin_intervals_discriminant(c: RayCoefficients) -> list[tuple[float, float]]
             sig_hi = 1 / math.sqrt(s_lo) if s_lo > 0 else math.inf
             out.append((sig_lo, sig_hi))
     return sorted(out)
+
+
+def _mantissa_exponent(a: int) -> tuple[float, int]:
+    """(m, e) with a = m 2^e to double precision and |m| < 2^60, for an integer of any size."""
+    b = abs(a).bit_length() - 60
+    if b <= 0:
+        return float(a), 0
+    return (float(a >> b) if a > 0 else -float((-a) >> b)), b
+
+
+def _float_critical_s(ints: Sequence[int]) -> list[float] | None:
+    """`positive_roots` of the ray cubic by floats alone, or None where floats cannot be trusted:
+    a root near a double root (imaginary part between 1e-10 and 1e-5 of the root scale, or two real
+    roots closer than 1e-5 of it) or near s = 0, or a degree drop. Otherwise the cubic's float
+    roots are accurate to ~1e-15 of the scale, so the pieces between them and their probes are the
+    exact ones'."""
+    ints = list(ints)
+    if len(ints) != 4 or ints[0] == 0 or ints[-1] == 0:
+        return None
+    # a_k = m_k 2^e_k (the integers run to thousands of bits); in s = 2^t u, with 2^(3t) about
+    # |a_0 / a_3|, the coefficients m_k 2^(e_k + k t) are scaled so that the largest is O(1)
+    me = [_mantissa_exponent(a) for a in ints]
+    t = (me[0][1] + math.log2(abs(me[0][0])) - me[3][1] - math.log2(abs(me[3][0]))) / 3
+    ex = [e + k * t for k, (_, e) in enumerate(me)]
+    top = max(ex[k] + math.log2(abs(m)) for k, (m, _) in enumerate(me))
+    r = _roots([m * 2.0 ** (ex[k] - top) for k, (m, _) in enumerate(me)][::-1])
+    S = 2.0 ** t
+    scale = max(1.0, float(np.max(np.abs(r))))
+    im = np.abs(r.imag)
+    if np.any((im > 1e-10 * scale) & (im < 1e-5 * scale)):
+        return None
+    real = np.sort(r.real[im <= 1e-10 * scale])
+    if real.size > 1 and np.min(np.diff(real)) < 1e-5 * scale:
+        return None
+    if real.size and np.min(np.abs(real)) < 1e-5 * scale:
+        return None
+    return [float(u) * S for u in real if u > 0]
+
+
+def has_bounded_spin_interval(c: RayCoefficients) -> bool:
+    """any(hi < inf for (lo, hi) in spin_intervals_discriminant(c)), i.e. some finite spin range
+    (sigma_lo, sigma_hi) is transversely stable (thesis 3.3.11-3.3.16): the question the stable
+    band asks at every height. The critical s come from floats when `_float_critical_s` trusts
+    them, else from the exact isolation; each piece is classified by `_four_real_filtered` (exact
+    when ambiguous). About 20x faster than the exact route on a band scan, with the same answer
+    (tests/test_equilibrium.py compares the two at every height of every scene's band scan)."""
+    ints, _ = ray_cubic_int(c)
+    s_roots = _float_critical_s(ints)
+    if s_roots is None:
+        return any(hi < math.inf for _, hi in spin_intervals_discriminant(c))
+    # a bounded interval is a piece (s_lo, s_hi) with s_lo > 0: after the first critical s
+    return any(_four_real_filtered(c, math.sqrt(a * b) if b < math.inf else 2 * a)
+               for a, b in itertools.pairwise(s_roots + [math.inf]))
 
 
 def sigma_of_l(l_value: float, c1: float) -> float:

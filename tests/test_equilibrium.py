@@ -196,3 +196,30 @@ def test_equilibrium_command_thesis_scene(tmp_path):
     assert lo == pytest.approx(out["z_c"], rel=1e-9) and hi < out["equilibria"][1]["z"]
     assert out["adiabatic_band"] is not None and "outside the stable band" in out["reason"]
     assert (tmp_path / "eq.png").stat().st_size > 1000
+
+
+@pytest.mark.parametrize("scene_name", ["thesis_stable", "ring_magnet", "square", "loop"])
+def test_band_predicate_float_filter_equals_the_exact_route(scene_name):
+    """The stable band asks at every height whether some finite spin range is stable; it answers by
+    float roots where their margins are wide and by the exact route elsewhere
+    (ray_algebra.has_bounded_spin_interval). Same verdict as the exact route (thesis 3.3.11-3.3.16)
+    at 400 heights spanning the scene's hovering range, the band edges included."""
+    from derive.scene import load_scene
+    from runtime.model import load_model
+    model = load_model(load_scene(scene_name))
+    P = eqm.params_of(model, model.p)
+    rep = eqm.equilibria_of(model, model.p, bands=True)
+    zs = np.geomspace(0.05, 5.0, 300) * eqm.scale_of(model)
+    for band in rep.stable_bands:        # dense around each edge, where the margins vanish
+        zs = np.concatenate([zs, np.geomspace(0.98 * band.z[0], 1.02 * band.z[1], 100)])
+    seen = {True: 0, False: 0}
+    for z in zs:
+        ph = np.asarray(model.onaxis(float(z), model.p), float)
+        m = -P["mu"] * ph[2] / P["g"]
+        if not (m > 0 and P["mu"] * ph[3] > 0):
+            continue
+        c = ray_algebra.RayCoefficients.from_physics(ph[1], ph[2], ph[3], m, P["A"], P["C"], P["mu"])
+        exact = any(hi < math.inf for _, hi in ray_algebra.spin_intervals_discriminant(c))
+        assert ray_algebra.has_bounded_spin_interval(c) == exact, (scene_name, z)
+        seen[exact] += 1
+    assert seen[True] > 10 and seen[False] > 10, seen          # both verdicts were exercised
