@@ -100,7 +100,9 @@ class Units:
             return f"{sig(v * 100, digits)} cm"
         if abs(v) >= 1e-5:
             return f"{sig(v * 1e3, digits)} mm"
-        return f"{sig(v * 1e6, digits)} um"
+        if abs(v) >= 1e-9:
+            return f"{sig(v * 1e6, digits)} um"
+        return f"{sig(v, digits)} m"         # below a nanometre: round-off scale, plain metres
 
     def cm(self, v, digits: int = 4) -> str:
         """A length in cm always (a fixed unit for ranges and tables), scene units otherwise."""
