@@ -130,6 +130,31 @@ def parse_override(text: str) -> tuple[list[str], Any]:
     return path, value
 
 
+def apply_override(data: dict, text: str) -> None:
+    """Apply one `--set section.key=value` to the scene's table. A list of tables (a compound
+    plate's [[plate.parts]]) is entered by its 0-based index: plate.parts.1.radius=0.02."""
+    keys, value = parse_override(text)
+    node: Any = data
+    for k in keys[:-1]:
+        if isinstance(node, list):
+            node = node[_index(text, k, node)]
+        else:
+            node = node.setdefault(k, {})
+        if not isinstance(node, (dict, list)):
+            raise SceneError(f"--set {text!r}: {k!r} is not a section")
+    if isinstance(node, list):
+        raise SceneError(f"--set {text!r}: {keys[-2]!r} is a list of tables: name a key inside "
+                         f"one of them, e.g. {'.'.join(keys[:-1])}.0.<key>=...")
+    node[keys[-1]] = value
+
+
+def _index(text: str, k: str, items: list) -> int:
+    if not k.isdigit() or int(k) >= len(items):
+        raise SceneError(f"--set {text!r}: {k!r} is not an index of a list of {len(items)} tables; "
+                         f"use 0..{len(items) - 1}")
+    return int(k)
+
+
 def _exists(path: Path) -> bool:
     try:
         return path.exists()
@@ -169,13 +194,7 @@ def load_scene(name_or_path: str | Path, overrides: list[str] | tuple[str, ...] 
         raise SceneError(f"{path}: cannot be read ({exc.strerror}): check the path and its "
                          "permissions") from None
     for text in overrides:
-        keys, value = parse_override(text)
-        node = data
-        for k in keys[:-1]:
-            node = node.setdefault(k, {})
-            if not isinstance(node, dict):
-                raise SceneError(f"--set {text!r}: {k!r} is not a section")
-        node[keys[-1]] = value
+        apply_override(data, text)
     data.setdefault("name", path.stem)
     return validate(data, path)
 

@@ -42,14 +42,22 @@ def _path(key: str) -> list[str]:
     return parts
 
 
+def _child(node, k: str, key: str):
+    """node[k] of a table, or item k (0-based) of a list of tables (a compound plate's parts)."""
+    if isinstance(node, dict) and k in node:
+        return node[k]
+    if isinstance(node, list) and k.isdigit() and int(k) < len(node):
+        return node[int(k)]
+    raise UserError(f"the scene has no number at {key}: vary a key the scene sets "
+                    "(see docs/scenes.md; a compound plate's parts are plate.parts.<i>.<key>), "
+                    "or add it with --set")
+
+
 def key_value(data: dict, key: str) -> float:
     """The number at `key` in a scene's data (UserError if there is none)."""
     node = data
     for k in _path(key):
-        if not isinstance(node, dict) or k not in node:
-            raise UserError(f"the scene has no number at {key}: vary a key the scene sets "
-                            "(see docs/scenes.md), or add it with --set")
-        node = node[k]
+        node = _child(node, k, key)
     if isinstance(node, bool) or not isinstance(node, (int, float)):
         raise UserError(f"{key} = {node!r} is not a number: vary a numeric scene key")
     return float(node)
@@ -62,7 +70,7 @@ def with_values(scene: Scene, values: dict[str, float]) -> Scene:
         node = data
         path = _path(key)
         for k in path[:-1]:
-            node = node[k]
+            node = _child(node, k, key)
         node[path[-1]] = float(v)
     try:
         return validate(data, scene.path)
