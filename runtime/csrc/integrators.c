@@ -549,6 +549,17 @@ static const adaptive_method VERN9_M = {16, VN_A, VN_B, 15, 16, 1.0 / 9.0, vn_er
                                         vn_eval};
 
 
+/* The number of fixed steps over [t0, t_end] and the step h that makes them end at t_end (the
+ * requested step rounded down so that an integer number fits). */
+static long fixed_step_count(const lev_options *o, double *h)
+{
+    const double span = o->t_end - o->t0;
+    long N = (long)ceil(span / o->h * (1.0 - 1e-12));
+    if (N < 1) N = 1;
+    *h = span / (double)N;
+    return N;
+}
+
 /* Euler, RK4 and the DOP853 formula at a fixed step, the state updated by compensated summation
  * (add_compensated). */
 static int run_fixed(int method, lev_ctx *c, double *x, double *w)
@@ -556,14 +567,12 @@ static int run_fixed(int method, lev_ctx *c, double *x, double *w)
     const lev_options *o = c->opt;
     lev_stats *st = c->st;
     int i, n = c->sys->n, s;
-    double span = o->t_end - o->t0, h, e;
+    double h, e;
     double *xn = w, *comp = w + n, *comp_new = w + 2 * n, *slope = w + 3 * n, *scratch = w + 4 * n;
     double *swap;
     long N, k;
 
-    N = (long)ceil(span / o->h * (1.0 - 1e-12));
-    if (N < 1) N = 1;
-    h = span / (double)N;
+    N = fixed_step_count(o, &h);
     st->h_last = h;
     for (i = 0; i < n; i++) comp[i] = 0.0;
     for (k = 1; k <= N; k++) {
@@ -902,7 +911,7 @@ static int run_gauss(int method, lev_ctx *c, double *x, double *w)
     double *comp = Y + n, *xn = comp + n, *J = xn + n, *M = J + (size_t)n * n;
     int *piv = (int *)(M + (size_t)m * m);
     double A[2][2], cc[2], d[2], W[2][2];
-    double span = o->t_end - o->t0, h, e, r3 = sqrt(3.0);
+    double h, e, r3 = sqrt(3.0);
     long N, step;
     int use_newton = c->sys->jac != NULL, last_iters = 0;
 
@@ -930,9 +939,7 @@ static int run_gauss(int method, lev_ctx *c, double *x, double *w)
     }
     maxit = o->max_iter > 0 ? o->max_iter : (use_newton ? 30 : 200);
 
-    N = (long)ceil(span / o->h * (1.0 - 1e-12));
-    if (N < 1) N = 1;
-    h = span / (double)N;
+    N = fixed_step_count(o, &h);
     st->h_last = h;
     for (k = 0; k < n; k++) comp[k] = 0.0;
 
