@@ -62,8 +62,7 @@ def scale_of(model, p: np.ndarray | None = None) -> float:
 
 def model_onaxis(model, p: np.ndarray | None = None) -> Callable[[float], np.ndarray]:
     """z -> [Phi_0..Phi_K](z) of a loaded model (its generated `onaxis`, the one ctypes path)."""
-    f = model.fast("onaxis", p)
-    return lambda z: f([z])
+    return model.fast("onaxis", p).at
 
 
 # ----------------------------------------------------------------------------- results
