@@ -32,12 +32,66 @@ def bind_driver(lib: ctypes.CDLL) -> ctypes.CDLL:
     _bind(lib)
     f = lib.lev_scan_chunk
     if f.argtypes is None:
-        f.argtypes = [ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_int, ctypes.c_int,
-                      ctypes.c_double, ctypes.c_double, ctypes.c_int, ctypes.c_int, ctypes.c_int,
-                      ctypes.c_int, ctypes.c_long, _DP, _DP, _DP, _DP, _DP, _LP, ctypes.c_void_p,
-                      _IP, _DP, _LP, _LP, _DP]
+        f.argtypes = [ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_int,
+                      ctypes.c_int, ctypes.c_double, ctypes.c_double, ctypes.c_int, ctypes.c_int,
+                      ctypes.c_int, ctypes.c_int, ctypes.c_long, _DP, _DP, _DP, _DP, _DP, _LP,
+                      ctypes.c_void_p, _IP, _DP, _LP, _LP, _DP]
         f.restype = ctypes.c_long
+        lib.lev_scan_work_bytes.argtypes = [ctypes.c_int, ctypes.c_int]
+        lib.lev_scan_work_bytes.restype = ctypes.c_size_t
     return lib
+
+
+LANES = 4              # LEV_LANES (integrators.h) = derive/emit/c/emitter.py LANES
+LANES_CHECK = 32       # states on which a lane variant must equal the scalar rhs bit for bit
+
+
+def lanes_of(lib: ctypes.CDLL, rhs_name: str):
+    """The generated lane variant `<rhs_name>_lanes` of a model's rhs (derive/emit/c: the same
+    statements for LEV_LANES points at once), or None where the library has none."""
+    try:
+        return getattr(lib, f"{rhs_name}_lanes")
+    except AttributeError:
+        return None
+
+
+def lanes_call(fn, X: np.ndarray, P: np.ndarray) -> np.ndarray:
+    """One call of a lane variant on LANES states X (LANES, n) with parameters P (LANES, n_p)."""
+    inp = np.ascontiguousarray(X.T.reshape(-1), dtype=float)
+    pp = np.ascontiguousarray(P.T.reshape(-1), dtype=float)
+    out = np.zeros_like(inp)
+    ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p)(fn_address(fn))(
+        inp.ctypes.data, pp.ctypes.data, out.ctypes.data)
+    return out.reshape(X.shape[1], LANES).T
+
+
+def verified_lanes(model, part, x0: np.ndarray, p: np.ndarray, scale: np.ndarray):
+    """The lane variant of the part's rhs if it equals the scalar rhs bit for bit on LANES_CHECK
+    states about x0 (relative changes of 1e-3 of the state scales, each lane its own parameters
+    p scaled by 1 +- 1e-3), else None; the verdict is kept per library. The two are the same
+    statements, but the compiler may fuse a * b + c differently in the vectorised loop (it does
+    in one of the ring magnet's outputs, by an ulp): maps must not depend on the engine, so a
+    variant that differs is not used, and the scan runs one point at a time."""
+    verdicts = lib_verdicts(model.lib)
+    key = f"{part.name}_rhs"
+    if key not in verdicts:
+        fn = lanes_of(model.lib, key)
+        ok = fn is not None
+        rng = np.random.default_rng(0)
+        for _ in range(LANES_CHECK // LANES if ok else 0):
+            X = x0 + 1e-3 * scale * rng.standard_normal((LANES, x0.size))
+            P = p * (1 + 1e-3 * rng.uniform(-1, 1, (LANES, p.size)))
+            got = lanes_call(fn, X, P)
+            ok = ok and all(np.array_equal(got[k], part.rhs(X[k], P[k])) for k in range(LANES))
+        verdicts[key] = fn if ok else None
+    return verdicts[key]
+
+
+def lib_verdicts(lib: ctypes.CDLL) -> dict:
+    """The per-library record of verified lane variants (an attribute of the loaded library)."""
+    if "_lev_lanes" not in lib.__dict__:
+        lib.__dict__["_lev_lanes"] = {}
+    return lib.__dict__["_lev_lanes"]
 
 
 def _p(a: np.ndarray | None, kind=_DP):
@@ -46,10 +100,11 @@ def _p(a: np.ndarray | None, kind=_DP):
 
 def drive(lib: ctypes.CDLL, method: str, rhs, jac, t_end: float, rtol: float, ix: int, iy: int,
           iz: int, x0: np.ndarray, p: np.ndarray, atol: np.ndarray | None, h: np.ndarray,
-          box: np.ndarray, max_steps: np.ndarray, max_iter: int = 0) -> dict:
+          box: np.ndarray, max_steps: np.ndarray, max_iter: int = 0, rhs_lanes=None) -> dict:
     """One lev_scan_chunk call over k points: x0 (k, n), p (k, n_p), atol (k, n) or None (fixed
-    step), h (k,), box (k, 3) = z_lo, z_hi, r_max, max_steps (k,). Returns the arrays status
-    (names of runtime.cintegrate.STATUS), t_final, rhs_evals, steps, x_final."""
+    step), h (k,), box (k, 3) = z_lo, z_hi, r_max, max_steps (k,); rhs_lanes: the lane variant of
+    rhs (lanes_of) or None. Returns the arrays status (names of runtime.cintegrate.STATUS),
+    t_final, rhs_evals, steps, x_final."""
     bind_driver(lib)
     entry = lookup(method)
     x0 = np.ascontiguousarray(x0, float)
@@ -61,13 +116,14 @@ def drive(lib: ctypes.CDLL, method: str, rhs, jac, t_end: float, rtol: float, ix
     h = np.ascontiguousarray(h, float).reshape(k)
     box = np.ascontiguousarray(box, float).reshape(k, 3)
     max_steps = np.ascontiguousarray(max_steps, np.int64).reshape(k)
-    work = np.zeros(int(lib.lev_work_bytes(entry.c_id, n)) // 8 + 2)
+    work = np.zeros(int(lib.lev_scan_work_bytes(entry.c_id, n)) // 8 + 2)
     status = np.zeros(k, np.intc)
     t_final = np.zeros(k)
     rhs_evals = np.zeros(k, np.int64)
     steps = np.zeros(k, np.int64)
     x_final = np.zeros((k, n))
-    ran = lib.lev_scan_chunk(entry.c_id, fn_address(rhs), fn_address(jac), n, p.shape[1],
+    ran = lib.lev_scan_chunk(entry.c_id, fn_address(rhs), fn_address(rhs_lanes), fn_address(jac),
+                             n, p.shape[1],
                              float(t_end), float(rtol), ix, iy, iz, int(max_iter), k, _p(x0), _p(p),
                              _p(atol), _p(h), _p(box), _p(max_steps, _LP),
                              work.ctypes.data_as(ctypes.c_void_p), _p(status, _IP), _p(t_final),
@@ -102,7 +158,8 @@ def run_chunk_c(model, common, points: Sequence[tuple]) -> list[dict]:
                 np.array([su.h or 0.0 for su in setups]),
                 np.array([(su.box.z_lo, su.box.z_hi, su.box.r_max) for su in setups]),
                 np.array([default_budget(common.integrator, common.t_end, su.h, su.time_scale)
-                          for su in setups]))
+                          for su in setups]),
+                rhs_lanes=verified_lanes(model, pt, setups[0].x0, setups[0].p, setups[0].scale))
     return [{"i": task[0], "j": task[1], "levitating": res["status"][k] == "completed",
              "t_survived": float(res["t_final"][k]), "status": res["status"][k],
              "rhs_evals": int(res["rhs_evals"][k])}

@@ -105,6 +105,34 @@ int lev_integrate(int method, const lev_system *sys, const lev_options *opt, dou
 /* The largest state dimension (the scratch sums of the explicit methods live on the stack). */
 #define LEV_MAX_STATES 256
 
+/* ---- several runs at once through a lane variant of the rhs (the scan driver) ----
+ *
+ * The generated model has, beside each `<part>_rhs`, `<part>_rhs_lanes`: the same statements for
+ * LEV_LANES trajectories at once (lane l reads in[k LEV_LANES + l], p[k LEV_LANES + l] and writes
+ * out[k LEV_LANES + l]), in a loop the compiler vectorises, so that one call costs about what one
+ * scalar call does (derive/emit/c). lev_integrate_lanes runs `count` adaptive runs (DOP853 or
+ * Vern9), each exactly as lev_integrate would (the same numbers; no samples), keeping LEV_LANES
+ * of them under way and making each stage's evaluations of all of them in one rhs_lanes call; a
+ * lane whose run ends takes the next.
+ *
+ *   setup(user, k, sys, opt, x)   fills run k's system, options and state (sys and opt arrive
+ *                                 zeroed; sys->n = n, sys->p n_p values); nonzero: the run is
+ *                                 reported as LEV_BAD_INPUT. Pointers it stores must stay valid
+ *                                 until done(k).
+ *   done(user, k, status, st, x)  run k's status, statistics and final state; runs end in no
+ *                                 particular order.
+ *   work                          lev_lanes_work_bytes(method, n) bytes, 16-byte aligned.
+ * Returns count, or -1 for invalid arguments (nothing run). */
+#define LEV_LANES 4
+
+typedef int (*lev_batch_setup)(void *user, long k, lev_system *sys, lev_options *opt, double *x);
+typedef void (*lev_batch_done)(void *user, long k, int status, const lev_stats *st,
+                               const double *x);
+
+size_t lev_lanes_work_bytes(int method, int n);
+long lev_integrate_lanes(int method, int n, int n_p, lev_fn rhs_lanes, long count,
+                         lev_batch_setup setup, lev_batch_done done, void *user, void *work);
+
 /* A one-line message for a status code. */
 const char *lev_status_message(int status);
 

@@ -4,9 +4,11 @@
  * own initial state, with its own parameter vector, tolerances, box and step budget, and with no
  * output samples and no energy monitor: a map needs only whether and when each run leaves the
  * box. A run stops at the first exit from the box (the integrators' box event), so a point that
- * falls costs only the steps until it falls. There is no Python per point.
+ * falls costs only the steps until it falls. There is no Python per point. Given the model's lane
+ * variant of the rhs (rhs_lanes, may be NULL), the adaptive methods run LEV_LANES points at once
+ * through it (lev_integrate_lanes: the same numbers, point for point).
  *
- * Thread safety: no global mutable state; `work` (lev_work_bytes(method, n) bytes, 16-byte aligned)
+ * Thread safety: no global mutable state; `work` (lev_scan_work_bytes(method, n) bytes, 16-byte aligned)
  * and all outputs belong to the caller, so chunks may run concurrently on different buffers.
  */
 #ifndef LEVITRON_SCAN_DRIVER_H
@@ -17,6 +19,7 @@
 /* Integrate n_points runs of d state/dt = rhs(state, p_k) from t = 0 to t_end.
  *
  *   method, rhs, jac    as lev_integrate (jac may be NULL)
+ *   rhs_lanes           the lane variant of rhs (integrators.h), or NULL
  *   n, n_p              state dimension (at most LEV_MAX_STATES) and parameters per point
  *   t_end, rtol         shared by all points (rtol: adaptive methods only)
  *   ix, iy, iz          indices of x, y, z in the state (-1 if absent)
@@ -31,10 +34,13 @@
  * or the located exit from the box), rhs_evals[k], steps[k] (accepted steps) and, when x_final is
  * not NULL, x_final[k n ..) (the final state).
  * Returns the number of points run (n_points), or -1 for invalid arguments (nothing run). */
-long lev_scan_chunk(int method, lev_fn rhs, lev_fn jac, int n, int n_p, double t_end, double rtol,
-                    int ix, int iy, int iz, int max_iter, long n_points,
-                    const double *x0, const double *p, const double *atol, const double *h,
-                    const double *box, const long *max_steps, void *work,
+/* Bytes of `work` that lev_scan_chunk needs for this method and dimension. */
+size_t lev_scan_work_bytes(int method, int n);
+
+long lev_scan_chunk(int method, lev_fn rhs, lev_fn rhs_lanes, lev_fn jac, int n, int n_p,
+                    double t_end, double rtol, int ix, int iy, int iz, int max_iter,
+                    long n_points, const double *x0, const double *p, const double *atol,
+                    const double *h, const double *box, const long *max_steps, void *work,
                     int *status, double *t_final, long *rhs_evals, long *steps, double *x_final);
 
 #endif

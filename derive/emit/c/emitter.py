@@ -18,6 +18,7 @@ from .printer import LevitronCPrinter
 TEMPLATES = Path(__file__).resolve().parent / "templates"
 TABLE_FORMAT = 1
 TABLE_CHUNK = 96          # characters of JSON per C string literal (C99 guarantees 4095)
+LANES = 4                 # trajectories per call of a lane variant <name>_lanes (runtime/csrc)
 
 
 def _env() -> jinja2.Environment:
@@ -48,6 +49,24 @@ def body_lines(f: Lowered, printer: LevitronCPrinter) -> list[str]:
     return lines
 
 
+def lane_lines(f: Lowered, printer: LevitronCPrinter) -> list[str]:
+    """The body of the lane variant: the same statements, lane l of a structure of arrays
+    (in[k LANES + l], out[k LANES + l]); sin and cos from lev_sincos_lanes (no branch, so the
+    lanes loop vectorises), an angle beyond its range noted in `big` (the template then sends
+    every lane through the scalar function, which falls back to libm)."""
+    lines = []
+    for line in body_lines(f, printer):
+        if line.startswith("lev_sincos("):
+            a = line[len("lev_sincos("):].split(",")[0]
+            lines.append(f"big |= !(fabs({a}) < 1e5);")
+            line = "lev_sincos_lanes(" + line[len("lev_sincos("):]
+        elif line.startswith("out["):
+            k, rest = line[len("out["):].split("]", 1)
+            line = f"out[{k} * {LANES} + l]{rest}"
+        lines.append(line)
+    return lines
+
+
 def model_table(scene: str, input_hash: str, params: list[str], parts: dict,
                 lowered: list[Lowered]) -> dict:
     """What the compiled model says about itself (read by runtime/model_table.py)."""
@@ -70,10 +89,12 @@ def render(banner: str, guard: str, params: list[str], parts: dict, kmax: int,
     funcs = []
     for f in lowered:
         funcs.append({"name": f.name, "doc": f.doc, "n_in": f.n_in, "n_out": f.n_out, "ops": f.ops,
-                      "inputs": f.inputs, "params": f.params, "lines": body_lines(f, printer)})
+                      "inputs": f.inputs, "params": f.params, "lines": body_lines(f, printer),
+                      "lane_lines": lane_lines(f, printer) if f.name.endswith("_rhs") else None})
     env = _env()
     table_json = json.dumps(table, sort_keys=True, separators=(",", ":"), ensure_ascii=True)
     uses_sincos = any(line.startswith("lev_sincos(") for f in funcs for line in f["lines"])
-    ctx = {"uses_sincos": uses_sincos, "banner": banner, "guard": guard, "params": params, "parts": parts, "kmax": kmax,
+    ctx = {"uses_sincos": uses_sincos, "lanes": LANES, "banner": banner, "guard": guard,
+           "params": params, "parts": parts, "kmax": kmax,
            "functions": funcs, "table_lines": c_string_chunks(table_json)}
     return env.get_template("model.h.j2").render(**ctx), env.get_template("model.c.j2").render(**ctx)
