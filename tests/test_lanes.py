@@ -8,10 +8,19 @@ import pytest
 
 from derive.scene import SCENES_DIR, load_scene
 from runtime.model import load_model
-from runtime.scan_c import drive, lanes_call, lanes_of, lib_verdicts, verified_lanes
+from runtime.scan_c import LANES, drive, lanes_call, lanes_of, lib_verdicts, verified_lanes
 
 SCENES = [p.stem for p in sorted(SCENES_DIR.glob("*.toml"))]
-LANES = 4          # LEV_LANES (integrators.h) = derive/emit/c/emitter.py LANES
+
+
+def test_one_lane_count_on_every_side():
+    """LEV_LANES of integrators.h, the emitter's LANES and runtime/scan_c.py's are one number."""
+    import re
+
+    from derive.emit.c import emitter
+    from derive.paths import ROOT
+    header = (ROOT / "runtime" / "csrc" / "integrators.h").read_text()
+    assert int(re.search(r"#define LEV_LANES (\d+)", header).group(1)) == emitter.LANES == LANES
 
 
 def _states(model, part, rng, n: int) -> np.ndarray:
