@@ -64,7 +64,8 @@ def add_arguments(parser) -> None:
 
 def run(args) -> dict:
     if args.spin is None:
-        raise UserError("pass --spin LO:HI:N (rad/s); `levitron stability SCENE` gives the linear interval")
+        raise UserError("pass --spin LO:HI:N (rad/s, or rad per time unit in a dimensionless scene); "
+                        "`levitron stability SCENE` gives the linear interval")
     spins = parse_range(args.spin, "spin")
     axis, spec = pick_axis({"tilt": args.tilt, "mass": args.mass, "height": args.height})
     others = parse_range(spec, axis)

@@ -36,7 +36,8 @@ def add_arguments(parser) -> None:
 
 def run(args) -> dict:
     if args.spin is None:
-        raise UserError("pass --spin W (rad/s); `levitron stability SCENE` gives the stable spin interval")
+        raise UserError("pass --spin W (rad/s, or rad per time unit in a dimensionless scene); "
+                        "`levitron stability SCENE` gives the stable spin interval")
     if args.t_end is None or not args.t_end > 0:
         raise UserError(f"--t-end {args.t_end} must be a positive run length in s, e.g. --t-end 1")
     lookup(args.integrator)   # an unknown name is a one-line UserError
