@@ -48,7 +48,7 @@ def render(scene: Scene) -> dict[str, bytes]:
     ihash = input_hash(scene.data)
     plate = build_plate(scene.data["plate"])
     order, order_info = field_order(scene)
-    spec = build_spec(scene.name, plate, order, scene.coordinates, scene.needs)
+    spec = build_spec(scene.name, plate, order, scene.coordinates, scene.needs, scene.friction)
     lowered = [lower(f, spec) for f in spec.functions]
     params = [str(s) for s in spec.params]
     ban = banner(scene, ihash)

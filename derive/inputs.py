@@ -15,6 +15,7 @@ from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
 from . import plates
+from .scene import FRICTION_KEYS, TEMPERATURE_KEY
 
 DERIVE_DIR = Path(__file__).resolve().parent
 
@@ -52,11 +53,15 @@ def structure(data: dict) -> dict:
     parameters, except the plate's structural decisions (their values are in `decisions`) and,
     with an accuracy target (field.tolerance), every number (the chosen order depends on them)."""
     d = copy.deepcopy(data)
+    d.get("plate", {}).pop(TEMPERATURE_KEY.name, None)    # a runtime factor on mu (derive/scene.py)
     keep_numbers = "order" not in d.get("field", {})
     plate = d.get("plate")
-    return {"name": d.get("name"), "field": d.get("field"), "model": d.get("model"),
-            "plate": plate if keep_numbers else _strip_numbers(plate),
-            "decisions": plates.decisions(plate)}
+    out = {"name": d.get("name"), "field": d.get("field"), "model": d.get("model"),
+           "plate": plate if keep_numbers else _strip_numbers(plate),
+           "decisions": plates.decisions(plate)}
+    if any(k in d.get("top", {}) for k in FRICTION_KEYS):   # air friction: the full model's form
+        out["friction"] = True
+    return out
 
 
 def input_hash(data: dict) -> str:

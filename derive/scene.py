@@ -33,6 +33,8 @@ __all__ = ["MU0", "SCENES_DIR", "Scene", "SceneError", "find_scene_file", "load_
 NEEDS = ("reduced", "full", "linear")
 COORDINATES = ("tait-bryan", "euler-zxz")
 UNITS = ("SI", "dimensionless")
+T_REF = 20.0            # degC: the reference temperature of the temperature coefficients
+ABSOLUTE_ZERO = -273.15
 
 # The keys of every section but [plate] (whose keys are the plate kinds', derive/plates/); the
 # contract docs/scenes.md is generated from these and the registry (`python -m derive.plates.docs`).
@@ -40,6 +42,8 @@ SCENE_KEYS = (
     Key("name", "", "the scene's name (letters, digits, '-', '_'; default: the file's stem)"),
     Key("description", "", "free text"),
     Key("g", "m/s^2", "gravity (default 9.81; 1 in a dimensionless scene)"),
+    Key("temperature", "degC", f"the temperature of the magnets (default {T_REF:g} degC, the "
+        "reference of the temperature coefficients; `--temperature` on every command)"),
     Key("units", "", f"how numbers are shown to a person, one of {list(UNITS)} (default: \"SI\" "
         "when 9 <= g <= 10.5, else \"dimensionless\"); never how they are computed"),
 )
@@ -47,19 +51,48 @@ REFERENCE_KEYS = (
     Key("source", "", "where the stated values come from (e.g. \"thesis\"), shown beside them"),
     Key("z_stable", "m", "a stated height of the vertically stable equilibrium, shown beside ours"),
 )
+TEMPERATURE_KEY = Key("temperature_coefficient", "1/K", "relative change of the magnet's "
+                      "remanence per kelvin from 20 degC (ferrite about -0.002, NdFeB about -0.0012; "
+                      "default 0); in [top] and in [plate]")
 TOP_KEYS = (
     Key("mass", "kg", "mass m of the top"),
     Key("A", "kg m^2", "transverse moment of inertia"),
     Key("C", "kg m^2", "axial moment of inertia (C <= 2 A)"),
     Key("moment", "A m^2", "magnetic moment mu along the symmetry axis, signed (mu < 0: upright "
         "over a field that points up); may be left out with plate.murho"),
+    Key("spin_decay_time", "s", "air friction: the e-folding time tau of the spin of a free top, "
+        "omega_3(t) = omega_3(0) exp(-t / tau) (measure it with a tachometer); any decay time makes "
+        "the full model dissipative (derive/friction.py)"),
+    Key("tilt_decay_time", "s", "air friction: the e-folding time of the transverse (tumbling) "
+        "angular velocity of a free top (default: none)"),
+    Key("translation_decay_time", "s", "air friction: the e-folding time of the velocity of the "
+        "centre of mass of a free top (default: none)"),
+    TEMPERATURE_KEY,
 )
+
+# decay-time key of [top] -> the runtime parameter it sets, the rate 1 / tau (0 where not given)
+FRICTION_KEYS = {"spin_decay_time": "k_spin", "tilt_decay_time": "k_tilt",
+                 "translation_decay_time": "k_trans"}
 FIELD_KEYS = (
     Key("order", "", "even order in r of the Laplace expansion, 2..12 (default 2)"),
     Key("tolerance", "", "instead of order: the largest relative error of the expanded field, "
         "with radius"),
     Key("radius", "m", "the distance from the axis within which tolerance must hold"),
 )
+LAUNCH_KEYS = tuple(Key(k, u, d) for k, u, d in (
+    ("spin", "rad/s", "the launch spin: \"normal:MEAN,SD\", \"uniform:LO,HI\" or a number"),
+    ("tilt", "rad", "the tilt of the axis (same forms)"),
+    ("tilt_azimuth", "rad", "the direction of the tilt (same forms)"),
+    ("offset", "m", "the offset of the centre of mass along x (same forms)"),
+    ("velocity", "m/s", "the horizontal velocity along y (same forms)"),
+    ("mass", "", "the relative deviation of the mass (same forms)"),
+    ("strength", "", "the relative deviation of the magnets' strength (same forms)"),
+    ("temperature", "degC", "the magnets' temperature (same forms)"),
+    ("success_time", "s", "a launch succeeds when the top floats at least this long"),
+    ("t_end", "s", "the run length of each launch"),
+    ("n", "", "the number of launches"),
+    ("seed", "", "the seed of the sampler"),
+))
 MODEL_KEYS = (
     Key("needs", "", f"what derive emits, a list drawn from {list(NEEDS)} (default all; "
         "\"linear\" needs \"full\")"),
@@ -82,8 +115,9 @@ class Scene:
     name: str
     path: Path | None
     data: dict
-    params: dict[str, float]            # m, g, A, C, mu, plate parameters (SI)
+    params: dict[str, float]            # m, g, A, C, mu, plate parameters (SI), friction rates
     notes: list[str] = field(default_factory=list)
+    field_factor: float = 1.0           # the plate's field at `temperature` over its field at T_REF
 
     @property
     def plate_kind(self) -> str:
@@ -92,6 +126,11 @@ class Scene:
     @property
     def needs(self) -> tuple[str, ...]:
         return tuple(self.data["model"]["needs"])
+
+    @property
+    def friction(self) -> bool:
+        """The scene declares air friction (a decay time in [top]): its full model is dissipative."""
+        return any(k in self.data["top"] for k in FRICTION_KEYS)
 
     @property
     def coordinates(self) -> str:
@@ -199,9 +238,31 @@ def load_scene(name_or_path: str | Path, overrides: list[str] | tuple[str, ...] 
     return validate(data, path)
 
 
+def friction_rates(top: dict, needs) -> dict[str, float]:
+    """k = 1 / tau for every FRICTION_KEYS decay time of [top] (0 for one not given), or {} when
+    the scene declares none. Friction acts on the full model only: the reduced model lies on the
+    invariant set (thesis 3.2.1), where a slowing top never falls."""
+    given = [k for k in FRICTION_KEYS if k in top]
+    if not given:
+        return {}
+    if "full" not in needs:
+        raise SceneError(f"top.{given[0]} needs the full model: add \"full\" to model.needs (the "
+                         "reduced model keeps the top upright on the axis, where a slowing top never "
+                         "falls), or remove the decay time")
+    rates = {}
+    for key, name in FRICTION_KEYS.items():
+        tau = number(top, key, "top", positive=True, required=False)
+        rates[name] = 0.0 if tau is None else 1.0 / tau    # number() bounds tau's magnitude
+    return rates
+
+
 def validate(data: dict, path: Path | None = None) -> Scene:
     """Check every key and resolve the parameters; raises SceneError on the first problem."""
-    check_keys(data, _names(SCENE_KEYS) | {"top", "plate", "field", "model", "reference"}, "scene")
+    check_keys(data, _names(SCENE_KEYS) | {"top", "plate", "field", "model", "reference", "launch"},
+               "scene")
+    if not isinstance(data.get("launch", {}), dict):
+        raise SceneError("launch = ... is not a section: write [launch] with its keys")
+    check_keys(data.get("launch", {}), _names(LAUNCH_KEYS), "launch")
     if data.get("units", "SI") not in UNITS:
         raise SceneError(f"units = {data['units']!r}: use one of {list(UNITS)}")
     ref = data.get("reference", {})
@@ -234,7 +295,9 @@ def validate(data: dict, path: Path | None = None) -> Scene:
                          "larger than the sum of the two transverse ones; check which is A and which C")
     moment = number(top, "moment", "top", nonzero=True, required=False)
 
-    resolved = plates.resolve(data["plate"], moment)
+    temp = temperature_factors(data)
+    resolved = plates.resolve({k: v for k, v in data["plate"].items() if k != TEMPERATURE_KEY.name},
+                              moment)
     notes = []
     mu = resolved.pop("mu", moment)
     if resolved.pop("moment_nominal", None) is not None:
@@ -275,6 +338,36 @@ def validate(data: dict, path: Path | None = None) -> Scene:
     if not isinstance(name, str) or not _NAME.match(name):
         raise SceneError(f"name = {name!r}: use letters, digits, '-' and '_' only")
 
-    params = {"m": m, "g": g, "A": A, "C": C, "mu": float(mu)}
+    # U = -mu n.B and B is linear in the plate's strength (thesis 2.2.1): the two magnets' thermal
+    # factors enter the dynamics as one factor on mu; `field` shows B times the plate's factor
+    params = {"m": m, "g": g, "A": A, "C": C, "mu": float(mu) * temp[0] * temp[1]}
     params.update({f"plate_{k}": float(v) for k, v in resolved.items()})
-    return Scene(name=name, path=path, data=data, params=params, notes=notes)
+    params.update(friction_rates(top, model["needs"]))
+    if data.get("temperature", T_REF) != T_REF:
+        notes.append(f"at {data['temperature']:g} degC: plate field x {temp[0]:.6g}, top moment x "
+                     f"{temp[1]:.6g} of their {T_REF:g} degC values")
+    return Scene(name=name, path=path, data=data, params=params, notes=notes, field_factor=temp[0])
+
+
+def temperature_factors(data: dict) -> tuple[float, float]:
+    """(plate, top) factors of the remanence at the scene's temperature T: 1 + alpha (T - T_REF),
+    alpha the temperature_coefficient of [plate] and of [top] (linear model of the data sheets)."""
+    T = data.get("temperature", T_REF)
+    if isinstance(T, bool) or not isinstance(T, (int, float)) or not T == T or abs(T) == float("inf"):
+        raise SceneError(f"temperature = {T!r} is not a number: give degrees Celsius, e.g. 28")
+    if T < ABSOLUTE_ZERO:
+        raise SceneError(f"temperature = {T:g} degC is below absolute zero ({ABSOLUTE_ZERO} degC): "
+                         "give degrees Celsius")
+    out = []
+    for section in ("plate", "top"):
+        alpha = number(data[section], TEMPERATURE_KEY.name, section, default=0.0)
+        if not -0.1 <= alpha <= 0.1:
+            raise SceneError(f"{section}.{TEMPERATURE_KEY.name} = {alpha:g} is not a relative change "
+                             "per kelvin: magnets have about -0.002 (ferrite) to -0.0012 (NdFeB)")
+        f = 1.0 + alpha * (float(T) - T_REF)
+        if not f > 0:
+            raise SceneError(f"at temperature = {T:g} degC the {section} magnet's remanence factor "
+                             f"1 + {alpha:g} (T - {T_REF:g}) = {f:.3g} is not positive: the linear "
+                             "temperature model does not reach that far")
+        out.append(f)
+    return out[0], out[1]

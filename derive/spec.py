@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from . import field as fieldmod
+from . import friction as frictionmod
 from .geometry import Plate
 from .mechanics import hamiltonian_system
 from .reduction import reduced_system
@@ -57,8 +58,15 @@ def _part_functions(prefix: str, state, rhs: sp.Matrix, H: sp.Expr, with_jac: bo
     return funcs
 
 
-def build_spec(scene_name: str, plate: Plate, order: int, coordinates: str, needs) -> ModelSpec:
-    spec = ModelSpec(scene_name, plate, order, coordinates, tuple(PHYSICAL) + tuple(plate.symbols))
+def build_spec(scene_name: str, plate: Plate, order: int, coordinates: str, needs,
+               friction: bool = False) -> ModelSpec:
+    """The functions of a scene. With `friction`, the full model's momentum rows carry the
+    generalised forces of air friction (derive/friction.py), its rates k_spin, k_tilt, k_trans
+    close the parameter vector and `full_dissipation` (2F = -dH/dt) is emitted; without it the
+    model is the conservative one of thesis 2.3."""
+    rates = tuple(frictionmod.RATES) if friction else ()
+    spec = ModelSpec(scene_name, plate, order, coordinates,
+                     tuple(PHYSICAL) + tuple(plate.symbols) + rates)
     if "reduced" in needs:
         red = reduced_system(order)
         spec.parts["reduced"] = {"states": red.state_names, "equations": "thesis eq. 3.2.12"}
@@ -70,10 +78,19 @@ def build_spec(scene_name: str, plate: Plate, order: int, coordinates: str, need
         B3 = sp.ImmutableMatrix(abstract_field())
     if "full" in needs:
         full = hamiltonian_system(coordinates, order, B3)
-        spec.parts["full"] = {"states": full.state_names,
-                              "equations": "thesis eqs. 2.3.9-2.3.16 (" + coordinates + ")"}
-        spec.functions += _part_functions("full", full.state, full.rhs, full.H, "linear" in needs,
-                                          f"full 12-D model, {coordinates} angles (thesis 2.3)")
+        what = f"full 12-D model, {coordinates} angles (thesis 2.3)"
+        equations = "thesis eqs. 2.3.9-2.3.16 (" + coordinates + ")"
+        rhs = full.rhs
+        if friction:
+            rhs = frictionmod.dissipative_rhs(full)
+            what += " with air friction (Rayleigh dissipation, derive/friction.py)"
+            equations += " + generalised forces of air friction"
+        spec.parts["full"] = {"states": full.state_names, "equations": equations}
+        spec.functions += _part_functions("full", full.state, rhs, full.H, "linear" in needs, what)
+        if friction:
+            spec.functions.append(Function(
+                "full_dissipation", tuple(full.state), (frictionmod.dissipated_power(full),), (1,),
+                f"{what}: the dissipated power 2F = -dH/dt"))
     spec.functions.append(Function(
         "onaxis", (Z,), tuple(Phi(k, Z) for k in range(spec.kmax + 1)), (spec.kmax + 1,),
         "on-axis potential and its derivatives Phi_0..Phi_K (thesis eq. 2.2.6)"))

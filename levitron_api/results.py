@@ -44,11 +44,13 @@ class Stability:
 
 @dataclass(frozen=True)
 class Simulation:
-    """One trajectory from the hover height (docs/contract.md `simulate`): levitating; t_survived
-    (s); max_excursion (m); energy_drift (relative); rhs_evals; wall_s (s); final_state (the
-    model's states, SI); details: every key of the command's JSON."""
+    """One trajectory from the hover height (docs/contract.md `simulate`): levitating (None for a
+    launch on the invariant set, which tests nothing: details["untested"] says why); t_survived
+    (s); max_excursion (m); energy_drift (relative; in air the energy balance's residual);
+    rhs_evals; wall_s (s); final_state (the model's states, SI); details: every key of the
+    command's JSON (in air also "flight": flight time, fall spin, the adiabatic t_cross)."""
 
-    levitating: bool
+    levitating: bool | None
     t_survived: float
     max_excursion: float
     energy_drift: float

@@ -104,11 +104,13 @@ class Study:
                          res.reason, res.routes_agree)
 
     def simulate(self, spin: float, **options) -> Simulation:
-        """One trajectory (runtime.simulate.simulate; options: tilt (rad), offset (m), t_end (s),
-        integrator, tol, box (m), plot (path))."""
+        """One trajectory (runtime.simulate.simulate; options: tilt (rad, default 0.005: a launch
+        with tilt 0 and offset 0 tests nothing and gives levitating None), offset (m), t_end (s;
+        in air the run ends when the top falls: details["flight"]), integrator, tol, box (m),
+        plot (path))."""
         from runtime.simulate import simulate
         out = simulate(self.model, spin, **options)
-        return Simulation(bool(out["levitating"]), float(out["t_survived"]),
+        return Simulation(out["levitating"], float(out["t_survived"]),
                           float(out["max_excursion"]), float(out["energy_drift"]),
                           int(out["rhs_evals"]), float(out["wall_s"]), dict(out["final_state"]),
                           out)

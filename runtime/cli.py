@@ -68,6 +68,10 @@ def build_parser() -> argparse.ArgumentParser:
             p.add_argument("scene", metavar="SCENE", help="a scene name in scenes/ or a .toml path")
         p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                        help="override a scene key, e.g. --set top.mass=0.03 (repeatable)")
+        if not getattr(mod, "MULTI_SCENE", False):
+            p.add_argument("--temperature", type=float, default=None, metavar="DEGC",
+                           help="the magnets' temperature, degC (the scene key `temperature`: "
+                                "plate/top temperature_coefficient scale their strength from 20 degC)")
         p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
         p.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
         mod.add_arguments(p)
@@ -205,6 +209,8 @@ def _emit(text: str, styled: bool = False) -> int:
 
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
+    if getattr(args, "temperature", None) is not None:     # one more --set, resolved by the scene
+        args.set = [*args.set, f"temperature={args.temperature!r}"]
     if args.json or args.quiet:
         progress.disable()
     else:

@@ -188,6 +188,10 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
         raise UserError(f"unknown engine {engine!r}; choose one of: {', '.join(ENGINES)}")
     if not math.isfinite(base_tilt):
         raise UserError("--base-tilt must be a finite angle (rad)")
+    if axis != "tilt" and base_tilt == 0:
+        raise UserError("--base-tilt 0 launches every point on the invariant set (thesis 3.2.1), "
+                        f"where the ideal top stays at any spin: the map would test nothing; give a "
+                        f"small tilt, e.g. --base-tilt {BASE_TILT}")
     t_wall = time.perf_counter()
 
     # the hover heights (runtime.equilibrium.hover_height, thesis 3.3.2-3.3.3) and the linear picture

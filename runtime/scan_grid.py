@@ -43,7 +43,13 @@ def parse_range(text: str, label: str) -> np.ndarray:
 
 
 def check_axis(axis: str, values: np.ndarray) -> None:
-    """The physical range of the second axis (mass > 0, |height| < 1/2)."""
+    """The physical range of the second axis (mass > 0, |height| < 1/2; a tilt of 0 is refused: that
+    launch lies on the invariant set of thesis 3.2.1, where the ideal top stays at any spin, so its
+    row of the map would test nothing)."""
+    if axis == "tilt" and np.any(values == 0):
+        raise UserError("--tilt includes 0: a launch with tilt 0 lies on the invariant set (thesis "
+                        "3.2.1), where the ideal top stays at any spin, so that row tests nothing; "
+                        "start the axis above 0, e.g. --tilt 0.001:0.3:10")
     if axis == "mass" and values[0] <= 0:
         raise UserError(f"--mass must be positive (kg); got LO = {values[0]:g}")
     if axis == "height" and not (values[0] > -0.5 and values[-1] < 0.5):
@@ -57,5 +63,5 @@ def pick_axis(specs: dict[str, str | None]) -> tuple[str, str]:
     if len(given) != 1:
         names = ", ".join("--" + k for k, _ in given) if given else "none"
         raise UserError(f"pass exactly one of --tilt, --mass, --height as the second axis (got {names}), "
-                        "e.g. --tilt 0:0.3:10")
+                        "e.g. --tilt 0.001:0.3:10")
     return given[0]

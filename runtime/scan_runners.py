@@ -50,7 +50,7 @@ _MODELS: dict = {}
 _LOCK = threading.Lock()
 
 
-def _model(scene: str, overrides: Sequence[str]):
+def model_for(scene: str, overrides: Sequence[str]):
     """The loaded model of (scene, overrides), once per process (and per dask worker)."""
     key = (scene, tuple(overrides))
     with _LOCK:
@@ -75,7 +75,7 @@ def remember(common: Common, model) -> None:
 
 
 def _init_worker(scene: str, overrides: tuple[str, ...]) -> None:
-    _model(scene, overrides)
+    model_for(scene, overrides)
     import runtime.scan_c  # noqa: F401  (import once here, not inside the first timed chunk)
 
 
@@ -152,7 +152,7 @@ def point_run(model, spin: float, tilt: float = 0.0, height: float = 0.0, t_end:
 def task_point(common: Common, task: tuple[int, int, float, float]) -> dict:
     """The keyword arguments of point_setup / point_run for one task (i, j, spin, other)."""
     _, j, spin, other = task
-    model = _model(common.scene, common.overrides)
+    model = model_for(common.scene, common.overrides)
     return {"spin": spin, "tilt": other if common.axis == "tilt" else common.base_tilt,
             "height": other if common.axis == "height" else 0.0, "integrator": common.integrator,
             "h": common.h, "z_s": common.hover[j],
@@ -162,7 +162,7 @@ def task_point(common: Common, task: tuple[int, int, float, float]) -> dict:
 def run_point(common: Common, task: tuple[int, int, float, float]) -> dict:
     """One grid point (i_spin, j_other, spin, other) -> its survival (a thesis 3.1-3.2 run), through
     runtime.simulate's Python path (one integrate call with dense output and energy monitor)."""
-    model = _model(common.scene, common.overrides)
+    model = model_for(common.scene, common.overrides)
     r = point_run(model, t_end=common.t_end, tol=common.tol, **task_point(common, task))
     return {"i": task[0], "j": task[1], "levitating": bool(r["levitating"]),
             "t_survived": float(r["t_survived"]), "status": r["status"], "rhs_evals": r["rhs_evals"]}
@@ -175,7 +175,7 @@ def run_chunk(common: Common, tasks: Sequence[tuple]) -> dict:
     that ran (common.integrator, or for "auto" the one runtime.integrators_table.resolve picks)."""
     from runtime.integrators_table import lookup, resolve
     common = replace(common, integrator=resolve(common.integrator, common.tol, common.h))
-    model = _model(common.scene, common.overrides)
+    model = model_for(common.scene, common.overrides)
     cpu0 = time.thread_time()
     if common.engine == "c" and lookup(common.integrator).backend == "c":
         from runtime.scan_c import run_chunk_c
@@ -189,7 +189,8 @@ def run_chunk(common: Common, tasks: Sequence[tuple]) -> dict:
 
 
 def _run_chunk_packed(args: tuple) -> dict:
-    return run_chunk(*args)
+    fn, common, chunk = args
+    return fn(common, chunk)
 
 
 def split(tasks: Sequence[tuple], n_chunks: int) -> list[list[tuple]]:
@@ -199,27 +200,33 @@ def split(tasks: Sequence[tuple], n_chunks: int) -> list[list[tuple]]:
     return [list(tasks[c::n]) for c in range(n)] if tasks else []
 
 
-def run_serial(common: Common, chunks: Sequence[list], quiet: bool = False) -> list[dict]:
-    """The chunks one after the other in this process (progress: runtime/progress.py, points)."""
+def run_serial(common: Common, chunks: Sequence[list], quiet: bool = False, fn=None,
+               what: str = "scan") -> list[dict]:
+    """The chunks one after the other in this process (progress: runtime/progress.py, points).
+    fn(common, chunk) -> {"points": [...], ...} runs one chunk (default run_chunk: a map's; the
+    launch Monte Carlo, runtime/launch.py, brings its own); `common` needs .scene and .overrides."""
+    fn = fn or run_chunk
     out = []
-    with progress.task("scan", total=sum(map(len, chunks)), quiet=quiet) as tick:
+    with progress.task(what, total=sum(map(len, chunks)), quiet=quiet) as tick:
         for chunk in chunks:
-            out.append(run_chunk(common, chunk))
+            out.append(fn(common, chunk))
             tick(len(chunk))
     return out
 
 
 def run_processes(common: Common, chunks: Sequence[list], workers: int,
-                  quiet: bool = False) -> list[dict]:
-    """Local processes (spawn: no fork of a process holding BLAS threads or a loaded library)."""
+                  quiet: bool = False, fn=None, what: str = "scan") -> list[dict]:
+    """Local processes (spawn: no fork of a process holding BLAS threads or a loaded library);
+    fn as in run_serial."""
+    fn = fn or run_chunk
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor, as_completed
     ctx = multiprocessing.get_context("spawn")
     out = []
-    with progress.task(f"scan ({workers} processes)", total=sum(map(len, chunks)), quiet=quiet) as tick, \
+    with progress.task(f"{what} ({workers} processes)", total=sum(map(len, chunks)), quiet=quiet) as tick, \
             ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
                                 initargs=(common.scene, tuple(common.overrides))) as ex:
-        futures = [ex.submit(run_chunk, common, c) for c in chunks]
+        futures = [ex.submit(fn, common, c) for c in chunks]
         for fut in as_completed(futures):
             out.append(fut.result())
             tick(len(out[-1]["points"]))
@@ -248,14 +255,17 @@ def dask_threads(client) -> int:
     return max(1, sum(client.nthreads().values()))
 
 
-def run_dask(common: Common, chunks: Sequence[list], client, quiet: bool = False) -> list[dict]:
+def run_dask(common: Common, chunks: Sequence[list], client, quiet: bool = False, fn=None,
+             what: str = "scan") -> list[dict]:
     """The chunks as tasks of a dask.distributed cluster (`client`, from dask_client). Every worker
-    loads the model once (runtime.scan_runners._model, per process) and runs its chunks through the
-    C chunk driver, which releases the GIL: threads of one worker run in parallel."""
+    loads the model once (runtime.scan_runners.model_for, per process) and runs its chunks through the
+    C chunk driver, which releases the GIL: threads of one worker run in parallel. fn as in
+    run_serial."""
     from dask.distributed import as_completed
+    fn = fn or run_chunk
     out = []
-    with progress.task("scan (dask)", total=sum(map(len, chunks)), quiet=quiet) as tick:
-        futures = client.map(_run_chunk_packed, [(common, c) for c in chunks], pure=False)
+    with progress.task(f"{what} (dask)", total=sum(map(len, chunks)), quiet=quiet) as tick:
+        futures = client.map(_run_chunk_packed, [(fn, common, c) for c in chunks], pure=False)
         for fut in as_completed(futures):
             out.append(fut.result())
             tick(len(out[-1]["points"]))

@@ -13,6 +13,16 @@ velocities through the model's own Legendre map: the coordinate rows of the gene
 dq/dt = M(q)^-1 p (thesis eq. 2.3.8), linear in p, so p = M(q) qdot is solved from that map.
 With Tait-Bryan angles this gives p_zeta = C (zeta_dot + phi_dot sin vartheta) = -C omega_3.
 
+The default launch is perturbed: a launch with tilt 0 and offset 0 lies exactly on the invariant
+set I (thesis 3.2.1), where the ideal top stays at any spin, so it tests no stability. Without a
+given tilt the axis starts DEFAULT_TILT rad from the vertical (Gans et al. perturb by 0.001-0.005
+rad); a launch given exactly on I is run but answers `levitating: null` with the reason.
+
+With air friction (a scene with decay times, derive/friction.py) the run goes on until the top
+falls or t_end (default FRICTION_T_END_TAUS spin decay times), and the answer carries a `flight`
+block (runtime/flight.py): the flight time, the spin at which the top fell and the adiabatic
+prediction tau ln(omega_0 / sigma_lo).
+
 The run stops when the top leaves a box that scales with the hover height (default half-width
 z_s / 2 in z and radially; scenes may be dimensionless, so never a fixed length).
 
@@ -35,7 +45,9 @@ from runtime.errors import UserError
 from runtime.integrate import Box, Result, integrate
 from runtime.integrators_table import AUTO, DEFAULT, auto_note, lookup, resolve
 
+from . import flight
 from .human import Units, sig
+from .stability import stability_of
 from .plotting import pyplot, save_figure, style
 
 # ---------------------------------------------------------------- rotations (numpy mirrors of
@@ -167,6 +179,18 @@ def legendre_map(part, q: np.ndarray, p=None) -> tuple[np.ndarray, np.ndarray]:
 
 
 DEFAULT_AZIMUTH = math.pi / 2    # the tilt towards +y
+DEFAULT_TILT = 0.005             # rad: the default launch's tilt (module docstring)
+FRICTION_T_END_TAUS = 5.0        # default run length with friction: 5 tau, the spin falls by e^5
+
+
+def on_invariant_set(part, tilt: float, offset: float) -> bool:
+    """A full-model launch with tilt 0 and offset 0: on I (thesis 3.2.1), where it tests nothing."""
+    return coordinates_of(part) is not None and tilt == 0.0 and offset == 0.0
+
+
+UNTESTED = ("the launch lies on the invariant set (tilt 0, offset 0; thesis 3.2.1), where the ideal "
+            "top stays at any spin: this run tests no stability; give a tilt (e.g. --tilt "
+            f"{DEFAULT_TILT}) or an offset")
 
 
 def tilt_angles(kind: str, tilt: float, azimuth: float = DEFAULT_AZIMUTH) -> list[float]:
@@ -302,7 +326,15 @@ def time_scale(model, p, z_s: float, spin: float, pvals: dict) -> tuple[float, s
     return fastest_period(spin, pvals, vertical_stiffness(model, p, z_s, pvals))
 
 
-def simulate(model, spin: float, tilt: float = 0.0, offset: float = 0.0, t_end: float = 1.0,
+def default_t_end(model, part: str, p) -> float:
+    """1 time unit, or FRICTION_T_END_TAUS spin decay times for a full model in air."""
+    if part == "full" and flight.has_friction(model) and model.pvals(p)["k_spin"] > 0:
+        return FRICTION_T_END_TAUS / model.pvals(p)["k_spin"]
+    return 1.0
+
+
+def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
+             t_end: float | None = None,
              integrator: str = DEFAULT, tol: float | None = 1e-9, box: float | None = None,
              plot: str | Path | None = None, part: str = "full", h: float | None = None,
              n_out: int = 2000, params: dict | None = None,
@@ -312,10 +344,16 @@ def simulate(model, spin: float, tilt: float = 0.0, offset: float = 0.0, t_end: 
     box: the half-width of the box (m), default z_s / 2. params: parameter values overriding the
     scene's for this run (names of manifest.json `parameters`). integrator: a name of
     runtime/integrators_table.py or "auto" (resolved from tol: the answer's `integrator` is the
-    method that ran, `integrator_requested` the name asked for, `integrator_choice` auto's reason)."""
+    method that ran, `integrator_requested` the name asked for, `integrator_choice` auto's reason).
+    tilt None: DEFAULT_TILT for the full model, 0 for the reduced one; t_end None: default_t_end."""
     pt = model.part(part)
     p = model.with_params(params or {})
     pvals = model.pvals(p)
+    tilt_default = tilt is None
+    if tilt is None:
+        tilt = DEFAULT_TILT if coordinates_of(pt) is not None else 0.0
+    if t_end is None:
+        t_end = default_t_end(model, part, p)
     for label, v in (("spin", spin), ("tilt", tilt), ("offset", offset), ("tilt-azimuth", azimuth)):
         if v is None or not math.isfinite(v):
             raise UserError(f"--{label} must be a finite number")
@@ -334,8 +372,17 @@ def simulate(model, spin: float, tilt: float = 0.0, offset: float = 0.0, t_end: 
     res = integrate(pt, x0, t_end, method=integrator, tol=tol if not entry.fixed_step else None,
                     h=h, p=p, box=bx, n_out=n_out, scale=scale,
                     monitor_energy=entry.monitors_energy, time_scale=T, time_scale_what=what)
-    out = summarize(pt, res, x0, p, z_s, bx, spin, tilt, offset, t_end, integrator, tol, h, plot)
+    air = part == "full" and flight.has_friction(model)
+    fl = None
+    if air:
+        st = stability_of(model, p=p, z_s=z_s)    # the ideal top's interval at z_s (rates set to 0)
+        fl = flight.flight(model, pt, p, res, x0, spin, z_s, t_end, st.spin_interval,
+                           lambda X: spin_rate(pt, X, pvals["C"]))
+    out = summarize(pt, res, x0, p, z_s, bx, spin, tilt, offset, t_end, integrator, tol, h, plot, fl)
     out["tilt_azimuth"] = azimuth
+    out["tilt_default"] = tilt_default and coordinates_of(pt) is not None
+    if on_invariant_set(pt, tilt, offset):
+        out["levitating"], out["untested"] = None, UNTESTED
     out["integrator_requested"] = requested
     if requested == AUTO:
         out["integrator_choice"] = auto_note(tol)
@@ -353,6 +400,11 @@ def spin_momentum(part, x) -> float:
     return float("nan")
 
 
+def spin_rate(part, X, C: float) -> np.ndarray:
+    """omega_3 = L.n / C along the state rows X (spin_momentum)."""
+    return np.array([spin_momentum(part, x) for x in np.atleast_2d(X)]) / C
+
+
 def largest_deviation(values, scale: float) -> float | None:
     """max_t |v(t) - v(0)| / scale (None if undefined): an invariant's worst drift over the run."""
     v = np.asarray(values, float)
@@ -362,7 +414,9 @@ def largest_deviation(values, scale: float) -> float | None:
 
 
 def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, integrator, tol, h,
-              plot) -> dict:
+              plot, fl: dict | None = None) -> dict:
+    """simulate's answer. fl: the flight block of a run in air (runtime/flight.py); there the energy
+    drift is the residual of the energy balance and L.n is compared with its exponential decay."""
     s = list(pt.states)
     X = res.X
     H = res.energy if res.energy is not None else np.array([pt.energy(x, p) for x in X])
@@ -412,10 +466,20 @@ def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, i
         "coordinates": coordinates_of(pt),
         "plot": None,
     }
+    if fl is not None:
+        out["flight"] = fl
+        out["fall_spin"], out["t_cross"] = fl["fall_spin"], fl["t_cross"]
+        out["energy_drift"] = fl["energy_balance"]
+        out["energy_drift_final"] = None
+        out["conserved_max_deviation"] = {"energy_balance": fl["energy_balance"], "L_z": None,
+                                          "L_n_decay": fl["spin_decay_deviation"]}
     if plot:
         scene = getattr(getattr(pt, "model", None), "scene", None)
-        out["plot"] = str(draw(res.t, z - z_s, r, tilt_t, plot, out, pv.get("g"),
-                               getattr(scene, "name", "")))
+        name, g = getattr(scene, "name", ""), pv.get("g")
+        if fl is not None:
+            out["plot"] = str(draw_flight(res.t, z - z_s, spin_rate(pt, X, pv["C"]), plot, out, g, name))
+        else:
+            out["plot"] = str(draw(res.t, z - z_s, r, tilt_t, plot, out, g, name))
     return out
 
 
@@ -451,5 +515,38 @@ def draw(t, dz, r, tilt, path, info, g=None, scene: str = "") -> Path:
     verdict = "levitating" if info["levitating"] else info["status"]
     ax[0].set_title(f"{scene}: spin {u.rate(info['spin']['rad_s'], 4)}, z_s = {u.length(info['z_s'])}\n"
                     f"{verdict} for {sig(info['t_survived'], 3)} {tu}", fontsize="medium")
+    fig.tight_layout()
+    return save_figure(fig, path)
+
+
+def draw_flight(t, dz, w, path, info, g=None, scene: str = "") -> Path:
+    """A flight in air: the spin and the height above z_s against time, with the linear spin limits
+    at z_s and the adiabatic crossing time drawn in (runtime/flight.py)."""
+    u = Units.of(g)
+    plt = pyplot()
+    style()
+    fl = info["flight"]
+    k, lu, tu, ru = (1e3, "mm", "s", "rad/s") if u.si else (1.0, "scene units", "time units", "rad/time")
+    fig, ax = plt.subplots(2, 1, sharex=True, figsize=(7, 6))
+    ax[0].plot(t, w, label="spin omega_3")
+    iv = fl["spin_interval"]
+    if iv:
+        ax[0].axhline(iv[0], color="C3", ls="--", lw=1, label=f"lower limit {sig(iv[0], 4)} {ru}")
+        if iv[1] < 1.2 * max(w):
+            ax[0].axhline(iv[1], color="C4", ls="--", lw=1, label=f"upper limit {sig(iv[1], 4)} {ru}")
+    if fl["t_cross"] is not None:
+        for a in ax:
+            a.axvline(fl["t_cross"], color="0.5", ls=":", lw=1)
+        ax[0].plot([], [], color="0.5", ls=":", label=f"adiabatic crossing t = {sig(fl['t_cross'], 4)} {tu}")
+    ax[0].set_ylabel(f"spin ({ru})")
+    ax[1].plot(t, dz * k, color="C1", label="z - z_s")
+    ax[1].set_ylabel(f"height above z_s ({lu})")
+    ax[1].set_xlabel(f"t ({tu})")
+    for a in ax:
+        a.legend(loc="best", fontsize="small")
+    verdict = (f"falls after {sig(fl['flight_time'], 4)} {tu} at spin {sig(fl['fall_spin'], 4)} {ru}"
+               if fl["fell"] else f"still up after {sig(info['t_survived'], 4)} {tu}")
+    ax[0].set_title(f"{scene} in air: launched at {sig(info['spin']['rad_s'], 4)} {ru}; {verdict}",
+                    fontsize="medium")
     fig.tight_layout()
     return save_figure(fig, path)

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import equilibrium as eqm
+from .flight import without_friction
 from .eigen_route import (
     full_equilibrium_state,
     spin_intervals_eigen,
@@ -170,12 +171,13 @@ def analyse(onaxis: Callable[[float], Sequence[float]], m: float, g: float, A: f
 def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
                  z_s: float | None = None) -> StabilityResult:
     """The StabilityResult of a loaded model's top (another mass if given; parameters p, default the
-    scene's), with the eigenvalue route on the generated full Jacobian when the model has one."""
-    p = model.with_params({} if mass is None else {"m": float(mass)}, p)
+    scene's), with the eigenvalue route on the generated full Jacobian when the model has one.
+    In air the friction rates are set to 0: the interval is the ideal top's (runtime/flight.py)."""
+    p = without_friction(model, model.with_params({} if mass is None else {"m": float(mass)}, p))
     P = eqm.params_of(model, p)
     full_jac = states = None
-    if model.has_function("full_jac"):
-        onaxis, full_jac, states = model_callables(model, p)
+    if model.has_function("full_jac") and "p_zeta" in model.part("full").states:
+        onaxis, full_jac, states = model_callables(model, p)     # (the Tait-Bryan states)
     else:
         onaxis = eqm.model_onaxis(model, p)
     return analyse(onaxis, P["m"], P["g"], P["A"], P["C"], P["mu"], eqm.scale_of(model, p),

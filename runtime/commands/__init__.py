@@ -11,5 +11,6 @@ COMMANDS = (
     "simulate",
     "bench",
     "scan",
+    "launch",
     "report",
 )

@@ -46,9 +46,11 @@ def run(args) -> dict:
     model = model_of(args)
     scene = model.scene
     exact = plate_field(scene.data["plate"], scene.params, points)
+    k = scene.field_factor      # the plate's remanence at the scene's temperature (derive/scene.py)
+    exact = None if exact is None else exact * k
     out = []
     for i, r in enumerate(points):
-        B = model.field(r)
+        B = model.field(r) * k
         entry = {"r": r.tolist(), "B": B.tolist(), "B_exact": None}
         if exact is not None and np.all(np.isfinite(exact[i])):
             entry["B_exact"] = exact[i].tolist()

@@ -34,6 +34,7 @@ def run(args) -> dict:
     out = {"scene": model.scene.name, "mass": model.param("m")}
     out.update(res.as_dict())
     out["eigen_source"] = ("full_jac (generated)" if model.has_function("full_jac")
+                           and "p_zeta" in model.part("full").states
                            else "transverse_matrix (8-D)")
     out["wall_s"] = wall
     return out
