@@ -39,6 +39,7 @@ bench: setup
 	for s in $(BENCH_SCENES); do .venv/bin/levitron bench $$s || exit 1; done
 	$(PY) -m runtime.bench_maps thesis_stable --t-end 10 --out reports/maps
 	$(PY) -m runtime.bench_design --out reports/design
+	$(PY) -m runtime.bench_launch thesis_air --out reports/launch
 
 clean-cache:
 	rm -rf $${LEVITRON_CACHE:-$$HOME/.cache/levitron}

@@ -13,7 +13,7 @@ carry their units in the docstrings. The command line (`levitron ...`) calls the
 """
 from __future__ import annotations
 
-from .results import Equilibria, Simulation, Stability
+from .results import Equilibria, LaunchOdds, Simulation, Stability
 from .study import Study, load
 
-__all__ = ["Equilibria", "Simulation", "Stability", "Study", "load"]
+__all__ = ["Equilibria", "LaunchOdds", "Simulation", "Stability", "Study", "load"]

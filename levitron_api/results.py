@@ -58,3 +58,18 @@ class Simulation:
     wall_s: float
     final_state: dict
     details: dict = field(repr=False, default_factory=dict)
+
+
+@dataclass(frozen=True)
+class LaunchOdds:
+    """Launch odds by Monte Carlo (runtime/launch.py, docs/contract.md `launch`): probability of
+    floating at least success_time (s), its 95 % Wilson interval, flight-time median and quartiles
+    (s), the inputs ranked by their effect on the success rate; details: every key of the JSON."""
+
+    probability: float
+    probability_ci95: tuple[float, float]
+    n: int
+    success_time: float
+    flight_time: dict
+    ranking: list
+    details: dict = field(repr=False, default_factory=dict)

@@ -18,7 +18,7 @@ from runtime.model import Model, load_model
 from runtime.scene_keys import Vary, key_value, pvector, with_values
 from runtime.stability import stability_of
 
-from .results import Equilibria, Equilibrium, Simulation, Stability
+from .results import Equilibria, Equilibrium, LaunchOdds, Simulation, Stability
 
 
 def _override(key: str, value) -> str:
@@ -114,6 +114,26 @@ class Study:
                           float(out["max_excursion"]), float(out["energy_drift"]),
                           int(out["rhs_evals"]), float(out["wall_s"]), dict(out["final_state"]),
                           out)
+
+    def launch(self, n: int = 1000, seed: int = 0, inputs: Mapping[str, object] | None = None,
+               **options) -> LaunchOdds:
+        """Launch odds by Monte Carlo (runtime/launch.py): inputs maps spin, tilt, tilt_azimuth,
+        offset, velocity, mass, strength, temperature to "normal:MEAN,SD", "uniform:LO,HI" or a
+        number (default: the scene's [launch] table, else the scene-scaled defaults); options:
+        success_time (s), t_end (s), integrator, tol, workers, scheduler. The same seed gives the
+        same verdicts serially, with processes and on dask."""
+        from runtime.launch import monte_carlo
+        table = dict(self.scene.data.get("launch", {}))
+        given = {k: v for k, v in table.items() if k not in ("n", "seed", "success_time", "t_end")}
+        given.update(inputs or {})
+        for key in ("success_time", "t_end"):
+            if key in table:
+                options.setdefault(key, table[key])
+        ref = str(Path(self.scene.path).resolve()) if self.scene.path else self.scene.name
+        out = monte_carlo(self.model, ref, self.overrides, given, n=n, seed=seed, quiet=True, **options)
+        return LaunchOdds(out["probability"], tuple(out["probability_ci95"]), out["n"],
+                          out["success_time"], {k: out["flight_time"][k] for k in ("median", "q1", "q3")},
+                          [(e["input"], e["effect"]) for e in out["ranking"]], out)
 
     def scan(self, spins: Sequence[float], axis: str, values: Sequence[float], **options):
         """A stability map over spins (rad/s) and one of tilt (rad), mass (kg), height (m):

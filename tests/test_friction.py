@@ -249,3 +249,12 @@ def test_launch_without_spin_interval_needs_a_spin():
     model = load_model(load_scene("thesis"))         # the thesis's own top: no stable interval
     with pytest.raises(UserError):
         mc.monte_carlo(model, "thesis", [], {}, n=2, t_end=0.5, quiet=True)
+
+
+def test_api_launch_matches_the_command():
+    import levitron_api as lev
+    odds = lev.load("thesis_air").launch(n=6, seed=1, t_end=2.0)
+    r = mc.monte_carlo(load_model(load_scene("thesis_air")), "thesis_air", [], {}, n=6, seed=1,
+                       t_end=2.0, quiet=True)
+    assert odds.probability == r["probability"] and list(odds.probability_ci95) == r["probability_ci95"]
+    assert odds.details["verdicts"] == r["verdicts"]

@@ -6,6 +6,7 @@ import math
 from derive import plates
 from derive.scene import MU0
 
+from ..flight import decay_times, has_friction
 from ..human import Units, lines, sig
 from .common import model_of
 
@@ -40,7 +41,17 @@ def run(args) -> dict:
         "parts": {k: list(v.states) for k, v in m.parts.items()},
         "functions": {k: {"ops": f.ops, "n_in": f.n_in, "n_out": f.n_out, "doc": f.doc}
                       for k, f in m.functions.items()},
+        "decay_times": decay_times(params) if has_friction(model) else None,
     }
+
+
+def _air(taus: dict | None, u: Units) -> str:
+    """The scene's air friction (derive/friction.py) as decay times, or "" without friction."""
+    if not taus:
+        return ""
+    named = {"k_spin": "spin", "k_tilt": "tilt", "k_trans": "translation"}
+    return "air friction: decay times " + ", ".join(
+        f"{named[k]} {u.time(v) if v else 'none'}" for k, v in taus.items())
 
 
 def _param(name: str, v: float, u: Units, lengths=()) -> str:
@@ -69,6 +80,7 @@ def human(r: dict, scene=None) -> str:
         "derived: " + ", ".join(f"{k} {sig(v, 6)}" for k, v in r["derived_parameters"].items())
         if r["derived_parameters"] else "",
         f"parts: {parts}",
+        _air(r.get("decay_times"), u),
         f"operations per call: {ops}",
         *[f"note: {n}" for n in r.get("notes") or []],
         f"generated: {r['generated']} (input hash {r['input_hash'][:12]})",
