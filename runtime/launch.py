@@ -45,6 +45,7 @@ INPUTS = ("spin", "tilt", "tilt_azimuth", "offset", "velocity", "mass", "strengt
 Z95 = 1.959963984540054          # the 97.5 % point of the standard normal
 MAX_N = 10**6
 BINS = 5
+RANGE95 = 3.86        # 95 % point of the range of BINS = 5 standard normals (Tippett's tables)
 
 
 @dataclass(frozen=True)
@@ -212,8 +213,13 @@ def run_chunk(plan: Plan, indices) -> dict:
 
 def effects(S: Mapping[str, np.ndarray], ok: np.ndarray, dists: Mapping[str, Dist]) -> list[dict]:
     """Per input with a spread: the success rate in each of BINS quantile bins of the input, and
-    its effect, the largest minus the smallest of those rates; ranked, largest effect first."""
+    its effect, the largest minus the smallest of those rates; ranked, largest effect first.
+    `noise`: the effect an input without influence stays below by chance in 95 % of samples, the
+    95 % point of the range of BINS normal rates, 3.9 binomial standard deviations of one bin's
+    rate (3.9 sqrt(p (1 - p) / (n / BINS))), so that a small sample's ranking is read as it is."""
     out = []
+    p = float(np.mean(ok)) if len(ok) else 0.0
+    noise = RANGE95 * math.sqrt(p * (1 - p) / max(len(ok) / BINS, 1.0))
     for name, d in dists.items():
         if not d.spread:
             continue
@@ -222,7 +228,7 @@ def effects(S: Mapping[str, np.ndarray], ok: np.ndarray, dists: Mapping[str, Dis
         idx = np.clip(np.searchsorted(edges, x, side="right") - 1, 0, BINS - 1)
         rates = [float(ok[idx == b].mean()) if np.any(idx == b) else None for b in range(BINS)]
         have = [r for r in rates if r is not None]
-        out.append({"input": name, "effect": (max(have) - min(have)) if have else 0.0,
+        out.append({"input": name, "effect": (max(have) - min(have)) if have else 0.0, "noise": noise,
                     "bins": [[float(edges[b]), float(edges[b + 1])] for b in range(BINS)],
                     "success_rate": rates})
     return sorted(out, key=lambda e: -e["effect"])

@@ -258,3 +258,12 @@ def test_api_launch_matches_the_command():
                        t_end=2.0, quiet=True)
     assert odds.probability == r["probability"] and list(odds.probability_ci95) == r["probability_ci95"]
     assert odds.details["verdicts"] == r["verdicts"]
+
+
+def test_bench_launch_runs_quick(tmp_path):
+    from runtime import bench_launch
+    assert bench_launch.main(["thesis_air", "--quick", "--out", str(tmp_path)]) == 0
+    import json
+    r = json.loads((tmp_path / "launch.json").read_text())
+    assert r["flight"]["wall_s"] > 0 and r["monte_carlo"]["n"] == 8
+    assert (tmp_path / "launch_histogram.png").stat().st_size > 0

@@ -66,7 +66,8 @@ def human(r: dict, scene=None) -> str:
     u = Units.of_scene(scene) if scene is not None else Units(si=True)
     lo, hi = r["probability_ci95"]
     ft = r["flight_time"]
-    rank = [f"{e['input']} ({sig(100 * e['effect'], 3)} points of success rate across its quintiles)"
+    rank = [f"{e['input']} ({sig(100 * e['effect'], 3)} points of success rate across its quintiles"
+            f"{'' if e['effect'] > e['noise'] else ', within the noise of this sample'})"
             for e in r["ranking"][:3]]
     outcomes = ", ".join(f"{k} {v}" for k, v in r["outcomes"].items())
     cens = f"; {ft['censored']} still up at the end of the run" if ft["censored"] else ""
