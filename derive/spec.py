@@ -11,6 +11,7 @@ import sympy as sp
 
 from . import field as fieldmod
 from . import friction as frictionmod
+from .invariants import angular_momenta
 from .geometry import Plate
 from .mechanics import hamiltonian_system
 from .reduction import reduced_system
@@ -87,6 +88,13 @@ def build_spec(scene_name: str, plate: Plate, order: int, coordinates: str, need
             equations += " + generalised forces of air friction"
         spec.parts["full"] = {"states": full.state_names, "equations": equations}
         spec.functions += _part_functions("full", full.state, rhs, full.H, "linear" in needs, what)
+        spec.functions.append(Function(
+            "full_axis", tuple(full.state), tuple(full.rotation.n), (3,),
+            "the symmetry axis n = R_bs e_z in space components (derive/kinematics.py)"))
+        spec.functions.append(Function(
+            "full_invariants", tuple(full.state), angular_momenta(full), (2,),
+            "the angular momenta L_z (conserved by the axisymmetric field) and L.n (by any field), "
+            "derive/invariants.py"))
         if friction:
             spec.functions.append(Function(
                 "full_dissipation", tuple(full.state), (frictionmod.dissipated_power(full),), (1,),

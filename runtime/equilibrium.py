@@ -395,7 +395,13 @@ def equilibria_of(model, p: np.ndarray | None = None, bands: bool = False) -> Eq
 def hover_height(model, p: np.ndarray | None = None) -> float:
     """z_s: the lowest vertically stable equilibrium (thesis 3.3.2-3.3.3); a one-line UserError
     naming the reason when there is none."""
+    key = np.asarray(model.p if p is None else p, float).tobytes()
+    known = model.__dict__.setdefault("_hover_heights", {})     # per model: p -> z_s (or None)
+    if key in known and known[key] is not None:
+        return known[key]
     rep = equilibria_of(model, p)
+    if len(known) < 4096:
+        known[key] = rep.stable[0].z if rep.stable else None
     if not rep.stable:
         m = params_of(model, p)["m"]
         raise UserError(f"scene '{model.scene.name}' has no vertically stable hover height: "

@@ -72,8 +72,8 @@ def flight(model, pt, p, res, x0, spin: float, z_s: float, t_end: float, interva
     w = spin_of(res.X)
     t_cross = crossing_time(spin, lo, k) if lo is not None else None
     t_enter = crossing_time(spin, hi, k) if hi is not None and abs(spin) > hi else None
-    power = [float(model.fast("full_dissipation", p)(x)[0]) for x in res.X]
-    H = res.energy if res.energy is not None else [pt.energy(x, p) for x in res.X]
+    power = model.rows("full_dissipation", res.X, p)[:, 0]
+    H = res.energy if res.energy is not None else model.rows("full_energy", res.X, p)[:, 0]
     ln = np.abs(w) * pv["C"]
     ln_exact = abs(spin) * pv["C"] * np.exp(-k * np.asarray(res.t))
     return {

@@ -72,7 +72,8 @@ _TOP = {"generator": str, "note": str, "scene": str, "input_hash": str, "version
         SELF_KEY: str}
 _FUNCTION = {"doc": str, "n_in": int, "n_out": int, "shape": list, "ops": int, "casadi": str}
 _PART = {"equations": str, "states": list}
-_KIND_OUT = {"rhs": lambda nx: nx, "energy": lambda nx: 1, "jac": lambda nx: nx * nx}
+_KIND_OUT = {"rhs": lambda nx: nx, "energy": lambda nx: 1, "jac": lambda nx: nx * nx,
+             "invariants": lambda nx: 2, "dissipation": lambda nx: 1, "axis": lambda nx: 3}
 
 
 def _typed(value, typ) -> bool:
@@ -148,7 +149,8 @@ def parse_manifest(data, where: str, fix: str) -> Manifest:
 
 def _check_sizes(r: _Reader, parts: dict, functions: dict, kmax: int) -> None:
     """Sizes that follow from each other (docs/INTERFACES.md): a part's functions take its state;
-    rhs, energy and jac give nx, 1 and nx*nx values; onaxis gives Phi_0..Phi_K; field gives B."""
+    rhs, energy and jac give nx, 1 and nx*nx values, invariants 2, dissipation 1 and axis 3;
+    onaxis gives Phi_0..Phi_K; field gives B."""
     expected = {"onaxis": (1, kmax + 1), "field": (3, 3)}
     for part in parts.values():
         nx = len(part.states)

@@ -400,6 +400,24 @@ class Model:
             return np.asarray(self.casadi(name)(x, p), dtype=float).reshape(-1)
         raise UserError(f"unknown backend {backend!r}: use 'c' or 'casadi'")
 
+    def rows(self, name: str, X, p=None) -> np.ndarray:
+        """The generated C function `name` at every row of X (rows, n_in) -> (rows, n_out), in one
+        C call (runtime/csrc lev_rows): the invariants of a trajectory's samples, no Python loop."""
+        info = self.function(name)
+        X = np.ascontiguousarray(X, dtype=float).reshape(-1, info.n_in)
+        p = self.p if p is None else np.ascontiguousarray(p, dtype=float)
+        if p.size != self.p.size:
+            raise ValueError(f"{name}: expected {self.p.size} parameters, got {p.size}")
+        out = np.empty((X.shape[0], info.n_out))
+        f = self.lib.lev_rows
+        if f.argtypes is None:
+            f.argtypes = [ctypes.c_void_p, ctypes.c_long, ctypes.c_int, ctypes.c_int, ctypes.c_void_p,
+                          ctypes.c_void_p, ctypes.c_void_p]
+            f.restype = None
+        f(ctypes.cast(self.c_function(name), ctypes.c_void_p), X.shape[0], info.n_in, info.n_out,
+          X.ctypes.data, p.ctypes.data, out.ctypes.data)
+        return out
+
     def onaxis(self, z, p=None, backend: str = "c") -> np.ndarray:
         """[Phi_0, ..., Phi_K](z) of the plate (thesis eq. 2.2.6 and eqs. 2.2.12-2.2.14)."""
         return self.call("onaxis", [float(z)], p, backend)

@@ -125,8 +125,11 @@ def tilt_of(part, X: np.ndarray) -> np.ndarray:
     X = np.atleast_2d(X)
     if coords is None:
         return np.zeros(len(X))
-    idx = [part.states.index(a) for a in ANGLES[coords]]
-    nz = np.array([rotation_bs(coords, row[idx])[2, 2] for row in X])
+    if getattr(part, "model", None) is not None and part.has("axis"):
+        nz = part.model.rows(f"{part.name}_axis", X)[:, 2]     # the generated n, one C call
+    else:
+        idx = [part.states.index(a) for a in ANGLES[coords]]
+        nz = np.array([rotation_bs(coords, row[idx])[2, 2] for row in X])
     return np.arccos(np.clip(nz, -1.0, 1.0))
 
 
@@ -377,7 +380,7 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
     if air:
         st = stability_of(model, p=p, z_s=z_s)    # the ideal top's interval at z_s (rates set to 0)
         fl = flight.flight(model, pt, p, res, x0, spin, z_s, t_end, st.spin_interval,
-                           lambda X: spin_rate(pt, X, pvals["C"]))
+                           lambda X: spin_rate(pt, X, pvals["C"], p))
     out = summarize(pt, res, x0, p, z_s, bx, spin, tilt, offset, t_end, integrator, tol, h, plot, fl)
     out["tilt_azimuth"] = azimuth
     out["tilt_default"] = tilt_default and coordinates_of(pt) is not None
@@ -400,9 +403,9 @@ def spin_momentum(part, x) -> float:
     return float("nan")
 
 
-def spin_rate(part, X, C: float) -> np.ndarray:
-    """omega_3 = L.n / C along the state rows X (spin_momentum)."""
-    return np.array([spin_momentum(part, x) for x in np.atleast_2d(X)]) / C
+def spin_rate(part, X, C: float, p=None) -> np.ndarray:
+    """omega_3 = L.n / C along the state rows X (invariants)."""
+    return invariants(part, X, p)[:, 1] / C
 
 
 def largest_deviation(values, scale: float) -> float | None:
@@ -419,7 +422,7 @@ def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, i
     drift is the residual of the energy balance and L.n is compared with its exponential decay."""
     s = list(pt.states)
     X = res.X
-    H = res.energy if res.energy is not None else np.array([pt.energy(x, p) for x in X])
+    H = res.energy if res.energy is not None else _rows(pt, "energy", X, p)[:, 0]
     H0 = pt.energy(x0, p)
     names = pt.model.param_names if hasattr(pt, "model") else []
     pv = dict(zip(names, p))
@@ -431,7 +434,8 @@ def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, i
     r = np.hypot(X[:, s.index("x")], X[:, s.index("y")]) if "x" in s else np.zeros(len(X))
     exc = np.sqrt(r ** 2 + (z - z_s) ** 2)
     tilt_t = tilt_of(pt, X)
-    lz0, lz1 = angular_momentum_z(pt, x0), angular_momentum_z(pt, res.x_final)
+    inv = invariants(pt, np.vstack([x0, res.x_final]), p)
+    lz0, lz1 = float(inv[0, 0]), float(inv[1, 0])
     pz = ([float(x0[s.index("p_zeta")]), float(res.x_final[s.index("p_zeta")])]
           if "p_zeta" in s else None)
     out = {
@@ -461,7 +465,7 @@ def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, i
             "L_z": [lz0, lz1],
             "p_zeta": pz,
         },
-        "conserved_max_deviation": _deviations(pt, X, x0, pv, spin, float(drift.max())),
+        "conserved_max_deviation": _deviations(pt, X, x0, p, pv, spin, float(drift.max())),
         "part": pt.name if hasattr(pt, "name") else None,
         "coordinates": coordinates_of(pt),
         "plot": None,
@@ -477,18 +481,38 @@ def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, i
         scene = getattr(getattr(pt, "model", None), "scene", None)
         name, g = getattr(scene, "name", ""), pv.get("g")
         if fl is not None:
-            out["plot"] = str(draw_flight(res.t, z - z_s, spin_rate(pt, X, pv["C"]), plot, out, g, name))
+            out["plot"] = str(draw_flight(res.t, z - z_s, spin_rate(pt, X, pv["C"], p), plot, out, g, name))
         else:
             out["plot"] = str(draw(res.t, z - z_s, r, tilt_t, plot, out, g, name))
     return out
 
 
-def _deviations(pt, X, x0, pv: dict, spin: float, energy: float) -> dict:
+def _rows(pt, kind: str, X, p) -> np.ndarray:
+    """The part's generated function `kind` at every row of X, in one C call (Model.rows)."""
+    model = getattr(pt, "model", None)
+    if model is not None and pt.has(kind):
+        return model.rows(f"{pt.name}_{kind}", X, p)
+    f = getattr(pt, kind)
+    return np.array([np.atleast_1d(f(x, p)) for x in np.atleast_2d(X)])
+
+
+def invariants(pt, X, p) -> np.ndarray:
+    """(L_z, L.n) at every row of X: the generated `full_invariants` (derive/invariants.py) in one
+    C call; the reduced model (on the invariant set, spinning about the vertical) has
+    L_z = L.n = -p_zeta; a part without either: the numpy routes angular_momentum_z/spin_momentum."""
+    X = np.atleast_2d(X)
+    model = getattr(pt, "model", None)
+    if model is not None and pt.has("invariants"):
+        return model.rows(f"{pt.name}_invariants", X, p)
+    return np.array([[angular_momentum_z(pt, x), spin_momentum(pt, x)] for x in X])
+
+
+def _deviations(pt, X, x0, p, pv: dict, spin: float, energy: float) -> dict:
     """The largest relative deviation over the samples of H (given), L_z and L.n, each relative to
     max(|its start value|, C |spin|) (the spin's angular momentum: the scale of both)."""
     c_spin = pv.get("C", 0.0) * abs(spin)
-    lz = [angular_momentum_z(pt, x0)] + [angular_momentum_z(pt, x) for x in X]
-    ln = [spin_momentum(pt, x0)] + [spin_momentum(pt, x) for x in X]
+    inv = invariants(pt, np.vstack([x0, X]), p)
+    lz, ln = inv[:, 0], inv[:, 1]
     return {"energy": energy,
             "L_z": largest_deviation(lz, max(abs(lz[0]), c_spin)),
             "L_n": largest_deviation(ln, max(abs(ln[0]), c_spin))}

@@ -238,6 +238,13 @@ size_t lev_sizeof_stats(void) { return sizeof(lev_stats); }
 
 static size_t gauss_stages(int method) { return method == LEV_MIDPOINT ? 1u : 2u; }
 
+void lev_rows(lev_fn f, long rows, int n_in, int n_out, const double *in, const double *p,
+              double *out)
+{
+    for (long r = 0; r < rows; ++r)
+        f(in + r * n_in, p, out + r * n_out);
+}
+
 size_t lev_work_bytes(int method, int n)
 {
     size_t N = (size_t)(n > 0 ? n : 1), s, m;

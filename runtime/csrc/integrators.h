@@ -94,6 +94,11 @@ typedef struct {
     double energy_max_dev; /* max |H(t) - H(t0)| over all accepted steps */
 } lev_stats;
 
+/* out[r * n_out ..] = f(in[r * n_in ..], p) for r = 0 .. rows - 1: a generated function over the
+ * samples of a trajectory in one call (the invariants of a run, runtime/model.py Model.rows). */
+void lev_rows(lev_fn f, long rows, int n_in, int n_out, const double *in, const double *p,
+              double *out);
+
 /* Bytes of `work` that lev_integrate needs for this method and dimension. */
 size_t lev_work_bytes(int method, int n);
 
