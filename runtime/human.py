@@ -142,15 +142,6 @@ class Units:
         return f"{sig(b * 1e3, 4)} mT" if abs(b) < 1 else f"{sig(b, 4)} T"
 
 
-def reference(scene, key: str):
-    """A value the scene states for comparison (optional `[reference]` table: `key = value`, and
-    `source = "..."`), as (value, source) or None."""
-    table = (getattr(scene, "data", None) or {}).get("reference") or {}
-    if key not in table:
-        return None
-    return float(table[key]), str(table.get("source", "stated"))
-
-
 _NUM = r"(-?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)"
 
 
