@@ -85,3 +85,99 @@ def test_approximations_labelled_as_another_tops(capsys):
     line = next(ln for ln in out.splitlines() if "3.3.22" in ln)
     assert line.startswith("for comparison, not this top's interval: ")
     assert "for the 52.49 g top at z_c = 9.948 cm: 479.2-2516 rad/s" in line
+
+
+# ---- item 4: optima and fits on a bound, and poor fits, say so (plain view, JSON, API)
+
+def test_design_optimum_at_a_bound_says_so(capsys):
+    """spin-range falls with the mass above 50.93 g: the box 51-52 g stops the optimum at 51 g."""
+    argv = ["optimize", "thesis_stable", "--maximize", "spin-range", "--vary", "top.mass=0.0510:0.0520"]
+    r = as_json(capsys, *argv)
+    assert r["optimum"]["top.mass"] == pytest.approx(0.051, rel=1e-9)
+    assert r["at_bound"] == {"top.mass": "lower"}
+    assert any("at the bound: widen --vary" in w for w in r["warnings"])
+    assert "at the bound: widen --vary" in r["message"]
+    out = plain(capsys, *argv)
+    assert "warning: top.mass = 0.051 is at the lower bound of --vary" in out
+    import levitron_api as lev
+    res = lev.load("thesis_stable").optimize("spin-range", {"top.mass": (0.0510, 0.0520)})
+    assert res.at_bound == {"top.mass": "lower"} and res.success and "widen --vary" in res.message
+
+
+def test_design_interior_optimum_has_no_warning(capsys):
+    r = as_json(capsys, "optimize", "thesis_stable", "--maximize", "spin-range", "--vary",
+                "top.mass=0.0505:0.0524")
+    assert r["at_bound"] == {} and r["warnings"] == []
+
+
+def test_fit_at_a_bound_and_poor_says_so(capsys, tmp_path):
+    """One height (10.30 cm +- 0.1 mm) that no mass in the box reproduces: the fit stops at the
+    upper bound with chi2 ~ 500 on 0 degrees of freedom; it converged, and it is poor."""
+    data = tmp_path / "h.csv"
+    data.write_text("quantity,value,sigma\nz_s,0.1030,0.0001\n")
+    argv = ["optimize", "thesis_stable", "--fit", str(data), "--vary", "top.mass=0.0510:0.0518"]
+    r = as_json(capsys, *argv)
+    assert r["parameters"]["top.mass"]["at_bound"] and r["solver_status"] == "converged"
+    assert any("at the bound: widen --vary" in w for w in r["warnings"])
+    assert any(w.startswith("the fit is poor: chi2 = ") for w in r["warnings"])
+    out = plain(capsys, *argv)
+    assert "warning: the fit is poor" in out and "warning: top.mass = 0.0518 is at the upper bound" in out
+
+
+def test_poor_fit_with_degrees_of_freedom(capsys, tmp_path):
+    """Three heights of three masses that the plate's strength cannot all reproduce: chi2/dof ~ 110."""
+    data = tmp_path / "h.csv"
+    data.write_text("quantity,value,sigma,overrides\nz_s,0.1060,0.0001,top.mass=0.0515\n"
+                    "z_s,0.1050,0.0001,top.mass=0.0516\nz_s,0.1030,0.0001,top.mass=0.0517\n")
+    r = as_json(capsys, "optimize", "thesis_stable", "--fit", str(data), "--vary",
+                "plate.murho=-0.0028:-0.0025")
+    assert r["dof"] == 2 and r["objective"] / 2 > 100
+    assert [w for w in r["warnings"] if w.startswith("the fit is poor: chi2/dof = ")]
+
+
+def test_good_fit_has_no_warning(capsys, tmp_path):
+    """The scene's own height, measured to 0.1 mm: reproduced exactly, no warning."""
+    z = as_json(capsys, "stability", "thesis_stable")["z_s"]
+    data = tmp_path / "h.csv"
+    data.write_text(f"quantity,value,sigma\nz_s,{z!r},0.0001\n")
+    r = as_json(capsys, "optimize", "thesis_stable", "--fit", str(data), "--vary", "top.mass=0.0510:0.0520")
+    assert r["warnings"] == [] and r["parameters"]["top.mass"]["value"] == pytest.approx(0.0515, rel=1e-7)
+
+
+# ---- item 6: spin-range over the mass needs no stiffness constraint
+
+def test_unconstrained_spin_range_is_solved(capsys):
+    """Refused before ("needs --constrain stiffness>=K ... grows without bound"); sigma_hi stays
+    finite at z_c on thesis_stable, and the optimum is the constrained one's (the README's
+    0.0509296 with stiffness>=0.5, a constraint that is not active there)."""
+    r = as_json(capsys, "optimize", "thesis_stable", "--maximize", "spin-range", "--vary",
+                "top.mass=0.0505:0.0524")
+    assert r["optimum"]["top.mass"] == pytest.approx(0.0509296, rel=1e-6)
+    assert r["stiffness"] > 0.5 and r["spin_interval"][1] == pytest.approx(2841, abs=1)
+
+
+def test_optimum_at_vanishing_stiffness_is_reported_with_a_warning(capsys):
+    """A box 2e-6 to 4e-6 (relative) below the largest mass that hovers (52.492 g): the top hovers
+    just above z_c, the stiffness is 0.7% of m g / z_s, the interval stays bounded (478.7-2533)."""
+    from runtime import equilibrium as eqm
+    from runtime.commands.common import load
+    from runtime.model import load_model
+    top = eqm.equilibria_of(load_model(load("thesis_stable"))).max_mass
+    box = f"top.mass={top * (1 - 4e-6)!r}:{top * (1 - 2e-6)!r}"
+    r = as_json(capsys, "optimize", "thesis_stable", "--maximize", "spin-range", "--vary", box)
+    assert 0 < r["stiffness"] < 0.05 and r["spin_interval"][1] < 2600
+    assert any(w.startswith("the optimum sits at vanishing stiffness: k = ") for w in r["warnings"])
+
+
+def test_unbounded_edge_is_refused_and_says_where(thesis_model):
+    """check_bounded on the float route at z_c of thesis_stable: the interval from 478.9 rad/s is
+    bounded there (no refusal), the one opened by the diverging root of the ray cubic (beyond 1e25
+    rad/s at z_c) is not, and is refused naming the point and z_c."""
+    from derive.scene import load_scene
+    from runtime import design_edge
+    from runtime.errors import UserError
+    from runtime.model import load_model
+    model = load_model(load_scene("thesis_stable"))
+    design_edge.check_bounded(model, model.p, (478.0, 2533.0), "top.mass = 0.052492")
+    with pytest.raises(UserError, match=r"unbounded at top.mass = 0.052492: .* z_c = 0.0994772 m"):
+        design_edge.check_bounded(model, model.p, (1e26, 2e26), "top.mass = 0.052492")
