@@ -366,8 +366,8 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
     if band:    # the scene's top at the optimum: its spin interval, for the record (None if none)
         interval = sc.starts(model, keymap.exact(x)[1]).spin
     at_bound = bounds_hit(varies, x)
-    warnings = [f"{k} = {x[i]:.6g} is at the {at_bound[k]} bound of --vary {k}={varies[i].lo:g}:"
-                f"{varies[i].hi:g}: the box stopped the optimum, not the physics; at the bound: widen --vary"
+    warnings = [f"{k} = {x[i]:.6g} is at the {at_bound[k]} bound of --vary {k}={varies[i].lo:.10g}:"
+                f"{varies[i].hi:.10g}: the box stopped the optimum, not the physics; at the bound: widen --vary"
                 for i, k in enumerate(keys) if k in at_bound]
     if not band and check.stiffness is not None:
         p_opt = keymap.exact(x)[1]

@@ -251,7 +251,7 @@ def fit(model, rows: Sequence[Row], varies: Sequence[Vary]) -> FitResult:
     stderr = np.abs(x) * np.sqrt(np.diag(cov_log))
     at_bound = [k for k, v, a, b in zip(keys, x, lo, hi) if v in (a, b)]
     warnings = [f"{k} = {v:.6g} is at the {'lower' if v == a else 'upper'} bound of --vary "
-                f"{k}={a:g}:{b:g}: at the bound: widen --vary"
+                f"{k}={a:.10g}:{b:.10g}: at the bound: widen --vary"
                 for k, v, a, b in zip(keys, x, lo, hi) if k in at_bound]
     poor = poor_fit(cost, len(rows) - len(keys), r)
     if poor:

@@ -77,15 +77,15 @@ def build(model, scene_ref: str, overrides=()) -> tuple[str, dict]:
         iv = res.spin_interval
         facts["spin_interval"] = list(iv) if iv else None
         facts["z_s"] = res.z_s
-        answer = (f"A {u.mass(P['m'])} top hovers at {u.length(facts['z_s'])} and is stable for "
+        answer = (f"{u.top(P['m']).capitalize()} hovers at {u.length(facts['z_s'])} and is stable for "
                   f"spin rates {u.rate_span(*iv)}." if iv else
                   "No spin rate makes this top stable: " + restate(
                       rep.no_hover_reason(P["m"]) or res.reason or "no stable hover height", u))
         parts.append(_p(answer, "answer"))
         parts.append("<h2>Scene</h2>")
         parts.append(_table([("file", scene.path), ("plate", scene.data["plate"].get("kind")),
-                             ("top mass", u.mass(P["m"])), ("g", f"{sig(P['g'], 4)} m/s^2" if u.si else sig(P["g"], 4)),
-                             ("A, C (inertia)", f"{sig(P['A'], 4)}, {sig(P['C'], 4)}" + (" kg m^2" if u.si else "")),
+                             ("top mass", u.mass(P["m"])), ("g", u.value(P["g"], "m/s^2")),
+                             ("A, C (inertia)", f"{sig(P['A'], 4)}, {u.value(P['C'], 'kg m^2')}"),
                              *[(k, u.length(v) if k in lengths else sig(v, 6))
                                for k, v in P.items() if k.startswith("plate_")]]))
         if u.note:
@@ -116,7 +116,7 @@ def build(model, scene_ref: str, overrides=()) -> tuple[str, dict]:
                             f"({u.time(T)}); levitating at "
                             f"{sig(100 * facts['map']['fraction_levitating'], 3)}% of the points. "
                             "A sketch: `levitron scan` draws a finer, longer one.", "note"))
-            parts.append(_png(draw_map(m, tmp / "map.png", f"{scene.name}: levitating vs spin and tilt")))
+            parts.append(_png(draw_map(m, tmp / "map.png", f"{scene.name}: levitating vs spin and tilt", u)))
             tick()
             run = simulate(model, spin=spin, tilt=LAUNCH_TILT, t_end=LAUNCH_PERIODS * T,
                            plot=tmp / "launch.png")

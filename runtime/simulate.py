@@ -35,7 +35,7 @@ from runtime.errors import UserError
 from runtime.integrate import Box, Result, integrate
 from runtime.integrators_table import AUTO, DEFAULT, auto_note, lookup, resolve
 
-from .human import Units, sig
+from .human import Units
 from .plotting import pyplot, save_figure, style
 
 # ---------------------------------------------------------------- rotations (numpy mirrors of
@@ -414,8 +414,8 @@ def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, i
     }
     if plot:
         scene = getattr(getattr(pt, "model", None), "scene", None)
-        out["plot"] = str(draw(res.t, z - z_s, r, tilt_t, plot, out, pv.get("g"),
-                               getattr(scene, "name", "")))
+        u = Units.of_scene(scene) if scene is not None else Units.of(pv.get("g"))
+        out["plot"] = str(draw(res.t, z - z_s, r, tilt_t, plot, out, u, getattr(scene, "name", "")))
     return out
 
 
@@ -430,10 +430,9 @@ def _deviations(pt, X, x0, pv: dict, spin: float, energy: float) -> dict:
             "L_n": largest_deviation(ln, max(abs(ln[0]), c_spin))}
 
 
-def draw(t, dz, r, tilt, path, info, g=None, scene: str = "") -> Path:
+def draw(t, dz, r, tilt, path, info, u: Units, scene: str = "") -> Path:
     """Height above z_s, radial offset and tilt against time (matplotlib, Agg; runtime/plotting.py
-    style): mm and s in an SI scene, the scene's own units otherwise."""
-    u = Units.of(g)
+    style): mm and s in an SI scene, the scene's own units otherwise (u: runtime/human.py)."""
     plt = pyplot()
     style()
     k, lu, tu = (1e3, "mm", "s") if u.si else (1.0, "scene units", "time units")
@@ -450,6 +449,6 @@ def draw(t, dz, r, tilt, path, info, g=None, scene: str = "") -> Path:
         a.legend(loc="best")
     verdict = "levitating" if info["levitating"] else info["status"]
     ax[0].set_title(f"{scene}: spin {u.rate(info['spin']['rad_s'], 4)}, z_s = {u.length(info['z_s'])}\n"
-                    f"{verdict} for {sig(info['t_survived'], 3)} {tu}", fontsize="medium")
+                    f"{verdict} for {u.time(info['t_survived'])}", fontsize="medium")
     fig.tight_layout()
     return save_figure(fig, path)

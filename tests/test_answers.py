@@ -181,3 +181,56 @@ def test_unbounded_edge_is_refused_and_says_where(thesis_model):
     design_edge.check_bounded(model, model.p, (478.0, 2533.0), "top.mass = 0.052492")
     with pytest.raises(UserError, match=r"unbounded at top.mass = 0.052492: .* z_c = 0.0994772 m"):
         design_edge.check_bounded(model, model.p, (1e26, 2e26), "top.mass = 0.052492")
+
+
+# ---- item 5: scan summaries show the runs as they are; "cannot hover" is not "fell"
+
+def _scan_result(levitating, status=None, axis="tilt"):
+    """A scan's JSON as the command makes it (runtime/scan.py ScanResult.as_dict), 4 spins x 1 row."""
+    spins = [9.5, 10.5, 11.5, 12.5]
+    return {"axes": ["spin", axis], "grid": {"spin": spins, axis: [0.01]},
+            "levitating": [[v] for v in levitating],
+            "status": [[s] for s in (status or ["" for _ in spins])],
+            "fraction_levitating": sum(levitating) / 4, "points": 4, "t_end": 2.0,
+            "spin_interval": None, "wall_s": 0.1, "runner": {"kind": "serial"}, "out": None}
+
+
+def test_scan_row_with_a_gap_prints_both_runs():
+    """A column inside the range fell: the row reads two runs, never 9.5-12.5."""
+    from runtime.commands.scan import human
+    from runtime.human import Units
+    row = human(_scan_result([True, False, True, True])).splitlines()[1]
+    u = Units(si=True)
+    assert f"stays up for spin {u.rate(9.5)} and {u.rate_span(11.5, 12.5)} (3 of 4)" in row, row
+    assert "9.5-12.5" not in row
+
+
+def test_scan_row_with_one_stable_spin_is_no_range():
+    from runtime.commands.scan import human
+    row = human(_scan_result([False, True, False, False])).splitlines()[1]
+    assert "10.5-10.5" not in row and "stays up for spin 10.5 rad/s (" in row, row
+
+
+def test_scan_masses_that_cannot_hover_are_not_falls(capsys, tmp_path, monkeypatch):
+    """53 and 54 g exceed the largest mass the thesis plate holds (52.49 g): no run is made (the
+    JSON says no_hover_height); the text says "cannot hover" and the map draws them grey, apart
+    from the colour map's 'fell at once'."""
+    import matplotlib.figure
+    legends = []
+    save = matplotlib.figure.Figure.savefig
+
+    def recording(fig, *a, **k):
+        for ax in fig.axes:
+            if ax.get_legend() is not None:
+                legends.extend(t.get_text() for t in ax.get_legend().get_texts())
+        return save(fig, *a, **k)
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", recording)
+    argv = ["scan", "thesis_stable", "--spin", "300:3000:6", "--mass", "0.050:0.054:5", "--t-end", "0.5",
+            "--out", str(tmp_path / "m.png")]
+    out = plain(capsys, *argv)
+    assert "mass 53 g: cannot hover (no equilibrium: not simulated)" in out
+    assert "mass 54 g: cannot hover" in out
+    assert "mass 53 g: falls" not in out and "mass 52 g: stays up" in out
+    assert "cannot hover (no equilibrium: not simulated)" in legends
+    r = as_json(capsys, *argv[:-2])
+    assert all(st == "no_hover_height" for row in r["status"] for st in row[3:])

@@ -91,7 +91,7 @@ def human(r: dict, scene=None) -> str:
         return lines(
             f"fit: {fit} puts an equilibrium at {u.length(r['z_star'])} ({stable})",
             f"equilibria then: {roots}" if roots else "",
-            f"solver: {r['solver_status']}, residual {sig(r['residual_N'], 2)}{' N' if u.si else ''} "
+            f"solver: {r['solver_status']}, residual {u.value(r['residual_N'], 'N', 2)} "
             f"({r['objective']})",
             u.note)
     status = f"solver: {r['solver_status']}, {r['iterations']} iterations"
@@ -106,8 +106,7 @@ def human(r: dict, scene=None) -> str:
     best = ", ".join(f"{k} = {sig(v, 6)}" for k, v in r["optimum"].items())
     iv, band = r.get("spin_interval"), r.get("band")
     ver = r["verification"]
-    unit = r.get("objective_unit") or ""
-    unit = "" if unit == "1" else unit          # a ratio: no unit to show
+    unit = u.unit(r.get("objective_unit") or "1")      # a ratio: no unit to show
     return lines(
         f"optimum: {best}: {r['objective_name']} {sig(r['objective'], 6)} {unit}".rstrip(),
         f"stable band {u.length(band['z'][0])} to {u.length(band['z'][1])}, tops of "

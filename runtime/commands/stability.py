@@ -55,7 +55,7 @@ def _where(r: dict, u: Units) -> str:
     if not r.get("z_s"):
         return ""
     if not r.get("height_given"):
-        return f"at z_s = {u.length(r['z_s'])} for the {u.mass(r['mass'])} top"
+        return f"at z_s = {u.length(r['z_s'])} for {u.top(r['mass'])}"
     return (f"at z = {u.length(r['z_s'])} (--height) for the top that hovers there, "
             f"of mass {u.mass(r['mass'])} (the scene's top is {u.mass(r['scene_mass'])})")
 
@@ -66,7 +66,7 @@ def _approximations(ap: dict, u: Units) -> str:
     if ap.get("sigma1") is None:
         return ""
     return (f"for comparison, not this top's interval: the thesis's approximations (eqs. 3.3.22/3.3.23) "
-            f"for the {u.mass(ap['mass_at_z_c'])} top at z_c = {u.length(ap['z_c'])}: "
+            f"for {u.top(ap['mass_at_z_c'])} at z_c = {u.length(ap['z_c'])}: "
             f"{u.rate_span(ap['sigma1'], ap['sigma2'])}")
 
 
