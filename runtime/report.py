@@ -52,8 +52,9 @@ def _p(text: str, cls: str = "") -> str:
     return f"<p{c}>{html.escape(text)}</p>"
 
 
-def build(model, scene_ref: str, overrides=()) -> tuple[str, dict]:
-    """The page and the facts it shows (SI numbers, for --json)."""
+def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -> tuple[str, dict]:
+    """The page and the facts it shows (SI numbers, for --json); provenance: the block of
+    runtime/provenance.py, shown at the foot of the page (its command rebuilds the page)."""
     from . import scan as sc
     from .figures_stability import figure_3_5
     from .scan_physics import slow_period
@@ -132,6 +133,18 @@ def build(model, scene_ref: str, overrides=()) -> tuple[str, dict]:
             tick()
     page = ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
             f"<title>levitron report: {html.escape(scene.name)}</title><style>{CSS}</style></head>"
-            f"<body>{''.join(parts)}<p class=\"note\">levitron report {html.escape(scene.name)}</p>"
+            f"<body>{''.join(parts)}{_provenance(provenance, scene.name)}"
             "</body></html>\n")
+    if provenance is not None:
+        facts["provenance"] = provenance
     return page, facts
+
+
+def _provenance(block: dict | None, name: str) -> str:
+    """The foot of the page: how it was made (the command that rebuilds it), by which version, from
+    which scene file (with its hash), when."""
+    if block is None:
+        return f'<p class="note">levitron report {html.escape(name)}</p>'
+    rows = [(k.replace("_", " "), ", ".join(v) if isinstance(v, list) else v)
+            for k, v in block.items() if v not in (None, [], "")]
+    return "<h2>Provenance</h2>" + _table(rows)

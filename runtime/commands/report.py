@@ -45,7 +45,9 @@ def run(args) -> dict:
     scene = scene_of(args)
     model = model_of(args)
     ref = str(Path(scene.path).resolve()) if scene.path is not None else args.scene
-    page, facts = build(model, ref, args.set)
+    from ..provenance import block
+    page, facts = build(model, ref, args.set, block(getattr(args, "_argv", ["report", args.scene]),
+                                                    scene, args.set))
     _write(out, page)
     facts["out"] = str(out)
     facts["bytes"] = len(page.encode("utf-8"))
