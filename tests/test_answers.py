@@ -234,3 +234,19 @@ def test_scan_masses_that_cannot_hover_are_not_falls(capsys, tmp_path, monkeypat
     assert "cannot hover (no equilibrium: not simulated)" in legends
     r = as_json(capsys, *argv[:-2])
     assert all(st == "no_hover_height" for row in r["status"] for st in row[3:])
+
+
+# ---- found beside the list: `stability --height` below z_c crashed on an unbounded interval
+
+def test_stability_at_a_vertically_unstable_height_says_so(capsys):
+    """9.5 cm is below z_c (9.948 cm): the top that hovers there (51.95 g) is vertically unstable.
+    The view crashed (TypeError) formatting the route's unbounded intervals as 'further intervals'."""
+    out = plain(capsys, "stability", "thesis_stable", "--height", "0.095")
+    assert out.startswith("spin_interval: none")
+    assert "reason: z_s = 9.5 cm is not vertically stable" in out and "further intervals" not in out
+
+
+def test_an_unbounded_interval_reads_above():
+    from runtime.commands.stability import _interval
+    from runtime.human import Units
+    assert _interval([1.2e26, None], Units(si=True)).startswith("above 1.2e26 rad/s")

@@ -60,6 +60,12 @@ def _where(r: dict, u: Units) -> str:
             f"of mass {u.mass(r['mass'])} (the scene's top is {u.mass(r['scene_mass'])})")
 
 
+def _interval(ivl, u: Units) -> str:
+    """A spin interval; one without an upper end (JSON null: inf) as "above LO"."""
+    lo, hi = ivl
+    return f"above {u.rate(lo)}" if hi is None else u.rate_span(lo, hi)
+
+
 def _approximations(ap: dict, u: Units) -> str:
     """Thesis 3.3.22/3.3.23, labelled as what they are: an estimate for another top (the one of
     mass m(z_c) at z_c), for comparison; shown only beside an interval (issue 19, item 7)."""
@@ -77,10 +83,10 @@ def human(r: dict, scene=None) -> str:
     head = (f"spin_interval: {u.rate_span(*iv)}{_agreement(r['routes'])}" if iv
             else "spin_interval: none: no spin rate stabilises this top")
     approx = _approximations(r.get("approximations") or {}, u) if iv else ""
-    more = [ivl for ivl in r["all_intervals"].get("discriminant", [])[1:]]
+    more = r["all_intervals"].get("discriminant", [])[1:] if iv else []
     return lines(
         head,
         _where(r, u),
-        "further intervals: " + ", ".join(u.rate_span(*ivl) for ivl in more) if more else "",
+        "further intervals: " + ", ".join(_interval(ivl, u) for ivl in more) if more else "",
         f"reason: {restate(r['reason'], u)}" if r.get("reason") else "",
         approx, u.note)
