@@ -2,10 +2,14 @@
 
 As z_s -> z_c (the top's mass -> max_mass, thesis 3.3.3) the vertical stiffness k = mu Phi_3(z_s)
 vanishes and the ray cubic's constant term -4 c3^3 with it (thesis 3.3.13), so one critical spin
-grows without bound. Whether the *stable* interval follows it is a property of the scene, not a
-law: on the committed scenes the lowest interval stays bounded at z_c (thesis 3.3.22-3.3.23, e.g.
-thesis_stable 478.9-2531 rad/s at z_c) and the diverging root opens a second interval beyond
-1e25 rad/s. So the spin objectives need no stiffness constraint; an optimum near the edge is
+grows without bound. The stable interval does not follow it: at z_c (g31 = 0) the diverging
+root is the root l = 0 of the thesis's cubic L(l) (3.3.16, a0 = 0), sigma^2 = g / (2 rho^2 l g21
+alpha) (3.3.21), and the interval of linear stability lies between the two positive roots of L/l,
+finite wherever g21^2 < 1/12 (thesis 3.3.15, 3.3.22-3.3.23; figure 3.7): thesis_stable
+478.9-2531 rad/s at z_c, measured on every committed scene and for C/A from 0.1 to 2, the
+diverging root opening a second interval beyond 1e25 rad/s. So the spin objectives need no
+stiffness constraint. check_bounded stays as the guard for a scene where that reading fails (a
+Sturm count at z_c, not the argument above). An optimum near the edge is
 reported with its stiffness and a warning (VANISHING), and refused only where the interval at z_c,
 continued from the optimum's, is unbounded above (then the objective has no maximum).
 """
