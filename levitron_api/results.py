@@ -1,8 +1,20 @@
 """Typed results of the public API (SI units, thesis 3.3). The design and fit results are
-runtime.design.DesignResult and runtime.fit.FitResult; the scan result runtime.scan.ScanResult."""
+runtime.design.DesignResult and runtime.fit.FitResult; the scan result runtime.scan.ScanResult.
+
+Every result has a short `repr` with units, and scipy-style `success` (bool) and `message` (one
+sentence): for Equilibria, whether the top has a vertically stable hover height; for Stability,
+whether a spin rate stabilises it (a stable spin interval exists); for Simulation, whether the run
+ended normally (reached t_end or left the box, like solve_ivp's terminal event) rather than by a
+solver failure or its step budget; `levitating` says whether the top stayed up.
+"""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+
+from runtime.human import Units, sig
+
+_SI = Units(si=True)
+NORMAL_ENDS = ("completed", "left_box")    # runtime/cintegrate.py STATUS: the run itself succeeded
 
 
 @dataclass(frozen=True)
@@ -14,6 +26,10 @@ class Equilibrium:
     vertically_stable: bool
     stiffness: float
     marginal: bool
+
+    def __repr__(self) -> str:
+        kind = "marginal" if self.marginal else "stable" if self.vertically_stable else "unstable"
+        return f"Equilibrium(z={self.z:.6g} m, vertically {kind}, stiffness={self.stiffness:.4g} N/m)"
 
 
 @dataclass(frozen=True)
@@ -28,18 +44,63 @@ class Equilibria:
     stable_band_z: tuple[float, float] | None
     stable_band_mass: tuple[float, float] | None
 
+    @property
+    def success(self) -> bool:
+        """A vertically stable hover height exists."""
+        return any(e.vertically_stable for e in self.equilibria)
+
+    @property
+    def message(self) -> str:
+        stable = [e.z for e in self.equilibria if e.vertically_stable]
+        head = (f"hovers vertically stable at z = {stable[0]:.6g} m" if stable
+                else "no vertically stable hover height")
+        band = ("no stable band" if self.stable_band_z is None else
+                f"stable band z {self.stable_band_z[0]:.6g}-{self.stable_band_z[1]:.6g} m, mass "
+                f"{self.stable_band_mass[0]:.6g}-{self.stable_band_mass[1]:.6g} kg")
+        return f"{head}; {band}"
+
+    def __repr__(self) -> str:
+        zs = ", ".join(f"{e.z:.6g} m ({'stable' if e.vertically_stable else 'unstable'})"
+                       for e in self.equilibria) or "none"
+        band = "None" if self.stable_band_z is None else \
+            f"z {self.stable_band_z[0]:.6g}-{self.stable_band_z[1]:.6g} m"
+        zc = "None" if self.z_c is None else f"{self.z_c:.6g} m"
+        return f"Equilibria([{zs}], z_c={zc}, stable_band={band}, success={self.success})"
+
 
 @dataclass(frozen=True)
 class Stability:
     """Linear stability at the hover height (thesis 3.3): z_s (m); stiffness mu Phi_3(z_s) (N/m);
     spin_interval (rad/s) by the exact route, None if no spin stabilises (reason says why);
-    routes_agree: the eigenvalue route confirms it (None without a full model)."""
+    routes_agree: the eigenvalue route confirms it (None without a full model); mass (kg): the
+    top analysed (with Study.stability(height=...), the one that hovers there)."""
 
     z_s: float | None
     stiffness: float | None
     spin_interval: tuple[float, float] | None
     reason: str | None
     routes_agree: bool | None
+    mass: float | None = None
+
+    @property
+    def success(self) -> bool:
+        """A spin interval of linear stability exists."""
+        return self.spin_interval is not None
+
+    @property
+    def message(self) -> str:
+        if self.spin_interval is None:
+            return f"no stable spin interval: {self.reason or 'no stable hover height'}"
+        lo, hi = self.spin_interval
+        return f"stable for spin {lo:.6g}-{hi:.6g} rad/s at z_s = {self.z_s:.6g} m" + \
+            (f" ({self.reason})" if self.reason else "")
+
+    def __repr__(self) -> str:
+        iv = "None" if self.spin_interval is None else \
+            f"{sig(self.spin_interval[0], 6)}-{sig(self.spin_interval[1], 6)} rad/s"
+        z = "None" if self.z_s is None else f"{self.z_s:.6g} m"
+        k = "None" if self.stiffness is None else f"{self.stiffness:.4g} N/m"
+        return f"Stability(spin_interval={iv}, z_s={z}, stiffness={k}, success={self.success})"
 
 
 @dataclass(frozen=True)
@@ -59,6 +120,23 @@ class Simulation:
     final_state: dict
     details: dict = field(repr=False, default_factory=dict)
 
+    @property
+    def status(self) -> str:
+        return str(self.details.get("status", "completed" if self.levitating else "unknown"))
+
+    @property
+    def success(self) -> bool:
+        """The run ended normally: reached t_end, or stopped when the top left the box."""
+        return self.status in NORMAL_ENDS
+
+    @property
+    def message(self) -> str:
+        return str(self.details.get("message") or self.status)
+
+    def __repr__(self) -> str:
+        return (f"Simulation(levitating={self.levitating}, t_survived={self.t_survived:.6g} s of "
+                f"{self.details.get('t_end', float('nan')):.6g} s, energy_drift={self.energy_drift:.2g}, "
+                f"status={self.status!r}, success={self.success})")
 
 @dataclass(frozen=True)
 class LaunchOdds:

@@ -18,19 +18,22 @@ from runtime.model import Model, load_model
 from runtime.scene_keys import Vary, key_value, pvector, with_values
 from runtime.stability import stability_of
 
+from . import arguments as arg
 from .results import Equilibria, Equilibrium, LaunchOdds, Simulation, Stability
 
-
-def _override(key: str, value) -> str:
-    if isinstance(value, str):
-        return f'{key}="{value}"'
-    return f"{key}={value!r}"
+# Study.simulate's options: runtime.simulate.simulate's keywords, and the command line's names
+SIMULATE_OPTIONS = ("tilt", "offset", "t_end", "integrator", "tol", "box", "plot", "part", "h",
+                    "n_out", "azimuth")
+SIMULATE_ALIASES = {"tilt_azimuth": "azimuth", "step": "h"}     # --tilt-azimuth, --step
 
 
 def load(scene: str | Path, overrides: Mapping[str, float | str] | None = None) -> Study:
-    """A scene by name (scenes/) or path, with overrides by scene key, e.g. {"top.mass": 0.05};
-    derives its model when needed. Errors: runtime.errors.UserError (one line)."""
-    sets = [_override(k, v) for k, v in (overrides or {}).items()]
+    """A scene by name (scenes/) or path, with overrides by scene key, e.g. {"top.mass": 0.05}
+    (numbers may be NumPy scalars: `for m in np.linspace(...)` works); derives its model when
+    needed. Errors: levitron_api.UserError (one line)."""
+    if overrides is not None and not isinstance(overrides, Mapping):
+        raise arg.UserError(f"overrides must be a dict {{scene key: value}}, not {overrides!r}")
+    sets = [arg.override_text(k, v) for k, v in (overrides or {}).items()]
     return Study(load_model(load_scene(scene, sets), sets), sets)
 
 
@@ -43,8 +46,13 @@ class Study:
         self._cs = None
 
     # ---- parameters by scene key
+    def keys(self) -> list[str]:
+        """The scene's numeric keys (`top.mass`, `plate.hole`, ...; units: docs/scenes.md)."""
+        return arg.scene_keys(self.scene.data)
+
     def value(self, key: str) -> float:
-        """The scene's number at `key` (its unit: docs/scenes.md)."""
+        """The scene's number at `key` (its unit: docs/scenes.md); an unknown key lists them."""
+        arg.choice(key, "scene key", self.keys())
         return key_value(self.scene.data, key)
 
     def p_of(self, values: Mapping[str, float] | None = None) -> np.ndarray:
@@ -68,18 +76,25 @@ class Study:
             self._cs = sc.CasadiStability(self.model)
         return self._cs
 
+    def quantities(self) -> list[str]:
+        """The names `gradient` takes: the outputs of the stability Functions."""
+        return [n for F in self.casadi_stability.functions.values() for n in F.name_out()]
+
     def gradient(self, quantity: str, keys: Sequence[str]) -> dict[str, float]:
         """d quantity / d key for scene keys (quantity: z_s, stiffness, z_c, max_mass, sigma_lo,
         sigma_hi, z_lo, z_hi, m_lo, m_hi, mass_window; exact, through the rootfinders), at the
-        scene's values."""
+        scene's values. keys: a list of scene keys (one string is refused, not spelled out)."""
         from runtime.scene_keys import KeyMap
+        arg.choice(quantity, "quantity", self.quantities())
+        keys = arg.names(keys, "keys", self.keys())
         x = np.array([self.value(k) for k in keys])
         km = KeyMap(self.scene, self.model.param_names,
                     [Vary(k, *sorted((v * 0.99, v * 1.01))) for k, v in zip(keys, x)])
         _, p = km.exact(x)
         J = self.casadi_stability.jacobian(quantity, p)
         if J is None:
-            raise ValueError(f"{quantity} does not exist for this scene")
+            raise arg.UserError(f"{quantity} does not exist for this scene (no stable hover, "
+                                "spin interval or band): see Study.stability() and .equilibria()")
         dpdx = p[:, None] * km.E / x[None, :]
         return dict(zip(keys, map(float, J @ dpdx)))
 
@@ -93,23 +108,36 @@ class Study:
                           None if band is None else tuple(band.z),
                           None if band is None else tuple(band.mass))
 
-    def stability(self) -> Stability:
-        """The spin interval at the hover height, by the exact route (thesis 3.3.9-3.3.16)."""
-        res = stability_of(self.model)
+    def stability(self, height: float | None = None) -> Stability:
+        """The spin interval at the hover height, by the exact route (thesis 3.3.9-3.3.16);
+        height (m): instead the top that hovers there, of mass m(z) = -mu Phi_2(z)/g (`mass`)."""
+        h = None if height is None else arg.number(height, "height")
+        res = stability_of(self.model, height=h)
         k = None
         if res.z_s is not None:
             P = self.model.pvals()
             k = P["mu"] * float(self.model.onaxis(res.z_s)[3])
         return Stability(res.z_s, k, None if res.spin_interval is None else tuple(res.spin_interval),
-                         res.reason, res.routes_agree)
+                         res.reason, res.routes_agree, res.mass)
 
     def simulate(self, spin: float, **options) -> Simulation:
         """One trajectory (runtime.simulate.simulate; options: tilt (rad, default 0.005: a launch
         with tilt 0 and offset 0 tests nothing and gives levitating None), offset (m), t_end (s;
         in air the run ends when the top falls: details["flight"]), integrator, tol, box (m),
-        plot (path))."""
+        plot (path), part, h or step (s), n_out, azimuth or tilt_azimuth (rad), as the command
+        line's flags)."""
         from runtime.simulate import simulate
-        out = simulate(self.model, spin, **options)
+        for alias, name in SIMULATE_ALIASES.items():
+            if alias in options:
+                if name in options:
+                    raise arg.UserError(f"pass {alias} or {name}, not both (the same option)")
+                options[name] = options.pop(alias)
+        for name in options:
+            arg.choice(name, "simulate option", [*SIMULATE_OPTIONS, *SIMULATE_ALIASES])
+        for name in ("tilt", "offset", "t_end", "tol", "box", "h", "azimuth"):
+            if options.get(name) is not None:
+                options[name] = arg.number(options[name], name)
+        out = simulate(self.model, arg.number(spin, "spin"), **options)
         return Simulation(out["levitating"], float(out["t_survived"]),
                           float(out["max_excursion"]), float(out["energy_drift"]),
                           int(out["rhs_evals"]), float(out["wall_s"]), dict(out["final_state"]),
@@ -136,22 +164,46 @@ class Study:
                           [(e["input"], e["effect"]) for e in out["ranking"]], out)
 
     def scan(self, spins: Sequence[float], axis: str, values: Sequence[float], **options):
-        """A stability map over spins (rad/s) and one of tilt (rad), mass (kg), height (m):
-        runtime.scan.ScanResult (options: t_end, integrator, tol, workers, ...)."""
+        """A stability map: runtime.scan.ScanResult over spins (rad/s) and one second axis:
+
+        * "tilt": the initial tilt of the axis (rad);
+        * "mass": the top's mass (kg), each started at its own hover height;
+        * "height": the initial vertical displacement as a FRACTION of the hover height,
+          z0 = z_s (1 + h), with -0.5 < h < 0.5 (not metres: 0.046 means z0 = 1.046 z_s;
+          scenes may be dimensionless); values outside are refused.
+
+        options: t_end (s), integrator, tol, workers, base_tilt (rad), ... (runtime.scan.scan)."""
         from runtime.scan import scan
+        from runtime.scan_grid import AXES, check_axis
+        arg.choice(axis, "scan axis", AXES)
+        spins, values = self._grid(spins, "spins"), self._grid(values, axis)
+        check_axis(axis, np.sort(values))
         ref = str(self.scene.path) if self.scene.path else self.scene.name
-        return scan(self.model, ref, self.overrides, np.asarray(spins, float), axis,
-                    np.asarray(values, float), **options)
+        return scan(self.model, ref, self.overrides, spins, axis, values, **options)
+
+    @staticmethod
+    def _grid(values, what: str) -> np.ndarray:
+        """A 1-D array of finite numbers (a list, a tuple, a NumPy array; one number is a grid of one)."""
+        if isinstance(values, str):
+            raise arg.UserError(f"{what} must be numbers (a list or an array), not the string {values!r}")
+        try:
+            a = np.atleast_1d(np.asarray(values, float))
+        except (TypeError, ValueError):
+            raise arg.UserError(f"{what} must be numbers (a list or an array), not {values!r}") from None
+        if a.ndim != 1 or a.size == 0 or not np.all(np.isfinite(a)):
+            raise arg.UserError(f"{what} must be a non-empty 1-D list of finite numbers")
+        return a
 
     # ---- design and fitting
     def optimize(self, maximize: str, vary: Mapping[str, tuple[float, float]],
                  constrain: Sequence[str] = (), grid: int = 20) -> DesignResult:
         """Maximise spin-range or spin-ratio over scene keys in boxes {key: (lo, hi)}, with
         constraints such as "stiffness>=1" (runtime/design.py; IPOPT, verified)."""
-        return _optimize(self.model, [Vary(k, float(a), float(b)) for k, (a, b) in vary.items()],
+        constrain = arg.names(constrain, "constrain")
+        return _optimize(self.model, [Vary(k, a, b) for k, (a, b) in arg.boxes(vary).items()],
                          maximize, [Constraint.parse(c) for c in constrain], grid)
 
     def fit(self, data: str | Path | Sequence[Row], vary: Mapping[str, tuple[float, float]]) -> FitResult:
         """Least squares of scene keys to measurements (a CSV path or runtime.fit.Row list)."""
         rows = read_rows(data) if isinstance(data, (str, Path)) else list(data)
-        return _fit(self.model, rows, [Vary(k, float(a), float(b)) for k, (a, b) in vary.items()])
+        return _fit(self.model, rows, [Vary(k, a, b) for k, (a, b) in arg.boxes(vary).items()])

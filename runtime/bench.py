@@ -54,6 +54,7 @@ from runtime import equilibrium as eqm
 from runtime import progress
 from runtime.eigen_route import transverse_matrix
 from runtime.errors import UserError
+from runtime.human import Units
 from runtime.integrate import backend_of, integrate, run_c, time_fn_ns
 from runtime.integrators_table import lookup
 from runtime.plotting import pyplot, save_figure
@@ -339,6 +340,7 @@ def run(model, out_dir: str | Path = "reports", quick: bool = False) -> dict:
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     files, rows, per_model = [], [], {}
+    units = Units.of_scene(model.scene)
     for name in ("reduced", "full"):
         if name not in model.parts:
             continue
@@ -353,7 +355,7 @@ def run(model, out_dir: str | Path = "reports", quick: bool = False) -> dict:
         Path(f"{stem}.json").write_text(json.dumps({"model": name, "scene": model.scene.name,
                                                      "description": __doc__, **res}, indent=1, default=_json))
         draw(res["rows"], Path(f"{stem}.png"),
-             f"{model.scene.name}, {name} model: {su.t_end:.3g} s at {su.spin:.4g} rad/s")
+             f"{model.scene.name}, {name} model: {units.time(su.t_end)} at {units.rate(su.spin)}")
         write_cheapest(res["cheapest_by_bound"], out / f"bench_cheapest_{name}.csv")
         files += [f"{stem}.csv", f"{stem}.json", f"{stem}.png", str(out / f"bench_cheapest_{name}.csv")]
     g = goals(model, [r for r in rows if r["model"] == "full"], quick, su) if "full" in model.parts else {}

@@ -17,11 +17,12 @@ import json
 import math
 import os
 import sys
-from pathlib import Path
 
 from derive.scene import SceneError
 
 from . import progress
+from . import provenance
+from .provenance import version
 from .cbuild import CompileError
 from .commands import COMMANDS
 from .errors import UserError
@@ -38,15 +39,6 @@ class Parser(argparse.ArgumentParser):
         self.exit(EXIT_USER, f"{self.prog}: error: {message} (see `{self.prog} --help`)\n")
 
 
-def version() -> str:
-    """The installed package's version, else the one in this source tree's pyproject.toml."""
-    from importlib import metadata
-    try:
-        return metadata.version("levitron")
-    except metadata.PackageNotFoundError:
-        import tomllib
-        pyproject = Path(__file__).resolve().parent.parent / "pyproject.toml"
-        return tomllib.loads(pyproject.read_text())["project"]["version"]
 
 
 def _modules():
@@ -207,17 +199,28 @@ def _emit(text: str, styled: bool = False) -> int:
     return 0
 
 
+def _with_provenance(args, result):
+    """Every JSON object carries where it came from (runtime/provenance.py); a command that made
+    its own block (the report, which shows it) keeps it."""
+    if isinstance(result, dict) and "provenance" not in result:
+        scene = _scene_or_none(args)
+        result["provenance"] = provenance.block(args._argv, scene, getattr(args, "set", ()))
+    return result
+
+
 def main(argv=None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
     args = build_parser().parse_args(argv)
     if getattr(args, "temperature", None) is not None:     # one more --set, resolved by the scene
         args.set = [*args.set, f"temperature={args.temperature!r}"]
+    args._argv = argv
     if args.json or args.quiet:
         progress.disable()
     else:
         progress.enable()
     try:
         with progress.task(f"levitron {args.command}"):
-            result = _clean(args._run(args))
+            result = _clean(_with_provenance(args, args._run(args)))
         text = render(args, result)
     except KeyboardInterrupt:
         print(f"levitron {args.command}: interrupted", file=sys.stderr)

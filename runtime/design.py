@@ -18,8 +18,11 @@ roots in the middle, so the whole interval is one of linear stability and no lar
 The margin keeps both edges simple critical spins: where the third root merges with an edge the
 float route's verdict degenerates (the supremum of the objective can sit there, unattainable), so
 the grid and the verification apply the same margin (`third_root_margin`, from the exact ray cubic).
-A stiffness lower bound is required for the spin objectives: as z_s approaches z_c (mu Phi_3 -> 0)
-the cubic's constant term -4 c3^3 vanishes, and sigma_hi grows without bound.
+No stiffness constraint is required: as z_s approaches z_c (mu Phi_3 -> 0) one root of the ray
+cubic grows without bound, but on the scenes the stable interval stays bounded (thesis
+3.3.22-3.3.23); an optimum at vanishing stiffness is reported with a warning, and refused only
+where the interval at z_c is unbounded (runtime/design_edge.py). An optimum on a --vary bound is
+reported with a warning too ("at the bound: widen --vary"): the box, not the physics, stopped it.
 
 Every answer is verified before it is reported: (1) a brute-force grid of the box (>= 20 points a
 key) by the exact float routes (re-resolved scene, runtime/equilibrium.py, runtime/ray_algebra.py);
@@ -46,6 +49,7 @@ import numpy as np
 
 from derive.scene import Scene
 
+from . import design_edge
 from . import stability_casadi as sc
 from .constraints import Constraint
 from .errors import UserError
@@ -79,11 +83,6 @@ def check_objective(name: str, constraints: Sequence[Constraint]) -> None:
         if bad:
             raise UserError(f"--maximize mass-window takes constraints on {' and '.join(BAND_CONSTRAINTS)}"
                             f" (the scene's top) only, not {', '.join(bad)}")
-        return
-    if not any(c.name == "stiffness" and c.op == ">=" and c.bound > 0 for c in constraints):
-        raise UserError(f"--maximize {name} needs --constrain stiffness>=K with K > 0 (N/m): as the "
-                        "hover height nears z_c the stiffness vanishes and sigma_hi grows without "
-                        "bound (thesis 3.3.3, 3.3.13)")
 
 
 @dataclass(frozen=True)
@@ -193,9 +192,29 @@ class DesignResult:
     verification: dict
     scene: Scene = field(repr=False)
     wall_s: float = 0.0
+    at_bound: dict[str, str] = field(default_factory=dict)   # key -> "lower" | "upper" (--vary bound)
+    warnings: list[str] = field(default_factory=list)        # plain sentences: at a bound, vanishing stiffness
+
+    @property
+    def success(self) -> bool:
+        """scipy-style: IPOPT succeeded and the answer passed every check (a failure raises instead)."""
+        return True
+
+    @property
+    def message(self) -> str:
+        """scipy-style: IPOPT's status, then every warning."""
+        return "; ".join([f"{self.solver_status}: {self.objective} {self.value:.6g} "
+                          f"{OBJECTIVES[self.objective][1]}", *self.warnings])
+
+    def __repr__(self) -> str:
+        keys = ", ".join(f"{k}={v:.6g}" for k, v in self.optimum.items())
+        return (f"DesignResult({self.objective}={self.value:.6g} {OBJECTIVES[self.objective][1]} at "
+                f"{keys}, success={self.success}, warnings={len(self.warnings)})")
 
     def as_dict(self) -> dict:
         return {"objective": self.value, "objective_name": self.objective,
+                "at_bound": self.at_bound, "warnings": self.warnings,
+                "success": self.success, "message": self.message,
                 "objective_unit": OBJECTIVES[self.objective][1],
                 "objective_formula": OBJECTIVES[self.objective][0],
                 "optimum": self.optimum, "start": self.start, "start_objective": self.start_value,
@@ -314,9 +333,11 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
     pts = [evaluate(model, keymap, x, objective, constraints) for x in grid_points(varies, n_grid)]
     feasible = [pt for pt in pts if pt.value is not None]
     if not feasible:
-        raise UserError(f"no point of the {len(pts)}-point grid over the box has a stable spin "
-                        "interval that meets the constraints: widen the bounds or relax "
-                        f"{', '.join(map(str, constraints)) or 'them'}")
+        what = "a stable band" if objective == "mass-window" else "a stable spin interval"
+        fix = (f"widen the bounds or relax {', '.join(map(str, constraints))}" if constraints
+               else "move or widen the --vary bounds (`levitron equilibrium` gives the band of masses)")
+        raise UserError(f"no point of the {len(pts)}-point grid over the box has {what}"
+                        f"{' that meets the constraints' if constraints else ''}: {fix}")
     start = max(feasible, key=lambda pt: pt.value)
     band = objective == "mass-window"
     nlp = _BandNlp(model, keymap, constraints, start) if band else \
@@ -344,6 +365,19 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
     interval = check.interval
     if band:    # the scene's top at the optimum: its spin interval, for the record (None if none)
         interval = sc.starts(model, keymap.exact(x)[1]).spin
+    at_bound = bounds_hit(varies, x)
+    warnings = [f"{k} = {x[i]:.6g} is at the {at_bound[k]} bound of --vary {k}={varies[i].lo:.10g}:"
+                f"{varies[i].hi:.10g}: the box stopped the optimum, not the physics; at the bound: widen --vary"
+                for i, k in enumerate(keys) if k in at_bound]
+    if not band and check.stiffness is not None:
+        p_opt = keymap.exact(x)[1]
+        P = model.pvals(p_opt)
+        from . import equilibrium as eqm
+        edge = design_edge.warning(check.stiffness, P["m"], P["g"], check.z_s,
+                                   eqm.equilibria_of(model, p_opt).max_mass)
+        if edge is not None:
+            design_edge.check_bounded(model, p_opt, check.interval, keymap.describe(x))
+            warnings.append(edge)
     scene_x = [key_value(model.scene.data, k) for k in keys]
     inside = all(v.lo <= s <= v.hi for v, s in zip(varies, scene_x))
     scene_pt = evaluate(model, keymap, scene_x, objective, constraints) if inside else None
@@ -360,5 +394,19 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
                       "max_relative_gap": gap, "grid_best": start.value, "grid_points": len(pts),
                       "grid_feasible": len(feasible), "grid_per_key": n_grid,
                       "tolerance": VERIFY_RTOL},
-        scene=keymap.resolve(x), wall_s=time.perf_counter() - t0)
+        scene=keymap.resolve(x), wall_s=time.perf_counter() - t0, at_bound=at_bound,
+        warnings=warnings)
+
+
+def bounds_hit(varies: Sequence[Vary], x, rtol: float = 1e-6) -> dict[str, str]:
+    """{key: "lower" | "upper"} for each key within rtol of its box's span of a --vary bound (IPOPT
+    keeps its iterates ~1e-9 of the span inside the box: bound_relax_factor, mu)."""
+    out = {}
+    for v, xi in zip(varies, x):
+        tol = rtol * (v.hi - v.lo)
+        if xi <= v.lo + tol:
+            out[v.key] = "lower"
+        elif xi >= v.hi - tol:
+            out[v.key] = "upper"
+    return out
 

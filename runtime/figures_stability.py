@@ -32,7 +32,7 @@ def _variants(model) -> list[tuple[str, np.ndarray]]:
         p0[names.index("plate_w")] = 0.0
         out.append(("without hole", p0))
         w = model.p[names.index("plate_w")]
-        out.append((f"with hole (w = {Units.of(model.pvals().get('g')).length(w)})", model.p.copy()))
+        out.append((f"with hole (w = {Units.of_scene(model.scene).length(w)})", model.p.copy()))
     else:
         out.append(("plate", model.p.copy()))
     return out
@@ -41,7 +41,7 @@ def _variants(model) -> list[tuple[str, np.ndarray]]:
 def _units(model, P: dict):
     """(Units, length factor and unit, force factor and unit) for the axes: cm and mN in an SI
     scene, the scene's own units otherwise (runtime/human.py's rule)."""
-    u = Units.of(P["g"])
+    u = Units.of_scene(model.scene)
     if u.si:
         return u, 100.0, "cm", 1e3, "mN"
     return u, 1.0, "scene units", 1.0, "scene units"
@@ -138,8 +138,9 @@ def figure_3_7(model, path: Path) -> Path:
     exact = critical_spins_g31_zero(x, g, A, C, m)
     s1 = np.sqrt(g / (2 * rho ** 2 * 0.25 * x * alpha))                 # l1 ~ 1/4 (3.3.17)
     s2 = np.sqrt(g / (2 * rho ** 2 * (27 / 4) * x ** 2 * x * alpha))    # l2 ~ 27 g21^2/4 (3.3.18)
-    hz = 1 / (2 * math.pi) if Units.of(g).si else 1.0
-    rate_unit = "Hz" if Units.of(g).si else "rad per time unit"
+    u = Units.of_scene(model.scene)
+    hz = 1 / (2 * math.pi) if u.si else 1.0
+    rate_unit = "Hz" if u.si else "rad per time unit"
     style()
     fig, ax = plt.subplots(figsize=(6.4, 4.6))
     ax.semilogy(x, exact[:, 0] * hz, "b-", label=r"$\sigma_1$ exact (roots of $L$)")
@@ -152,7 +153,7 @@ def figure_3_7(model, path: Path) -> Path:
         ax.axvline(g21c, color="k", lw=0.8, ls=":", label=f"this plate at z_c: g21 = {sig(g21c, 3)} (dimensionless)")
     ax.set_xlabel(r"$g_{21}$ (dimensionless, thesis 3.3.13; $g_{31} = 0$)")
     ax.set_ylabel(f"critical spin rate ({rate_unit})")
-    ax.set_title(f"{model.scene.name}: critical spin rates (thesis fig. 3.7), m = {Units.of(g).mass(m)}")
+    ax.set_title(f"{model.scene.name}: critical spin rates (thesis fig. 3.7), m = {u.mass(m)}")
     ax.legend(fontsize=8)
     fig.tight_layout()
     return save_figure(fig, path)

@@ -18,7 +18,7 @@ from __future__ import annotations
 import csv
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -31,6 +31,8 @@ QUANTITIES = {"z_s": "m", "stiffness": "N/m", "sigma_lo": "rad/s", "sigma_hi": "
               "z_c": "m", "max_mass": "kg"}
 RANK_RTOL = 1e-8
 MAX_ITER = 60
+POOR_P = 1e-3        # a fit is poor when P(chi2_dof >= chi2) < POOR_P
+POOR_SIGMA = 3.0     # ... or, with no degree of freedom left, a residual beyond 3 sigma
 
 
 @dataclass(frozen=True)
@@ -85,9 +87,12 @@ def read_rows(path: str | Path) -> list[Row]:
 class FitResult:
     """A least-squares fit (docs/contract.md `optimize`, fits).
 
-    parameters: scene key -> {value, stderr} (the key's unit); residuals: per row {quantity,
-    value, model, sigma, normalized = (model - value) / sigma}; chi2 = sum normalized^2 with dof =
-    rows - keys; iterations of Gauss-Newton; solver_status."""
+    parameters: scene key -> {value, stderr, at_bound} (the key's unit); residuals: per row
+    {quantity, value, model, sigma, normalized = (model - value) / sigma}; chi2 = sum normalized^2
+    with dof = rows - keys; iterations of Gauss-Newton; solver_status; covariance (the keys'
+    units squared, order `keys`) = diag(x) (J^T J)^-1 diag(x) of the weighted Jacobian in log x,
+    correlation its normalised form; warnings: plain sentences (a key at its --vary bound, a poor
+    fit: p-value below POOR_P, or with dof = 0 a residual beyond POOR_SIGMA)."""
 
     parameters: dict[str, dict[str, float]]
     residuals: list[dict]
@@ -96,9 +101,42 @@ class FitResult:
     iterations: int
     solver_status: str
     start: dict[str, float]
+    covariance: np.ndarray | None = None
+    warnings: list[str] = field(default_factory=list)
+
+    @property
+    def keys(self) -> list[str]:
+        return list(self.parameters)
+
+    @property
+    def correlation(self) -> np.ndarray | None:
+        if self.covariance is None:
+            return None
+        d = np.sqrt(np.diag(self.covariance))
+        return self.covariance / np.outer(d, d)
+
+    @property
+    def success(self) -> bool:
+        """scipy-style: Gauss-Newton converged (a failure raises a UserError instead)."""
+        return self.solver_status == "converged"
+
+    @property
+    def message(self) -> str:
+        return "; ".join([f"Gauss-Newton {self.solver_status} in {self.iterations} iterations: chi2 "
+                          f"{self.chi2:.4g} with {self.dof} degrees of freedom", *self.warnings])
+
+    def __repr__(self) -> str:
+        keys = ", ".join(f"{k}={v['value']:.6g}+-{v['stderr']:.2g}" for k, v in self.parameters.items())
+        return (f"FitResult({keys}, chi2={self.chi2:.4g}, dof={self.dof}, success={self.success}, "
+                f"warnings={len(self.warnings)})")
 
     def as_dict(self) -> dict:
+        cov, cor = self.covariance, self.correlation
         return {"objective": self.chi2, "objective_name": "chi2",
+                "success": self.success, "message": self.message, "warnings": self.warnings,
+                "keys": self.keys,
+                "covariance": None if cov is None else cov.tolist(),
+                "correlation": None if cor is None else cor.tolist(),
                 "optimum": {k: v["value"] for k, v in self.parameters.items()},
                 "parameters": self.parameters, "residuals": self.residuals, "dof": self.dof,
                 "solver_status": self.solver_status, "iterations": self.iterations,
@@ -212,10 +250,34 @@ def fit(model, rows: Sequence[Row], varies: Sequence[Vary]) -> FitResult:
     cov_log = np.linalg.inv(J.T @ J)                        # of log x
     stderr = np.abs(x) * np.sqrt(np.diag(cov_log))
     at_bound = [k for k, v, a, b in zip(keys, x, lo, hi) if v in (a, b)]
+    warnings = [f"{k} = {v:.6g} is at the {'lower' if v == a else 'upper'} bound of --vary "
+                f"{k}={a:.10g}:{b:.10g}: at the bound: widen --vary"
+                for k, v, a, b in zip(keys, x, lo, hi) if k in at_bound]
+    poor = poor_fit(cost, len(rows) - len(keys), r)
+    if poor:
+        warnings.append(poor)
     return FitResult(
         parameters={k: {"value": float(v), "stderr": float(s), "at_bound": k in at_bound}
                     for k, v, s in zip(keys, x, stderr)},
         residuals=[{"quantity": row.quantity, "value": row.value, "model": float(m),
                     "sigma": row.sigma, "normalized": float(res),
                     "overrides": dict(row.overrides)} for row, m, res in zip(rows, vals, r)],
-        chi2=cost, dof=len(rows) - len(keys), iterations=it, solver_status=status, start=start)
+        chi2=cost, dof=len(rows) - len(keys), iterations=it, solver_status=status, start=start,
+        covariance=cov_log * np.outer(x, x), warnings=warnings)
+
+
+def poor_fit(chi2: float, dof: int, normalized) -> str | None:
+    """"the fit is poor: ..." when the data are not reproduced within their sigmas: P(chi2_dof >=
+    chi2) < POOR_P, or (dof = 0: an exact fit was possible) a residual beyond POOR_SIGMA."""
+    worst = float(np.max(np.abs(normalized))) if len(normalized) else 0.0
+    if dof > 0:
+        from scipy.stats import chi2 as chi2_dist
+        p = float(chi2_dist.sf(chi2, dof))
+        if p >= POOR_P:
+            return None
+        return (f"the fit is poor: chi2/dof = {chi2 / dof:.4g} (p = {p:.2g}), largest residual "
+                f"{worst:.3g} sigma: check the data, their sigmas and the --vary bounds")
+    if worst <= POOR_SIGMA:
+        return None
+    return (f"the fit is poor: chi2 = {chi2:.4g} with 0 degrees of freedom (the keys could match every "
+            f"row), largest residual {worst:.3g} sigma: check the data and the --vary bounds")

@@ -1,14 +1,18 @@
 """Numbers with units for people: the human view of every command (JSON stays SI, unformatted).
 
-    u = Units.of(g)              # SI scene (cm, g, Hz, rpm) or dimensionless (scene units)
+    u = Units.of_scene(scene)    # SI scene (cm, g, Hz, rpm) or dimensionless (scene units)
     u.length(0.1574)  -> "15.74 cm"          u.mass(0.0515) -> "51.5 g"
     u.rate(459.6)     -> "460 rad/s (73.2 Hz, 4390 rpm)"
+    u.value(3.06, "N/m") -> "3.06 N/m"   u.label("spin", "rad/s") -> "spin (rad/s)"
     sig(1.5141e-10)   -> "1.5e-10"
 
-Which units: a scene is SI when its gravity is Earth's, 9 <= g <= 10.5 m/s^2 (the scene key `g`,
-default 9.81); any other g (a dimensionless scene has g = 1) is shown in the scene's own units,
-plain numbers without cm or g, so that nothing assumes SI magnitudes blindly. No number is printed
-with more than 6 significant digits (4 by default).
+This is the one unit system of every view: text, plots and the report. Which units: the scene's
+`units` key ("SI" or "dimensionless") where it gives one, else SI when its gravity is Earth's,
+9 <= g <= 10.5 m/s^2 (the scene key `g`, default 9.81); any other g (a dimensionless scene has
+g = 1) is shown in the scene's own units: plain numbers without cm, g, s, Hz, N/m or A m^2, rates
+in rad per time unit, times in time units (angles stay rad and deg: they have no units). Wall
+times (`duration`) are the computer's, in seconds in every scene. No number is printed with more
+than 6 significant digits (4 by default).
 """
 from __future__ import annotations
 
@@ -16,6 +20,8 @@ import math
 from dataclasses import dataclass
 
 G_SI = (9.0, 10.5)     # m/s^2: the range of g that marks a scene as SI
+SI_SYMBOLS = frozenset({"m", "cm", "mm", "um", "kg", "g", "s", "ms", "N", "N/m", "J", "J m", "A",
+                        "A m^2", "kg m^2", "m/s^2", "T", "mT", "Hz", "rpm", "rad/s"})
 
 
 def sig(v, digits: int = 4) -> str:
@@ -85,6 +91,30 @@ class Units:
             return cls(si=stated == "SI")
         return cls.of(scene.params.get("g", 9.81))
 
+    def unit(self, si_unit: str) -> str:
+        """The shown unit of a quantity whose SI unit (the JSON's) is `si_unit`: itself in an SI
+        scene ("1" -> ""); in a dimensionless scene "" for everything but angles and rates."""
+        if si_unit in ("1", ""):
+            return ""
+        if self.si or si_unit not in SI_SYMBOLS:       # angles, "fraction of z_s": no scene units
+            return si_unit
+        return {"rad/s": "rad/time", "s": "time units"}.get(si_unit, "")
+
+    def value(self, v, si_unit: str, digits: int = 4) -> str:
+        """A number with its shown unit (unit)."""
+        return f"{sig(v, digits)} {self.unit(si_unit)}".rstrip()
+
+    def label(self, name: str, si_unit: str) -> str:
+        """An axis label: "spin (rad/s)", "mass (kg)"; "spin (rad/time)", "mass (scene units)"."""
+        shown = self.unit(si_unit)
+        if not shown and si_unit not in ("1", ""):
+            shown = "scene units"
+        return f"{name} ({shown})" if shown else name
+
+    def top(self, m) -> str:
+        """"the 51.5 g top" (SI) or "the top of mass 1" (a bare number reads badly before "top")."""
+        return f"the {self.mass(m)} top" if self.si else f"the top of mass {self.mass(m)}"
+
     @property
     def note(self) -> str:
         return "" if self.si else "(dimensionless scene: numbers in the scene's own units)"
@@ -142,15 +172,6 @@ class Units:
         return f"{sig(b * 1e3, 4)} mT" if abs(b) < 1 else f"{sig(b, 4)} T"
 
 
-def reference(scene, key: str):
-    """A value the scene states for comparison (optional `[reference]` table: `key = value`, and
-    `source = "..."`), as (value, source) or None."""
-    table = (getattr(scene, "data", None) or {}).get("reference") or {}
-    if key not in table:
-        return None
-    return float(table[key]), str(table.get("source", "stated"))
-
-
 _NUM = r"(-?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)"
 
 
@@ -169,7 +190,13 @@ def restate(text, units: Units) -> str:
     text = re.sub(rf"{_NUM} kg\b", lambda m: units.mass(float(m.group(1))), text)
     text = re.sub(rf"\b(z_s|z) = {_NUM}(?![\d.eE])(?! ?(?:m|kg|cm|mm|um|g)\b)",
                   lambda m: f"{m.group(1)} = {units.length(float(m.group(2)))}", text)
+    if not units.si:        # every other SI unit after a number: dropped, or the scene's rate/time
+        text = re.sub(rf"{_NUM} ({_SI_UNITS})(?![\w^/])",
+                      lambda m: units.value(float(m.group(1)), m.group(2), 6), text)
     return text
+
+
+_SI_UNITS = r"A m\^2|kg m\^2|m/s\^2|J m|N/m|rad/s|mT|T|Hz|rpm|N|s|A"
 
 
 def lines(*items) -> str:

@@ -52,8 +52,9 @@ def _p(text: str, cls: str = "") -> str:
     return f"<p{c}>{html.escape(text)}</p>"
 
 
-def build(model, scene_ref: str, overrides=()) -> tuple[str, dict]:
-    """The page and the facts it shows (SI numbers, for --json)."""
+def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -> tuple[str, dict]:
+    """The page and the facts it shows (SI numbers, for --json); provenance: the block of
+    runtime/provenance.py, shown at the foot of the page (its command rebuilds the page)."""
     from . import scan as sc
     from .figures_stability import figure_3_5
     from .scan_physics import slow_period
@@ -77,15 +78,15 @@ def build(model, scene_ref: str, overrides=()) -> tuple[str, dict]:
         iv = res.spin_interval
         facts["spin_interval"] = list(iv) if iv else None
         facts["z_s"] = res.z_s
-        answer = (f"A {u.mass(P['m'])} top hovers at {u.length(facts['z_s'])} and is stable for "
+        answer = (f"{u.top(P['m']).capitalize()} hovers at {u.length(facts['z_s'])} and is stable for "
                   f"spin rates {u.rate_span(*iv)}." if iv else
                   "No spin rate makes this top stable: " + restate(
                       rep.no_hover_reason(P["m"]) or res.reason or "no stable hover height", u))
         parts.append(_p(answer, "answer"))
         parts.append("<h2>Scene</h2>")
         parts.append(_table([("file", scene.path), ("plate", scene.data["plate"].get("kind")),
-                             ("top mass", u.mass(P["m"])), ("g", f"{sig(P['g'], 4)} m/s^2" if u.si else sig(P["g"], 4)),
-                             ("A, C (inertia)", f"{sig(P['A'], 4)}, {sig(P['C'], 4)}" + (" kg m^2" if u.si else "")),
+                             ("top mass", u.mass(P["m"])), ("g", u.value(P["g"], "m/s^2")),
+                             ("A, C (inertia)", f"{sig(P['A'], 4)}, {u.value(P['C'], 'kg m^2')}"),
                              *[(k, u.length(v) if k in lengths else sig(v, 6))
                                for k, v in P.items() if k.startswith("plate_")]]))
         if u.note:
@@ -116,7 +117,7 @@ def build(model, scene_ref: str, overrides=()) -> tuple[str, dict]:
                             f"({u.time(T)}); levitating at "
                             f"{sig(100 * facts['map']['fraction_levitating'], 3)}% of the points. "
                             "A sketch: `levitron scan` draws a finer, longer one.", "note"))
-            parts.append(_png(draw_map(m, tmp / "map.png", f"{scene.name}: levitating vs spin and tilt")))
+            parts.append(_png(draw_map(m, tmp / "map.png", f"{scene.name}: levitating vs spin and tilt", u)))
             tick()
             run = simulate(model, spin=spin, tilt=LAUNCH_TILT, t_end=LAUNCH_PERIODS * T,
                            plot=tmp / "launch.png")
@@ -132,6 +133,18 @@ def build(model, scene_ref: str, overrides=()) -> tuple[str, dict]:
             tick()
     page = ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
             f"<title>levitron report: {html.escape(scene.name)}</title><style>{CSS}</style></head>"
-            f"<body>{''.join(parts)}<p class=\"note\">levitron report {html.escape(scene.name)}</p>"
+            f"<body>{''.join(parts)}{_provenance(provenance, scene.name)}"
             "</body></html>\n")
+    if provenance is not None:
+        facts["provenance"] = provenance
     return page, facts
+
+
+def _provenance(block: dict | None, name: str) -> str:
+    """The foot of the page: how it was made (the command that rebuilds it), by which version, from
+    which scene file (with its hash), when."""
+    if block is None:
+        return f'<p class="note">levitron report {html.escape(name)}</p>'
+    rows = [(k.replace("_", " "), ", ".join(v) if isinstance(v, list) else v)
+            for k, v in block.items() if v not in (None, [], "")]
+    return "<h2>Provenance</h2>" + _table(rows)

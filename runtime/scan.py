@@ -95,6 +95,25 @@ class ScanResult:
     cpu_s: float
     extra: dict = field(default_factory=dict)
 
+    @property
+    def success(self) -> bool:
+        """scipy-style: every point that could be run ended normally (reached t_end or left the
+        box); points without a hover height were not run and do not count."""
+        return all(st in ("completed", "left_box", "no_hover_height", "") for row in self.status for st in row)
+
+    @property
+    def message(self) -> str:
+        bad = sorted({st for row in self.status for st in row} -
+                     {"completed", "left_box", "no_hover_height", ""})
+        return (f"levitating at {100 * float(self.levitating.mean()):.3g}% of {self.levitating.size} "
+                f"points (spin x {self.axis}, t_end {self.t_end:.4g} s each)"
+                + (f"; runs ended by {', '.join(bad)}" if bad else ""))
+
+    def __repr__(self) -> str:
+        return (f"ScanResult(spin {self.spins.size} x {self.axis} {self.others.size}, levitating "
+                f"{int(self.levitating.sum())} of {self.levitating.size}, t_end={self.t_end:.4g} s, "
+                f"success={self.success})")
+
     def agreement(self) -> float | None:
         """Fraction of grid points where 'levitating' equals 'spin inside the linear interval'."""
         pred = np.zeros_like(self.levitating)

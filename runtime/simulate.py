@@ -479,11 +479,12 @@ def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, i
                                           "L_n_decay": fl["spin_decay_deviation"]}
     if plot:
         scene = getattr(getattr(pt, "model", None), "scene", None)
-        name, g = getattr(scene, "name", ""), pv.get("g")
+        u = Units.of_scene(scene) if scene is not None else Units.of(pv.get("g"))
+        name = getattr(scene, "name", "")
         if fl is not None:
-            out["plot"] = str(draw_flight(res.t, z - z_s, spin_rate(pt, X, pv["C"], p), plot, out, g, name))
+            out["plot"] = str(draw_flight(res.t, z - z_s, spin_rate(pt, X, pv["C"], p), plot, out, u, name))
         else:
-            out["plot"] = str(draw(res.t, z - z_s, r, tilt_t, plot, out, g, name))
+            out["plot"] = str(draw(res.t, z - z_s, r, tilt_t, plot, out, u, name))
     return out
 
 
@@ -518,10 +519,9 @@ def _deviations(pt, X, x0, p, pv: dict, spin: float, energy: float) -> dict:
             "L_n": largest_deviation(ln, max(abs(ln[0]), c_spin))}
 
 
-def draw(t, dz, r, tilt, path, info, g=None, scene: str = "") -> Path:
+def draw(t, dz, r, tilt, path, info, u: Units, scene: str = "") -> Path:
     """Height above z_s, radial offset and tilt against time (matplotlib, Agg; runtime/plotting.py
-    style): mm and s in an SI scene, the scene's own units otherwise."""
-    u = Units.of(g)
+    style): mm and s in an SI scene, the scene's own units otherwise (u: runtime/human.py)."""
     plt = pyplot()
     style()
     k, lu, tu = (1e3, "mm", "s") if u.si else (1.0, "scene units", "time units")
@@ -538,15 +538,14 @@ def draw(t, dz, r, tilt, path, info, g=None, scene: str = "") -> Path:
         a.legend(loc="best")
     verdict = "levitating" if info["levitating"] else info["status"]
     ax[0].set_title(f"{scene}: spin {u.rate(info['spin']['rad_s'], 4)}, z_s = {u.length(info['z_s'])}\n"
-                    f"{verdict} for {sig(info['t_survived'], 3)} {tu}", fontsize="medium")
+                    f"{verdict} for {u.time(info['t_survived'])}", fontsize="medium")
     fig.tight_layout()
     return save_figure(fig, path)
 
 
-def draw_flight(t, dz, w, path, info, g=None, scene: str = "") -> Path:
+def draw_flight(t, dz, w, path, info, u: Units, scene: str = "") -> Path:
     """A flight in air: the spin and the height above z_s against time, with the linear spin limits
-    at z_s and the adiabatic crossing time drawn in (runtime/flight.py)."""
-    u = Units.of(g)
+    at z_s and the adiabatic crossing time drawn in (runtime/flight.py; u: runtime/human.py)."""
     plt = pyplot()
     style()
     fl = info["flight"]

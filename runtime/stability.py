@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import equilibrium as eqm
+from .errors import UserError
 from .flight import without_friction
 from .eigen_route import (
     full_equilibrium_state,
@@ -53,6 +54,7 @@ class StabilityResult:
     reason: str | None
     routes_agree: bool | None
     timings: dict
+    mass: float | None = None        # kg: the top analysed (stability_of's `height`: the one hovering there)
 
     def as_dict(self) -> dict:
         def pair(iv):
@@ -169,10 +171,24 @@ def analyse(onaxis: Callable[[float], Sequence[float]], m: float, g: float, A: f
 
 
 def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
-                 z_s: float | None = None) -> StabilityResult:
+                 z_s: float | None = None, height: float | None = None) -> StabilityResult:
     """The StabilityResult of a loaded model's top (another mass if given; parameters p, default the
     scene's), with the eigenvalue route on the generated full Jacobian when the model has one.
+
+    z_s: an equilibrium height of that top, to skip the search. height: analyse instead the top
+    that hovers at this height, of mass m(z) = -mu Phi_2(z) / g (thesis 3.3.2 solved for m; the
+    stable band's rule, docs/contract.md); a UserError where no top hovers there (m(z) <= 0).
     In air the friction rates are set to 0: the interval is the ideal top's (runtime/flight.py)."""
+    if height is not None:
+        if mass is not None or z_s is not None:
+            raise ValueError("stability_of: height excludes mass and z_s")
+        P = eqm.params_of(model, p)
+        m_z = eqm.hover_mass(eqm.model_onaxis(model, p), P["g"], P["mu"], float(height))
+        if not (math.isfinite(m_z) and m_z > 0):
+            raise UserError(f"no top hovers at z = {height:.6g} m: the field there holds no mass "
+                            f"(m(z) = -mu Phi_2(z)/g = {m_z:.3g} kg <= 0, thesis 3.3.2); pick a height "
+                            "inside the stable band (`levitron equilibrium` gives it)")
+        return stability_of(model, mass=m_z, p=p, z_s=float(height))
     p = without_friction(model, model.with_params({} if mass is None else {"m": float(mass)}, p))
     P = eqm.params_of(model, p)
     full_jac = states = None
@@ -180,5 +196,7 @@ def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
         onaxis, full_jac, states = model_callables(model, p)     # (the Tait-Bryan states)
     else:
         onaxis = eqm.model_onaxis(model, p)
-    return analyse(onaxis, P["m"], P["g"], P["A"], P["C"], P["mu"], eqm.scale_of(model, p),
-                   full_jac, states, z_s=z_s)
+    res = analyse(onaxis, P["m"], P["g"], P["A"], P["C"], P["mu"], eqm.scale_of(model, p),
+                  full_jac, states, z_s=z_s)
+    res.mass = P["m"]
+    return res

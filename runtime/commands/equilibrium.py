@@ -8,7 +8,8 @@ from __future__ import annotations
 import time
 
 from .. import equilibrium as eqm
-from ..human import Units, lines, reference, restate, span
+from ..human import Units, lines, restate, span
+from ..reference import stated
 from ..plotting import check_plot_path
 from .common import model_of
 
@@ -59,6 +60,7 @@ def run(args) -> dict:
                           "the exact band, never instead",
         "reason": "; ".join(reasons) if reasons else None,
         "length_scale": eqm.scale_of(model),
+        "reference": {"z_stable": stated(model.scene, "z_stable")},
         "wall_s": wall,
     }
     if args.plot:
@@ -72,14 +74,14 @@ def run(args) -> dict:
 def human(r: dict, scene=None) -> str:
     """Answer first: the equilibria (with the scene's stated value beside), then the band, the reason."""
     u = Units.of_scene(scene) if scene is not None else Units(si=True)
-    ref = reference(scene, "z_stable") if scene is not None else None
+    ref = (r.get("reference") or {}).get("z_stable")     # only for the scene it describes
     roots = []
     for e in r["equilibria"]:
         kind = "vertically stable" if e["vertically_stable"] else "vertically unstable"
         if e.get("marginal"):
             kind = "marginal"
         if ref and e["vertically_stable"]:
-            kind += f"; {ref[1]}: {u.length(ref[0])}"
+            kind += f"; {ref['source']}: {u.length(ref['value'])}"
         roots.append(f"{u.length(e['z'])} ({kind})")
     band, adia = r["stable_band"], r["adiabatic_band"]
     band_line = "stable_band: none (no height where a spin can stabilise the top)"

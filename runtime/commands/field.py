@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from ..errors import UserError
-from ..human import Units, lines, sig
+from ..human import Units, lines, restate, sig
 from ..plates import plate_field
 from .common import model_of
 
@@ -90,4 +90,4 @@ def human(r: dict, scene=None) -> str:
             row += f" ({p['note']})"
         rows.append(row)
     return lines(*rows, f"exact: {r['exact']}" if r.get("exact") else "",
-                 *[f"note: {n}" for n in r.get("notes") or []], u.note)
+                 *[f"note: {restate(n, u)}" for n in r.get("notes") or []], u.note)

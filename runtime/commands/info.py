@@ -7,7 +7,7 @@ from derive import plates
 from derive.scene import MU0
 
 from ..flight import decay_times, has_friction
-from ..human import Units, lines, sig
+from ..human import Units, lines, restate, sig
 from .common import model_of
 
 NAME = "info"
@@ -60,28 +60,29 @@ def _param(name: str, v: float, u: Units, lengths=()) -> str:
     if name == "m":
         return f"mass {u.mass(v)}"
     if name in ("A", "C"):
-        return f"{name} {sig(v, 4)} kg m^2" if u.si else f"{name} {sig(v, 4)}"
+        return f"{name} {u.value(v, 'kg m^2')}"
     if name == "g":
-        return f"g {sig(v, 4)} m/s^2" if u.si else f"g {sig(v, 4)}"
+        return f"g {u.value(v, 'm/s^2')}"
     if name == "mu":
-        return f"moment {sig(v, 4)} A m^2" if u.si else f"moment {sig(v, 4)}"
+        return f"moment {u.value(v, 'A m^2')}"
     return f"{name} {sig(v, 6)}"
 
 
 def human(r: dict, scene=None) -> str:
     """The scene, its parameters (SI names in the JSON), the generated parts and their sizes."""
-    u = Units.of(r["parameters"].get("g"))
+    u = Units.of_scene(scene) if scene is not None else Units.of(r["parameters"].get("g"))
     lengths = set(plates.length_names(scene.data["plate"])) if scene is not None else set()
+    # the dipole density (A) goes through mu0, an SI constant: no meaning in a dimensionless scene
+    derived = {k: v for k, v in r["derived_parameters"].items() if u.si or k != "dipole_density_A"}
     ops = ", ".join(f"{k} {v['ops']}" for k, v in r["functions"].items())
     parts = ", ".join(f"{k} ({len(v)} states)" for k, v in r["parts"].items())
     return lines(
         f"{r['scene']}: {r['plate']} plate, field order {r['field_order']}, {r['coordinates']} angles",
         "parameters: " + ", ".join(_param(k, v, u, lengths) for k, v in r["parameters"].items()),
-        "derived: " + ", ".join(f"{k} {sig(v, 6)}" for k, v in r["derived_parameters"].items())
-        if r["derived_parameters"] else "",
+        "derived: " + ", ".join(f"{k} {sig(v, 6)}" for k, v in derived.items()) if derived else "",
         f"parts: {parts}",
         _air(r.get("decay_times"), u),
         f"operations per call: {ops}",
-        *[f"note: {n}" for n in r.get("notes") or []],
+        *[f"note: {restate(n, u)}" for n in r.get("notes") or []],
         f"generated: {r['generated']} (input hash {r['input_hash'][:12]})",
         u.note)

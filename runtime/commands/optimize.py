@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from ..constraints import Constraint
 from ..errors import UserError
-from ..human import Units, lines, sig
+from ..human import Units, lines, restate, sig
 from ..optimize import fit_equilibrium_height
 from ..scene_keys import Vary
 from .common import model_of
@@ -24,7 +24,8 @@ EXAMPLE = ("levitron optimize thesis_stable --maximize spin-range --vary top.mas
 
 def add_arguments(parser) -> None:
     parser.add_argument("--maximize", metavar="OBJECTIVE", default=None,
-                        help="spin-range (sigma_hi - sigma_lo, rad/s) or spin-ratio (sigma_hi/sigma_lo)")
+                        help="spin-range (sigma_hi - sigma_lo, rad/s), spin-ratio (sigma_hi/sigma_lo) "
+                             "or mass-window ((m_hi - m_lo)/m_hi of the stable band)")
     parser.add_argument("--vary", action="append", default=[], metavar="KEY=LO:HI",
                         help="a scene key and its bounds, e.g. plate.hole=0.01:0.05 (repeatable, 1-3)")
     parser.add_argument("--constrain", action="append", default=[], metavar="EXPR",
@@ -90,7 +91,7 @@ def human(r: dict, scene=None) -> str:
         return lines(
             f"fit: {fit} puts an equilibrium at {u.length(r['z_star'])} ({stable})",
             f"equilibria then: {roots}" if roots else "",
-            f"solver: {r['solver_status']}, residual {sig(r['residual_N'], 2)}{' N' if u.si else ''} "
+            f"solver: {r['solver_status']}, residual {u.value(r['residual_N'], 'N', 2)} "
             f"({r['objective']})",
             u.note)
     status = f"solver: {r['solver_status']}, {r['iterations']} iterations"
@@ -101,12 +102,11 @@ def human(r: dict, scene=None) -> str:
         return lines(f"fit: {fitted}",
                      f"chi2 {sig(r['objective'], 4)} with {r['dof']} degrees of freedom"
                      + (f"; largest residual {sig(worst, 3)} sigma" if worst is not None else ""),
-                     status, u.note)
+                     status, *_warnings(r, scene), u.note)
     best = ", ".join(f"{k} = {sig(v, 6)}" for k, v in r["optimum"].items())
     iv, band = r.get("spin_interval"), r.get("band")
     ver = r["verification"]
-    unit = r.get("objective_unit") or ""
-    unit = "" if unit == "1" else unit          # a ratio: no unit to show
+    unit = u.unit(r.get("objective_unit") or "1")      # a ratio: no unit to show
     return lines(
         f"optimum: {best}: {r['objective_name']} {sig(r['objective'], 6)} {unit}".rstrip(),
         f"stable band {u.length(band['z'][0])} to {u.length(band['z'][1])}, tops of "
@@ -118,4 +118,10 @@ def human(r: dict, scene=None) -> str:
         if r.get("scene_objective") is not None else "",
         f"verified: float route at the optimum, best of {ver['grid_points']} grid points "
         f"{sig(ver['grid_best'], 6) if ver.get('grid_best') is not None else 'none feasible'} {unit}".rstrip(),
-        status, u.note)
+        status, *_warnings(r, scene), u.note)
+
+
+def _warnings(r: dict, scene=None) -> list[str]:
+    """Every warning of the result in plain view, one a line (issue 19, item 4)."""
+    u = Units.of_scene(scene) if scene is not None else Units(si=True)
+    return [f"warning: {restate(w, u)}" for w in r.get("warnings") or []]

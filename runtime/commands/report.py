@@ -45,7 +45,9 @@ def run(args) -> dict:
     scene = scene_of(args)
     model = model_of(args)
     ref = str(Path(scene.path).resolve()) if scene.path is not None else args.scene
-    page, facts = build(model, ref, args.set)
+    from ..provenance import block
+    page, facts = build(model, ref, args.set, block(getattr(args, "_argv", ["report", args.scene]),
+                                                    scene, args.set))
     _write(out, page)
     facts["out"] = str(out)
     facts["bytes"] = len(page.encode("utf-8"))
@@ -57,4 +59,4 @@ def human(r: dict, scene=None) -> str:
     iv = r.get("spin_interval")
     return lines(f"report: {r['out']} ({sig(r['bytes'] / 1024, 3)} kB, one self-contained page)",
                  f"spin interval {u.rate_span(*iv)} at z_s = {u.length(r['z_s'])}" if iv
-                 else "no stable spin interval")
+                 else "no stable spin interval", u.note)

@@ -90,7 +90,8 @@ def run(args) -> dict:
     out.update(res.as_dict())
     out["out"] = None
     if args.out:
-        out["out"] = str(draw(res, args.out, f"{scene.name}: levitating vs spin and {axis}"))
+        out["out"] = str(draw(res, args.out, f"{scene.name}: levitating vs spin and {axis}",
+                                  Units.of_scene(scene)))
     return out
 
 
@@ -102,16 +103,48 @@ def _axis_value(axis: str, v: float, u: Units) -> str:
     return f"{sig(v, 3)} z_s"
 
 
+NO_HOVER = "no_hover_height"      # the scan's status of a point with no equilibrium: nothing simulated
+
+
+def runs(flags) -> list[tuple[int, int]]:
+    """The maximal runs of consecutive True entries, as (first, last) index pairs."""
+    out, start = [], None
+    for i, f in enumerate(list(flags) + [False]):
+        if f and start is None:
+            start = i
+        elif not f and start is not None:
+            out.append((start, i - 1))
+            start = None
+    return out
+
+
+def _stays_up(spins, up, u: Units) -> str:
+    """"stays up for spin 671.4-2557 rad/s (...)": every run of levitating spins as it is, several
+    where the map has gaps ("200-400 rad/s (...) and 900 rad/s (...)")."""
+    parts = [u.rate(spins[a]) if a == b else u.rate_span(spins[a], spins[b]) for a, b in runs(up)]
+    return "stays up for spin " + " and ".join(parts)
+
+
+def _row(axis: str, v, spins, up, status, u: Units) -> str:
+    """One row of the summary: where it stays up, "cannot hover" where no run was made (no
+    equilibrium at that mass or height), "falls at every spin" where every run fell."""
+    skipped = sum(s == NO_HOVER for s in status)
+    if skipped == len(spins):
+        return f"  {axis} {_axis_value(axis, v, u)}: cannot hover (no equilibrium: not simulated)"
+    where = _stays_up(spins, up, u) if any(up) else "falls at every spin"
+    return f"  {axis} {_axis_value(axis, v, u)}: {where} ({sum(up)} of {len(spins) - skipped})"
+
+
 def human(r: dict, scene=None) -> str:
-    """Answer first: where it levitates (the spin range per row), then the linear interval beside."""
+    """Answer first: where it levitates (the runs of spins per row, "cannot hover" apart from
+    "falls"), then the linear interval beside."""
     u = Units.of_scene(scene) if scene is not None else Units(si=True)
     axis = r["axes"][1]
     spins = r["grid"]["spin"]
-    rows = []
-    for j, v in enumerate(r["grid"][axis]):
-        up = [spins[i] for i in range(len(spins)) if r["levitating"][i][j]]
-        where = f"stays up for spin {u.rate_span(min(up), max(up))}" if up else "falls at every spin"
-        rows.append(f"  {axis} {_axis_value(axis, v, u)}: {where} ({len(up)} of {len(spins)})")
+    status = r.get("status") or [["" for _ in r["grid"][axis]] for _ in spins]
+    rows = [_row(axis, v, spins, [bool(r["levitating"][i][j]) for i in range(len(spins))],
+                 [status[i][j] for i in range(len(spins))], u)
+            for j, v in enumerate(r["grid"][axis])]
     iv = r.get("spin_interval")
     return lines(
         f"levitating at {sig(100 * r['fraction_levitating'], 3)}% of {r['points']} points "

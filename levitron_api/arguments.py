@@ -1,0 +1,110 @@
+"""The API's arguments checked the way a scientist passes them (issue 19, "the Python API").
+
+* numbers: any real number, NumPy scalars included (`np.float64(0.0362)`, `np.int64(3)`, a 0-d
+  array), so that `for m in np.linspace(...)` works; bools and text are not numbers;
+* names: a list (or tuple) of strings, never one string taken character by character;
+* unknown names: refused with the valid ones listed (a scene's numeric keys, the quantities of
+  `Study.gradient`, the options of `Study.simulate`).
+
+Errors are runtime.errors.UserError (exported as levitron_api.UserError), one line, in the API's
+words.
+"""
+from __future__ import annotations
+
+import numbers
+from collections.abc import Iterable, Mapping
+
+import numpy as np
+
+from runtime.errors import UserError
+
+__all__ = ["UserError", "boxes", "choice", "names", "number", "override_text", "scene_keys"]
+
+
+def is_number(value) -> bool:
+    """A real number (Python or NumPy, a 0-d array included), not a bool."""
+    if isinstance(value, (bool, np.bool_)):
+        return False
+    if isinstance(value, np.ndarray):
+        return value.ndim == 0 and np.issubdtype(value.dtype, np.number) and not np.iscomplexobj(value)
+    return isinstance(value, numbers.Real)
+
+
+def number(value, what: str) -> float:
+    """`value` as a float; UserError naming `what` if it is no real number."""
+    if not is_number(value):
+        raise UserError(f"{what} = {value!r} is not a number: pass a float (NumPy scalars are fine)")
+    return float(value)
+
+
+def override_text(key: str, value) -> str:
+    """One `--set` text of an API override: numbers (NumPy's too) as TOML numbers, text quoted,
+    bools as TOML booleans; anything else refused."""
+    if isinstance(value, (bool, np.bool_)):
+        return f"{key}={'true' if value else 'false'}"
+    if isinstance(value, str):
+        return f"{key}={_toml_string(value)}"
+    if is_number(value):
+        if isinstance(value, (numbers.Integral, np.integer)):
+            return f"{key}={int(value)}"
+        return f"{key}={float(value)!r}"
+    raise UserError(f"override {key} = {value!r}: pass a number, a string or a bool")
+
+
+def _toml_string(text: str) -> str:
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+def names(value, what: str, valid: Iterable[str] | None = None) -> list[str]:
+    """A list of names: refuses one string (it would be taken letter by letter) and, with
+    `valid`, any name not in it, listing the valid ones."""
+    if isinstance(value, str):
+        raise UserError(f"{what} must be a list of names, not the string {value!r}: write [{value!r}]")
+    try:
+        out = list(value)
+    except TypeError:
+        raise UserError(f"{what} must be a list of names, not {value!r}") from None
+    for name in out:
+        if not isinstance(name, str):
+            raise UserError(f"{what}: {name!r} is not a name (a string)")
+        if valid is not None:
+            choice(name, what, valid)
+    return out
+
+
+def choice(name, what: str, valid: Iterable[str]) -> str:
+    """`name` if it is one of `valid`, else a UserError listing them."""
+    valid = list(valid)
+    if name not in valid:
+        raise UserError(f"{what} {name!r} is unknown: use one of {', '.join(valid)}")
+    return name
+
+
+def scene_keys(data: Mapping, prefix: str = "") -> list[str]:
+    """The scene's numeric keys in `section.key` form (compound parts as plate.parts.<i>.<key>),
+    for error messages."""
+    out = []
+    for k, v in data.items():
+        key = f"{prefix}{k}"
+        if isinstance(v, Mapping):
+            out += scene_keys(v, key + ".")
+        elif isinstance(v, list):
+            for i, item in enumerate(v):
+                if isinstance(item, Mapping):
+                    out += scene_keys(item, f"{key}.{i}.")
+        elif is_number(v):
+            out.append(key)
+    return out
+
+
+def boxes(vary: Mapping, what: str = "vary") -> dict[str, tuple[float, float]]:
+    """{key: (lo, hi)} with numbers (NumPy's too) and lo < hi; a UserError otherwise."""
+    if not isinstance(vary, Mapping):
+        raise UserError(f"{what} must be a dict {{key: (lo, hi)}}, not {vary!r}")
+    out = {}
+    for key, box in vary.items():
+        if isinstance(box, str) or not hasattr(box, "__len__") or len(box) != 2:
+            raise UserError(f"{what}[{key!r}] = {box!r}: give a pair (lo, hi)")
+        lo, hi = number(box[0], f"{what}[{key!r}] lo"), number(box[1], f"{what}[{key!r}] hi")
+        out[key] = (lo, hi)
+    return out

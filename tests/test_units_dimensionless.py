@@ -1,0 +1,111 @@
+"""Issue 19, item 3: a dimensionless scene (`units = "dimensionless"`, g = 1) shows no SI unit
+anywhere: every command's plain text, every plot's text (titles, axis labels, legends, colour
+bars) and the report's page. Wall times stay seconds: they are the computer's, not the scene's."""
+from __future__ import annotations
+
+import html
+import re
+
+import matplotlib.figure
+import matplotlib.text
+import pytest
+
+from runtime import cli
+
+SCENE = """name = "unit_annulus"
+g = 1.0
+units = "dimensionless"
+
+[top]
+mass = 1.0
+A = 0.01
+C = 0.006
+
+[plate]
+kind = "annulus"
+radius = 1.0
+hole = 0.3
+murho = -0.51915
+
+[field]
+order = 2
+
+[model]
+needs = ["reduced", "full", "linear"]
+"""
+
+# an SI unit after a number or inside the brackets of an axis label
+SI = r"A m\^2|kg m\^2|m/s\^2|J m|rad/s|N/m|cm|mm|um|mN|mT|ms|kg|Hz|rpm|m|g|s|N|T|A"   # longest first
+AFTER_NUMBER = re.compile(rf"\d\s?({SI})(?![\w^/])")     # the unit, group 1
+IN_LABEL = re.compile(rf"\(({SI})(?:,[^)]*)?\)")
+WALL = re.compile(r"\d+(\.\d+)? (us|ms|s|min)( \d+ s)? of wall time|\d+(\.\d+)? (us|ms|s) per call")
+
+
+def si_units(text: str) -> list[str]:
+    text = WALL.sub("", text)
+    return [m.group(1) for m in AFTER_NUMBER.finditer(text)] + [m.group(0) for m in IN_LABEL.finditer(text)]
+
+
+def test_the_grep_finds_si_units():
+    assert si_units("z 15.74 cm, spin (rad/s), t_end = 208 s, moment -1 A m^2, 3 N/m") == \
+        ["cm", "s", "A m^2", "N/m", "(rad/s)"]
+    assert si_units("30.28-119.1 rad/time, tilt 0.01 rad (0.573 deg), 417 ms of wall time, "
+                    "height (fraction of z_s), z 0.9948-1.102") == []
+
+
+@pytest.fixture(scope="module")
+def scene(tmp_path_factory):
+    path = tmp_path_factory.mktemp("dimless") / "unit_annulus.toml"
+    path.write_text(SCENE)
+    return str(path)
+
+
+@pytest.fixture
+def plot_texts(monkeypatch):
+    """Every text of every figure saved while the test runs."""
+    seen = []
+    save = matplotlib.figure.Figure.savefig
+
+    def recording(fig, *a, **k):
+        seen.extend(t.get_text() for t in fig.findobj(matplotlib.text.Text) if t.get_text())
+        return save(fig, *a, **k)
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", recording)
+    return seen
+
+
+COMMANDS = {
+    "info": [],
+    "equilibrium": ["--plot", "{tmp}/eq.png"],
+    "stability": [],
+    "stability-height": ["--height", "1.05"],
+    "field": ["--at", "0.1,0,0.5"],
+    "simulate": ["--spin", "60", "--tilt", "0.01", "--t-end", "20", "--plot", "{tmp}/sim.png"],
+    "scan-tilt": ["--spin", "30:110:3", "--tilt", "0.01:0.05:2", "--out", "{tmp}/map.png"],
+    "scan-mass": ["--spin", "30:110:3", "--mass", "0.98:1.03:3", "--t-end", "20", "--out", "{tmp}/m.png"],
+    "scan-height": ["--spin", "30:110:3", "--height", "-0.1:0.1:3", "--t-end", "20", "--out", "{tmp}/h.png"],
+    "optimize": ["--maximize", "spin-range", "--vary", "top.mass=0.98:1.01"],
+    # 2e-6 to 4e-6 below the largest mass that hovers (1.0199985): the vanishing-stiffness warning
+    "optimize-edge": ["--maximize", "spin-range", "--vary", "top.mass=1.0199945:1.0199965"],
+    "optimize-fit-height": ["--fit-height", "1.0"],
+    "report": ["--out", "{tmp}/r.html"],
+    "figures": ["--out", "{tmp}/figs", "--quick"],
+}
+
+
+@pytest.mark.parametrize("name", list(COMMANDS))
+def test_no_si_unit_in_a_dimensionless_scene(name, scene, tmp_path, plot_texts, capsys):
+    argv = [name.split("-")[0], scene] + [a.format(tmp=tmp_path) for a in COMMANDS[name]]
+    assert cli.main(argv) == 0, capsys.readouterr().err
+    out = capsys.readouterr().out
+    assert "dimensionless scene" in out or name == "figures"
+    texts = [out, *plot_texts]
+    if name == "report":
+        page = (tmp_path / "r.html").read_text()
+        page = re.sub(r"<img[^>]*>|<style>.*?</style>", "", page, flags=re.S)
+        texts.append(html.unescape(re.sub(r"<[^>]+>", "\n", page)))
+    if name == "optimize-edge":
+        assert "warning: the optimum sits at vanishing stiffness" in out
+    if name == "figures":      # 3.2 and 3.3 are the thesis's solver comparison on a unit circle
+        assert plot_texts
+    found = [u for t in texts for u in si_units(t)]
+    assert found == [], f"`levitron {' '.join(argv)}` shows SI units {found}:\n" + "\n".join(texts)
