@@ -3,11 +3,12 @@ integration costs beyond the right-hand-side calls it makes (thesis 3.1-3.3, fig
 
 The map: spin x tilt, N x N points, the spins from SPIN_BELOW times the lower end of the scene's
 linear stability interval to SPIN_ABOVE times its upper end (thesis 3.3, runtime.stability), the
-tilts from 0 to MAX_TILT rad, each point one run of the full model from the hover height z_s over
-t_end (default: the scan's own, PERIODS slow periods; runtime/scan.py). It is run serially and on
-2 local worker processes (runtime/scan_runners.py), through the C chunk driver
-(runtime/csrc/scan_driver.c), and a sub-grid also through runtime.simulate's Python path (one
-`integrate` call with dense output and energy monitor per point: the way maps were made before).
+tilts from MAX_TILT / N to MAX_TILT rad (no tilt-0 row: it would test nothing), each point one run
+of the full model from the hover height z_s over t_end (default: the scan's own, PERIODS slow
+periods; runtime/scan.py). It is run serially and on 2 local worker processes
+(runtime/scan_runners.py), through the C chunk driver (runtime/csrc/scan_driver.c), and a sub-grid
+also through runtime.simulate's Python path (one `integrate` call with dense output and energy
+monitor per point: the way maps were made before).
 
 Per run: points, wall_s, points_per_s = points / wall_s (the whole scan call: hover height, linear
 interval, worker start, integration), cpu_s (CPU time of the threads that ran the chunks),
@@ -61,8 +62,9 @@ def map_axes(model, n: int) -> tuple[np.ndarray, np.ndarray, dict]:
         raise UserError(f"scene '{model.scene.name}': no spin stabilises its top (thesis 3.3), so a "
                         "map has no interval to centre on; bench a scene whose `levitron stability` "
                         "gives a spin interval")
-    return (np.linspace(SPIN_BELOW * iv[0], SPIN_ABOVE * iv[1], n), np.linspace(0.0, MAX_TILT, n),
-            lin)
+    # tilts from MAX_TILT / n: a tilt-0 row lies on the invariant set and tests nothing (thesis 3.2.1)
+    return (np.linspace(SPIN_BELOW * iv[0], SPIN_ABOVE * iv[1], n),
+            np.linspace(MAX_TILT / n, MAX_TILT, n), lin)
 
 
 def rhs_ns(model, spins: np.ndarray, tilts: np.ndarray, repeats: int = RHS_REPEATS) -> float:

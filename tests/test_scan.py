@@ -148,20 +148,20 @@ def test_negative_range_on_the_command_line():
 
 
 @pytest.mark.parametrize("args, words", [
-    (["--spin", "100:200:0", "--tilt", "0:0.1:2"], "at least 1"),
-    (["--spin", "900:100:3", "--tilt", "0:0.1:2"], "above"),
-    (["--spin", "100:900:3", "--tilt", "0:0.1:2", "--mass", "0.05:0.06:2"], "exactly one"),
+    (["--spin", "100:200:0", "--tilt", "0.01:0.1:2"], "at least 1"),
+    (["--spin", "900:100:3", "--tilt", "0.01:0.1:2"], "above"),
+    (["--spin", "100:900:3", "--tilt", "0.01:0.1:2", "--mass", "0.05:0.06:2"], "exactly one"),
     (["--spin", "100:900:3"], "exactly one"),
-    (["--spin", "100:900:3", "--tilt", "0:0.1:2", "--t-end", "-1"], "positive"),
-    (["--spin", "100:900:3", "--tilt", "0:0.1:2", "--workers", "0"], "workers"),
+    (["--spin", "100:900:3", "--tilt", "0.01:0.1:2", "--t-end", "-1"], "positive"),
+    (["--spin", "100:900:3", "--tilt", "0.01:0.1:2", "--workers", "0"], "workers"),
     (["--spin", "100:900:3", "--height", "0:0.6:2"], "between -0.5 and 0.5"),
-    (["--spin", "100:900", "--tilt", "0:0.1:2"], "LO:HI:N"),
-    (["--spin", "100:900:3", "--tilt", "0:0.1:2", "--tol", "1"], "too loose"),
-    (["--spin", "100:900:3", "--tilt", "0:0.1:2", "--t-end", "1e9"], "budget cap"),
-    (["--spin", "100:1e12:2", "--tilt", "0:0.1:2", "--t-end", "1"], "spin period"),
-    (["--spin", "100:900:3", "--tilt", "0:0.1:2", "--integrator", "rk4", "--step", "1e-12"], "below 1e-09"),
-    (["--spin", "100:900:3", "--tilt", "0:0.1:2", "--step", "1e-4"], "adaptive"),
-    (["--spin", "100:900:3", "--tilt", "0:0.1:2", "--integrator", "verlet"], "unknown integrator"),
+    (["--spin", "100:900", "--tilt", "0.01:0.1:2"], "LO:HI:N"),
+    (["--spin", "100:900:3", "--tilt", "0.01:0.1:2", "--tol", "1"], "too loose"),
+    (["--spin", "100:900:3", "--tilt", "0.01:0.1:2", "--t-end", "1e9"], "budget cap"),
+    (["--spin", "100:1e12:2", "--tilt", "0.01:0.1:2", "--t-end", "1"], "spin period"),
+    (["--spin", "100:900:3", "--tilt", "0.01:0.1:2", "--integrator", "rk4", "--step", "1e-12"], "below 1e-09"),
+    (["--spin", "100:900:3", "--tilt", "0.01:0.1:2", "--step", "1e-4"], "adaptive"),
+    (["--spin", "100:900:3", "--tilt", "0.01:0.1:2", "--integrator", "verlet"], "unknown integrator"),
 ])
 def test_bad_options_exit_2(args, words):
     res = cli(*args, check_json=False)

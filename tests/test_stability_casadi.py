@@ -63,6 +63,9 @@ def test_gradients_match_central_differences(built):
     for out in names:
         J = cs.jacobian(out, st=st)
         for k, pk in enumerate(model.p):
+            if pk == 0:      # a friction rate of 0 (scenes in air): the ideal top's analysis
+                assert J[k] == 0, (out, model.param_names[k], J[k])    # does not depend on it
+                continue
             h = 1e-6 * abs(pk)
             up, dn = model.p.copy(), model.p.copy()
             up[k] += h
