@@ -260,7 +260,11 @@ def test_truncated_cached_library_is_rebuilt(fresh, copy, tmp_path, monkeypatch)
         assert ("damaged" in res.stderr) == (attempt == 0), res.stderr
         assert float(res.stdout) != 0.0
     assert is_intact(lib)
-    assert sorted(p.name for p in cache.iterdir()) == [lib.name, lib.name + ".sha256"]
+    assert sorted(p.name for p in cache.iterdir()) == [lib.name, lib.name + ".sha256", "obj"]
+    objects = sorted((cache / "obj").glob("*.o"))      # one per source, each stamped, nothing else
+    assert len(objects) == 1 + len(list(csrc.glob("*.c"))) and all(map(is_intact, objects))
+    assert sorted(p.name for p in (cache / "obj").iterdir()) == sorted(
+        n for o in objects for n in (o.name, o.name + ".sha256"))
 
 
 def _cli(args, cwd, cache, root=ROOT, drop_write=False):

@@ -394,12 +394,14 @@ def warm_cache(tmp_path_factory):
 
 
 def _copy_artefacts(src: Path, dst: Path) -> None:
-    """Copy finished artefacts (lev_* libraries and their stamps, complete derived models)."""
+    """Copy finished artefacts (lev_* libraries, the objects they are linked from, their stamps;
+    complete derived models)."""
     if not src.is_dir():
         return
-    for f in src.glob("lev_*"):
-        if f.is_file() and not (dst / f.name).exists():
-            shutil.copy2(f, dst / f.name)
+    for f in [*src.glob("lev_*"), *src.glob("obj/[!.]*")]:
+        if f.is_file() and not (dst / f.relative_to(src)).exists():
+            (dst / f.relative_to(src)).parent.mkdir(exist_ok=True)
+            shutil.copy2(f, dst / f.relative_to(src))
     for d in (src / "derived").glob("*") if (src / "derived").is_dir() else ():
         if d.is_dir() and not d.name.startswith(".") and (d / "manifest.json").is_file() \
                 and not (dst / "derived" / d.name).exists():
