@@ -14,16 +14,19 @@ library's. runtime/csrc/integrators.c (most of the compile time of a model's lib
 compiled once for all models, not once per model; the library is the same, byte for byte, as
 one `cc ... -o lib.so a.c b.c` (gcc compiles each translation unit on its own either way).
 Concurrent builds of one library or object (scan workers, test workers) are safe: each writes a
-temporary file and renames it into place, and the compiler's output is the same every time.
+temporary file and renames it into place, and the compiler's output is the same every time; a
+missing object is built by one process while the others wait (a lock on obj/).
 """
 from __future__ import annotations
 
+import fcntl
 import hashlib
 import os
 import shutil
 import subprocess
 import sys
 import tempfile
+from contextlib import contextmanager
 from functools import cache
 from pathlib import Path
 
@@ -130,18 +133,22 @@ def compile_shared(sources: list[Path | str], flags: tuple[str, ...] = DEFAULT_F
               f"{_stamp_path(target).name}): rebuilding it", file=sys.stderr)
     cc = compiler()
     if len(sources) > 1:        # link the cached objects, in the order of the sources
-        objects = [_object(src, tuple(flags), all_flags, cache) for src in sources]
+        objects = [compile_object(src, tuple(flags), include_dirs) for src in sources]
         _build(target, [cc, *flags], [*map(str, objects), "-lm"])
     else:
         _build(target, [cc, *all_flags], [*map(str, sources), "-lm"])
     return target
 
 
-def _object(source: Path, flags: tuple[str, ...], all_flags: tuple[str, ...], cache: Path) -> Path:
-    """The cached, verified object file of one source compiled with `all_flags` (`flags` and the
-    include folders): keyed by the compiler, `flags` and the preprocessed source, so the same
-    source sees the same headers in every model's build and its object is shared by them."""
+def compile_object(source: Path | str, flags: tuple[str, ...] = DEFAULT_FLAGS,
+                   include_dirs: tuple[Path | str, ...] = ()) -> Path:
+    """The cached, verified object file (`obj/<key>.o`) of one source compiled with `flags` and the
+    include folders: keyed by the compiler, `flags` and the preprocessed source, so a source that
+    sees the same headers in every model's build (runtime/csrc/*.c) has one object for them all.
+    One process builds a missing object while the others wait for it (a lock on obj/)."""
+    source = Path(source)
     cc = compiler()
+    all_flags = tuple(flags) + tuple(f"-I{d}" for d in include_dirs)
     cmd = [cc, *all_flags, "-E", "-P", str(source)]
     pre = subprocess.run(cmd, capture_output=True, check=False)
     if pre.returncode != 0:
@@ -151,7 +158,7 @@ def _object(source: Path, flags: tuple[str, ...], all_flags: tuple[str, ...], ca
     h.update(_compiler_identity(cc).encode())
     h.update("\0".join(flags).encode() + b"\0")
     h.update(pre.stdout)
-    folder = cache / "obj"
+    folder = cache_dir() / "obj"
     try:
         folder.mkdir(exist_ok=True)
     except OSError as exc:
@@ -159,11 +166,33 @@ def _object(source: Path, flags: tuple[str, ...], all_flags: tuple[str, ...], ca
     target = folder / f"{h.hexdigest()[:24]}.o"
     if is_intact(target):
         return target
-    if target.exists():
-        print(f"levitron: the cached object {target} is damaged (size or sha256 differs from "
-              f"{_stamp_path(target).name}): rebuilding it", file=sys.stderr)
-    _build(target, [cc, *all_flags, "-c"], [str(source)])
+    with _locked(folder):
+        if is_intact(target):                 # built by another process meanwhile
+            return target
+        if target.exists():
+            print(f"levitron: the cached object {target} is damaged (size or sha256 differs from "
+                  f"{_stamp_path(target).name}): rebuilding it", file=sys.stderr)
+        _build(target, [cc, *all_flags, "-c"], [str(source)])
     return target
+
+
+@contextmanager
+def _locked(folder: Path):
+    """An exclusive lock on `folder` (flock on the folder itself: no lock file to leave behind);
+    none where the file system has no flock (the atomic rename keeps a double build safe)."""
+    try:
+        fd = os.open(folder, os.O_RDONLY)
+    except OSError:
+        yield
+        return
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX)
+        except OSError:
+            pass
+        yield
+    finally:
+        os.close(fd)                           # closing releases the lock
 
 
 def _build(target: Path, before: list[str], after: list[str]) -> None:
