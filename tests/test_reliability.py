@@ -386,8 +386,8 @@ def _error_line(err: str) -> list[str]:
 # derives only what no earlier case made; what a case makes whole is kept for the next ones.
 
 @pytest.fixture(scope="session")
-def warm_cache(tmp_path_factory):
-    warm = tmp_path_factory.mktemp("warm-cache")
+def warm_cache(tmp_path_factory, seed_cache):
+    warm = seed_cache(tmp_path_factory.mktemp("warm-cache"))     # at least the runtime/csrc objects
     home = os.environ.get("LEVITRON_CACHE") or str(Path.home() / ".cache" / "levitron")
     _copy_artefacts(Path(home), warm)
     return warm
