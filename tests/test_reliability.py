@@ -537,12 +537,12 @@ def test_closed_stdout_is_quiet(tmp_path):
     assert err == ""
 
 
-def test_head_one_is_quiet(tmp_path):
+def test_head_one_is_quiet(tmp_path, seed_cache):
     """The shell form of the same: `levitron field ... | head -1` (a long output)."""
     points = " ".join(f"--at 0,0,{0.05 + 0.001 * i:.3f}" for i in range(200))
     cmd = (f"{shlex.quote(sys.executable)} -m runtime.cli field thesis {points} | head -1; "
            "exit ${PIPESTATUS[0]}")
-    env = dict(os.environ, PYTHONPATH=str(ROOT), LEVITRON_CACHE=str(tmp_path / "cache"))
+    env = dict(os.environ, PYTHONPATH=str(ROOT), LEVITRON_CACHE=str(seed_cache(tmp_path / "cache")))
     res = subprocess.run(["bash", "-c", cmd], check=False, cwd=tmp_path, env=env,
                          capture_output=True, text=True, timeout=60)
     assert res.returncode == 0, res.stderr
@@ -625,7 +625,7 @@ def test_save_figure_makes_the_folder_and_leaves_no_temporary(tmp_path):
     assert sorted(p.name for p in (tmp_path / "new").iterdir()) == ["fig.svg"]
 
 
-def test_the_cli_does_not_import_sympy(tmp_path):
+def test_the_cli_does_not_import_sympy(tmp_path, seed_cache):
     """The runtime never imports sympy: importing the CLI and running a command leaves it out."""
     code = ("import sys, io, contextlib\n"
             "from runtime.cli import main\n"
@@ -633,7 +633,7 @@ def test_the_cli_does_not_import_sympy(tmp_path):
             "    rc = main(['equilibrium', 'thesis', '--json'])\n"
             "assert rc == 0, rc\n"
             "print(sorted(m for m in sys.modules if m.split('.')[0] == 'sympy'))\n")
-    env = dict(os.environ, PYTHONPATH=str(ROOT), LEVITRON_CACHE=str(tmp_path / "cache"))
+    env = dict(os.environ, PYTHONPATH=str(ROOT), LEVITRON_CACHE=str(seed_cache(tmp_path / "cache")))
     res = subprocess.run([sys.executable, "-c", code], check=False, cwd=tmp_path, env=env,
                          capture_output=True, text=True, timeout=120)
     assert res.returncode == 0, res.stderr
