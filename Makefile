@@ -28,8 +28,11 @@ golden: setup
 lint: setup
 	$(PY) -m ruff check .
 
+# pytest-xdist: one worker per core (-n auto: the physical cores), tests handed out as workers free
+# up (worksteal: the long tests do not queue behind one another on one worker)
+TEST_WORKERS ?= auto
 test: setup
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q -n $(TEST_WORKERS) --dist worksteal
 
 # Work-precision reports (reports/<scene>/) against heyoka (the optional extra `bench`) and the
 # other backends, for the scenes whose top has a stable spin interval (or only a reduced model).

@@ -6,15 +6,27 @@ library is written to a temporary name and renamed into place, so an interrupted
 never leaves a half-written file in the cache. Beside each library lies its size and sha256
 (`lev_<key>.so.sha256`), checked before the library is returned (so before any dlopen, which can
 SIGBUS on a truncated file): a damaged library is rebuilt once. Compiler errors are raised whole.
+
+A library of several sources is linked from one object per source, each cached in `obj/` under
+the SHA-256 of the compiler's identity, the flags and the source as the preprocessor sees it
+(`cc -E -P`: every header it includes, wherever found), with a size-and-sha256 stamp like a
+library's. runtime/csrc/integrators.c (most of the compile time of a model's library) is then
+compiled once for all models, not once per model; the library is the same, byte for byte, as
+one `cc ... -o lib.so a.c b.c` (gcc compiles each translation unit on its own either way).
+Concurrent builds of one library or object (scan workers, test workers) are safe: each writes a
+temporary file and renames it into place, and the compiler's output is the same every time; a
+missing object is built by one process while the others wait (a lock on obj/).
 """
 from __future__ import annotations
 
+import fcntl
 import hashlib
 import os
 import shutil
 import subprocess
 import sys
 import tempfile
+from contextlib import contextmanager
 from functools import cache
 from pathlib import Path
 
@@ -119,33 +131,93 @@ def compile_shared(sources: list[Path | str], flags: tuple[str, ...] = DEFAULT_F
     if target.exists():
         print(f"levitron: the cached library {target} is damaged (size or sha256 differs from "
               f"{_stamp_path(target).name}): rebuilding it", file=sys.stderr)
-    _build(sources, all_flags, target)
+    cc = compiler()
+    if len(sources) > 1:        # link the cached objects, in the order of the sources
+        objects = [compile_object(src, tuple(flags), include_dirs) for src in sources]
+        _build(target, [cc, *flags], [*map(str, objects), "-lm"])
+    else:
+        _build(target, [cc, *all_flags], [*map(str, sources), "-lm"])
     return target
 
 
-def _build(sources: list[Path], flags: tuple[str, ...], target: Path) -> None:
-    """Compile into a temporary file and rename it (and its stamp, first) into place: readers
-    never see a half-written library, and a damaged one is replaced, never written in place."""
+def compile_object(source: Path | str, flags: tuple[str, ...] = DEFAULT_FLAGS,
+                   include_dirs: tuple[Path | str, ...] = ()) -> Path:
+    """The cached, verified object file (`obj/<key>.o`) of one source compiled with `flags` and the
+    include folders: keyed by the compiler, `flags` and the preprocessed source, so a source that
+    sees the same headers in every model's build (runtime/csrc/*.c) has one object for them all.
+    One process builds a missing object while the others wait for it (a lock on obj/)."""
+    source = Path(source)
     cc = compiler()
+    all_flags = tuple(flags) + tuple(f"-I{d}" for d in include_dirs)
+    cmd = [cc, *all_flags, "-E", "-P", str(source)]
+    pre = subprocess.run(cmd, capture_output=True, check=False)
+    if pre.returncode != 0:
+        raise CompileError(f"C compilation failed ({' '.join(cmd)}):\n"
+                           f"{pre.stderr.decode(errors='replace')}")
+    h = hashlib.sha256()
+    h.update(_compiler_identity(cc).encode())
+    h.update("\0".join(flags).encode() + b"\0")
+    h.update(pre.stdout)
+    folder = cache_dir() / "obj"
+    try:
+        folder.mkdir(exist_ok=True)
+    except OSError as exc:
+        raise cache_problem(folder, exc) from None
+    target = folder / f"{h.hexdigest()[:24]}.o"
+    if is_intact(target):
+        return target
+    with _locked(folder):
+        if is_intact(target):                 # built by another process meanwhile
+            return target
+        if target.exists():
+            print(f"levitron: the cached object {target} is damaged (size or sha256 differs from "
+                  f"{_stamp_path(target).name}): rebuilding it", file=sys.stderr)
+        _build(target, [cc, *all_flags, "-c"], [str(source)])
+    return target
+
+
+@contextmanager
+def _locked(folder: Path):
+    """An exclusive lock on `folder` (flock on the folder itself: no lock file to leave behind);
+    none where the file system has no flock (the atomic rename keeps a double build safe)."""
+    try:
+        fd = os.open(folder, os.O_RDONLY)
+    except OSError:
+        yield
+        return
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX)
+        except OSError:
+            pass
+        yield
+    finally:
+        os.close(fd)                           # closing releases the lock
+
+
+def _build(target: Path, before: list[str], after: list[str]) -> None:
+    """Run `before -o TMP after` into a temporary file and rename it (and its stamp, first) into
+    place: readers never see a half-written file, and a damaged one is replaced, never written in
+    place."""
     tmps: list[str] = []
     try:
         try:
-            for suffix in (".so", ".sha256"):
+            for suffix in (target.suffix, ".sha256"):
                 fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}_", suffix=suffix,
                                            dir=target.parent)
                 os.close(fd)
                 tmps.append(tmp)
         except OSError as exc:
             raise cache_problem(target.parent, exc) from None
-        tmp_lib, tmp_stamp = tmps
-        cmd = [cc, *flags, "-o", tmp_lib, *map(str, sources), "-lm"]
+        tmp_out, tmp_stamp = tmps
+        cmd = [*before, "-o", tmp_out, *after]
         res = subprocess.run(cmd, capture_output=True, text=True, check=False)
         if res.returncode != 0:
             raise CompileError(f"C compilation failed ({' '.join(cmd)}):\n{res.stderr}{res.stdout}")
         try:
-            Path(tmp_stamp).write_text(_stamp(Path(tmp_lib).read_bytes()))
+            Path(tmp_stamp).write_text(_stamp(Path(tmp_out).read_bytes()))
             os.replace(tmp_stamp, _stamp_path(target))
-            os.replace(tmp_lib, target)
+            os.replace(tmp_out, target)
         except OSError as exc:
             raise cache_problem(target.parent, exc) from None
     finally:

@@ -1,6 +1,7 @@
 """Shared fixtures: the thesis scene and model, and scenes derived into temporary folders."""
 from __future__ import annotations
 
+import shutil
 import sys
 from pathlib import Path
 
@@ -39,3 +40,27 @@ def derived_model(tmp_path_factory):
             cache[key] = Model(scene, out / scene.name)
         return cache[key]
     return make
+
+
+@pytest.fixture(scope="session")
+def csrc_objects():
+    """The objects of runtime/csrc/*.c that every model's library links (runtime/cbuild.py), built
+    once into the shared cache ($LEVITRON_CACHE; under xdist one worker builds, the others wait)."""
+    from runtime.cbuild import DEFAULT_FLAGS, compile_object
+    from runtime.model import CSRC
+    return [compile_object(src, DEFAULT_FLAGS, include_dirs=(CSRC,)) for src in sorted(CSRC.glob("*.c"))]
+
+
+@pytest.fixture(scope="session")
+def seed_cache(csrc_objects):
+    """seed_cache(folder) -> folder: a private LEVITRON_CACHE that already holds the runtime/csrc
+    objects (stamped copies: verified before use like any cached object), so a test of the cache's
+    behaviour does not compile integrators.c again (~6 s); each model's own model.c still compiles
+    and links there as in any fresh cache."""
+    def seed(folder: Path) -> Path:
+        (folder / "obj").mkdir(parents=True, exist_ok=True)
+        for obj in csrc_objects:
+            for f in (obj, obj.with_name(obj.name + ".sha256")):
+                shutil.copy2(f, folder / "obj" / f.name)
+        return folder
+    return seed

@@ -38,9 +38,9 @@ def fresh(tmp_path_factory):
 
 
 @pytest.fixture(scope="session")
-def lib_cache(tmp_path_factory):
+def lib_cache(tmp_path_factory, seed_cache):
     """One cache for the compiled library of the intact model (built once, reused)."""
-    return tmp_path_factory.mktemp("libcache")
+    return seed_cache(tmp_path_factory.mktemp("libcache"))
 
 
 @pytest.fixture
@@ -239,11 +239,11 @@ def test_edited_cached_model_is_derived_again_once(fresh, tmp_path, monkeypatch,
     assert "deriving" not in capsys.readouterr().err
 
 
-def test_truncated_cached_library_is_rebuilt(fresh, copy, tmp_path, monkeypatch):
+def test_truncated_cached_library_is_rebuilt(fresh, copy, tmp_path, monkeypatch, seed_cache):
     """A truncated lev_*.so (e.g. a full disk) used to give "Bus error" on every later run: it is
     found by its size and sha256 before any dlopen, and rebuilt once."""
     from runtime.cbuild import is_intact
-    cache = tmp_path / "cache"
+    cache = seed_cache(tmp_path / "cache")          # the runtime/csrc objects, model.c compiles here
     monkeypatch.setenv("LEVITRON_CACHE", str(cache))
     csrc = ROOT / "runtime" / "csrc"
     lib = compile_shared([copy / "model.c"] + sorted(csrc.glob("*.c")), include_dirs=(copy, csrc))
@@ -260,7 +260,11 @@ def test_truncated_cached_library_is_rebuilt(fresh, copy, tmp_path, monkeypatch)
         assert ("damaged" in res.stderr) == (attempt == 0), res.stderr
         assert float(res.stdout) != 0.0
     assert is_intact(lib)
-    assert sorted(p.name for p in cache.iterdir()) == [lib.name, lib.name + ".sha256"]
+    assert sorted(p.name for p in cache.iterdir()) == [lib.name, lib.name + ".sha256", "obj"]
+    objects = sorted((cache / "obj").glob("*.o"))      # one per source, each stamped, nothing else
+    assert len(objects) == 1 + len(list(csrc.glob("*.c"))) and all(map(is_intact, objects))
+    assert sorted(p.name for p in (cache / "obj").iterdir()) == sorted(
+        n for o in objects for n in (o.name, o.name + ".sha256"))
 
 
 def _cli(args, cwd, cache, root=ROOT, drop_write=False):

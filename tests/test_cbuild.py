@@ -72,3 +72,67 @@ def test_unusable_cache_is_a_one_line_user_error(tmp_path, monkeypatch, where):
         cache_dir()
     msg = str(info.value)
     assert "\n" not in msg and "LEVITRON_CACHE" in msg and "writable folder" in msg
+
+
+def _sources(folder, k: str):
+    """Two libraries' sources in `folder`: a.c and b.c each with common.c, which includes k.h."""
+    (folder / "k.h").write_text(f"#define K {k}\n")
+    (folder / "common.c").write_text('#include "k.h"\ndouble k(void) { return K; }\n')
+    (folder / "a.c").write_text("double k(void);\ndouble a(void) { return k() + 1.0; }\n")
+    (folder / "b.c").write_text("double k(void);\ndouble b(void) { return k() + 2.0; }\n")
+    return [folder / "a.c", folder / "common.c"], [folder / "b.c", folder / "common.c"]
+
+
+def _call(lib, name):
+    import ctypes
+    fn = getattr(ctypes.CDLL(str(lib)), name)
+    fn.restype = ctypes.c_double
+    return fn()
+
+
+def test_a_source_shared_by_two_libraries_is_compiled_once(tmp_path, monkeypatch):
+    """Libraries of several sources link cached objects (runtime/csrc/integrators.c is compiled
+    once for every model): common.c's object serves both libraries, and an edited header that
+    common.c includes gives it a new object and both libraries new values."""
+    monkeypatch.setenv("LEVITRON_CACHE", str(tmp_path / "cache"))
+    src = tmp_path / "src"
+    src.mkdir()
+    lib_a, lib_b = _sources(src, "2.0")
+    a = compile_shared(lib_a, include_dirs=(src,))
+    objects = {p.name: p.stat().st_ino for p in (tmp_path / "cache" / "obj").glob("*.o")}
+    assert len(objects) == 2 and all(map(is_intact, (tmp_path / "cache" / "obj").glob("*.o")))
+    b = compile_shared(lib_b, include_dirs=(src,))
+    after = {p.name: p.stat().st_ino for p in (tmp_path / "cache" / "obj").glob("*.o")}
+    assert len(after) == 3 and all(after[n] == ino for n, ino in objects.items())   # reused as is
+    assert (_call(a, "a"), _call(b, "b")) == (3.0, 4.0)
+    (src / "k.h").write_text("#define K 5.0\n")       # seen by common.c only through the preprocessor
+    a2, b2 = compile_shared(lib_a, include_dirs=(src,)), compile_shared(lib_b, include_dirs=(src,))
+    assert a2 != a and b2 != b
+    assert len(list((tmp_path / "cache" / "obj").glob("*.o"))) == 4       # one new common.c object
+    assert (_call(a2, "a"), _call(b2, "b")) == (6.0, 7.0)
+
+
+def test_linked_library_is_the_one_step_build_byte_for_byte(tmp_path, monkeypatch):
+    import subprocess
+
+    from runtime.cbuild import DEFAULT_FLAGS, compiler
+    monkeypatch.setenv("LEVITRON_CACHE", str(tmp_path / "cache"))
+    lib_a, _ = _sources(tmp_path, "2.0")
+    one = tmp_path / "one.so"
+    subprocess.run([compiler(), *DEFAULT_FLAGS, f"-I{tmp_path}", "-o", str(one), *map(str, lib_a), "-lm"],
+                   check=True)
+    assert compile_shared(lib_a, include_dirs=(tmp_path,)).read_bytes() == one.read_bytes()
+
+
+def test_damaged_object_is_rebuilt(tmp_path, monkeypatch, capsys):
+    monkeypatch.setenv("LEVITRON_CACHE", str(tmp_path / "cache"))
+    lib_a, lib_b = _sources(tmp_path, "2.0")
+    compile_shared(lib_a, include_dirs=(tmp_path,))
+    objects = sorted((tmp_path / "cache" / "obj").glob("*.o"))
+    for obj in objects:
+        obj.write_bytes(obj.read_bytes()[:100])
+        assert not is_intact(obj)
+    b = compile_shared(lib_b, include_dirs=(tmp_path,))     # needs common.c's object: rebuilt
+    assert "damaged" in capsys.readouterr().err
+    assert _call(b, "b") == 4.0
+    assert sum(map(is_intact, objects)) == 1                 # common.c's; a.c's is not needed by b

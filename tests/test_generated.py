@@ -1,5 +1,5 @@
 """generated/ is what `make derive` writes, byte for byte, reproducibly; the C is warning-free."""
-import filecmp
+import functools
 import os
 import subprocess
 import sys
@@ -14,10 +14,16 @@ from runtime.cbuild import compiler
 SCENES = sorted(p.stem for p in SCENES_DIR.glob("*.toml"))
 
 
+@functools.cache
+def rendered(name: str) -> dict[str, bytes]:
+    """render() of a scene of scenes/ in this process (under its hash seed), once per worker."""
+    return render(load_scene(name))
+
+
 @pytest.mark.parametrize("name", SCENES)
 def test_committed_generated_is_what_derive_writes(name):
     """Golden files: compare in memory; on failure, run `make golden` (python -m derive --force)."""
-    files = render(load_scene(name))
+    files = rendered(name)
     folder = GENERATED / name
     assert folder.is_dir(), f"generated/{name} is missing: run `make derive`"
     on_disk = sorted(p.name for p in folder.iterdir())
@@ -34,23 +40,25 @@ def test_committed_generated_is_what_derive_writes(name):
 
 
 def test_derive_is_byte_reproducible_across_hash_seeds(tmp_path):
-    outs = []
-    for seed in ("0", "12345"):
-        out = tmp_path / f"seed{seed}"
-        env = dict(os.environ, PYTHONHASHSEED=seed)
-        res = subprocess.run([sys.executable, "-m", "derive", "thesis", "square", "--force", "--out",
-                              str(out)], cwd=ROOT, env=env, capture_output=True, text=True, check=False)
-        assert res.returncode == 0, res.stderr
-        outs.append(out / "thesis")
+    """`python -m derive` under another hash seed writes, byte for byte, what render() gives in
+    this process (whose files the golden test above compares with generated/)."""
+    ours = os.environ.get("PYTHONHASHSEED")      # `make test`: 0; unset: a random one
+    seed = "12345" if ours != "12345" else "54321"
+    env = dict(os.environ, PYTHONHASHSEED=seed)
+    res = subprocess.run([sys.executable, "-m", "derive", "thesis", "square", "--force", "--out",
+                          str(tmp_path)], cwd=ROOT, env=env, capture_output=True, text=True, check=False)
+    assert res.returncode == 0, res.stderr
     for scene in ("thesis", "square"):     # an axisymmetric plate and the exact 3-D field
-        cmp = filecmp.dircmp(outs[0].parent / scene, outs[1].parent / scene)
-        assert not cmp.diff_files and not cmp.left_only and not cmp.right_only, scene
+        files = rendered(scene)
+        assert sorted(p.name for p in (tmp_path / scene).iterdir()) == sorted(files), scene
+        for fname, data in files.items():
+            assert (tmp_path / scene / fname).read_bytes() == data, f"{scene}/{fname}: seed {seed} vs {ours}"
     # a second run with nothing changed is skipped by the input hash and leaves the bytes alone
-    before = {p.name: p.read_bytes() for p in outs[0].iterdir()}
-    res = subprocess.run([sys.executable, "-m", "derive", "thesis", "--out", str(outs[0].parent)],
+    before = {p.name: p.read_bytes() for p in (tmp_path / "thesis").iterdir()}
+    res = subprocess.run([sys.executable, "-m", "derive", "thesis", "--out", str(tmp_path)],
                          cwd=ROOT, capture_output=True, text=True, check=False)
     assert res.returncode == 0 and "unchanged" in res.stderr
-    assert before == {p.name: p.read_bytes() for p in outs[0].iterdir()}
+    assert before == {p.name: p.read_bytes() for p in (tmp_path / "thesis").iterdir()}
 
 
 @pytest.mark.parametrize("name", SCENES)
@@ -82,7 +90,7 @@ def test_unused_part_is_not_emitted(derived_model):
         model.part("full")
 
 
-def test_runtime_never_writes_into_generated(tmp_path, monkeypatch):
+def test_runtime_never_writes_into_generated(tmp_path, monkeypatch, seed_cache):
     """A stale generated/<scene> is left alone: the runtime derives into the cache and says so."""
     import runtime.model as rm
     fake = tmp_path / "generated"
@@ -90,7 +98,7 @@ def test_runtime_never_writes_into_generated(tmp_path, monkeypatch):
     stale = '{"input_hash": "stale"}'
     (fake / "thesis" / "manifest.json").write_text(stale)
     monkeypatch.setattr(rm, "GENERATED", fake)
-    monkeypatch.setenv("LEVITRON_CACHE", str(tmp_path / "cache"))
+    monkeypatch.setenv("LEVITRON_CACHE", str(seed_cache(tmp_path / "cache")))
     model = rm.load_model(load_scene("thesis"))
     assert model.folder.parent == tmp_path / "cache" / "derived"
     assert (fake / "thesis" / "manifest.json").read_text() == stale

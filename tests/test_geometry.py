@@ -337,9 +337,9 @@ def test_bad_plate_keys_are_one_line_errors(plate, message):
     assert message in str(info.value) and "\n" not in str(info.value)
 
 
-def test_field_command_json(tmp_path, monkeypatch, capsys):
+def test_field_command_json(tmp_path, monkeypatch, capsys, seed_cache):
     from runtime.cli import main
-    monkeypatch.setenv("LEVITRON_CACHE", str(tmp_path / "cache"))
+    monkeypatch.setenv("LEVITRON_CACHE", str(seed_cache(tmp_path / "cache")))
     scene = tmp_path / "loopx.toml"
     shutil.copy(load_scene("loop").path, scene)
     text = scene.read_text().replace('name = "loop"', 'name = "loopx"')

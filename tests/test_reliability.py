@@ -386,20 +386,22 @@ def _error_line(err: str) -> list[str]:
 # derives only what no earlier case made; what a case makes whole is kept for the next ones.
 
 @pytest.fixture(scope="session")
-def warm_cache(tmp_path_factory):
-    warm = tmp_path_factory.mktemp("warm-cache")
+def warm_cache(tmp_path_factory, seed_cache):
+    warm = seed_cache(tmp_path_factory.mktemp("warm-cache"))     # at least the runtime/csrc objects
     home = os.environ.get("LEVITRON_CACHE") or str(Path.home() / ".cache" / "levitron")
     _copy_artefacts(Path(home), warm)
     return warm
 
 
 def _copy_artefacts(src: Path, dst: Path) -> None:
-    """Copy finished artefacts (lev_* libraries and their stamps, complete derived models)."""
+    """Copy finished artefacts (lev_* libraries, the objects they are linked from, their stamps;
+    complete derived models)."""
     if not src.is_dir():
         return
-    for f in src.glob("lev_*"):
-        if f.is_file() and not (dst / f.name).exists():
-            shutil.copy2(f, dst / f.name)
+    for f in [*src.glob("lev_*"), *src.glob("obj/[!.]*")]:
+        if f.is_file() and not (dst / f.relative_to(src)).exists():
+            (dst / f.relative_to(src)).parent.mkdir(exist_ok=True)
+            shutil.copy2(f, dst / f.relative_to(src))
     for d in (src / "derived").glob("*") if (src / "derived").is_dir() else ():
         if d.is_dir() and not d.name.startswith(".") and (d / "manifest.json").is_file() \
                 and not (dst / "derived" / d.name).exists():
@@ -535,12 +537,12 @@ def test_closed_stdout_is_quiet(tmp_path):
     assert err == ""
 
 
-def test_head_one_is_quiet(tmp_path):
+def test_head_one_is_quiet(tmp_path, seed_cache):
     """The shell form of the same: `levitron field ... | head -1` (a long output)."""
     points = " ".join(f"--at 0,0,{0.05 + 0.001 * i:.3f}" for i in range(200))
     cmd = (f"{shlex.quote(sys.executable)} -m runtime.cli field thesis {points} | head -1; "
            "exit ${PIPESTATUS[0]}")
-    env = dict(os.environ, PYTHONPATH=str(ROOT), LEVITRON_CACHE=str(tmp_path / "cache"))
+    env = dict(os.environ, PYTHONPATH=str(ROOT), LEVITRON_CACHE=str(seed_cache(tmp_path / "cache")))
     res = subprocess.run(["bash", "-c", cmd], check=False, cwd=tmp_path, env=env,
                          capture_output=True, text=True, timeout=60)
     assert res.returncode == 0, res.stderr
@@ -623,7 +625,7 @@ def test_save_figure_makes_the_folder_and_leaves_no_temporary(tmp_path):
     assert sorted(p.name for p in (tmp_path / "new").iterdir()) == ["fig.svg"]
 
 
-def test_the_cli_does_not_import_sympy(tmp_path):
+def test_the_cli_does_not_import_sympy(tmp_path, seed_cache):
     """The runtime never imports sympy: importing the CLI and running a command leaves it out."""
     code = ("import sys, io, contextlib\n"
             "from runtime.cli import main\n"
@@ -631,7 +633,7 @@ def test_the_cli_does_not_import_sympy(tmp_path):
             "    rc = main(['equilibrium', 'thesis', '--json'])\n"
             "assert rc == 0, rc\n"
             "print(sorted(m for m in sys.modules if m.split('.')[0] == 'sympy'))\n")
-    env = dict(os.environ, PYTHONPATH=str(ROOT), LEVITRON_CACHE=str(tmp_path / "cache"))
+    env = dict(os.environ, PYTHONPATH=str(ROOT), LEVITRON_CACHE=str(seed_cache(tmp_path / "cache")))
     res = subprocess.run([sys.executable, "-c", code], check=False, cwd=tmp_path, env=env,
                          capture_output=True, text=True, timeout=120)
     assert res.returncode == 0, res.stderr
