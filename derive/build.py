@@ -15,12 +15,14 @@ import time
 from pathlib import Path
 
 from .digest import SELF_KEY, file_digests, first_changed_file, manifest_digest
+from .doubles import DoubleRangeError
 from .emit.c import emitter as c_emitter
 from .emit.casadi import builder as casadi_builder
 from .emit.lower import lower
 from .geometry import build_plate
 from .inputs import input_hash, tool_versions
 from .paths import GENERATED
+from .plates.expression import formulas
 from .scene import Scene, SceneError
 from .spec import build_spec
 
@@ -44,7 +46,17 @@ def banner(scene: Scene, ihash: str) -> str:
 
 
 def render(scene: Scene) -> dict[str, bytes]:
-    """All files of generated/<scene>/ as bytes, computed in memory."""
+    """All files of generated/<scene>/ as bytes, computed in memory. A constant of the model that
+    no double holds (a derivative of 1e300*z**40, say) is a SceneError naming the formula."""
+    try:
+        return _render(scene)
+    except DoubleRangeError as exc:
+        where = "; ".join(formulas(scene.data["plate"])) or "plate"
+        raise SceneError(f"{where}: {exc} in the generated model; scale the formula (give the "
+                         "factor as a parameter in [plate.params])") from None
+
+
+def _render(scene: Scene) -> dict[str, bytes]:
     ihash = input_hash(scene.data)
     plate = build_plate(scene.data["plate"])
     order, order_info = field_order(scene)
