@@ -10,10 +10,17 @@
 Numbers are named by their scene keys (`top.mass`, `plate.hole`); the one mapping to the generated
 parameter vector is runtime/scene_keys.py. Every method returns a typed dataclass whose fields
 carry their units in the docstrings. The command line (`levitron ...`) calls the same functions.
+
+Bad input raises `levitron_api.UserError` (runtime.errors.UserError: a one-line message saying what
+is wrong and how to fix it, the line the command line prints); `levitron_api.SceneError` is the
+scene reader's own (derive.scene), raised by `load_scene`-level helpers. Both are exported here.
 """
 from __future__ import annotations
+
+from derive.scene import SceneError
+from runtime.errors import UserError
 
 from .results import Equilibria, Simulation, Stability
 from .study import Study, load
 
-__all__ = ["Equilibria", "Simulation", "Stability", "Study", "load"]
+__all__ = ["Equilibria", "SceneError", "Simulation", "Stability", "Study", "UserError", "load"]

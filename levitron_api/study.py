@@ -6,12 +6,14 @@ from pathlib import Path
 
 import numpy as np
 
+from derive.scene import SceneError, override_text
 from runtime import equilibrium as eqm
 from runtime import stability_casadi as sc
 from runtime.commands.common import load as load_scene
 from runtime.constraints import Constraint
 from runtime.design import DesignResult
 from runtime.design import optimize as _optimize
+from runtime.errors import UserError
 from runtime.fit import FitResult, Row, read_rows
 from runtime.fit import fit as _fit
 from runtime.model import Model, load_model
@@ -21,16 +23,26 @@ from runtime.stability import stability_of
 from .results import Equilibria, Equilibrium, Simulation, Stability
 
 
-def _override(key: str, value) -> str:
-    if isinstance(value, str):
-        return f'{key}="{value}"'
-    return f"{key}={value!r}"
+def override_texts(overrides: Mapping[str, object] | None) -> list[str]:
+    """The --set texts of {scene key: value}, written by a TOML writer (derive.scene.override_text):
+    a quote or a newline in a value stays inside it, and the command line's reader reads them."""
+    if overrides is None:
+        return []
+    if not isinstance(overrides, Mapping):
+        raise UserError(f"overrides must be a mapping of scene key -> value, e.g. {{'top.mass': 0.05}}; "
+                        f"got {type(overrides).__name__}")
+    try:
+        return [override_text(k, v) for k, v in overrides.items()]
+    except SceneError as exc:
+        raise UserError(str(exc)) from None
 
 
 def load(scene: str | Path, overrides: Mapping[str, float | str] | None = None) -> Study:
     """A scene by name (scenes/) or path, with overrides by scene key, e.g. {"top.mass": 0.05};
-    derives its model when needed. Errors: runtime.errors.UserError (one line)."""
-    sets = [_override(k, v) for k, v in (overrides or {}).items()]
+    derives its model when needed. Errors: levitron_api.UserError (one line, as on the CLI)."""
+    if not isinstance(scene, (str, Path)):
+        raise UserError(f"scene must be a scene name or a path to a .toml file, not {scene!r}")
+    sets = override_texts(overrides)
     return Study(load_model(load_scene(scene, sets), sets), sets)
 
 
@@ -73,13 +85,22 @@ class Study:
         sigma_hi, z_lo, z_hi, m_lo, m_hi, mass_window; exact, through the rootfinders), at the
         scene's values."""
         from runtime.scene_keys import KeyMap
+        if quantity not in self.casadi_stability.outputs():
+            raise UserError(f"unknown quantity {quantity!r}: use one of "
+                            f"{', '.join(self.casadi_stability.outputs())}")
+        if isinstance(keys, str) or not keys:
+            raise UserError("keys: give a non-empty list of scene keys, e.g. ['top.mass']")
         x = np.array([self.value(k) for k in keys])
+        if not np.all(x != 0):
+            raise UserError(f"gradient: a key at 0 ({keys[int(np.argmin(np.abs(x)))]}) has no relative "
+                            "neighbourhood: give the derivative at a nonzero value")
         km = KeyMap(self.scene, self.model.param_names,
                     [Vary(k, *sorted((v * 0.99, v * 1.01))) for k, v in zip(keys, x)])
         _, p = km.exact(x)
         J = self.casadi_stability.jacobian(quantity, p)
         if J is None:
-            raise ValueError(f"{quantity} does not exist for this scene")
+            raise UserError(f"{quantity} does not exist for this scene (no stable hover or spin "
+                            "interval): check the scene")
         dpdx = p[:, None] * km.E / x[None, :]
         return dict(zip(keys, map(float, J @ dpdx)))
 
@@ -126,10 +147,23 @@ class Study:
                  constrain: Sequence[str] = (), grid: int = 20) -> DesignResult:
         """Maximise spin-range or spin-ratio over scene keys in boxes {key: (lo, hi)}, with
         constraints such as "stiffness>=1" (runtime/design.py; IPOPT, verified)."""
-        return _optimize(self.model, [Vary(k, float(a), float(b)) for k, (a, b) in vary.items()],
+        return _optimize(self.model, _varies(vary),
                          maximize, [Constraint.parse(c) for c in constrain], grid)
 
     def fit(self, data: str | Path | Sequence[Row], vary: Mapping[str, tuple[float, float]]) -> FitResult:
         """Least squares of scene keys to measurements (a CSV path or runtime.fit.Row list)."""
-        rows = read_rows(data) if isinstance(data, (str, Path)) else list(data)
-        return _fit(self.model, rows, [Vary(k, float(a), float(b)) for k, (a, b) in vary.items()])
+        rows = read_rows(data) if isinstance(data, (str, Path)) else data
+        return _fit(self.model, rows, _varies(vary))
+
+
+def _varies(vary) -> list[Vary]:
+    """{scene key: (lo, hi)} as Vary boxes, checked (the CLI's --vary KEY=LO:HI reads the same)."""
+    if not isinstance(vary, Mapping) or not vary:
+        raise UserError("vary: give a non-empty mapping of scene key -> (lo, hi), e.g. "
+                        "{'top.mass': (0.05, 0.052)}")
+    out = []
+    for key, box in vary.items():
+        if isinstance(box, (str, bytes)) or not hasattr(box, "__len__") or len(box) != 2:
+            raise UserError(f"vary {key}: give a pair (lo, hi), not {box!r}")
+        out.append(Vary.checked(key, box[0], box[1], f"vary {key!r}: {tuple(box)!r}"))
+    return out

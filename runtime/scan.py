@@ -57,7 +57,7 @@ import numpy as np
 
 from runtime.errors import UserError
 from runtime.integrators_table import DEFAULT
-from runtime.scan_grid import AXES, UNITS, check_axis
+from runtime.scan_grid import AXES, MAX_POINTS, UNITS, check_axis
 from runtime.scan_physics import linear_interval, reference_spin, slow_period
 from runtime.scan_runners import (
     N_OUT,
@@ -70,10 +70,10 @@ from runtime.scan_runners import (
     run_serial,
     split,
 )
+from runtime.validate import axis_values, count, real
 
 PERIODS = 3            # default run length in slow periods (see the module docstring)
 BASE_TILT = 0.01       # rad, the seed tilt of mass and height scans
-MAX_POINTS = 1_000_000
 CHUNKS_PER_WORKER = 8  # chunks per worker (process or dask thread): the last ones balance the load
 ENGINES = ("c", "python")
 
@@ -173,21 +173,20 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
     from runtime.equilibrium import hover_height
     if axis not in AXES:
         raise UserError(f"unknown axis {axis!r}; scan over one of --tilt, --mass, --height")
-    spins, others = np.asarray(spins, float), np.asarray(others, float)
+    spins = axis_values(spins, "spin", MAX_POINTS)
+    others = axis_values(others, axis, MAX_POINTS)
     check_axis(axis, others)
+    workers = count(workers, "--workers")
     if spins.size * others.size > MAX_POINTS:
         raise UserError(f"{spins.size * others.size} grid points is too many (at most {MAX_POINTS}); "
                         "use fewer points per axis")
-    if workers < 1:
-        raise UserError(f"--workers {workers} must be at least 1")
     if scheduler is not None and workers != 1:
         raise UserError("pass either --workers N (local processes) or --scheduler ADDRESS (dask), not both")
-    if t_end is not None and not (math.isfinite(t_end) and t_end > 0):
-        raise UserError(f"--t-end {t_end} must be a positive run length in s, e.g. --t-end 5")
+    if t_end is not None:
+        t_end = real(t_end, "--t-end", positive=True, unit="s")
     if engine not in ENGINES:
         raise UserError(f"unknown engine {engine!r}; choose one of: {', '.join(ENGINES)}")
-    if not math.isfinite(base_tilt):
-        raise UserError("--base-tilt must be a finite angle (rad)")
+    base_tilt = real(base_tilt, "--base-tilt", max_abs=math.pi, unit="rad")
     t_wall = time.perf_counter()
 
     # the hover heights (runtime.equilibrium.hover_height, thesis 3.3.2-3.3.3) and the linear picture

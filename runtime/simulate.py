@@ -32,6 +32,7 @@ import numpy as np
 
 from runtime.equilibrium import hover_height
 from runtime.errors import UserError
+from runtime.validate import count, real
 from runtime.integrate import Box, Result, integrate
 from runtime.integrators_table import AUTO, DEFAULT, auto_note, lookup, resolve
 
@@ -313,12 +314,18 @@ def simulate(model, spin: float, tilt: float = 0.0, offset: float = 0.0, t_end: 
     scene's for this run (names of manifest.json `parameters`). integrator: a name of
     runtime/integrators_table.py or "auto" (resolved from tol: the answer's `integrator` is the
     method that ran, `integrator_requested` the name asked for, `integrator_choice` auto's reason)."""
+    spin = real(spin, "--spin", unit="rad/s")
+    tilt = real(tilt, "--tilt", max_abs=math.pi, unit="rad")
+    offset = real(offset, "--offset", unit="m")
+    azimuth = real(azimuth, "--tilt-azimuth", unit="rad")
+    t_end = real(t_end, "--t-end", positive=True, unit="s")
+    n_out = count(n_out, "--n-out")
+    tol = None if tol is None else real(tol, "--tol", positive=True)
+    box = None if box is None else real(box, "--box", positive=True, unit="m")
+    h = None if h is None else real(h, "--step", positive=True, unit="s")
     pt = model.part(part)
     p = model.with_params(params or {})
     pvals = model.pvals(p)
-    for label, v in (("spin", spin), ("tilt", tilt), ("offset", offset), ("tilt-azimuth", azimuth)):
-        if v is None or not math.isfinite(v):
-            raise UserError(f"--{label} must be a finite number")
     requested, integrator = integrator, resolve(integrator, tol, h)   # "auto": dop853 or vern9
     entry = lookup(integrator)
     z_s = hover_height(model, p)

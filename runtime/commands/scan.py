@@ -10,7 +10,7 @@ from ..errors import UserError
 from ..human import Units, duration, lines, sig
 from ..integrators_table import DEFAULT, METHODS, lookup
 from ..plotting import check_plot_path
-from ..scan_grid import check_axis, parse_range, pick_axis
+from ..scan_grid import check_axis, check_grid_size, parse_range, pick_axis
 from ..scan_plot import draw
 from .common import model_of, scene_of
 
@@ -66,8 +66,9 @@ def run(args) -> dict:
     if args.spin is None:
         raise UserError("pass --spin LO:HI:N (rad/s, or rad per time unit in a dimensionless scene); "
                         "`levitron stability SCENE` gives the linear interval")
-    spins = parse_range(args.spin, "spin")
     axis, spec = pick_axis({"tilt": args.tilt, "mass": args.mass, "height": args.height})
+    check_grid_size(args.spin, spec, axis)
+    spins = parse_range(args.spin, "spin")
     others = parse_range(spec, axis)
     check_axis(axis, others)
     if args.t_end is not None and not args.t_end > 0:
