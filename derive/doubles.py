@@ -14,6 +14,7 @@ import math
 import sympy as sp
 
 DOUBLE_MAX = 1.7976931348623157e308
+DOUBLE_TINY = 2.2250738585072014e-308   # the smallest normal double
 
 
 class DoubleRangeError(ValueError):
@@ -48,6 +49,9 @@ def as_double(value: sp.Basic) -> float:
     if not math.isfinite(out):
         raise DoubleRangeError(f"the constant {shown(value)} is beyond the range of a double "
                                f"(|x| <= {DOUBLE_MAX:.4g})")
+    if out == 0 and value != 0:
+        raise DoubleRangeError(f"the constant {shown(value)} is below the range of a double "
+                               "(it would be 0)")
     return out
 
 

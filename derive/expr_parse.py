@@ -33,7 +33,7 @@ from collections.abc import Iterable, Mapping
 
 import sympy as sp
 
-from .doubles import DOUBLE_MAX, DoubleRangeError, as_double
+from .doubles import DOUBLE_MAX, DOUBLE_TINY, DoubleRangeError, as_double
 from .plates import expression as scene_side
 
 MAX_LENGTH = scene_side.MAX_FORMULA   # characters of formula text
@@ -360,3 +360,6 @@ def _check_constants(text: str, expr: sp.Expr) -> None:
             if abs(re_part) > DOUBLE_MAX:
                 raise ExpressionError(f"{_quote(text, None)}: the constant {node} = {str(sp.N(node, 4))} "
                                       "is beyond the range of a double: scale the formula")
+            if 0 < abs(re_part) < DOUBLE_TINY:
+                raise ExpressionError(f"{_quote(text, None)}: the constant {node} = {str(sp.N(node, 4))} "
+                                      "is below the range of a double (it would be 0): scale the formula")

@@ -178,5 +178,6 @@ def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
         onaxis, full_jac, states = model_callables(model, p)
     else:
         onaxis = eqm.model_onaxis(model, p)
-    return analyse(onaxis, P["m"], P["g"], P["A"], P["C"], P["mu"], eqm.scale_of(model, p),
-                   full_jac, states, z_s=z_s)
+    with eqm.naming_the_formula(model):
+        return analyse(onaxis, P["m"], P["g"], P["A"], P["C"], P["mu"], eqm.scale_of(model, p),
+                       full_jac, states, z_s=z_s)
