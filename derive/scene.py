@@ -140,6 +140,9 @@ def parse_override(text: str) -> tuple[list[str], Any]:
         raise SceneError(f"--set {shown!r}: the key {key!r} is malformed; write e.g. top.mass=0.03")
     try:
         parsed = tomllib.loads(f"v = {raw.strip()}")
+    except RecursionError:
+        raise SceneError(f"--set {shown!r}: the value is nested too deeply: give a number, text "
+                         "or a flat list") from None
     except tomllib.TOMLDecodeError:
         if not raw.strip() or not _BARE_WORD.match(raw.strip()):
             raise SceneError(f"--set {shown!r}: the value is not a TOML value; quote a string as "
@@ -231,6 +234,9 @@ def load_scene(name_or_path: str | Path, overrides: list[str] | tuple[str, ...] 
         data = tomllib.loads(path.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(f"{path}: not valid TOML ({exc}); fix the syntax") from None
+    except RecursionError:
+        raise SceneError(f"{path}: nested too deeply for a scene (tables or arrays within "
+                         "thousands of others): flatten it") from None
     except UnicodeDecodeError:
         raise SceneError(f"{path}: not a text file (not UTF-8): give a TOML scene") from None
     except OSError as exc:
