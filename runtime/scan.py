@@ -49,6 +49,7 @@ start of worker processes), to compare with rhs_evals times the cost of one righ
 from __future__ import annotations
 
 import math
+import sys
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -69,6 +70,7 @@ from runtime.scan_runners import (
     run_processes,
     run_serial,
     split,
+    usable_cores,
 )
 from runtime.validate import axis_values, count, real
 
@@ -166,7 +168,7 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
          others: np.ndarray, t_end: float | None = None, integrator: str = DEFAULT,
          tol: float | None = 1e-9, workers: int = 1, scheduler: str | None = None,
          base_tilt: float = BASE_TILT, h: float | None = None, quiet: bool = False,
-         engine: str = "c") -> ScanResult:
+         engine: str = "c", scheduler_timeout: float | None = None) -> ScanResult:
     """Run the map (module docstring). scene_ref/overrides let the workers load the same model.
     engine "c": chunks of points through the C chunk driver (runtime/scan_c.py) when the integrator
     is a C one; "python": one runtime.simulate-style run per point (the reference path)."""
@@ -237,7 +239,7 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
     tasks = [(i, j, float(s), float(o)) for i, s in enumerate(spins) for j, o in enumerate(others)
              if j not in status_pre]
     if scheduler is not None:
-        client = dask_client(scheduler)
+        client = dask_client(scheduler, scheduler_timeout)
         try:
             threads = dask_threads(client)
             chunks = split(tasks, CHUNKS_PER_WORKER * threads)
@@ -246,7 +248,10 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
         finally:
             client.close()
     elif workers > 1 and len(tasks) > 1:
-        n = min(workers, len(tasks))
+        n = min(workers, len(tasks), usable_cores())
+        if n < min(workers, len(tasks)):
+            print(f"levitron: --workers {workers} capped at the {n} cores this process may use (the "
+                  "runs are CPU-bound: more processes than cores only add switching)", file=sys.stderr)
         chunks = split(tasks, CHUNKS_PER_WORKER * n)
         runner = {"kind": "processes", "workers": n}
         chunk_results = run_processes(common, chunks, n, quiet)
