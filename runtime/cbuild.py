@@ -19,6 +19,7 @@ from functools import cache
 from pathlib import Path
 
 from .errors import UserError
+from .processes import die_with_parent
 
 DEFAULT_FLAGS = ("-O3", "-std=c99", "-fno-math-errno", "-fPIC", "-shared", "-march=native", "-Wall",
                  "-Wextra")   # no errno from sqrt: the lane variants of model.c vectorise
@@ -40,15 +41,38 @@ def cache_problem(path: Path, exc: OSError) -> CacheError:
                       "writable folder")
 
 
-def cache_dir() -> Path:
-    """Where compiled libraries and derived models live: $LEVITRON_CACHE, else ~/.cache/levitron.
-    Made if missing; CacheError when that is impossible (a file in the way, no permission)."""
+_RESOLVED: dict[str, Path] = {}
+_SWEPT: set[Path] = set()
+
+
+def resolve_cache_env() -> Path:
+    """$LEVITRON_CACHE (else ~/.cache/levitron) as an absolute path, resolved once per value from
+    the working directory of its first use, and written back to the environment, so that the
+    derive subprocess (which runs in the repository) and scan workers use the same folder."""
     root = os.environ.get("LEVITRON_CACHE")
-    path = Path(root) if root else Path.home() / ".cache" / "levitron"
+    if not root:
+        return Path.home() / ".cache" / "levitron"
+    if root not in _RESOLVED:
+        _RESOLVED[root] = Path(os.path.abspath(os.path.expanduser(root)))
+    path = _RESOLVED[root]
+    _RESOLVED.setdefault(str(path), path)
+    os.environ["LEVITRON_CACHE"] = str(path)
+    return path
+
+
+def cache_dir() -> Path:
+    """Where compiled libraries and derived models live: $LEVITRON_CACHE, else ~/.cache/levitron
+    (resolve_cache_env). Made if missing; CacheError when that is impossible (a file in the way, no
+    permission). The first use in a process sweeps what killed runs left (runtime/cache_sweep.py)."""
+    path = resolve_cache_env()
     try:
         path.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise cache_problem(path, exc) from None
+    if path not in _SWEPT:
+        _SWEPT.add(path)
+        from .cache_sweep import sweep_cache
+        sweep_cache(path)
     return path
 
 
@@ -131,7 +155,7 @@ def _build(sources: list[Path], flags: tuple[str, ...], target: Path) -> None:
     try:
         try:
             for suffix in (".so", ".sha256"):
-                fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}_", suffix=suffix,
+                fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}_{os.getpid()}_", suffix=suffix,
                                            dir=target.parent)
                 os.close(fd)
                 tmps.append(tmp)
@@ -139,7 +163,8 @@ def _build(sources: list[Path], flags: tuple[str, ...], target: Path) -> None:
             raise cache_problem(target.parent, exc) from None
         tmp_lib, tmp_stamp = tmps
         cmd = [cc, *flags, "-o", tmp_lib, *map(str, sources), "-lm"]
-        res = subprocess.run(cmd, capture_output=True, text=True, check=False)
+        res = subprocess.run(cmd, capture_output=True, text=True, check=False,
+                             preexec_fn=die_with_parent)
         if res.returncode != 0:
             raise CompileError(f"C compilation failed ({' '.join(cmd)}):\n{res.stderr}{res.stdout}")
         try:

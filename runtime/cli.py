@@ -17,14 +17,16 @@ import json
 import math
 import os
 import sys
+import threading
 from pathlib import Path
 
 from derive.scene import SceneError
 
 from . import progress
-from .cbuild import CompileError
+from .cbuild import CompileError, resolve_cache_env
 from .commands import COMMANDS
 from .errors import UserError
+from .processes import terminate_as_exit
 
 EXIT_USER = 2        # bad input: the message says what to fix
 EXIT_INTERNAL = 3    # a bug: please report it
@@ -205,6 +207,9 @@ def _emit(text: str, styled: bool = False) -> int:
 
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
+    resolve_cache_env()           # a relative LEVITRON_CACHE: from the user's folder, once
+    if threading.current_thread() is threading.main_thread():
+        terminate_as_exit()       # SIGTERM: the finally blocks remove their temporaries
     if args.json or args.quiet:
         progress.disable()
     else:

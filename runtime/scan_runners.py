@@ -27,7 +27,7 @@ import numpy as np
 
 from runtime import progress
 from runtime.errors import UserError
-from runtime.faults import die_at
+from derive.faults import die_at
 from runtime.integrators_table import DEFAULT
 
 N_OUT = 100            # dense-output samples per run: only the survival matters here
