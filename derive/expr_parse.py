@@ -326,10 +326,16 @@ def parse_expression(text: str, names: Mapping[str, sp.Symbol] | Iterable[str]) 
         expr = builder.build(tree.body, 0)
     except RecursionError:
         raise ExpressionError(f"formula nested too deeply (limit {MAX_DEPTH})") from None
+    except ExpressionError:
+        raise
+    except (ValueError, TypeError, ArithmeticError) as exc:   # sympy on atan(log(0)), say
+        why = (str(exc).strip().splitlines() or [type(exc).__name__])[0][:80]
+        raise ExpressionError(f"{_quote(text, None)}: not a real, finite formula ({why}): fix "
+                              "it") from None
     if expr.has(*NOT_SMOOTH):
         raise ExpressionError(f"{_quote(text, None)} becomes {expr} (sqrt(x**2) is |x| for real x): "
                               + _ABS_HINT.split(": ", 1)[1])
-    if expr.has(sp.I, sp.zoo, sp.nan, sp.oo, -sp.oo):
+    if expr.has(sp.I, sp.zoo, sp.nan, sp.oo, -sp.oo, sp.AccumBounds):   # atan(log(0)) is a range
         raise ExpressionError(f"{_quote(text, None)}: the formula is not real and finite as "
                               f"written (it simplifies to {expr})")
     _check_constants(text, expr)

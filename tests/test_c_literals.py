@@ -60,3 +60,15 @@ def test_an_overflowing_constant_is_a_one_line_scene_error(formula):
         render(scene)
     msg = str(err.value)
     assert "\n" not in msg and "plate.phi0" in msg and "double" in msg, msg
+
+
+def test_constants_are_doubles_not_math_h_macros():
+    """Found by tests/test_properties.py: E and pi/2 were printed M_E and M_PI_2, which math.h does
+    not declare under -std=c99 (phi0 = "E*z" did not compile)."""
+    p = LevitronCPrinter()
+    for expr, value in ((sp.E * x, math.e), (sp.pi / 2 * x, math.pi / 2), (sp.pi * x, math.pi),
+                        (x / sp.pi, 1 / math.pi)):
+        text = p.doprint(expr)
+        assert "M_" not in text, text
+        literal = text.replace("*x", "").replace("x*", "").strip("()")
+        assert float(literal) == value, text

@@ -56,3 +56,26 @@ def test_a_model_nan_at_every_height_is_a_one_line_error(command, tmp_path, caps
     assert code == 2 and out == "", (code, out, err)
     assert len(errors) == 1, err
     assert "plate.phi0 = 'b*sqrt(-1 - z**2)'" in errors[0] and "not finite" in errors[0], errors[0]
+
+
+@pytest.mark.parametrize("bz,needs", [("b*exp(z*z)", "erfi"), ("b*sin(z)/z", "Si"), ("b/log(z + 2)", "li")])
+def test_a_bz_whose_antiderivative_has_no_code_is_refused(bz, needs):
+    """Found by tests/test_properties.py: bz = exp(z*z) integrates to erfi, which the C printer
+    cannot print (before: PrintMethodNotImplementedError, exit 3)."""
+    data = _data("z")
+    del data["plate"]["phi0"]
+    data["plate"]["bz"] = bz
+    with pytest.raises(SceneError) as err:
+        render(validate(data))
+    msg = str(err.value)
+    assert msg.startswith("plate.bz = ") and needs in msg and "phi0" in msg and "\n" not in msg, msg
+
+
+@pytest.mark.parametrize("formula", ["b*atan(log(0))", "b*z + sin(log(0))"])
+def test_sympy_failing_on_a_formula_is_a_one_line_refusal(formula):
+    """Found by tests/test_properties.py: atan(log(0)) is sympy's AccumBounds(-pi/2, pi/2), which
+    passed the parser's "real and finite" check and made derive raise "Only real
+    AccumulationBounds are supported" (ValueError, exit 3)."""
+    with pytest.raises(SceneError) as err:
+        render(validate(_data(formula)))
+    assert str(err.value).startswith("plate.phi0: ") and "\n" not in str(err.value)
