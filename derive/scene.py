@@ -68,6 +68,7 @@ MODEL_KEYS = (
         "\"tait-bryan\", regular at the upright top; \"euler-zxz\" as in the thesis)"),
 )
 _NAME = re.compile(r"[A-Za-z0-9_-]+\Z")
+MAX_NAME = 100     # characters: <name>-<hash> and .<name>.new-<pid>-* must fit a file name (255)
 
 
 def _names(keys: tuple[Key, ...]) -> set[str]:
@@ -323,6 +324,9 @@ def validate(data: dict, path: Path | None = None) -> Scene:
     name = data.get("name")
     if not isinstance(name, str) or not _NAME.match(name):
         raise SceneError(f"name = {name!r}: use letters, digits, '-' and '_' only")
+    if len(name) > MAX_NAME:
+        raise SceneError(f"name = {name[:20]!r}... is {len(name)} characters long (the limit is "
+                         f"{MAX_NAME}: it names folders): give a shorter `name = ...` or file name")
 
     params = {"m": m, "g": g, "A": A, "C": C, "mu": float(mu)}
     params.update({f"plate_{k}": float(v) for k, v in resolved.items()})

@@ -68,6 +68,9 @@ def cache_dir() -> Path:
     try:
         path.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
+        if os.path.islink(path) and not os.path.exists(path):
+            raise CacheError(f"the cache {path} is a symbolic link to nothing (a loop, or its target "
+                             "is missing): set LEVITRON_CACHE to a folder") from None
         raise cache_problem(path, exc) from None
     if path not in _SWEPT:
         _SWEPT.add(path)
@@ -140,6 +143,8 @@ def compile_shared(sources: list[Path | str], flags: tuple[str, ...] = DEFAULT_F
     target = cache / f"lev_{key}.so"
     if is_intact(target):
         return target
+    if target.is_dir():
+        raise CacheError(f"{target} is a folder where the compiled library belongs: remove it")
     if target.exists():
         print(f"levitron: the cached library {target} is damaged (size or sha256 differs from "
               f"{_stamp_path(target).name}): rebuilding it", file=sys.stderr)

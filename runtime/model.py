@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
+import tomli_w
 
 from derive.faults import die_at
 from derive.inputs import input_hash
@@ -163,11 +164,11 @@ def _derive_into(scene: Scene, overrides, out: Path, ihash: str, note: str | Non
         print(f"levitron: {note}", file=sys.stderr)
     print(f"levitron: deriving the model of scene '{scene.name}' ...", file=sys.stderr)
     try:
-        # an absolute scene path: the subprocess runs in the repository, not in the user's folder
-        cmd = [sys.executable, "-m", "derive", str(Path(scene.path).resolve()), "--out", str(tmp),
-               "--force"]
-        for o in overrides:
-            cmd += ["--set", o]
+        # the scene as this process read it (overrides applied), written by a TOML writer: the
+        # child derives exactly what is hashed here, even if the file is edited meanwhile
+        snapshot = tmp / f"{scene.name}.toml"
+        snapshot.write_text(tomli_w.dumps(scene.data), encoding="utf-8")
+        cmd = [sys.executable, "-m", "derive", str(snapshot), "--out", str(tmp), "--force"]
         child = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                                  cwd=ROOT, preexec_fn=die_with_parent)
         try:

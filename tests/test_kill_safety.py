@@ -173,3 +173,21 @@ def test_a_killed_parent_takes_its_derive_child_and_the_next_run_sweeps(tmp_path
     assert res.returncode == 0, res.stderr
     assert _leftovers(cache) == [], "the next run must sweep the dead run's temporaries"
     assert list((cache / "derived").glob("killed_parent-*/manifest.json"))
+
+
+def test_a_scene_edited_during_its_derivation_is_filed_under_what_was_read(tmp_path, monkeypatch):
+    """Before: the derive child read the file again, so an edit in between filed the new formula's
+    model under the old scene's hash (or failed with a wrong reason). Now the child derives a
+    snapshot of what this process read and hashed."""
+    from derive.inputs import input_hash
+    from derive.scene import load_scene
+    from runtime.model import load_model
+    monkeypatch.setenv("LEVITRON_CACHE", str(tmp_path / "cache"))
+    path = _scene(tmp_path, "edited")
+    scene = load_scene(path)
+    path.write_text(path.read_text().replace("b*z/sqrt(z**2 + c**2)", "3*b*z/sqrt(z**2 + c**2)"))
+    model = load_model(scene)
+    assert model.manifest.input_hash == input_hash(scene.data)
+    c = scene.params["plate_c"]
+    want = 0.01 * 0.1 / (0.1 ** 2 + c ** 2) ** 0.5          # Phi0(0.1) of the formula as read
+    assert abs(model.onaxis(0.1)[0] - want) <= 1e-14 * want

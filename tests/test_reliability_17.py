@@ -31,6 +31,15 @@ def nested_toml(tmp, env, request):
     (tmp / "deep.toml").write_text("deep = " + "[" * 5000 + "]" * 5000 + "\n" + THESIS)
 
 
+def cache_symlink_loop(tmp, env, request):
+    (tmp / "loop").symlink_to(tmp / "loop")
+    env["LEVITRON_CACHE"] = str(tmp / "loop")
+
+
+def long_name_scene(tmp, env, request):
+    (tmp / "long.toml").write_text(THESIS.replace('name = "thesis"', f'name = "{"a" * 250}"'))
+
+
 GOOD_CSV_HEAD = "quantity,value,sigma,overrides\n"
 
 BATTERY_17 = [
@@ -62,6 +71,10 @@ BATTERY_17 = [
          toml=expression_scene("sqrt(-1 - z**2)")),
     Case("expr-nan-everywhere-stability", "stability {scene}", r"phi0.*not finite",
          toml=expression_scene("sqrt(-1 - z**2)")),
+    # --- messages that named the wrong cause
+    Case("cache-symlink-loop", "stability thesis", r"symbolic link to nothing", setup=cache_symlink_loop),
+    Case("scene-name-250-characters", "stability {tmp}/long.toml", r"250 characters long",
+         setup=long_name_scene),
     # --- numbers of the commands
     Case("stability-height-inf", "stability thesis_stable --height inf", r"--height"),
     Case("field-at-1e308", "field thesis --at 0,0,1e308", r"--at.*nearer"),
@@ -89,7 +102,7 @@ BATTERY_17 = [
 
 
 def test_battery_17_size():
-    assert len(BATTERY_17) >= 35
+    assert len(BATTERY_17) >= 40
     assert len({c.id for c in BATTERY_17}) == len(BATTERY_17)
 
 
