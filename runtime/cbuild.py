@@ -171,6 +171,9 @@ def _build(sources: list[Path], flags: tuple[str, ...], target: Path) -> None:
         res = subprocess.run(cmd, capture_output=True, text=True, check=False,
                              preexec_fn=die_with_parent)
         if res.returncode != 0:
+            if not target.parent.is_dir():
+                raise CacheError(f"the cache folder {target.parent} was removed while the C compiler "
+                                 "ran: run the command again")
             raise CompileError(f"C compilation failed ({' '.join(cmd)}):\n{res.stderr}{res.stdout}")
         try:
             Path(tmp_stamp).write_text(_stamp(Path(tmp_lib).read_bytes()))
