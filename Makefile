@@ -2,7 +2,7 @@
 PY ?= .venv/bin/python
 export PYTHONHASHSEED := 0
 
-.PHONY: setup demo derive test lint bench golden clean-cache
+.PHONY: setup demo derive test lint bench golden clean-cache fuzz
 
 # (re)install whenever pyproject.toml changes: a new dependency or package reaches an old .venv too
 .venv/.installed: pyproject.toml
@@ -33,6 +33,10 @@ lint: setup
 TEST_WORKERS ?= auto
 test: setup
 	$(PY) -m pytest -q -n $(TEST_WORKERS) --dist worksteal
+
+# The property-based tests (tests/test_properties.py) with 20 times the CI examples, random seeds.
+fuzz: setup
+	HYPOTHESIS_PROFILE=fuzz $(PY) -m pytest -q tests/test_properties.py --hypothesis-show-statistics
 
 # Work-precision reports (reports/<scene>/) against heyoka (the optional extra `bench`) and the
 # other backends, for the scenes whose top has a stable spin interval (or only a reduced model).

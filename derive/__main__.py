@@ -13,6 +13,7 @@ import sys
 from pathlib import Path
 
 from .build import derive_scene
+from .faults import die_at
 from .paths import GENERATED, SCENES_DIR, is_committed_scene
 from .scene import SceneError, load_scene
 
@@ -38,6 +39,7 @@ def main(argv=None) -> int:
     ap.add_argument("--force", action="store_true", help="derive even when the input hash matches")
     ap.add_argument("--json", action="store_true", help="print one JSON object")
     args = ap.parse_args(argv)
+    die_at("derive.child")
     names = args.scenes or sorted(p.stem for p in SCENES_DIR.glob("*.toml"))
     out = GENERATED if args.out is None else args.out
     results = []

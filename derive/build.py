@@ -8,19 +8,22 @@ hash matches and every digest holds, so `make derive` repairs an edited or trunc
 from __future__ import annotations
 
 import json
-import os
 import shutil
 import tempfile
 import time
 from pathlib import Path
 
+from .atomic_dir import recover, swap_in, sweep, temp_prefix
 from .digest import SELF_KEY, file_digests, first_changed_file, manifest_digest
+from .doubles import DoubleRangeError
 from .emit.c import emitter as c_emitter
 from .emit.casadi import builder as casadi_builder
 from .emit.lower import lower
+from .faults import die_at
 from .geometry import build_plate
 from .inputs import input_hash, tool_versions
 from .paths import GENERATED
+from .plates.expression import formulas
 from .scene import Scene, SceneError
 from .spec import build_spec
 
@@ -44,7 +47,17 @@ def banner(scene: Scene, ihash: str) -> str:
 
 
 def render(scene: Scene) -> dict[str, bytes]:
-    """All files of generated/<scene>/ as bytes, computed in memory."""
+    """All files of generated/<scene>/ as bytes, computed in memory. A constant of the model that
+    no double holds (a derivative of 1e300*z**40, say) is a SceneError naming the formula."""
+    try:
+        return _render(scene)
+    except DoubleRangeError as exc:
+        where = "; ".join(formulas(scene.data["plate"])) or "plate"
+        raise SceneError(f"{where}: {exc} in the generated model; scale the formula (give the "
+                         "factor as a parameter in [plate.params])") from None
+
+
+def _render(scene: Scene) -> dict[str, bytes]:
     ihash = input_hash(scene.data)
     plate = build_plate(scene.data["plate"])
     order, order_info = field_order(scene)
@@ -89,21 +102,18 @@ def render(scene: Scene) -> dict[str, bytes]:
     return files
 
 
-def write_atomic(target: Path, files: dict[str, bytes]) -> None:
-    """Replace the folder `target` by one holding exactly `files`, never half-written."""
+def write_atomic(target: Path, files: dict[str, bytes], exchange: bool = True) -> None:
+    """Replace the folder `target` by one holding exactly `files`, never half-written, and never
+    missing however the process is killed (derive/atomic_dir.py: one atomic exchange, or two
+    renames whose gap the next run repairs); debris of killed writers is swept first."""
     target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.new-", dir=target.parent))
+    sweep(target.parent, target.name)
+    tmp = Path(tempfile.mkdtemp(prefix=temp_prefix(target.name, "new"), dir=target.parent))
     try:
         for name, data in files.items():
             (tmp / name).write_bytes(data)
-        old = None
-        if target.exists():
-            old = Path(tempfile.mkdtemp(prefix=f".{target.name}.old-", dir=target.parent))
-            os.rmdir(old)
-            os.replace(target, old)
-        os.replace(tmp, target)
-        if old is not None:
-            shutil.rmtree(old)
+        die_at("write_atomic.written")
+        swap_in(tmp, target, exchange)
     finally:
         if tmp.exists():
             shutil.rmtree(tmp)
@@ -124,6 +134,7 @@ def is_current(scene: Scene, out_dir: Path) -> bool:
 def derive_scene(scene: Scene, out_root: Path = GENERATED, force: bool = False) -> dict:
     """Derive `scene` into out_root/<name>/ unless it is current; returns {name, files, seconds}."""
     out_dir = out_root / scene.name
+    recover(out_dir)                         # a kill between write_atomic's two renames
     t0 = time.perf_counter()
     if not force and is_current(scene, out_dir):
         return {"name": scene.name, "files": sorted(p.name for p in out_dir.iterdir()),

@@ -33,6 +33,7 @@ from collections.abc import Iterable, Mapping
 
 import sympy as sp
 
+from .doubles import DOUBLE_MAX, DOUBLE_TINY, DoubleRangeError, as_double
 from .plates import expression as scene_side
 
 MAX_LENGTH = scene_side.MAX_FORMULA   # characters of formula text
@@ -325,10 +326,46 @@ def parse_expression(text: str, names: Mapping[str, sp.Symbol] | Iterable[str]) 
         expr = builder.build(tree.body, 0)
     except RecursionError:
         raise ExpressionError(f"formula nested too deeply (limit {MAX_DEPTH})") from None
+    except ExpressionError:
+        raise
+    except (ValueError, TypeError, ArithmeticError) as exc:   # sympy on atan(log(0)), say
+        why = (str(exc).strip().splitlines() or [type(exc).__name__])[0][:80]
+        raise ExpressionError(f"{_quote(text, None)}: not a real, finite formula ({why}): fix "
+                              "it") from None
     if expr.has(*NOT_SMOOTH):
         raise ExpressionError(f"{_quote(text, None)} becomes {expr} (sqrt(x**2) is |x| for real x): "
                               + _ABS_HINT.split(": ", 1)[1])
-    if expr.has(sp.I, sp.zoo, sp.nan, sp.oo, -sp.oo):
+    if expr.has(sp.I, sp.zoo, sp.nan, sp.oo, -sp.oo, sp.AccumBounds):   # atan(log(0)) is a range
         raise ExpressionError(f"{_quote(text, None)}: the formula is not real and finite as "
                               f"written (it simplifies to {expr})")
+    _check_constants(text, expr)
     return expr
+
+
+def _check_constants(text: str, expr: sp.Expr) -> None:
+    """Every number of the formula has a double, and every constant term (asin(2), exp(1000),
+    (-8)**(1/3)) is real and within double range: C and CasADi would compute NaN or inf from it.
+    Inner terms first, so exp(exp(exp(9))) stops at exp(exp(9)) before a huge evaluation."""
+    for node in sp.postorder_traversal(expr):
+        if isinstance(node, sp.Number):
+            try:
+                as_double(node)
+            except DoubleRangeError as exc:
+                raise ExpressionError(f"{_quote(text, None)}: {exc}; scale the formula (give the "
+                                      "factor as a parameter in [plate.params])") from None
+        elif node.is_number and not isinstance(node, sp.NumberSymbol) and node.args:
+            try:
+                value = sp.N(node, 30)
+            except (OverflowError, ValueError, ArithmeticError):
+                raise ExpressionError(f"{_quote(text, None)}: the constant {node} cannot be "
+                                      "evaluated in double range: scale the formula") from None
+            re_part, im_part = value.as_real_imag()
+            if im_part != 0 or not re_part.is_finite:
+                raise ExpressionError(f"{_quote(text, None)}: the constant {node} is not a real "
+                                      f"number ({value}): fix the formula")
+            if abs(re_part) > DOUBLE_MAX:
+                raise ExpressionError(f"{_quote(text, None)}: the constant {node} = {str(sp.N(node, 4))} "
+                                      "is beyond the range of a double: scale the formula")
+            if 0 < abs(re_part) < DOUBLE_TINY:
+                raise ExpressionError(f"{_quote(text, None)}: the constant {node} = {str(sp.N(node, 4))} "
+                                      "is below the range of a double (it would be 0): scale the formula")

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import tomli_w
 import tomllib
 
 from . import plates
@@ -27,7 +28,7 @@ from .paths import SCENES_DIR
 from .plates.base import Key
 
 __all__ = ["MU0", "SCENES_DIR", "Scene", "SceneError", "find_scene_file", "load_scene",
-           "parse_override", "validate"]
+           "override_text", "parse_override", "validate"]
 
 
 NEEDS = ("reduced", "full", "linear")
@@ -100,6 +101,7 @@ MODEL_KEYS = (
         "\"tait-bryan\", regular at the upright top; \"euler-zxz\" as in the thesis)"),
 )
 _NAME = re.compile(r"[A-Za-z0-9_-]+\Z")
+MAX_NAME = 100     # characters: <name>-<hash> and .<name>.new-<pid>-* must fit a file name (255)
 
 
 def _names(keys: tuple[Key, ...]) -> set[str]:
@@ -154,19 +156,64 @@ class Scene:
         return hashlib.sha256(self.canonical().encode()).hexdigest()
 
 
+_CONTROL = re.compile(r"[\x00-\x08\x0a-\x1f\x7f]")   # tab allowed
+_BARE_WORD = re.compile(r"[^\"'\\]*\Z")
+
+
 def parse_override(text: str) -> tuple[list[str], Any]:
-    """`section.key=value` -> (["section", "key"], value); value parsed as a TOML value."""
+    """`section.key=value` -> (["section", "key"], value); value parsed as one TOML value (or a
+    bare word without quotes, e.g. plate.kind=disk). The one reader of overrides: the command
+    line's --set and the API's keys (`override_text`) both come through it. A newline or another
+    control character is refused (TOML would read the rest as more keys, and drop or change them)."""
+    if not isinstance(text, str):
+        raise SceneError(f"--set {text!r} is not text: write --set section.key=value")
+    shown = text if len(text) <= 80 else text[:77] + "..."
+    bad = _CONTROL.search(text)
+    if bad:
+        raise SceneError(f"--set {shown!r} holds a control character ({bad.group()!r}, e.g. a newline): "
+                         "give one key and one value on one line (\\n inside a quoted TOML string)")
     if "=" not in text:
-        raise SceneError(f"--set {text!r} has no '=': write --set section.key=value")
+        raise SceneError(f"--set {shown!r} has no '=': write --set section.key=value")
     key, raw = text.split("=", 1)
     path = [p.strip() for p in key.strip().split(".")]
     if not all(path):
-        raise SceneError(f"--set {text!r}: the key {key!r} is malformed; write e.g. top.mass=0.03")
+        raise SceneError(f"--set {shown!r}: the key {key!r} is malformed; write e.g. top.mass=0.03")
     try:
-        value = tomllib.loads(f"v = {raw.strip()}")["v"]
+        parsed = tomllib.loads(f"v = {raw.strip()}")
+    except RecursionError:
+        raise SceneError(f"--set {shown!r}: the value is nested too deeply: give a number, text "
+                         "or a flat list") from None
     except tomllib.TOMLDecodeError:
-        value = raw.strip()  # a bare word, e.g. --set plate.kind=disk
-    return path, value
+        if not raw.strip() or not _BARE_WORD.match(raw.strip()):
+            raise SceneError(f"--set {shown!r}: the value is not a TOML value; quote a string as "
+                             "TOML does, e.g. --set 'plate.phi0=\"z/sqrt(z**2 + 1)\"'") from None
+        return path, raw.strip()  # a bare word, e.g. --set plate.kind=disk
+    if set(parsed) != {"v"}:
+        raise SceneError(f"--set {shown!r}: the value must be one TOML value")
+    return path, parsed["v"]
+
+
+def _toml_value(value: Any, key: str) -> str:
+    """One TOML value on one line, written by tomli_w (arrays inline)."""
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_toml_value(v, key) for v in value) + "]"
+    if isinstance(value, dict):
+        raise SceneError(f"{key}: a table is not one value: give each key of it separately "
+                         f"({key}.<name>=...)")
+    try:
+        return tomli_w.dumps({"v": value})[len("v = "):].strip()
+    except TypeError:
+        raise SceneError(f"{key} = {value!r}: a {type(value).__name__} is not a scene value: give a "
+                         "number, text, true/false or a list of them") from None
+
+
+def override_text(key: str, value: Any) -> str:
+    """The `--set` text of scene key `key` (e.g. "top.mass") set to `value`, written by a TOML
+    writer, never by string formatting: quotes, backslashes and newlines in a value stay inside
+    it. `parse_override(override_text(k, v))` gives back (k.split("."), v)."""
+    if not isinstance(key, str) or not re.fullmatch(r"[A-Za-z0-9_-]+(\.[A-Za-z0-9_-]+)*", key):
+        raise SceneError(f"scene key {key!r} is not a key: write section.key, e.g. top.mass")
+    return f"{key}={_toml_value(value, key)}"
 
 
 def apply_override(data: dict, text: str) -> None:
@@ -227,6 +274,9 @@ def load_scene(name_or_path: str | Path, overrides: list[str] | tuple[str, ...] 
         data = tomllib.loads(path.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(f"{path}: not valid TOML ({exc}); fix the syntax") from None
+    except RecursionError:
+        raise SceneError(f"{path}: nested too deeply for a scene (tables or arrays within "
+                         "thousands of others): flatten it") from None
     except UnicodeDecodeError:
         raise SceneError(f"{path}: not a text file (not UTF-8): give a TOML scene") from None
     except OSError as exc:
@@ -337,6 +387,9 @@ def validate(data: dict, path: Path | None = None) -> Scene:
     name = data.get("name")
     if not isinstance(name, str) or not _NAME.match(name):
         raise SceneError(f"name = {name!r}: use letters, digits, '-' and '_' only")
+    if len(name) > MAX_NAME:
+        raise SceneError(f"name = {name[:20]!r}... is {len(name)} characters long (the limit is "
+                         f"{MAX_NAME}: it names folders): give a shorter `name = ...` or file name")
 
     # U = -mu n.B and B is linear in the plate's strength (thesis 2.2.1): the two magnets' thermal
     # factors enter the dynamics as one factor on mu; `field` shows B times the plate's factor

@@ -9,12 +9,16 @@
 
 Numbers are named by their scene keys (`top.mass`, `plate.hole`); the one mapping to the generated
 parameter vector is runtime/scene_keys.py. Every method returns a typed dataclass whose fields
-carry their units in the docstrings, a short `repr`, and scipy-style `success` and `message`. Bad
-arguments raise levitron_api.UserError (one line: what is wrong, how to fix it). The command line
-(`levitron ...`) calls the same functions.
+carry their units in the docstrings, a short `repr`, and scipy-style `success` and `message`. The
+command line (`levitron ...`) calls the same functions.
+
+Bad input raises `levitron_api.UserError` (runtime.errors.UserError: a one-line message saying what
+is wrong and how to fix it, the line the command line prints); `levitron_api.SceneError` is the
+scene reader's own (derive.scene), raised by `load_scene`-level helpers. Both are exported here.
 """
 from __future__ import annotations
 
+from derive.scene import SceneError
 from runtime.design import DesignResult
 from runtime.errors import UserError
 from runtime.fit import FitResult
@@ -24,4 +28,4 @@ from .results import Equilibria, Equilibrium, LaunchOdds, Simulation, Stability
 from .study import Study, load
 
 __all__ = ["DesignResult", "Equilibria", "Equilibrium", "FitResult", "LaunchOdds", "ScanResult",
-           "Simulation", "Stability", "Study", "UserError", "load"]
+           "SceneError", "Simulation", "Stability", "Study", "UserError", "load"]

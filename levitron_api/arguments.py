@@ -18,7 +18,7 @@ import numpy as np
 
 from runtime.errors import UserError
 
-__all__ = ["UserError", "boxes", "choice", "names", "number", "override_text", "scene_keys"]
+__all__ = ["UserError", "boxes", "choice", "names", "number", "plain", "scene_keys"]
 
 
 def is_number(value) -> bool:
@@ -37,22 +37,11 @@ def number(value, what: str) -> float:
     return float(value)
 
 
-def override_text(key: str, value) -> str:
-    """One `--set` text of an API override: numbers (NumPy's too) as TOML numbers, text quoted,
-    bools as TOML booleans; anything else refused."""
-    if isinstance(value, (bool, np.bool_)):
-        return f"{key}={'true' if value else 'false'}"
-    if isinstance(value, str):
-        return f"{key}={_toml_string(value)}"
-    if is_number(value):
-        if isinstance(value, (numbers.Integral, np.integer)):
-            return f"{key}={int(value)}"
-        return f"{key}={float(value)!r}"
-    raise UserError(f"override {key} = {value!r}: pass a number, a string or a bool")
-
-
-def _toml_string(text: str) -> str:
-    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
+def plain(value):
+    """A NumPy number as the Python float or int it is (for the TOML writer); anything else as is."""
+    if is_number(value) and not isinstance(value, (bool, np.bool_)):
+        return int(value) if isinstance(value, (numbers.Integral, np.integer)) else float(value)
+    return value
 
 
 def names(value, what: str, valid: Iterable[str] | None = None) -> list[str]:

@@ -6,12 +6,14 @@ from pathlib import Path
 
 import numpy as np
 
+from derive.scene import SceneError, override_text
 from runtime import equilibrium as eqm
 from runtime import stability_casadi as sc
 from runtime.commands.common import load as load_scene
 from runtime.constraints import Constraint
 from runtime.design import DesignResult
 from runtime.design import optimize as _optimize
+from runtime.errors import UserError
 from runtime.fit import FitResult, Row, read_rows
 from runtime.fit import fit as _fit
 from runtime.model import Model, load_model
@@ -27,13 +29,28 @@ SIMULATE_OPTIONS = ("tilt", "offset", "t_end", "integrator", "tol", "box", "plot
 SIMULATE_ALIASES = {"tilt_azimuth": "azimuth", "step": "h"}     # --tilt-azimuth, --step
 
 
+def override_texts(overrides: Mapping[str, object] | None) -> list[str]:
+    """The --set texts of {scene key: value}, written by a TOML writer (derive.scene.override_text):
+    a quote or a newline in a value stays inside it, and the command line's reader reads them.
+    Numbers may be NumPy scalars (`for m in np.linspace(...)` works)."""
+    if overrides is None:
+        return []
+    if not isinstance(overrides, Mapping):
+        raise UserError(f"overrides must be a mapping of scene key -> value, e.g. {{'top.mass': 0.05}}; "
+                        f"got {type(overrides).__name__}")
+    try:
+        return [override_text(k, arg.plain(v)) for k, v in overrides.items()]
+    except SceneError as exc:
+        raise UserError(str(exc)) from None
+
+
 def load(scene: str | Path, overrides: Mapping[str, float | str] | None = None) -> Study:
     """A scene by name (scenes/) or path, with overrides by scene key, e.g. {"top.mass": 0.05}
-    (numbers may be NumPy scalars: `for m in np.linspace(...)` works); derives its model when
-    needed. Errors: levitron_api.UserError (one line)."""
-    if overrides is not None and not isinstance(overrides, Mapping):
-        raise arg.UserError(f"overrides must be a dict {{scene key: value}}, not {overrides!r}")
-    sets = [arg.override_text(k, v) for k, v in (overrides or {}).items()]
+    (numbers may be NumPy scalars); derives its model when needed. Errors: levitron_api.UserError
+    (one line, as on the CLI)."""
+    if not isinstance(scene, (str, Path)):
+        raise UserError(f"scene must be a scene name or a path to a .toml file, not {scene!r}")
+    sets = override_texts(overrides)
     return Study(load_model(load_scene(scene, sets), sets), sets)
 
 
@@ -88,6 +105,9 @@ class Study:
         arg.choice(quantity, "quantity", self.quantities())
         keys = arg.names(keys, "keys", self.keys())
         x = np.array([self.value(k) for k in keys])
+        if not np.all(x != 0):
+            raise UserError(f"gradient: a key at 0 ({keys[int(np.argmin(np.abs(x)))]}) has no relative "
+                            "neighbourhood: give the derivative at a nonzero value")
         km = KeyMap(self.scene, self.model.param_names,
                     [Vary(k, *sorted((v * 0.99, v * 1.01))) for k, v in zip(keys, x)])
         _, p = km.exact(x)
@@ -200,10 +220,19 @@ class Study:
         """Maximise spin-range or spin-ratio over scene keys in boxes {key: (lo, hi)}, with
         constraints such as "stiffness>=1" (runtime/design.py; IPOPT, verified)."""
         constrain = arg.names(constrain, "constrain")
-        return _optimize(self.model, [Vary(k, a, b) for k, (a, b) in arg.boxes(vary).items()],
+        return _optimize(self.model, _varies(vary),
                          maximize, [Constraint.parse(c) for c in constrain], grid)
 
     def fit(self, data: str | Path | Sequence[Row], vary: Mapping[str, tuple[float, float]]) -> FitResult:
         """Least squares of scene keys to measurements (a CSV path or runtime.fit.Row list)."""
-        rows = read_rows(data) if isinstance(data, (str, Path)) else list(data)
-        return _fit(self.model, rows, [Vary(k, a, b) for k, (a, b) in arg.boxes(vary).items()])
+        rows = read_rows(data) if isinstance(data, (str, Path)) else data
+        return _fit(self.model, rows, _varies(vary))
+
+
+def _varies(vary) -> list[Vary]:
+    """{scene key: (lo, hi)} as Vary boxes, checked (the CLI's --vary KEY=LO:HI reads the same)."""
+    if not isinstance(vary, Mapping) or not vary:
+        raise UserError("vary: give a non-empty mapping of scene key -> (lo, hi), e.g. "
+                        "{'top.mass': (0.05, 0.052)}")
+    return [Vary.checked(key, lo, hi, f"vary {key!r}: {(lo, hi)!r}")
+            for key, (lo, hi) in arg.boxes(vary).items()]

@@ -31,6 +31,7 @@ from functools import cache
 from pathlib import Path
 
 from .errors import UserError
+from .processes import die_with_parent
 
 DEFAULT_FLAGS = ("-O3", "-std=c99", "-fno-math-errno", "-fPIC", "-shared", "-march=native", "-Wall",
                  "-Wextra")   # no errno from sqrt: the lane variants of model.c vectorise
@@ -52,15 +53,41 @@ def cache_problem(path: Path, exc: OSError) -> CacheError:
                       "writable folder")
 
 
-def cache_dir() -> Path:
-    """Where compiled libraries and derived models live: $LEVITRON_CACHE, else ~/.cache/levitron.
-    Made if missing; CacheError when that is impossible (a file in the way, no permission)."""
+_RESOLVED: dict[str, Path] = {}
+_SWEPT: set[Path] = set()
+
+
+def resolve_cache_env() -> Path:
+    """$LEVITRON_CACHE (else ~/.cache/levitron) as an absolute path, resolved once per value from
+    the working directory of its first use, and written back to the environment, so that the
+    derive subprocess (which runs in the repository) and scan workers use the same folder."""
     root = os.environ.get("LEVITRON_CACHE")
-    path = Path(root) if root else Path.home() / ".cache" / "levitron"
+    if not root:
+        return Path.home() / ".cache" / "levitron"
+    if root not in _RESOLVED:
+        _RESOLVED[root] = Path(os.path.abspath(os.path.expanduser(root)))
+    path = _RESOLVED[root]
+    _RESOLVED.setdefault(str(path), path)
+    os.environ["LEVITRON_CACHE"] = str(path)
+    return path
+
+
+def cache_dir() -> Path:
+    """Where compiled libraries and derived models live: $LEVITRON_CACHE, else ~/.cache/levitron
+    (resolve_cache_env). Made if missing; CacheError when that is impossible (a file in the way, no
+    permission). The first use in a process sweeps what killed runs left (runtime/cache_sweep.py)."""
+    path = resolve_cache_env()
     try:
         path.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
+        if os.path.islink(path) and not os.path.exists(path):
+            raise CacheError(f"the cache {path} is a symbolic link to nothing (a loop, or its target "
+                             "is missing): set LEVITRON_CACHE to a folder") from None
         raise cache_problem(path, exc) from None
+    if path not in _SWEPT:
+        _SWEPT.add(path)
+        from .cache_sweep import sweep_cache
+        sweep_cache(path)
     return path
 
 
@@ -128,6 +155,8 @@ def compile_shared(sources: list[Path | str], flags: tuple[str, ...] = DEFAULT_F
     target = cache / f"lev_{key}.so"
     if is_intact(target):
         return target
+    if target.is_dir():
+        raise CacheError(f"{target} is a folder where the compiled library belongs: remove it")
     if target.exists():
         print(f"levitron: the cached library {target} is damaged (size or sha256 differs from "
               f"{_stamp_path(target).name}): rebuilding it", file=sys.stderr)
@@ -203,7 +232,7 @@ def _build(target: Path, before: list[str], after: list[str]) -> None:
     try:
         try:
             for suffix in (target.suffix, ".sha256"):
-                fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}_", suffix=suffix,
+                fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}_{os.getpid()}_", suffix=suffix,
                                            dir=target.parent)
                 os.close(fd)
                 tmps.append(tmp)
@@ -211,8 +240,12 @@ def _build(target: Path, before: list[str], after: list[str]) -> None:
             raise cache_problem(target.parent, exc) from None
         tmp_out, tmp_stamp = tmps
         cmd = [*before, "-o", tmp_out, *after]
-        res = subprocess.run(cmd, capture_output=True, text=True, check=False)
+        res = subprocess.run(cmd, capture_output=True, text=True, check=False,
+                             preexec_fn=die_with_parent)
         if res.returncode != 0:
+            if not target.parent.is_dir():
+                raise CacheError(f"the cache folder {target.parent} was removed while the C compiler "
+                                 "ran: run the command again")
             raise CompileError(f"C compilation failed ({' '.join(cmd)}):\n{res.stderr}{res.stdout}")
         try:
             Path(tmp_stamp).write_text(_stamp(Path(tmp_out).read_bytes()))

@@ -17,15 +17,17 @@ import json
 import math
 import os
 import sys
+import threading
 
 from derive.scene import SceneError
 
 from . import progress
 from . import provenance
+from .cbuild import CompileError, resolve_cache_env
 from .provenance import version
-from .cbuild import CompileError
 from .commands import COMMANDS
 from .errors import UserError
+from .processes import terminate_as_exit
 
 EXIT_USER = 2        # bad input: the message says what to fix
 EXIT_INTERNAL = 3    # a bug: please report it
@@ -216,6 +218,9 @@ def main(argv=None) -> int:
     if getattr(args, "temperature", None) is not None:     # one more --set, resolved by the scene
         args.set = [*args.set, f"temperature={args.temperature!r}"]
     args._argv = argv
+    resolve_cache_env()           # a relative LEVITRON_CACHE: from the user's folder, once
+    if threading.current_thread() is threading.main_thread():
+        terminate_as_exit()       # SIGTERM: the finally blocks remove their temporaries
     if args.json or args.quiet:
         progress.disable()
     else:

@@ -31,11 +31,13 @@ from __future__ import annotations
 import bisect
 import math
 from collections.abc import Callable, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from derive import plates
+from derive.plates.expression import formulas
 
 from . import bands as _bands
 from .errors import UserError
@@ -140,6 +142,10 @@ class EquilibriumReport:
 
 
 # ------------------------------------------------------------------------ the search
+
+class NonFiniteModel(UserError):
+    """The plate's on-axis functions are NaN or infinite at every sampled height."""
+
 
 def z_grid(scale: float) -> np.ndarray:
     """The log grid of heights scale * 10^[-4, 4], GRID_PER_DECADE points a decade."""
@@ -332,6 +338,9 @@ def survey(onaxis: OnAxis, scale: float) -> Survey:
     top = min(width, 5) - 1
     rows = {z: _row(onaxis, z, top + 1) for z in zs}
     good = [bool(np.all(np.isfinite(rows[z][2:]))) for z in zs]
+    if not any(good):
+        raise NonFiniteModel(f"the on-axis functions Phi_2..Phi_{top} are not finite (NaN or inf) at "
+                             f"any height from {zs[0]:.3g} to {zs[-1]:.3g}: no physical potential")
     s = Survey(onaxis, scale, top, [], {}, [], [], [])
     for z, ok in zip(zs, good):
         if ok:
@@ -384,12 +393,24 @@ def analyse(onaxis: OnAxis, m: float, g: float, A: float, C: float, mu: float,
 
 def equilibria_of(model, p: np.ndarray | None = None, bands: bool = False) -> EquilibriumReport:
     """Equilibria, z_c, max_mass and singularities of a loaded model's top and plate (parameters p,
-    default the scene's; thesis 3.3.2-3.3.3); with bands=True also the stable and adiabatic bands."""
+    default the scene's; thesis 3.3.2-3.3.3); with bands=True also the stable and adiabatic bands.
+    A model whose on-axis functions are nowhere finite is a UserError naming the scene's formula."""
     P = params_of(model, p)
     onaxis, scale = model_onaxis(model, p), scale_of(model, p)
-    if bands:
-        return analyse(onaxis, P["m"], P["g"], P["A"], P["C"], P["mu"], scale)
-    return survey(onaxis, scale).report(P["m"], P["g"], P["mu"])
+    with naming_the_formula(model):
+        if bands:
+            return analyse(onaxis, P["m"], P["g"], P["A"], P["C"], P["mu"], scale)
+        return survey(onaxis, scale).report(P["m"], P["g"], P["mu"])
+
+
+@contextmanager
+def naming_the_formula(model):
+    """A NonFiniteModel raised inside becomes a UserError naming the scene's formula(s)."""
+    try:
+        yield
+    except NonFiniteModel as exc:
+        where = "; ".join(formulas(model.scene.data["plate"])) or f"scene '{model.scene.name}'"
+        raise UserError(f"{where}: {exc}; fix the formula or its [plate.params]") from None
 
 
 def hover_height(model, p: np.ndarray | None = None) -> float:

@@ -26,6 +26,7 @@ import numpy as np
 from . import stability_casadi as sc
 from .errors import UserError
 from .scene_keys import KeyMap, Vary, key_value, with_values
+from .validate import real
 
 QUANTITIES = {"z_s": "m", "stiffness": "N/m", "sigma_lo": "rad/s", "sigma_hi": "rad/s",
               "z_c": "m", "max_mass": "kg"}
@@ -46,41 +47,95 @@ class Row:
     overrides: tuple[tuple[str, float], ...] = ()
 
 
+COLUMNS = ("quantity", "value", "sigma", "overrides")
+MIN_SIGMA = 1e-150      # the weighted residuals (value / sigma) are squared: stay in double range
+MAX_ROWS = 10_000
+
+
+def check_row(row, where: str) -> Row:
+    """The one check of a measurement, for CSV rows (read_rows) and the API's Row lists (fit):
+    a known quantity, a finite value, a finite sigma >= MIN_SIGMA, overrides of distinct scene keys
+    to finite numbers."""
+    if not isinstance(row, Row):
+        raise UserError(f"{where}: {row!r} is not a runtime.fit.Row (quantity, value, sigma, overrides)")
+    if row.quantity not in QUANTITIES:
+        raise UserError(f"{where}: quantity {row.quantity!r}: use one of {', '.join(QUANTITIES)}")
+    value = real(row.value, f"{where}: value")
+    sigma = real(row.sigma, f"{where}: sigma", positive=True)
+    if sigma < MIN_SIGMA or abs(value) / sigma > 1 / MIN_SIGMA:
+        raise UserError(f"{where}: sigma = {sigma:g} is too small for value {value:g} (the squared "
+                        f"residuals would leave double range): give sigma >= {MIN_SIGMA:g} and "
+                        f"|value| / sigma <= {1 / MIN_SIGMA:g}")
+    over, seen = [], set()
+    for item in row.overrides:
+        if not (isinstance(item, tuple) and len(item) == 2 and isinstance(item[0], str)):
+            raise UserError(f"{where}: override {item!r}: give (scene key, number) pairs")
+        key = item[0].strip()
+        if key in seen:
+            raise UserError(f"{where}: the override {key} is given twice: give each key once")
+        seen.add(key)
+        over.append((key, real(item[1], f"{where}: override {key}")))
+    return Row(row.quantity, value, sigma, tuple(over))
+
+
+def check_rows(rows, where: str = "--fit") -> list[Row]:
+    """check_row of every row; at least one row, at most MAX_ROWS."""
+    if isinstance(rows, (str, bytes)) or not hasattr(rows, "__iter__"):
+        raise UserError(f"{where}: give a CSV path or a list of runtime.fit.Row")
+    rows = list(rows)
+    if not rows:
+        raise UserError(f"{where}: no data rows")
+    if len(rows) > MAX_ROWS:
+        raise UserError(f"{where}: {len(rows)} rows is too many (at most {MAX_ROWS})")
+    return [check_row(r, f"{where} row {i + 1}") for i, r in enumerate(rows)]
+
+
 def read_rows(path: str | Path) -> list[Row]:
     """The rows of a CSV file with header quantity,value,sigma[,overrides]; overrides are
-    `key=value` pairs separated by ';'. UserError naming the line on any problem."""
+    `key=value` pairs separated by ';'. UserError naming the line on any problem: an unknown or
+    repeated column, a line with more fields than the header, a key overridden twice."""
     try:
         text = Path(path).read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise UserError(f"--fit {path}: cannot be read ({exc}): give a CSV file") from None
-    reader = csv.DictReader(line for line in text.splitlines() if line.strip()
-                            and not line.lstrip().startswith("#"))
-    need = {"quantity", "value", "sigma"}
-    if reader.fieldnames is None or not need <= {f.strip() for f in reader.fieldnames}:
+    lines = [(n, line) for n, line in enumerate(text.splitlines(), start=1)
+             if line.strip() and not line.lstrip().startswith("#")]
+    try:
+        table = list(csv.reader(line for _, line in lines))
+    except csv.Error as exc:
+        raise UserError(f"--fit {path}: not a CSV file ({exc})") from None
+    header = [h.strip() for h in table[0]] if table else []
+    if not {"quantity", "value", "sigma"} <= set(header):
         raise UserError(f"--fit {path}: the header must name quantity,value,sigma[,overrides]")
+    unknown = [h for h in header if h not in COLUMNS]
+    if unknown:
+        raise UserError(f"--fit {path}: unknown column {unknown[0]!r}: the columns are "
+                        f"{','.join(COLUMNS)} (put per-row scene keys into overrides: key=value;...)")
+    repeated = sorted({h for h in header if header.count(h) > 1})
+    if repeated:
+        raise UserError(f"--fit {path}: the column {repeated[0]!r} appears twice in the header")
     rows = []
-    for n, rec in enumerate(reader, start=2):
-        rec = {k.strip(): (v or "").strip() for k, v in rec.items() if k}
-        q = rec["quantity"]
-        if q not in QUANTITIES:
-            raise UserError(f"--fit {path} line {n}: quantity {q!r}: use one of {', '.join(QUANTITIES)}")
+    for (n, _), fields in zip(lines[1:], table[1:]):
+        if len(fields) > len(header):
+            raise UserError(f"--fit {path} line {n}: {len(fields)} fields for {len(header)} columns: "
+                            "remove the extra ones (a ',' inside overrides? separate them by ';')")
+        rec = dict(zip(header, (f.strip() for f in fields)))
         try:
-            value, sigma = float(rec["value"]), float(rec["sigma"])
+            value, sigma = float(rec.get("value", "")), float(rec.get("sigma", ""))
         except ValueError:
             raise UserError(f"--fit {path} line {n}: value and sigma must be numbers") from None
-        if not (math.isfinite(value) and math.isfinite(sigma) and sigma > 0):
-            raise UserError(f"--fit {path} line {n}: value must be finite and sigma > 0")
         over = []
         for item in filter(None, (s.strip() for s in rec.get("overrides", "").split(";"))):
-            key, _, v = item.partition("=")
+            key, eq, v = item.partition("=")
             try:
+                if not eq:
+                    raise ValueError(item)
                 over.append((key.strip(), float(v)))
             except ValueError:
                 raise UserError(f"--fit {path} line {n}: override {item!r}: write key=number") from None
-        rows.append(Row(q, value, sigma, tuple(over)))
-    if not rows:
-        raise UserError(f"--fit {path}: no data rows")
-    return rows
+        rows.append(check_row(Row(rec.get("quantity", ""), value, sigma, tuple(over)),
+                              f"--fit {path} line {n}"))
+    return check_rows(rows, f"--fit {path}")
 
 
 @dataclass
@@ -207,6 +262,7 @@ def fit(model, rows: Sequence[Row], varies: Sequence[Vary]) -> FitResult:
     """Least squares over the varied keys (module docstring), from the scene's values."""
     if not varies:
         raise UserError("--fit needs at least one --vary KEY=LO:HI")
+    rows = check_rows(rows)
     prob = _Problem(model, rows, varies)
     keys = [v.key for v in varies]
     lo, hi = np.array([v.lo for v in varies]), np.array([v.hi for v in varies])

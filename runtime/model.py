@@ -24,7 +24,9 @@ from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
+import tomli_w
 
+from derive.faults import die_at
 from derive.inputs import input_hash
 from derive.paths import GENERATED, ROOT, is_committed_scene
 from derive.scene import Scene
@@ -33,6 +35,7 @@ from .cbuild import cache_dir, cache_problem, compile_shared
 from .errors import UserError
 from .manifest import ArtefactError, FunctionInfo, Manifest, read_manifest
 from .model_table import disagreement, read_table
+from .processes import die_with_parent
 
 CSRC = Path(__file__).resolve().parent / "csrc"
 
@@ -154,21 +157,32 @@ def _derive_into(scene: Scene, overrides, out: Path, ihash: str, note: str | Non
         raise UserError(f"scene '{scene.name}' was not read from a file: nothing to derive from")
     try:
         out.parent.mkdir(parents=True, exist_ok=True)
-        tmp = Path(tempfile.mkdtemp(prefix=f".{scene.name}-", dir=out.parent))
+        tmp = Path(tempfile.mkdtemp(prefix=f".{scene.name}-{os.getpid()}-", dir=out.parent))
     except OSError as exc:
         raise cache_problem(out.parent, exc) from None
     if note:
         print(f"levitron: {note}", file=sys.stderr)
     print(f"levitron: deriving the model of scene '{scene.name}' ...", file=sys.stderr)
     try:
-        # an absolute scene path: the subprocess runs in the repository, not in the user's folder
-        cmd = [sys.executable, "-m", "derive", str(Path(scene.path).resolve()), "--out", str(tmp),
-               "--force"]
-        for o in overrides:
-            cmd += ["--set", o]
-        res = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, check=False)
-        if res.returncode != 0:
-            last = (res.stderr.strip().splitlines() or ["no message"])[-1].removeprefix("error: ")
+        # the scene as this process read it (overrides applied), written by a TOML writer: the
+        # child derives exactly what is hashed here, even if the file is edited meanwhile
+        snapshot = tmp / f"{scene.name}.toml"
+        snapshot.write_text(tomli_w.dumps(scene.data), encoding="utf-8")
+        cmd = [sys.executable, "-m", "derive", str(snapshot), "--out", str(tmp), "--force"]
+        child = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                 cwd=ROOT, preexec_fn=die_with_parent)
+        try:
+            die_at("runtime.deriving")
+            _, err = child.communicate()
+        finally:
+            if child.poll() is None:         # interrupted (SIGTERM, Ctrl-C): the child goes too
+                child.kill()
+                child.wait()
+        if child.returncode < 0:
+            raise UserError(f"derive for scene '{scene.name}' was killed (signal {-child.returncode}) "
+                            "before it finished: run the command again (out of memory? see `dmesg`)")
+        if child.returncode != 0:
+            last = (err.strip().splitlines() or ["no message"])[-1].removeprefix("error: ")
             raise UserError(f"derive failed for scene '{scene.name}': {last}")
         _install(tmp / scene.name, out, tmp, ihash)
     finally:

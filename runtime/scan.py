@@ -49,6 +49,7 @@ start of worker processes), to compare with rhs_evals times the cost of one righ
 from __future__ import annotations
 
 import math
+import sys
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -57,7 +58,7 @@ import numpy as np
 
 from runtime.errors import UserError
 from runtime.integrators_table import DEFAULT
-from runtime.scan_grid import AXES, UNITS, check_axis
+from runtime.scan_grid import AXES, MAX_POINTS, UNITS, check_axis
 from runtime.scan_physics import linear_interval, reference_spin, slow_period
 from runtime.scan_runners import (
     N_OUT,
@@ -69,11 +70,12 @@ from runtime.scan_runners import (
     run_processes,
     run_serial,
     split,
+    usable_cores,
 )
+from runtime.validate import axis_values, count, real
 
 PERIODS = 3            # default run length in slow periods (see the module docstring)
 BASE_TILT = 0.01       # rad, the seed tilt of mass and height scans
-MAX_POINTS = 1_000_000
 CHUNKS_PER_WORKER = 8  # chunks per worker (process or dask thread): the last ones balance the load
 ENGINES = ("c", "python")
 
@@ -185,28 +187,27 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
          others: np.ndarray, t_end: float | None = None, integrator: str = DEFAULT,
          tol: float | None = 1e-9, workers: int = 1, scheduler: str | None = None,
          base_tilt: float = BASE_TILT, h: float | None = None, quiet: bool = False,
-         engine: str = "c") -> ScanResult:
+         engine: str = "c", scheduler_timeout: float | None = None) -> ScanResult:
     """Run the map (module docstring). scene_ref/overrides let the workers load the same model.
     engine "c": chunks of points through the C chunk driver (runtime/scan_c.py) when the integrator
     is a C one; "python": one runtime.simulate-style run per point (the reference path)."""
     from runtime.equilibrium import hover_height
     if axis not in AXES:
         raise UserError(f"unknown axis {axis!r}; scan over one of --tilt, --mass, --height")
-    spins, others = np.asarray(spins, float), np.asarray(others, float)
+    spins = axis_values(spins, "spin", MAX_POINTS)
+    others = axis_values(others, axis, MAX_POINTS)
     check_axis(axis, others)
+    workers = count(workers, "--workers")
     if spins.size * others.size > MAX_POINTS:
         raise UserError(f"{spins.size * others.size} grid points is too many (at most {MAX_POINTS}); "
                         "use fewer points per axis")
-    if workers < 1:
-        raise UserError(f"--workers {workers} must be at least 1")
     if scheduler is not None and workers != 1:
         raise UserError("pass either --workers N (local processes) or --scheduler ADDRESS (dask), not both")
-    if t_end is not None and not (math.isfinite(t_end) and t_end > 0):
-        raise UserError(f"--t-end {t_end} must be a positive run length in s, e.g. --t-end 5")
+    if t_end is not None:
+        t_end = real(t_end, "--t-end", positive=True, unit="s")
     if engine not in ENGINES:
         raise UserError(f"unknown engine {engine!r}; choose one of: {', '.join(ENGINES)}")
-    if not math.isfinite(base_tilt):
-        raise UserError("--base-tilt must be a finite angle (rad)")
+    base_tilt = real(base_tilt, "--base-tilt", max_abs=math.pi, unit="rad")
     if axis != "tilt" and base_tilt == 0:
         raise UserError("--base-tilt 0 launches every point on the invariant set (thesis 3.2.1), "
                         f"where the ideal top stays at any spin: the map would test nothing; give a "
@@ -261,7 +262,7 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
     tasks = [(i, j, float(s), float(o)) for i, s in enumerate(spins) for j, o in enumerate(others)
              if j not in status_pre]
     if scheduler is not None:
-        client = dask_client(scheduler)
+        client = dask_client(scheduler, scheduler_timeout)
         try:
             threads = dask_threads(client)
             chunks = split(tasks, CHUNKS_PER_WORKER * threads)
@@ -270,7 +271,10 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
         finally:
             client.close()
     elif workers > 1 and len(tasks) > 1:
-        n = min(workers, len(tasks))
+        n = min(workers, len(tasks), usable_cores())
+        if n < min(workers, len(tasks)):
+            print(f"levitron: --workers {workers} capped at the {n} cores this process may use (the "
+                  "runs are CPU-bound: more processes than cores only add switching)", file=sys.stderr)
         chunks = split(tasks, CHUNKS_PER_WORKER * n)
         runner = {"kind": "processes", "workers": n}
         chunk_results = run_processes(common, chunks, n, quiet)

@@ -13,6 +13,7 @@ from runtime.errors import UserError
 
 AXES = ("tilt", "mass", "height")
 UNITS = {"spin": "rad/s", "tilt": "rad", "mass": "kg", "height": "fraction of z_s"}
+MAX_POINTS = 1_000_000   # grid points of a whole map (and so of one axis): checked before building
 
 
 def parse_range(text: str, label: str) -> np.ndarray:
@@ -33,6 +34,9 @@ def parse_range(text: str, label: str) -> np.ndarray:
         raise UserError(f"--{label} {text!r}: LO and HI must be finite numbers")
     if n < 1:
         raise UserError(f"--{label} {text!r}: N = {n} must be at least 1 (the number of grid points)")
+    if n > MAX_POINTS:
+        raise UserError(f"--{label} {text!r}: N = {n} grid points is too many (a map has at most "
+                        f"{MAX_POINTS}); use fewer points")
     if lo > hi:
         raise UserError(f"--{label} {text!r}: LO = {lo:g} is above HI = {hi:g}; swap them "
                         f"(--{label} {hi:g}:{lo:g}:{n})")
@@ -40,6 +44,17 @@ def parse_range(text: str, label: str) -> np.ndarray:
         raise UserError(f"--{label} {text!r}: one grid point needs LO = HI (e.g. --{label} {lo:g}:{lo:g}:1),"
                         " or pass N >= 2")
     return np.linspace(lo, hi, n)
+
+
+def check_grid_size(spin: str, other: str, axis: str) -> None:
+    """N_spin x N_other <= MAX_POINTS, from the texts LO:HI:N, before any axis is built."""
+    try:
+        n1, n2 = int(str(spin).split(":")[-1]), int(str(other).split(":")[-1])
+    except ValueError:
+        return                      # parse_range names the malformed one
+    if n1 > 0 and n2 > 0 and n1 * n2 > MAX_POINTS:
+        raise UserError(f"--spin x --{axis}: {n1} x {n2} = {n1 * n2} grid points is too many (at most "
+                        f"{MAX_POINTS}); use fewer points per axis")
 
 
 def check_axis(axis: str, values: np.ndarray) -> None:

@@ -16,6 +16,8 @@ deterministic, so all three give the same map.
 """
 from __future__ import annotations
 
+import os
+import sys
 import threading
 import time
 from collections.abc import Sequence
@@ -25,10 +27,12 @@ import numpy as np
 
 from runtime import progress
 from runtime.errors import UserError
+from derive.faults import die_at
 from runtime.integrators_table import DEFAULT
 
 N_OUT = 100            # dense-output samples per run: only the survival matters here
-CONNECT_TIMEOUT_S = 20  # how long to try to reach a dask scheduler
+CONNECT_TIMEOUT_S = 20  # how long to try to reach a dask scheduler (and to wait for a worker)
+MAX_POOL_RESTARTS = 3   # new local pools after lost workers, per scan
 
 
 @dataclass(frozen=True)
@@ -214,40 +218,98 @@ def run_serial(common: Common, chunks: Sequence[list], quiet: bool = False, fn=N
     return out
 
 
+def run_worker_chunk(fn, common: Common, tasks: Sequence[tuple]) -> dict:
+    """fn(common, tasks) (run_chunk, or the launch Monte Carlo's) in a local worker process, with
+    the kill tests' injected fault point."""
+    die_at("scan.worker_chunk")
+    return fn(common, tasks)
+
+
+def usable_cores() -> int:
+    """The cores this process may run on (its CPU affinity), at least 1."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):
+        return max(1, os.cpu_count() or 1)
+
+
 def run_processes(common: Common, chunks: Sequence[list], workers: int,
                   quiet: bool = False, fn=None, what: str = "scan") -> list[dict]:
     """Local processes (spawn: no fork of a process holding BLAS threads or a loaded library);
-    fn as in run_serial."""
+    fn as in run_serial. A worker that dies (killed, out of memory) breaks the pool: the chunks
+    not yet returned run again in a new pool, at most MAX_POOL_RESTARTS times; runs are
+    deterministic, so the answer is the one a serial run gives."""
     fn = fn or run_chunk
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor, as_completed
+    from concurrent.futures.process import BrokenProcessPool
     ctx = multiprocessing.get_context("spawn")
-    out = []
-    with progress.task(f"{what} ({workers} processes)", total=sum(map(len, chunks)), quiet=quiet) as tick, \
-            ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
-                                initargs=(common.scene, tuple(common.overrides))) as ex:
-        futures = [ex.submit(fn, common, c) for c in chunks]
-        for fut in as_completed(futures):
-            out.append(fut.result())
-            tick(len(out[-1]["points"]))
-    return out
+    pending = dict(enumerate(chunks))
+    done: dict[int, dict] = {}
+    restarts = 0
+    with progress.task(f"{what} ({workers} processes)", total=sum(map(len, chunks)), quiet=quiet) as tick:
+        while pending:
+            try:
+                with ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
+                                         initargs=(common.scene, tuple(common.overrides))) as ex:
+                    futures = {ex.submit(run_worker_chunk, fn, common, c): k for k, c in pending.items()}
+                    for fut in as_completed(futures):
+                        k = futures[fut]
+                        done[k] = fut.result()
+                        del pending[k]
+                        tick(len(done[k]["points"]))
+            except BrokenProcessPool:
+                restarts += 1
+                if restarts > MAX_POOL_RESTARTS:
+                    raise UserError(f"{what}: worker processes died {restarts} times (killed, or out of "
+                                    "memory?): run with fewer --workers, or --workers 1") from None
+                print(f"levitron: a {what} worker process died: running its {len(pending)} unfinished "
+                      "chunks again in a new pool", file=sys.stderr)
+    return [done[k] for k in sorted(done)]
 
 
-def dask_client(address: str):
-    """A dask.distributed Client of the scheduler at `address` (one-line UserErrors when dask is
-    missing or the scheduler cannot be reached)."""
+def dask_client(address: str, timeout: float | None = None):
+    """A dask.distributed Client of the scheduler at `address` with at least one worker, within
+    `timeout` seconds (default CONNECT_TIMEOUT_S) for each step; one-line UserErrors when dask is
+    missing, nothing answers, something that is not a dask scheduler answers (its handshake would
+    never end: the connection runs in a daemon thread, given up after the timeout), or the
+    cluster has no worker."""
     try:
         from dask.distributed import Client
     except ImportError:
         raise UserError("--scheduler needs dask.distributed, which is not installed: "
                         "pip install 'levitron[cluster]' (or 'dask[distributed]'), or use --workers N "
                         "for local processes") from None
+    timeout = CONNECT_TIMEOUT_S if timeout is None else float(timeout)
+    box: dict = {}
+
+    def connect() -> None:
+        try:
+            box["client"] = Client(address, timeout=timeout)
+        except Exception as exc:    # noqa: BLE001 (handed to the caller; one that gave up drops it)
+            box["error"] = exc
+
+    th = threading.Thread(target=connect, name="levitron-dask-connect", daemon=True)
+    th.start()
+    th.join(timeout + 5.0)
+    if th.is_alive():
+        raise UserError(f"no dask scheduler answered at {address!r} within {timeout + 5:g} s (is it a "
+                        "dask scheduler? another service accepts the connection but never answers "
+                        "dask's handshake): give the address `dask scheduler` prints, or use --workers N")
+    if "error" in box and not isinstance(box["error"], (OSError, TimeoutError, ValueError)):
+        raise box["error"]
+    if "error" in box:
+        raise UserError(f"cannot reach the dask scheduler at {address!r} ({box['error']}); start one "
+                        "with `dask scheduler` and workers with `dask worker ADDRESS`, or use "
+                        "--workers N") from None
+    client = box["client"]
     try:
-        return Client(address, timeout=CONNECT_TIMEOUT_S)
-    except (OSError, TimeoutError, ValueError) as exc:
-        raise UserError(f"cannot reach the dask scheduler at {address!r} ({exc}); start one with "
-                        "`dask scheduler` and workers with `dask worker ADDRESS`, or use --workers N"
-                        ) from None
+        client.wait_for_workers(1, timeout=timeout)
+    except TimeoutError:
+        client.close()
+        raise UserError(f"the dask scheduler at {address!r} has no workers (waited {timeout:g} s): "
+                        f"start some with `dask worker {address}`, or use --workers N") from None
+    return client
 
 
 def dask_threads(client) -> int:

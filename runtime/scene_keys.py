@@ -21,6 +21,7 @@ from __future__ import annotations
 import copy
 import itertools
 import math
+import numbers
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -99,12 +100,23 @@ class Vary:
             lo_v, hi_v = float(lo), float(hi)
         except ValueError:
             lo_v = hi_v = math.nan
-        if not (sep and sep2 and key.strip() and math.isfinite(lo_v) and math.isfinite(hi_v)):
+        if not (sep and sep2):
             raise UserError(f"--vary {text!r}: write KEY=LO:HI with numbers, e.g. plate.hole=0.01:0.05")
+        return cls.checked(key.strip(), lo_v, hi_v, f"--vary {text!r}")
+
+    @classmethod
+    def checked(cls, key, lo, hi, where: str) -> Vary:
+        """The one check of a varied key's box, for the CLI's --vary and the API's {key: (lo, hi)}:
+        a key, finite numbers, LO < HI, not straddling 0."""
+        numbers_ok = all(isinstance(v, numbers.Real) and not isinstance(v, bool) and math.isfinite(v)
+                         for v in (lo, hi))
+        if not (isinstance(key, str) and key.strip() and numbers_ok):
+            raise UserError(f"{where}: write KEY=LO:HI with numbers, e.g. plate.hole=0.01:0.05")
+        lo_v, hi_v = float(lo), float(hi)
         if not lo_v < hi_v:
-            raise UserError(f"--vary {text!r}: LO must be below HI")
+            raise UserError(f"{where}: LO must be below HI")
         if lo_v < 0 < hi_v:
-            raise UserError(f"--vary {text!r}: the bounds must not straddle 0 (a scene number keeps "
+            raise UserError(f"{where}: the bounds must not straddle 0 (a scene number keeps "
                             "its sign): give LO >= 0 or HI <= 0")
         return cls(key.strip(), lo_v, hi_v)
 

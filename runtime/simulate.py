@@ -42,6 +42,7 @@ import numpy as np
 
 from runtime.equilibrium import hover_height
 from runtime.errors import UserError
+from runtime.validate import count, real
 from runtime.integrate import Box, Result, integrate
 from runtime.integrators_table import AUTO, DEFAULT, auto_note, lookup, resolve
 
@@ -349,6 +350,15 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
     runtime/integrators_table.py or "auto" (resolved from tol: the answer's `integrator` is the
     method that ran, `integrator_requested` the name asked for, `integrator_choice` auto's reason).
     tilt None: DEFAULT_TILT for the full model, 0 for the reduced one; t_end None: default_t_end."""
+    spin = real(spin, "--spin", unit="rad/s")
+    tilt = None if tilt is None else real(tilt, "--tilt", max_abs=math.pi, unit="rad")
+    offset = real(offset, "--offset", unit="m")
+    azimuth = real(azimuth, "--tilt-azimuth", unit="rad")
+    t_end = None if t_end is None else real(t_end, "--t-end", positive=True, unit="s")
+    n_out = count(n_out, "--n-out")
+    tol = None if tol is None else real(tol, "--tol", positive=True)
+    box = None if box is None else real(box, "--box", positive=True, unit="m")
+    h = None if h is None else real(h, "--step", positive=True, unit="s")
     pt = model.part(part)
     p = model.with_params(params or {})
     pvals = model.pvals(p)
@@ -357,9 +367,6 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
         tilt = DEFAULT_TILT if coordinates_of(pt) is not None else 0.0
     if t_end is None:
         t_end = default_t_end(model, part, p)
-    for label, v in (("spin", spin), ("tilt", tilt), ("offset", offset), ("tilt-azimuth", azimuth)):
-        if v is None or not math.isfinite(v):
-            raise UserError(f"--{label} must be a finite number")
     requested, integrator = integrator, resolve(integrator, tol, h)   # "auto": dop853 or vern9
     entry = lookup(integrator)
     z_s = hover_height(model, p)

@@ -196,7 +196,8 @@ def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
         onaxis, full_jac, states = model_callables(model, p)     # (the Tait-Bryan states)
     else:
         onaxis = eqm.model_onaxis(model, p)
-    res = analyse(onaxis, P["m"], P["g"], P["A"], P["C"], P["mu"], eqm.scale_of(model, p),
-                  full_jac, states, z_s=z_s)
+    with eqm.naming_the_formula(model):
+        res = analyse(onaxis, P["m"], P["g"], P["A"], P["C"], P["mu"], eqm.scale_of(model, p),
+                      full_jac, states, z_s=z_s)
     res.mass = P["m"]
     return res

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 
 import casadi as ca
 
+from .errors import UserError
 from .ray_algebra import _g_poly_by_degree
 
 NEWTON = {"abstol": 1e-15, "abstolStep": 1e-15, "max_iter": 40, "error_on_fail": False}
@@ -316,4 +317,8 @@ class CasadiStability:
                 J = ca.Function("J", [self.symbols.p], [ca.jacobian(y[F.index_out(output)],
                                                                     self.symbols.p)])
                 return np.asarray(J(p), float).reshape(-1)
-        raise KeyError(output)
+        raise UserError(f"unknown quantity {output!r}: use one of {', '.join(self.outputs())}")
+
+    def outputs(self) -> list[str]:
+        """The names of every quantity the Functions give (z_s, stiffness, sigma_lo, ...)."""
+        return [n for F in self.functions.values() for n in F.name_out()]

@@ -136,3 +136,32 @@ def test_damaged_object_is_rebuilt(tmp_path, monkeypatch, capsys):
     assert "damaged" in capsys.readouterr().err
     assert _call(b, "b") == 4.0
     assert sum(map(is_intact, objects)) == 1                 # common.c's; a.c's is not needed by b
+
+
+def test_a_cache_removed_mid_compile_is_named_not_ld(tmp_path, monkeypatch):
+    """Issue 17: "ld returned 1" when the cache was deleted while the compiler ran. A fake
+    compiler removes the output's folder, as a concurrent `make clean-cache` would."""
+    monkeypatch.setenv("LEVITRON_CACHE", str(tmp_path / "cache"))
+    fake = tmp_path / "fakecc"
+    fake.write_text('#!/bin/sh\nif [ "$1" = "--version" ]; then echo fakecc 1; exit 0; fi\n'
+                    'while [ $# -gt 0 ]; do if [ "$1" = "-o" ]; then out="$2"; fi; shift; done\n'
+                    'rm -rf "$(dirname "$out")"\necho "collect2: error: ld returned 1 exit status" >&2\n'
+                    'exit 1\n')
+    fake.chmod(0o755)
+    monkeypatch.setenv("CC", str(fake))
+    src = tmp_path / "ok.c"
+    src.write_text("double twice(double x) { return 2.0 * x; }\n")
+    with pytest.raises(CacheError, match="was removed while the C compiler ran") as info:
+        compile_shared([src])
+    assert "\n" not in str(info.value)
+
+
+def test_a_folder_where_the_library_belongs_is_named(tmp_path, monkeypatch):
+    """Issue 17: "cache not writable" where the .so path is a folder."""
+    from runtime.cbuild import DEFAULT_FLAGS, source_hash
+    monkeypatch.setenv("LEVITRON_CACHE", str(tmp_path / "cache"))
+    src = tmp_path / "ok.c"
+    src.write_text("double twice(double x) { return 2.0 * x; }\n")
+    (cache_dir() / f"lev_{source_hash([src], DEFAULT_FLAGS)}.so").mkdir()
+    with pytest.raises(CacheError, match="is a folder where the compiled library belongs"):
+        compile_shared([src])

@@ -60,3 +60,19 @@ KIND = PlateKind(
     resolve=resolve,
     example='kind = "expression"\nphi0 = "b*z/sqrt(z**2 + c**2)"\n\n[plate.params]\nb = 1.0\nc = 0.5',
 )
+
+
+def formulas(table: dict, where: str = "plate") -> list[str]:
+    """`where.phi0 = '...'` (or bz) of an expression plate and of every expression part of a
+    compound one, shortened for a one-line message; [] for a plate without a formula."""
+    found = []
+    if table.get("kind") == "expression":
+        for key in ("phi0", "bz"):
+            text = table.get(key)
+            if isinstance(text, str):
+                shown = text if len(text) <= 60 else text[:57] + "..."
+                found.append(f"{where}.{key} = {shown!r}")
+    for i, part in enumerate(table.get("parts") or []):
+        if isinstance(part, dict):
+            found += formulas(part, f"{where}.parts[{i}]")
+    return found

@@ -27,6 +27,9 @@ def add_arguments(parser) -> None:
                         help="a point in metres (repeatable), e.g. --at 0,0,0.1")
 
 
+FAR = 1e6      # plate sizes: the farthest point --at takes
+
+
 def parse_point(text: str) -> list[float]:
     parts = text.split(",")
     try:
@@ -45,7 +48,13 @@ def run(args) -> dict:
     points = np.array([parse_point(t) for t in args.at])
     model = model_of(args)
     scene = model.scene
-    exact = plate_field(scene.data["plate"], scene.params, points)
+    reach = FAR * scene.length_scale
+    for t, r in zip(args.at, points):
+        if np.max(np.abs(r)) > reach:
+            raise UserError(f"--at {t}: the point is more than {FAR:g} plate sizes ({reach:.3g} m) from "
+                            "the plate, where the field is zero in double precision: give a nearer point")
+    with np.errstate(all="ignore"):       # an overflow far out is reported as B_exact null
+        exact = plate_field(scene.data["plate"], scene.params, points)
     k = scene.field_factor      # the plate's remanence at the scene's temperature (derive/scene.py)
     exact = None if exact is None else exact * k
     out = []

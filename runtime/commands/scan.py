@@ -10,8 +10,10 @@ from ..errors import UserError
 from ..human import Units, duration, lines, sig
 from ..integrators_table import DEFAULT, METHODS, lookup
 from ..plotting import check_plot_path
-from ..scan_grid import check_axis, parse_range, pick_axis
+from ..scan_grid import check_axis, check_grid_size, parse_range, pick_axis
 from ..scan_plot import draw
+from ..scan_runners import CONNECT_TIMEOUT_S
+from ..validate import real
 from .common import model_of, scene_of
 
 NAME = "scan"
@@ -59,6 +61,9 @@ def add_arguments(parser) -> None:
                              "`dask scheduler` and `dask worker ADDRESS` on each machine, which needs "
                              "this package and the scene at the same path); needs the `cluster` "
                              "extra: pip install 'levitron[cluster]'")
+    parser.add_argument("--scheduler-timeout", type=float, default=None, metavar="S",
+                        help="with --scheduler: how long to wait for the scheduler's answer and for a "
+                             f"worker, s (default {CONNECT_TIMEOUT_S:g})")
     parser.add_argument("--out", default=None, metavar="FILE.png", help="draw the map to FILE.png")
 
 
@@ -66,8 +71,9 @@ def run(args) -> dict:
     if args.spin is None:
         raise UserError("pass --spin LO:HI:N (rad/s, or rad per time unit in a dimensionless scene); "
                         "`levitron stability SCENE` gives the linear interval")
-    spins = parse_range(args.spin, "spin")
     axis, spec = pick_axis({"tilt": args.tilt, "mass": args.mass, "height": args.height})
+    check_grid_size(args.spin, spec, axis)
+    spins = parse_range(args.spin, "spin")
     others = parse_range(spec, axis)
     check_axis(axis, others)
     if args.t_end is not None and not args.t_end > 0:
@@ -85,7 +91,8 @@ def run(args) -> dict:
     res = sc.scan(model, scene_ref, args.set, spins, axis, others, t_end=args.t_end,
                   integrator=args.integrator, tol=args.tol, workers=args.workers,
                   scheduler=args.scheduler, base_tilt=args.base_tilt, h=args.step,
-                  quiet=args.quiet)
+                  quiet=args.quiet, scheduler_timeout=None if args.scheduler_timeout is None else real(
+                      args.scheduler_timeout, "--scheduler-timeout", positive=True, max_abs=3600, unit="s"))
     out = {"scene": scene.name}
     out.update(res.as_dict())
     out["out"] = None

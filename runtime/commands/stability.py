@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import time
 
-from ..errors import UserError
 from ..human import Units, lines, restate, sig
 from ..stability import stability_of
+from ..validate import real
 from .common import model_of
 
 NAME = "stability"
@@ -28,8 +28,8 @@ def add_arguments(parser) -> None:
 
 def run(args) -> dict:
     model = model_of(args)
-    if args.height is not None and not args.height > 0:
-        raise UserError(f"--height {args.height} must be positive (above the plate, z > 0)")
+    if args.height is not None:
+        real(args.height, "--height", positive=True, unit="m (above the plate, z > 0)")
     t0 = time.perf_counter()
     res = stability_of(model, height=args.height)
     wall = time.perf_counter() - t0

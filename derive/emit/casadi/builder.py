@@ -5,12 +5,12 @@ backends compute the same expression graph.
 """
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import casadi as ca
 import sympy as sp
 
+from ...doubles import as_double
 from ..lower import Lowered
 
 _UNARY = {
@@ -33,14 +33,8 @@ class SXBuilder:
                 return self.env[e]
             except KeyError:
                 raise KeyError(f"no CasADi value for symbol {e}") from None
-        if e.is_Integer or e.is_Float:
-            return ca.SX(float(e))
-        if e.is_Rational:
-            return ca.SX(float(e.p) / float(e.q))
-        if e is sp.pi:
-            return ca.SX(math.pi)
-        if e is sp.E:
-            return ca.SX(math.e)
+        if e.is_Rational or e.is_Float or e is sp.pi or e is sp.E:
+            return ca.SX(as_double(e))       # the printer's double (derive/doubles.py)
         if e.is_Add:
             args = [self(a) for a in e.args]
             out = args[0]

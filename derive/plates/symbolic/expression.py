@@ -12,7 +12,7 @@ import time
 import sympy as sp
 
 from ...checks import SceneError
-from ...expr_parse import ExpressionError, parse_expression
+from ...expr_parse import FUNCTIONS, NOT_SMOOTH, ExpressionError, parse_expression
 from ...symbols import Z
 from .budget import time_budget
 from .plate import Plate, plate_symbol
@@ -45,6 +45,17 @@ class _Derivatives:
         return self.cache[k]
 
 
+def _check_functions(expr: sp.Expr, where: str) -> None:
+    """The antiderivative sympy found uses only functions the C printer and CasADi have (those a
+    formula may name): exp(z**2) integrates to erfi, which neither has."""
+    allowed = {func for func, _ in FUNCTIONS.values()} | {sp.atan2}
+    other = sorted({str(f.func) for f in expr.atoms(sp.Function) if f.func not in allowed})
+    if other or expr.has(*NOT_SMOOTH):
+        name = ", ".join(other) or "a non-smooth function"
+        raise SceneError(f"{where}: its antiderivative needs {name}, which the generated code "
+                         "cannot compute: give the on-axis potential as `phi0` instead")
+
+
 def build(table: dict, prefix: str = "") -> Plate:
     """Phi0 from `phi0`, or from `bz` by Phi_1 = -bz (B = -grad phi) and Phi0 = -int bz dz, which
     must have a closed form; the parameters are the names of [plate.params]."""
@@ -68,5 +79,6 @@ def build(table: dict, prefix: str = "") -> Plate:
                                  "in z that sympy finds: give the on-axis potential as `phi0` "
                                  "instead")
             first = [phi0, -expr]
+            _check_functions(phi0, f"{where}.bz = {table['bz']!r}")
     derivs = _Derivatives(first, where, TIME_BUDGET_S - (time.monotonic() - t0))
     return Plate("expression", first[0], symbols, derivs)

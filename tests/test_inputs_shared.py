@@ -1,0 +1,170 @@
+"""Input is never dropped or changed without a word, and the CLI and the API check it the same way
+(issue 17, item 4 of "silent wrong answers", and the API's raw Python errors).
+
+Before: a newline in a --set value dropped the rest; the API wrote its overrides as f'{key}="{value}"'
+(a quote or a newline rewrote the scene); extra CSV columns and a key overridden twice in a row were
+taken silently; the API's fit took a negative sigma and its scan a NaN spin that the CLI refused;
+load(123), simulate(spin="1000"), scan([]) raised TypeError / IndexError; a scan of 1e12 points
+allocated its axes before refusing them.
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import pytest
+
+import levitron_api
+from derive.scene import SceneError, load_scene, override_text, parse_override
+from runtime import fit
+from runtime.cli import main
+from runtime.errors import UserError
+from runtime.scan import scan
+from runtime.scan_grid import parse_range
+from runtime.scene_keys import Vary
+from runtime.simulate import simulate
+
+HOSTILE = ['x"\nv2 = "y', "a\\b", "line1\nline2", 'quote " and \' both', "tab\there", "#not a comment",
+           "]", "\"\"\"", "é ü ∞"]
+
+
+def _cli(argv, capsys):
+    try:
+        code = main(argv)
+    except SystemExit as exc:
+        code = exc.code
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.mark.parametrize("value", ["0.03\nplate.hole = 0.05", "0.03\r", "0.03\x00", "0.03\n"])
+def test_a_control_character_in_a_set_value_is_refused(value, capsys):
+    """Before: `--set "top.mass=0.03<newline>plate.hole=0.05"` set the mass and dropped the rest."""
+    code, out, err = _cli(["info", "thesis", "--set", f"top.mass={value}", "--json"], capsys)
+    assert code == 2 and out == "", (code, out, err)
+    assert len(err.strip().splitlines()) == 1 and "control character" in err, err
+
+
+def test_an_unbalanced_quote_is_not_taken_as_a_bare_word():
+    with pytest.raises(SceneError, match="not a TOML value"):
+        parse_override('reference.source="abc')
+    assert parse_override("plate.kind=disk") == (["plate", "kind"], "disk")          # bare words stay
+    assert parse_override("model.coordinates=euler-zxz")[1] == "euler-zxz"
+
+
+@pytest.mark.parametrize("value", HOSTILE)
+def test_the_api_writes_overrides_with_a_toml_writer(value):
+    """The text the API hands to the scene reader gives back exactly the value (before: 'x"\\nv2 = "y'
+    became 'x', the rest a new key)."""
+    (text,) = levitron_api.study.override_texts({"reference.source": value})
+    assert "\n" not in text
+    assert parse_override(text) == (["reference", "source"], value)
+    scene = load_scene("thesis", [text])
+    assert scene.data["reference"]["source"] == value
+
+
+@pytest.mark.parametrize("value", [0.05, -3, True, ["reduced", "full"], 1e-300])
+def test_override_text_round_trips_every_kind_of_value(value):
+    assert parse_override(override_text("a.b", value)) == (["a", "b"], value)
+
+
+def test_override_text_refuses_what_is_not_one_value():
+    for key, value in (("a.b", {"c": 1}), ("a b", 1), ("a.b", object()), ("", 1)):
+        with pytest.raises(SceneError):
+            override_text(key, value)
+
+
+# ---------------------------------------------------------------- fit CSVs and rows
+
+@pytest.mark.parametrize("text,message", [
+    ("quantity,value,sigma,temperature\nz_s,0.1,1e-4,20\n", "unknown column 'temperature'"),
+    ("quantity,value,sigma\nz_s,0.1,1e-4,20\n", "4 fields for 3 columns"),
+    ("quantity,value,sigma,sigma\nz_s,0.1,1e-4,1e-3\n", "appears twice"),
+    ("quantity,value,sigma,overrides\nz_s,0.1,1e-4,top.mass=0.05;top.mass=0.06\n", "given twice"),
+    ("quantity,value,sigma,overrides\nz_s,0.1,1e-4,top.mass=nan\n", "top.mass"),
+    ("quantity,value,sigma\nz_s,0.1,1e-320\n", "too small"),
+    ("quantity,value,sigma\nz_s,0.1,-1e-4\n", "positive"),
+    ("quantity,value,sigma\nz_s,nan,1e-4\n", "finite"),
+    ("quantity,value,sigma\n", "no data rows"),
+])
+def test_fit_csv_problems_are_one_line(tmp_path, text, message):
+    f = tmp_path / "d.csv"
+    f.write_text(text)
+    with pytest.raises(UserError) as err:
+        fit.read_rows(f)
+    assert message in str(err.value) and "\n" not in str(err.value), str(err.value)
+
+
+@pytest.mark.parametrize("rows,message", [
+    ([fit.Row("z_s", 0.1, -1e-4)], "positive"),
+    ([fit.Row("z_s", 0.1, 0.0)], "positive"),
+    ([fit.Row("z_s", 0.1, math.nan)], "finite"),
+    ([fit.Row("z_s", 0.1, 1e-320)], "too small"),
+    ([fit.Row("height", 0.1, 1e-4)], "quantity 'height'"),
+    ([fit.Row("z_s", "0.1", 1e-4)], "not a number"),
+    ([fit.Row("z_s", 0.1, 1e-4, (("top.mass", 0.05), ("top.mass", 0.06)))], "given twice"),
+    ([], "no data rows"),
+    ("z_s,0.1,1e-4", "CSV path or a list"),
+])
+def test_the_api_fit_checks_rows_as_the_csv_reader_does(rows, message):
+    """runtime.fit.fit (what levitron_api's Study.fit calls) checks before any model work."""
+    with pytest.raises(UserError, match=message):
+        fit.fit(None, rows, [Vary("plate.murho", -0.003, -0.002)])
+
+
+def test_the_api_vary_is_checked_as_the_cli_vary():
+    for box in ((-1.0, 1.0), (2.0, 1.0), (math.nan, 1.0), ("a", 1.0)):
+        with pytest.raises(UserError):
+            Vary.checked("top.mass", *box, where="vary")
+    with pytest.raises(UserError, match="straddle"):
+        Vary.parse("top.mass=-1:1")
+
+
+# ---------------------------------------------------------------- scan and simulate inputs
+
+@pytest.mark.parametrize("spins,others,message", [
+    ([math.nan, 1000.0], [0.01], "spin: every value must be finite"),
+    ([], [0.01], "non-empty"),
+    ([1000.0], [math.inf], "tilt: every value must be finite"),
+    ("1000", [0.01], "list of numbers"),
+    ([["a"]], [0.01], "number"),
+])
+def test_the_api_scan_checks_the_grid_as_the_cli_does(spins, others, message):
+    """runtime.scan.scan (Study.scan and the CLI) refuses before touching the model."""
+    with pytest.raises(UserError, match=message):
+        scan(None, "thesis_stable", [], spins, "tilt", others)
+
+
+@pytest.mark.parametrize("kwargs,message", [
+    ({"spin": "1000"}, "--spin = '1000' is not a number"), ({"spin": math.nan}, "--spin"),
+    ({"spin": 1000.0, "tilt": math.inf}, "--tilt"), ({"spin": 1000.0, "tilt": 1e300}, "--tilt"),
+    ({"spin": 1000.0, "t_end": -1.0}, "--t-end"), ({"spin": 1000.0, "n_out": 2.5}, "--n-out"),
+    ({"spin": 1000.0, "tol": "tight"}, "--tol"), ({"spin": True}, "--spin"),
+])
+def test_simulate_checks_its_numbers_before_the_model(kwargs, message):
+    with pytest.raises(UserError, match=message):
+        simulate(None, **kwargs)
+
+
+def test_a_huge_grid_is_refused_before_it_is_built():
+    """Before: np.linspace(0, 1, 10**12) tried to allocate 7 TiB (MemoryError, exit 3)."""
+    t0 = time.perf_counter()
+    with pytest.raises(UserError, match="too many"):
+        parse_range("0:1:1000000000000", "spin")
+    assert time.perf_counter() - t0 < 1.0
+
+
+def test_a_huge_product_grid_is_refused_before_it_is_built(capsys):
+    t0 = time.perf_counter()
+    code, out, err = _cli(["scan", "thesis_stable", "--spin", "1:2:100000", "--tilt", "0:0.1:100000"], capsys)
+    assert code == 2 and "too many" in err and len(err.strip().splitlines()) == 1, err
+    assert time.perf_counter() - t0 < 5.0
+
+
+def test_the_api_exports_its_error_types():
+    assert levitron_api.UserError is UserError and levitron_api.SceneError is SceneError
+    for bad in (123, None, 1.5):
+        with pytest.raises(levitron_api.UserError, match="scene must be"):
+            levitron_api.load(bad)
+    with pytest.raises(levitron_api.UserError, match="mapping"):
+        levitron_api.load("thesis", [("top.mass", 0.05)])
