@@ -204,7 +204,7 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
     if scheduler is not None and workers != 1:
         raise UserError("pass either --workers N (local processes) or --scheduler ADDRESS (dask), not both")
     if t_end is not None:
-        t_end = real(t_end, "--t-end", positive=True, unit="s")
+        t_end = real(t_end, "--t-end", positive=True, unit="s", what="run length")
     if engine not in ENGINES:
         raise UserError(f"unknown engine {engine!r}; choose one of: {', '.join(ENGINES)}")
     base_tilt = real(base_tilt, "--base-tilt", max_abs=math.pi, unit="rad")

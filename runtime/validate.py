@@ -16,8 +16,10 @@ from .errors import UserError
 
 
 def real(value, label: str, *, positive: bool = False, nonnegative: bool = False,
-         max_abs: float | None = None, unit: str = "") -> float:
-    """`value` as a finite float (not a bool, not text), within the given bounds."""
+         max_abs: float | None = None, unit: str = "", what: str = "") -> float:
+    """`value` as a finite float (not a bool, not text), within the given bounds; `what` names the
+    quantity in the messages ("run length", "tolerance")."""
+    noun = f"{what} in {unit}" if what and unit else what or (f"number in {unit}" if unit else "number")
     unit = f" {unit}" if unit else ""
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise UserError(f"{label} = {value!r} is not a number: give a finite number{unit}")
@@ -25,7 +27,7 @@ def real(value, label: str, *, positive: bool = False, nonnegative: bool = False
     if not math.isfinite(v):
         raise UserError(f"{label} = {v} must be a finite number{unit}")
     if positive and not v > 0:
-        raise UserError(f"{label} = {v:g} must be positive{unit}")
+        raise UserError(f"{label} = {v:g} must be a positive {noun}")
     if nonnegative and v < 0:
         raise UserError(f"{label} = {v:g} must not be negative{unit}")
     if max_abs is not None and abs(v) > max_abs:

@@ -27,7 +27,7 @@ def test_a_numpy_loop_over_masses():
 
 
 def test_not_numbers_are_refused_in_one_line():
-    with pytest.raises(lev.UserError, match=r"override top.mass = \[0.05\]: pass a number"):
+    with pytest.raises(lev.UserError, match=r"top.mass = \[0.05\] is not a number"):
         lev.load("thesis_stable", {"top.mass": [0.05]})
 
 
