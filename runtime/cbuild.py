@@ -195,7 +195,7 @@ def compile_object(source: Path | str, flags: tuple[str, ...] = DEFAULT_FLAGS,
     target = folder / f"{h.hexdigest()[:24]}.o"
     if is_intact(target):
         return target
-    with _locked(folder):
+    with locked(folder):
         if is_intact(target):                 # built by another process meanwhile
             return target
         if target.exists():
@@ -206,8 +206,8 @@ def compile_object(source: Path | str, flags: tuple[str, ...] = DEFAULT_FLAGS,
 
 
 @contextmanager
-def _locked(folder: Path):
-    """An exclusive lock on `folder` (flock on the folder itself: no lock file to leave behind);
+def locked(folder: Path):
+    """An exclusive lock on `folder` (between processes) (flock on the folder itself: no lock file to leave behind);
     none where the file system has no flock (the atomic rename keeps a double build safe)."""
     try:
         fd = os.open(folder, os.O_RDONLY)

@@ -31,7 +31,7 @@ from derive.inputs import input_hash
 from derive.paths import GENERATED, ROOT, is_committed_scene
 from derive.scene import Scene
 
-from .cbuild import cache_dir, cache_problem, compile_shared
+from .cbuild import cache_dir, cache_problem, compile_shared, locked
 from .errors import UserError
 from .manifest import ArtefactError, FunctionInfo, Manifest, read_manifest
 from .model_table import disagreement, read_table
@@ -199,7 +199,14 @@ def _intact(folder: Path, ihash: str) -> bool:
 
 def _install(new: Path, out: Path, trash: Path, ihash: str) -> None:
     """Rename `new` to `out`; a damaged `out` is first moved into `trash` (removed by the caller),
-    an intact one (another process's identical result, installed meanwhile) is kept."""
+    an intact one (another process's identical result, installed meanwhile) is kept. Under a lock
+    on the cache's derived/ folder, so that two processes that derived the same model at once
+    never take each other's installed result for a damaged one."""
+    with locked(out.parent):
+        _install_unlocked(new, out, trash, ihash)
+
+
+def _install_unlocked(new: Path, out: Path, trash: Path, ihash: str) -> None:
     if _intact(out, ihash):
         return
     try:
