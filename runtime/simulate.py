@@ -318,9 +318,9 @@ def simulate(model, spin: float, tilt: float = 0.0, offset: float = 0.0, t_end: 
     tilt = real(tilt, "--tilt", max_abs=math.pi, unit="rad")
     offset = real(offset, "--offset", unit="m")
     azimuth = real(azimuth, "--tilt-azimuth", unit="rad")
-    t_end = real(t_end, "--t-end", positive=True, unit="s")
+    t_end = real(t_end, "--t-end (run length)", unit="s")    # its range: step_budget.check_options
     n_out = count(n_out, "--n-out")
-    tol = None if tol is None else real(tol, "--tol", positive=True)
+    tol = None if tol is None else real(tol, "--tol (tolerance)")
     box = None if box is None else real(box, "--box", positive=True, unit="m")
     h = None if h is None else real(h, "--step", positive=True, unit="s")
     pt = model.part(part)

@@ -138,7 +138,7 @@ def test_the_api_scan_checks_the_grid_as_the_cli_does(spins, others, message):
 @pytest.mark.parametrize("kwargs,message", [
     ({"spin": "1000"}, "--spin = '1000' is not a number"), ({"spin": math.nan}, "--spin"),
     ({"spin": 1000.0, "tilt": math.inf}, "--tilt"), ({"spin": 1000.0, "tilt": 1e300}, "--tilt"),
-    ({"spin": 1000.0, "t_end": -1.0}, "--t-end"), ({"spin": 1000.0, "n_out": 2.5}, "--n-out"),
+    ({"spin": 1000.0, "t_end": math.nan}, "--t-end"), ({"spin": 1000.0, "n_out": 2.5}, "--n-out"),
     ({"spin": 1000.0, "tol": "tight"}, "--tol"), ({"spin": True}, "--spin"),
 ])
 def test_simulate_checks_its_numbers_before_the_model(kwargs, message):
