@@ -14,14 +14,16 @@ import signal
 import sys
 
 PR_SET_PDEATHSIG = 1
+# resolved here, in the parent: the child between fork and exec only calls it (no dlopen, no
+# allocation that could wait on a lock another thread of the parent held at the fork)
+_PRCTL = ctypes.CDLL(ctypes.util.find_library("c") or None).prctl if sys.platform.startswith("linux") \
+    else None
 
 
 def die_with_parent() -> None:
     """In a child before exec: ask for SIGKILL when the parent dies (Linux; elsewhere nothing)."""
-    if not sys.platform.startswith("linux"):
-        return
-    libc = ctypes.CDLL(ctypes.util.find_library("c") or None)
-    libc.prctl(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+    if _PRCTL is not None:
+        _PRCTL(PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0)
 
 
 def terminate_as_exit() -> None:

@@ -36,6 +36,8 @@ RTOL = 1e-12
 
 
 def _path(key: str) -> list[str]:
+    if not isinstance(key, str):
+        raise UserError(f"{key!r} is not a scene key: write it as text, section.key, e.g. 'top.mass'")
     parts = key.split(".")
     if not key or not all(parts):
         raise UserError(f"{key!r} is not a scene key: write it as section.key, e.g. top.mass or "

@@ -354,9 +354,9 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
     tilt = None if tilt is None else real(tilt, "--tilt", max_abs=math.pi, unit="rad")
     offset = real(offset, "--offset", unit="m")
     azimuth = real(azimuth, "--tilt-azimuth", unit="rad")
-    t_end = None if t_end is None else real(t_end, "--t-end", positive=True, unit="s", what="run length")
+    t_end = None if t_end is None else real(t_end, "--t-end (run length)", unit="s")  # its range: check_options
     n_out = count(n_out, "--n-out")
-    tol = None if tol is None else real(tol, "--tol", positive=True, what="tolerance")
+    tol = None if tol is None else real(tol, "--tol (tolerance)")
     box = None if box is None else real(box, "--box", positive=True, unit="m")
     h = None if h is None else real(h, "--step", positive=True, unit="s")
     pt = model.part(part)

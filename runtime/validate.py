@@ -29,9 +29,9 @@ def real(value, label: str, *, positive: bool = False, nonnegative: bool = False
     if positive and not v > 0:
         raise UserError(f"{label} = {v:g} must be a positive {noun}")
     if nonnegative and v < 0:
-        raise UserError(f"{label} = {v:g} must not be negative{unit}")
+        raise UserError(f"{label} = {v:g}{unit} must not be negative")
     if max_abs is not None and abs(v) > max_abs:
-        raise UserError(f"{label} = {v:g} is beyond +-{max_abs:g}{unit}: give a smaller value")
+        raise UserError(f"{label} = {v:g}{unit} is beyond +-{max_abs:g}{unit}: give a smaller value")
     return v
 
 

@@ -138,7 +138,7 @@ def test_the_api_scan_checks_the_grid_as_the_cli_does(spins, others, message):
 @pytest.mark.parametrize("kwargs,message", [
     ({"spin": "1000"}, "--spin = '1000' is not a number"), ({"spin": math.nan}, "--spin"),
     ({"spin": 1000.0, "tilt": math.inf}, "--tilt"), ({"spin": 1000.0, "tilt": 1e300}, "--tilt"),
-    ({"spin": 1000.0, "t_end": -1.0}, "--t-end"), ({"spin": 1000.0, "n_out": 2.5}, "--n-out"),
+    ({"spin": 1000.0, "t_end": math.nan}, "--t-end"), ({"spin": 1000.0, "n_out": 2.5}, "--n-out"),
     ({"spin": 1000.0, "tol": "tight"}, "--tol"), ({"spin": True}, "--spin"),
 ])
 def test_simulate_checks_its_numbers_before_the_model(kwargs, message):
@@ -168,3 +168,43 @@ def test_the_api_exports_its_error_types():
             levitron_api.load(bad)
     with pytest.raises(levitron_api.UserError, match="mapping"):
         levitron_api.load("thesis", [("top.mass", 0.05)])
+
+
+# ---------------------------------------------------------------- the API raises its own errors
+
+@pytest.fixture(scope="module")
+def study():
+    return levitron_api.load("thesis_stable")
+
+
+VARY = {"plate.murho": (-0.003, -0.002)}
+API_CALLS = {
+    "value-not-text": lambda s: s.value(5),
+    "value-unknown-key": lambda s: s.value("bogus.key"),
+    "p_of-nan": lambda s: s.p_of({"top.mass": math.nan}),
+    "gradient-unknown-quantity": lambda s: s.gradient("bogus", ["top.mass"]),
+    "gradient-unknown-key": lambda s: s.gradient("z_s", ["top.bogus"]),
+    "gradient-keys-a-string": lambda s: s.gradient("z_s", "top.mass"),
+    "simulate-spin-text": lambda s: s.simulate(spin="1000"),
+    "simulate-tilt-inf": lambda s: s.simulate(spin=1000.0, tilt=math.inf),
+    "simulate-integrator-number": lambda s: s.simulate(spin=1000.0, integrator=3),
+    "scan-no-spins": lambda s: s.scan([], "tilt", [0.1]),
+    "scan-unknown-axis": lambda s: s.scan([1000.0], "bogus", [0.1]),
+    "scan-nan-spin": lambda s: s.scan([math.nan], "tilt", [0.1]),
+    "fit-sigma-0": lambda s: s.fit([fit.Row("z_s", 0.1, 0.0)], VARY),
+    "fit-sigma-nan": lambda s: s.fit([fit.Row("z_s", 0.1, math.nan)], VARY),
+    "fit-no-rows": lambda s: s.fit([], VARY),
+    "fit-unknown-quantity": lambda s: s.fit([fit.Row("height", 0.1, 1e-4)], VARY),
+    "fit-vary-not-numbers": lambda s: s.fit([fit.Row("z_s", 0.1, 1e-4)], {"plate.murho": (1, "x")}),
+    "fit-vary-empty": lambda s: s.fit([fit.Row("z_s", 0.1, 1e-4)], {}),
+    "optimize-unknown-objective": lambda s: s.optimize("bogus", {"top.mass": (0.05, 0.052)}),
+    "load-override-a-table": lambda s: levitron_api.load("thesis", {"top": {"mass": 1}}),
+}
+
+
+@pytest.mark.parametrize("name", sorted(API_CALLS))
+def test_the_api_raises_its_own_one_line_errors(name, study):
+    """Before: TypeError, KeyError, IndexError, ZeroDivisionError, "math domain error"."""
+    with pytest.raises(levitron_api.UserError) as err:
+        API_CALLS[name](study)
+    assert "\n" not in str(err.value) and str(err.value)
