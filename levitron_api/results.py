@@ -109,7 +109,9 @@ class Simulation:
     launch on the invariant set, which tests nothing: details["untested"] says why); t_survived
     (s); max_excursion (m); energy_drift (relative; in air the energy balance's residual);
     rhs_evals; wall_s (s); final_state (the model's states, SI); details: every key of the
-    command's JSON (in air also "flight": flight time, fall spin, the adiabatic t_cross)."""
+    command's JSON (in air also "flight": flight time, fall spin, the adiabatic t_cross);
+    trajectory: the samples as data, {column: array}: t (s), the states (SI), energy (J), L_z,
+    L_n (kg m^2/s) and tilt (rad); `save(path)` writes them to .csv or .npz."""
 
     levitating: bool | None
     t_survived: float
@@ -119,6 +121,15 @@ class Simulation:
     wall_s: float
     final_state: dict
     details: dict = field(repr=False, default_factory=dict)
+    trajectory: dict = field(repr=False, default_factory=dict)
+
+    def save(self, path) -> str:
+        """Write the trajectory to a .csv or .npz file (runtime/trajectory_file.py)."""
+        import numpy as np
+
+        from runtime import trajectory_file
+        names = list(self.trajectory)
+        return str(trajectory_file.write(path, names, np.column_stack([self.trajectory[n] for n in names])))
 
     @property
     def status(self) -> str:

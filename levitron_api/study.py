@@ -25,7 +25,7 @@ from .results import Equilibria, Equilibrium, LaunchOdds, Simulation, Stability
 
 # Study.simulate's options: runtime.simulate.simulate's keywords, and the command line's names
 SIMULATE_OPTIONS = ("tilt", "offset", "t_end", "integrator", "tol", "box", "plot", "part", "h",
-                    "n_out", "azimuth")
+                    "n_out", "azimuth", "save")
 SIMULATE_ALIASES = {"tilt_azimuth": "azimuth", "step": "h"}     # --tilt-azimuth, --step
 
 
@@ -157,11 +157,12 @@ class Study:
         for name in ("tilt", "offset", "t_end", "tol", "box", "h", "azimuth"):
             if options.get(name) is not None:
                 options[name] = arg.number(options[name], name)
-        out = simulate(self.model, arg.number(spin, "spin"), **options)
+        out = simulate(self.model, arg.number(spin, "spin"), trajectory=True, **options)
+        samples = out.pop("trajectory")
         return Simulation(out["levitating"], float(out["t_survived"]),
                           float(out["max_excursion"]), float(out["energy_drift"]),
                           int(out["rhs_evals"]), float(out["wall_s"]), dict(out["final_state"]),
-                          out)
+                          out, samples)
 
     def launch(self, n: int = 1000, seed: int = 0, inputs: Mapping[str, object] | None = None,
                **options) -> LaunchOdds:

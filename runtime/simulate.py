@@ -46,7 +46,7 @@ from runtime.validate import count, real
 from runtime.integrate import Box, Result, integrate
 from runtime.integrators_table import AUTO, DEFAULT, auto_note, lookup, resolve
 
-from . import flight
+from . import flight, trajectory_file
 from .human import Units, sig
 from .stability import stability_of
 from .plotting import pyplot, save_figure, style
@@ -342,14 +342,19 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
              integrator: str = DEFAULT, tol: float | None = 1e-9, box: float | None = None,
              plot: str | Path | None = None, part: str = "full", h: float | None = None,
              n_out: int = 2000, params: dict | None = None,
-             azimuth: float = DEFAULT_AZIMUTH) -> dict:
+             azimuth: float = DEFAULT_AZIMUTH, save: str | Path | None = None,
+             trajectory: bool = False) -> dict:
     """Run one trajectory and answer docs/contract.md's `simulate` keys (plus details).
 
     box: the half-width of the box (m), default z_s / 2. params: parameter values overriding the
     scene's for this run (names of manifest.json `parameters`). integrator: a name of
     runtime/integrators_table.py or "auto" (resolved from tol: the answer's `integrator` is the
     method that ran, `integrator_requested` the name asked for, `integrator_choice` auto's reason).
-    tilt None: DEFAULT_TILT for the full model, 0 for the reduced one; t_end None: default_t_end."""
+    tilt None: DEFAULT_TILT for the full model, 0 for the reduced one; t_end None: default_t_end.
+    save: write the samples to a .csv or .npz file (runtime/trajectory_file.py; `saved` names it);
+    trajectory: also return them as out["trajectory"] = {column: array} (not JSON: the API's)."""
+    if save is not None:
+        trajectory_file.check_path(save)
     spin = real(spin, "--spin", unit="rad/s")
     tilt = None if tilt is None else real(tilt, "--tilt", max_abs=math.pi, unit="rad")
     offset = real(offset, "--offset", unit="m")
@@ -396,7 +401,23 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
     out["integrator_requested"] = requested
     if requested == AUTO:
         out["integrator_choice"] = auto_note(tol)
+    if save is not None or trajectory:
+        names, table = trajectory_table(pt, res, p)
+        out["saved"] = str(trajectory_file.write(save, names, table)) if save is not None else None
+        if trajectory:
+            out["trajectory"] = {n: table[:, i] for i, n in enumerate(names)}
     return out
+
+
+def trajectory_table(pt, res: Result, p) -> tuple[list[str], np.ndarray]:
+    """The samples of a run as columns (runtime/trajectory_file.py): t, the states, energy, L_z,
+    L_n and tilt, each derived column from a generated function in one C call."""
+    X = np.atleast_2d(res.X)
+    H = res.energy if res.energy is not None else _rows(pt, "energy", X, p)[:, 0]
+    inv = invariants(pt, X, p)
+    cols = [np.asarray(res.t, float)[:, None], X, np.asarray(H, float)[:, None], inv,
+            tilt_of(pt, X)[:, None]]
+    return ["t", *pt.states, "energy", "L_z", "L_n", "tilt"], np.hstack(cols)
 
 
 def spin_momentum(part, x) -> float:

@@ -36,6 +36,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--part", default="full", choices=("full", "reduced"), help="model part (default full)")
     parser.add_argument("--n-out", type=int, default=2000, help="number of output samples (default 2000)")
     parser.add_argument("--plot", default=None, metavar="FILE", help="draw height, radial offset and tilt to FILE.png")
+    parser.add_argument("--save", default=None, metavar="FILE",
+                        help="write the samples to FILE.csv or FILE.npz: t, the states, energy, L_z, L_n, tilt")
 
 
 def run(args) -> dict:
@@ -51,7 +53,7 @@ def run(args) -> dict:
     return simulate(model, spin=args.spin, tilt=args.tilt, offset=args.offset, t_end=args.t_end,
                     integrator=args.integrator, tol=args.tol, box=args.box, plot=args.plot,
                     part=args.part, h=args.step, n_out=args.n_out,
-                    azimuth=args.tilt_azimuth)
+                    azimuth=args.tilt_azimuth, save=args.save)
 
 
 def flight_line(r: dict, u: Units) -> str:
@@ -112,4 +114,5 @@ def human(r: dict, scene=None) -> str:
         f"{', chosen by auto' if r.get('integrator_requested') == 'auto' else ''}), "
         f"{sig(r['rhs_evals'], 6)} rhs evaluations",
         u.note,
-        f"plot: {r['plot']}" if r.get("plot") else "")
+        f"plot: {r['plot']}" if r.get("plot") else "",
+        f"samples: {r['saved']}" if r.get("saved") else "")
