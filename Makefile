@@ -38,15 +38,12 @@ test: setup
 fuzz: setup
 	HYPOTHESIS_PROFILE=fuzz $(PY) -m pytest -q tests/test_properties.py --hypothesis-show-statistics
 
-# Work-precision reports (reports/<scene>/) against heyoka (the optional extra `bench`) and the
-# other backends, for the scenes whose top has a stable spin interval (or only a reduced model).
-BENCH_SCENES ?= thesis_stable ring_magnet square loop reduced_only
+# Every benchmark of the registry runtime/bench_kinds.py on its scenes (`levitron bench SCENE
+# --kind KIND`): work-precision against heyoka (the optional extra `bench`) and the other backends,
+# maps, design, launches; reports in reports/.
 bench: setup
 	.venv/bin/pip install --quiet -e '.[bench]'
-	for s in $(BENCH_SCENES); do .venv/bin/levitron bench $$s || exit 1; done
-	$(PY) -m runtime.bench_maps thesis_stable --t-end 10 --out reports/maps
-	$(PY) -m runtime.bench_design --out reports/design
-	$(PY) -m runtime.bench_launch thesis_air --out reports/launch
+	$(PY) -m runtime.bench_kinds
 
 clean-cache:
 	rm -rf $${LEVITRON_CACHE:-$$HOME/.cache/levitron}

@@ -334,6 +334,11 @@ def draw(rows: list[dict], path: Path, title: str) -> Path:
     return save_figure(fig, path)
 
 
+def bench(model, scene_ref: str, overrides, out: Path, quick: bool) -> dict:
+    """The bench protocol (runtime/bench_kinds.py): `run` into `out`."""
+    return run(model, out, quick)
+
+
 def run(model, out_dir: str | Path = "reports", quick: bool = False) -> dict:
     t0 = time.perf_counter()
     su = setup(model)                    # refuses a scene without a stable interval: nothing written

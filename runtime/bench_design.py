@@ -9,17 +9,15 @@ length key. Per case: keys, objective, value, solver_status, iterations (IPOPT's
 wall_s (the whole `design.optimize` call, verification included), goal_s (GOAL_S) and meets_goal;
 model_load_s once. A case IPOPT cannot solve is a row with its one-line error, not a crash.
 
-    python -m runtime.bench_design [SCENE] [--quick] [--out DIR] [--json]
+    levitron bench [SCENE] --kind design [--quick] [--out DIR]
 
 --quick: the one-key case only. Writes DIR/bench_design.json and DIR/bench_design.csv
 (default DIR reports/design).
 """
 from __future__ import annotations
 
-import argparse
 import csv
 import json
-import sys
 import time
 from pathlib import Path
 
@@ -105,30 +103,10 @@ def write(result: dict, out: Path) -> list[Path]:
     return [js, cs]
 
 
-def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m runtime.bench_design", description=__doc__.split("\n")[0])
-    ap.add_argument("scene", nargs="?", default="thesis_stable")
-    ap.add_argument("--quick", action="store_true", help="the one-key case only")
-    ap.add_argument("--out", default="reports/design", help="output folder (default reports/design)")
-    ap.add_argument("--json", action="store_true", help="print the JSON result")
-    args = ap.parse_args(argv)
-    try:
-        result = run(args.scene, args.quick)
-    except UserError as e:
-        print(f"error: {e}", file=sys.stderr)
-        return 2
-    paths = write(result, Path(args.out))
-    if args.json:
-        print(json.dumps(result, indent=1))
-    else:
-        for r in result["cases"]:
-            what = (f"{r['solver_status']}, {r['iterations']} IPOPT iterations, value {r['value']:.10g}"
-                    if not r["error"] else f"failed: {r['error']}")
-            print(f"{r['case']}: {r['objective']} over {r['keys']}: {r['wall_s']:.2f} s "
-                  f"(goal {GOAL_S:g} s): {what}")
-        print("wrote " + ", ".join(map(str, paths)))
-    return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())
+def bench(model, scene_ref: str, overrides, out: Path, quick: bool) -> dict:
+    """The bench protocol (runtime/bench_kinds.py): the cases of `run`, written by `write`."""
+    result = run(scene_ref, quick)
+    result["files"] = [str(f) for f in write(result, out)]
+    result["headline"] = "; ".join(
+        f"{r['case']} {r['wall_s']:.2f} s" + ("" if not r["error"] else " (failed)") for r in result["cases"])
+    return result

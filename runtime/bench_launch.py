@@ -1,13 +1,12 @@
-"""`python -m runtime.bench_launch SCENE --out reports/launch`: the cost of a real launch.
+"""`levitron bench SCENE --kind launch`: the cost of a real launch.
 
 Two figures for a scene in air (derive/friction.py): the wall time of one long flight
-(`--flight` s, one core, the generated C through runtime.simulate, the summary included) and of a
-launch Monte Carlo (`--n` launches of `--t-end` s each on `--workers` processes, runtime/launch.py),
-each the minimum of `--repeats`. Writes launch.json, launch.csv and the Monte Carlo's histogram.
+(FULL["flight"] s, one core, the generated C through runtime.simulate, the summary included) and of
+a launch Monte Carlo (FULL["n"] launches of FULL["t_end"] s each on FULL["workers"] processes,
+runtime/launch.py), each the minimum of FULL["repeats"]. Writes launch.json, launch.csv and the Monte Carlo's histogram.
 """
 from __future__ import annotations
 
-import argparse
 import csv
 import json
 import time
@@ -48,34 +47,26 @@ def measure(scene: str, flight: float, n: int, t_end: float, workers: int, repea
             "result": res}
 
 
-def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("scene", nargs="?", default="thesis_air")
-    ap.add_argument("--out", default="reports/launch")
-    ap.add_argument("--flight", type=float, default=300.0)
-    ap.add_argument("--n", type=int, default=1000)
-    ap.add_argument("--t-end", type=float, default=60.0)
-    ap.add_argument("--workers", type=int, default=2)
-    ap.add_argument("--repeats", type=int, default=2)
-    ap.add_argument("--quick", action="store_true", help="a 20 s flight and 8 launches of 2 s (tests)")
-    a = ap.parse_args(argv)
-    if a.quick:
-        a.flight, a.n, a.t_end, a.workers, a.repeats = 20.0, 8, 2.0, 1, 1
-    r = measure(a.scene, a.flight, a.n, a.t_end, a.workers, a.repeats)
-    out = Path(a.out)
+FULL = {"flight": 300.0, "n": 1000, "t_end": 60.0, "workers": 2, "repeats": 2}
+QUICK = {"flight": 20.0, "n": 8, "t_end": 2.0, "workers": 1, "repeats": 1}
+
+
+def bench(model, scene_ref: str, overrides, out: Path, quick: bool) -> dict:
+    """The bench protocol (runtime/bench_kinds.py): one long flight and a Monte Carlo (FULL, or
+    QUICK for the tests), written to out/launch.json, launch.csv and launch_histogram.png."""
+    o = QUICK if quick else FULL
+    r = measure(scene_ref, o["flight"], o["n"], o["t_end"], o["workers"], o["repeats"])
     out.mkdir(parents=True, exist_ok=True)
     res = r.pop("result")
     (out / "launch.json").write_text(json.dumps(r, indent=2) + "\n")
     with open(out / "launch.csv", "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["what", "size", "workers", "wall_s"])
-        w.writerow([f"one flight of {a.flight:g} s", 1, 1, f"{r['flight']['wall_s']:.4g}"])
-        w.writerow([f"Monte Carlo, launches of {a.t_end:g} s", a.n, a.workers,
+        w.writerow([f"one flight of {o['flight']:g} s", 1, 1, f"{r['flight']['wall_s']:.4g}"])
+        w.writerow([f"Monte Carlo, launches of {o['t_end']:g} s", o["n"], o["workers"],
                     f"{r['monte_carlo']['wall_s']:.4g}"])
-    mc.draw(res, out / "launch_histogram.png", Units.of_scene(load_scene(a.scene)), a.scene)
-    print(json.dumps({k: r[k] for k in ("flight", "monte_carlo")}))
-    return 0
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())
+    mc.draw(res, out / "launch_histogram.png", Units.of_scene(model.scene), model.scene.name)
+    r["files"] = [str(out / f) for f in ("launch.json", "launch.csv", "launch_histogram.png")]
+    r["headline"] = (f"a {o['flight']:g} s flight in {r['flight']['wall_s']:.3g} s wall; {o['n']} launches of "
+                     f"{o['t_end']:g} s on {o['workers']} worker(s) in {r['monte_carlo']['wall_s']:.3g} s")
+    return r

@@ -1,4 +1,4 @@
-"""The maps part of the bench (issue 10): how fast `levitron scan` maps a scene, and what the
+"""The maps part of the bench: how fast `levitron scan` maps a scene, and what the
 integration costs beyond the right-hand-side calls it makes (thesis 3.1-3.3, fig. 3.8).
 
 The map: spin x tilt, N x N points, the spins from SPIN_BELOW times the lower end of the scene's
@@ -25,18 +25,15 @@ two figures of cpu_over_rhs are taken a minute apart, so the bench also measures
 per scan call, and times the rhs (lev_time_fn, the median of MATCHED_REPEATS loops) just before
 and after each call; cpu_over_rhs = sum cpu_s / sum (rhs_evals * the mean of the two).
 
-    python -m runtime.bench_maps SCENE [--quick] [--n N] [--t-end T] [--json] [--out DIR]
+    levitron bench SCENE --kind maps [--quick] [--out DIR]
 
 --quick: a small map (QUICK_N x QUICK_N, one slow period per point) in a few seconds.
 """
 from __future__ import annotations
 
-import argparse
 import json
-import math
 import resource
 import statistics
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -169,47 +166,15 @@ def run(model, scene_ref: str, overrides=(), n: int | None = None, t_end: float 
     }
 
 
-def main(argv=None) -> int:
-    from derive.scene import SceneError, load_scene
-    from runtime.model import load_model
-    ap = argparse.ArgumentParser(prog="python -m runtime.bench_maps",
-                                 description="points per second of `levitron scan` (1 and 2 workers) "
-                                             "and its CPU time over its rhs calls")
-    ap.add_argument("scene")
-    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
-    ap.add_argument("--quick", action="store_true", help=f"a {QUICK_N} x {QUICK_N} map, one slow period")
-    ap.add_argument("--n", type=int, default=None, help=f"points per axis (default {FULL_N})")
-    ap.add_argument("--t-end", type=float, default=None, help="run length per point")
-    ap.add_argument("--json", action="store_true", help="print the result as JSON")
-    ap.add_argument("--out", default=None, metavar="DIR", help="write DIR/bench_maps.json")
-    args = ap.parse_args(argv)
-    try:
-        sc = load_scene(args.scene, args.set)
-        model = load_model(sc, args.set)
-        ref = str(Path(sc.path).resolve()) if sc.path is not None else args.scene
-        out = run(model, ref, args.set, args.n, args.t_end, args.quick)
-    except (UserError, SceneError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
-    if args.out:
-        path = Path(args.out) / "bench_maps.json"
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(json.dumps(out, indent=1) + "\n")
-    if args.json:
-        print(json.dumps(out, indent=1))
-    else:
-        print(f"{out['scene']}: {out['map']['spin'][2]} x {out['map']['tilt'][2]} spin x tilt map, "
-              f"t_end {out['map']['t_end']:.3g}, rhs {out['rhs_ns']:.0f} ns")
-        for r in out["rows"]:
-            print(f"  {r['engine']:6s} {r['workers']} worker(s) {r['points']:6d} points "
-                  f"{r['wall_s']:8.2f} s wall {r['points_per_s']:8.1f} points/s  cpu {r['cpu_s']:.2f} s "
-                  f"(total {r['cpu_total_s']:.2f} s)  cpu/rhs {r['cpu_over_rhs']:.2f}")
-        mt = out["matched"]
-        print(f"  matched: {mt['grid'][0]} x {mt['grid'][1]} sub-grid, rhs {mt['rhs_ns']:.0f} ns timed beside "
-              f"each call, cpu {mt['cpu_s']:.2f} s, cpu/rhs {mt['cpu_over_rhs']:.2f}")
-        print(f"  same map point for point: {out['same_map']}")
-    return 0 if math.isfinite(out["rhs_ns"]) else 1
-
-
-if __name__ == "__main__":
-    sys.exit(main())
+def bench(model, scene_ref: str, overrides, out: Path, quick: bool) -> dict:
+    """The bench protocol (runtime/bench_kinds.py): the rows of `run`, written to out/bench_maps.json."""
+    res = run(model, scene_ref, overrides, quick=quick)
+    out.mkdir(parents=True, exist_ok=True)
+    path = out / "bench_maps.json"
+    path.write_text(json.dumps(res, indent=1) + "\n")
+    r0 = res["rows"][0]
+    res["headline"] = (f"{res['map']['spin'][2]} x {res['map']['tilt'][2]} map: {r0['points_per_s']:.0f} points/s "
+                       f"on 1 worker, {res['rows'][1]['points_per_s']:.0f} on 2; cpu/rhs "
+                       f"{res['cpu_over_rhs']['c_driver']:.2f}; same map on every path: {res['same_map']}")
+    res["files"] = [str(path)]
+    return res

@@ -124,3 +124,17 @@ def test_heyoka_backend_integrates_the_same_problem():
     assert all(r["status"] == "completed" and r["compile_s"] > 0 and r["steps"] > 0 for r in rows)
     assert rows[0]["error"] < 1e-4 and rows[1]["error"] < 1e-9
     assert rows[1]["error"] < rows[0]["error"]
+
+
+def test_every_bench_kind_is_a_module_with_the_protocol():
+    """The benchmarks' one seam (runtime/bench_kinds.py): each registered kind names a module with
+    bench(model, scene_ref, overrides, out, quick) and scenes that exist."""
+    import importlib
+    import inspect
+
+    from derive.scene import find_scene_file
+    from runtime.bench_kinds import KINDS
+    for kind in KINDS.values():
+        fn = importlib.import_module(kind.module).bench
+        assert list(inspect.signature(fn).parameters) == ["model", "scene_ref", "overrides", "out", "quick"]
+        assert kind.scenes and all(find_scene_file(s) for s in kind.scenes)

@@ -261,8 +261,8 @@ def test_api_launch_matches_the_command():
 
 
 def test_bench_launch_runs_quick(tmp_path):
-    from runtime import bench_launch
-    assert bench_launch.main(["thesis_air", "--quick", "--out", str(tmp_path)]) == 0
+    """The launch benchmark through the benchmarks' one seam (runtime/bench_kinds.py)."""
+    assert main(["bench", "thesis_air", "--kind", "launch", "--quick", "--out", str(tmp_path)]) == 0
     import json
     r = json.loads((tmp_path / "launch.json").read_text())
     assert r["flight"]["wall_s"] > 0 and r["monte_carlo"]["n"] == 8

@@ -1,9 +1,11 @@
 """`levitron bench SCENE`: the speed-versus-error report (issue 3; docs/contract.md `bench`)."""
 from __future__ import annotations
 
-from .. import bench as _bench
+from pathlib import Path
+
+from .. import bench_kinds
 from ..human import duration, lines, sig
-from .common import model_of
+from .common import model_of, scene_of
 
 NAME = "bench"
 HELP = ("work-precision report: error of the final state against wall time for every backend and "
@@ -12,20 +14,29 @@ EXAMPLE = 'levitron bench thesis_stable --quick'
 
 
 def add_arguments(parser) -> None:
+    kinds = ", ".join(f"{k.name} ({k.doc})" for k in bench_kinds.KINDS.values())
+    parser.add_argument("--kind", default=bench_kinds.DEFAULT, choices=list(bench_kinds.KINDS),
+                        metavar="KIND", help=f"which benchmark: {kinds}; default {bench_kinds.DEFAULT}")
     parser.add_argument("--quick", action="store_true", help="a small version (a few seconds)")
     parser.add_argument("--out", default=None, metavar="DIR",
-                        help="output folder (default reports/<scene>/, or out/bench-quick with --quick so that "
-                             "a quick run never overwrites the full report)")
+                        help="output folder (default the kind's report folder, reports/<scene>/ for "
+                             "work-precision, or out/bench-quick/<kind> with --quick so that a quick run "
+                             "never overwrites the full report)")
 
 
 def run(args) -> dict:
+    scene = scene_of(args)
     model = model_of(args)
-    out = args.out or ("out/bench-quick" if args.quick else f"reports/{model.scene.name}")
-    return _bench.run(model, out, args.quick)
+    ref = str(Path(scene.path).resolve()) if scene.path is not None else args.scene
+    out = args.out or bench_kinds.out_dir(args.kind, model.scene.name, args.quick)
+    return bench_kinds.run(args.kind, model, ref, args.set, out, args.quick)
 
 
 def human(r: dict, scene=None) -> str:
-    """Answer first: the fastest run within the error goal; then the table's size and files."""
+    """Answer first: the fastest run within the error goal (work-precision) or the kind's headline;
+    then the table's size and files."""
+    if r.get("kind", bench_kinds.DEFAULT) != "work-precision":
+        return lines(f"bench {r['kind']}: {r.get('headline', '')}", "files: " + ", ".join(r.get("files", [])))
     g = r.get("goals") or {}
     best = g.get("c_dop853")
     head = ("bench: no run met the error goal" if g.get("error_bound") is not None else
