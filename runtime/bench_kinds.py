@@ -38,6 +38,8 @@ KINDS = {k.name: k for k in (
          "reports/design"),
     Kind("launch", "runtime.bench_launch", "a long flight in air and a launch Monte Carlo",
          ("thesis_air",), "reports/launch"),
+    Kind("functions", "runtime.bench_functions", "ns per call of every generated function",
+         ("thesis_stable", "ring_magnet"), "reports/{scene}/functions"),
 )}
 DEFAULT = "work-precision"
 QUICK_OUT = "out/bench-quick/{kind}"      # a quick run never overwrites a report
