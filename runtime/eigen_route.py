@@ -12,7 +12,6 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 
 EPS = np.finfo(float).eps
 
@@ -69,6 +68,7 @@ class EigenCheck:
 
 def balancing(J: np.ndarray) -> np.ndarray:
     """Diagonal scaling d (powers of 2) with D^-1 J D balanced (LAPACK gebal), reusable for nearby J."""
+    import scipy.linalg          # here, not at the top: scipy.linalg is a third of the CLI's start-up
     _, (d, _perm) = scipy.linalg.matrix_balance(J, permute=False, separate=True)
     return d
 
