@@ -38,12 +38,12 @@ test: setup
 fuzz: setup
 	HYPOTHESIS_PROFILE=fuzz $(PY) -m pytest -q tests/test_properties.py --hypothesis-show-statistics
 
-# Every benchmark of the registry runtime/bench_kinds.py on its scenes (`levitron bench SCENE
+# Every benchmark of the registry runtime/bench/kinds.py on its scenes (`levitron bench SCENE
 # --kind KIND`): work-precision against heyoka (the optional extra `bench`) and the other backends,
 # maps, design, launches; reports in reports/.
 bench: setup
 	.venv/bin/pip install --quiet -e '.[bench]'
-	$(PY) -m runtime.bench_kinds
+	$(PY) -m runtime.bench.kinds
 
 clean-cache:
 	rm -rf $${LEVITRON_CACHE:-$$HOME/.cache/levitron}

@@ -3,7 +3,7 @@
 manifest.json lists the sha256 of every other file of the folder (`files`) and the sha256 of its
 own canonical JSON without the `manifest_sha256` key (`manifest_sha256`), so an edited, truncated
 or swapped file, or an edited manifest, is detected before anything is used
-(derive/build.py writes both; runtime/manifest.py checks them).
+(derive/build.py writes both; runtime/model/manifest.py checks them).
 """
 from __future__ import annotations
 

@@ -4,10 +4,10 @@
 MARKER and kill itself with SIGKILL (which no handler can catch: what `kill -9`, the OOM killer or
 a lost machine do); every later process finds MARKER and goes on. Without the variable, die_at is
 one dictionary look-up. Pure Python (no sympy): the runtime uses it too. The points:
-"scan.worker_chunk" (a local scan worker, runtime/scan_runners.py), "write_atomic.written",
+"scan.worker_chunk" (a local scan worker, runtime/scan/runners.py), "write_atomic.written",
 "write_atomic.swapped" and "write_atomic.between_renames" (derive/build.py), "derive.child" (the
 derive subprocess, derive/__main__.py) and "runtime.deriving" (the runtime while its derive child
-runs, runtime/model.py).
+runs, runtime/model/load.py).
 """
 from __future__ import annotations
 

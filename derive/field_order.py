@@ -1,4 +1,4 @@
-"""The expansion order from an accuracy target (issue 5, scene keys field.tolerance, field.radius).
+"""The expansion order from an accuracy target (scene keys field.tolerance, field.radius).
 
 The Laplace expansion of thesis eqs. 2.2.2-2.2.7 truncated at order n in r,
 
@@ -16,7 +16,7 @@ sec. 18.3; W. R. Smythe, "Static and Dynamic Electricity", sec. 5.12):
 
 For z > 0 the path stays in Re z' > 0, where the plates' Phi0 (built from sqrt(z'^2 + s^2) with the
 principal branch; the cut lies on Re z' = 0) is analytic, so this is the true field above the plate
-(tests compare it with the closed forms of runtime/exact_field.py). The integrand is smooth and
+(tests compare it with the closed forms of runtime/physics/exact_field.py). The integrand is smooth and
 periodic-like, and Gauss-Legendre with 96 nodes is checked against 192.
 
 Error measure: max over the grid (0 <= r <= radius, z in the heights) of |B_n - B| divided by the

@@ -8,7 +8,7 @@
     study.optimize("spin-range", {"top.mass": (0.0505, 0.0524)}, ["stiffness>=0.5"]).optimum
 
 Numbers are named by their scene keys (`top.mass`, `plate.hole`); the one mapping to the generated
-parameter vector is runtime/scene_keys.py. Every method returns a typed dataclass whose fields
+parameter vector is runtime/design/scene_keys.py. Every method returns a typed dataclass whose fields
 carry their units in the docstrings, a short `repr`, and scipy-style `success` and `message`. The
 command line (`levitron ...`) calls the same functions.
 
@@ -19,10 +19,10 @@ scene reader's own (derive.scene), raised by `load_scene`-level helpers. Both ar
 from __future__ import annotations
 
 from derive.scene import SceneError
-from runtime.design import DesignResult
+from runtime.design.optimize import DesignResult
 from runtime.errors import UserError
-from runtime.fit import FitResult
-from runtime.scan import ScanResult
+from runtime.design.fit import FitResult
+from runtime.scan.stability_map import ScanResult
 
 from .results import Equilibria, Equilibrium, LaunchOdds, Simulation, Stability
 from .study import Study, load

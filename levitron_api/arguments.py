@@ -1,4 +1,4 @@
-"""The API's arguments checked the way a scientist passes them (issue 19, "the Python API").
+"""The API's arguments checked the way a scientist passes them.
 
 * numbers: any real number, NumPy scalars included (`np.float64(0.0362)`, `np.int64(3)`, a 0-d
   array), so that `for m in np.linspace(...)` works; bools and text are not numbers;

@@ -1,5 +1,6 @@
 """Typed results of the public API (SI units, thesis 3.3). The design and fit results are
-runtime.design.DesignResult and runtime.fit.FitResult; the scan result runtime.scan.ScanResult.
+runtime.design.optimize.DesignResult and runtime.design.fit.FitResult; the scan result
+runtime.scan.stability_map.ScanResult.
 
 Every result has a short `repr` with units, and scipy-style `success` (bool) and `message` (one
 sentence): for Equilibria, whether the top has a vertically stable hover height; for Stability,
@@ -11,10 +12,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from runtime.human import Units, sig
+from runtime.ui.human import Units, sig
 
 _SI = Units(si=True)
-NORMAL_ENDS = ("completed", "left_box")    # runtime/cintegrate.py STATUS: the run itself succeeded
+NORMAL_ENDS = ("completed", "left_box")    # runtime/integrate/c_backend.py STATUS: the run itself succeeded
 
 
 @dataclass(frozen=True)
@@ -124,10 +125,10 @@ class Simulation:
     trajectory: dict = field(repr=False, default_factory=dict)
 
     def save(self, path) -> str:
-        """Write the trajectory to a .csv or .npz file (runtime/trajectory_file.py)."""
+        """Write the trajectory to a .csv or .npz file (runtime/simulate/trajectory_file.py)."""
         import numpy as np
 
-        from runtime import trajectory_file
+        from runtime.simulate import trajectory_file
         names = list(self.trajectory)
         return str(trajectory_file.write(path, names, np.column_stack([self.trajectory[n] for n in names])))
 
@@ -151,7 +152,7 @@ class Simulation:
 
 @dataclass(frozen=True)
 class LaunchOdds:
-    """Launch odds by Monte Carlo (runtime/launch.py, docs/contract.md `launch`): probability of
+    """Launch odds by Monte Carlo (runtime/scan/launch_odds.py, docs/contract.md `launch`): probability of
     floating at least success_time (s), its 95 % Wilson interval, flight-time median and quartiles
     (s), the inputs ranked by their effect on the success rate; details: every key of the JSON."""
 

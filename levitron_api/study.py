@@ -7,23 +7,23 @@ from pathlib import Path
 import numpy as np
 
 from derive.scene import SceneError, override_text
-from runtime import equilibrium as eqm
-from runtime import stability_casadi as sc
-from runtime.commands.common import load as load_scene
-from runtime.constraints import Constraint
-from runtime.design import DesignResult
-from runtime.design import optimize as _optimize
+from runtime.physics import equilibrium as eqm
+from runtime.physics import stability_casadi as sc
+from runtime.model.scenes import load_scene
+from runtime.design.constraints import Constraint
+from runtime.design.optimize import DesignResult
+from runtime.design.optimize import optimize as _optimize
 from runtime.errors import UserError
-from runtime.fit import FitResult, Row, read_rows
-from runtime.fit import fit as _fit
-from runtime.model import Model, load_model
-from runtime.scene_keys import Vary, key_value, pvector, with_values
-from runtime.stability import stability_of
+from runtime.design.fit import FitResult, Row, read_rows
+from runtime.design.fit import fit as _fit
+from runtime.model.load import Model, load_model
+from runtime.design.scene_keys import Vary, key_value, pvector, with_values
+from runtime.physics.stability import stability_of
 
 from . import arguments as arg
 from .results import Equilibria, Equilibrium, LaunchOdds, Simulation, Stability
 
-# Study.simulate's options: runtime.simulate.simulate's keywords, and the command line's names
+# Study.simulate's options: runtime.simulate.run.simulate's keywords, and the command line's names
 SIMULATE_OPTIONS = ("tilt", "offset", "t_end", "integrator", "tol", "box", "plot", "part", "h",
                     "n_out", "azimuth", "save")
 SIMULATE_ALIASES = {"tilt_azimuth": "azimuth", "step": "h"}     # --tilt-azimuth, --step
@@ -55,7 +55,7 @@ def load(scene: str | Path, overrides: Mapping[str, float | str] | None = None) 
 
 
 class Study:
-    """A scene and its generated model. `model` is runtime.model.Model (parameter vector p in the
+    """A scene and its generated model. `model` is runtime.model.load.Model (parameter vector p in the
     order model.param_names); users name numbers by scene keys (`value`, `p_of`)."""
 
     def __init__(self, model: Model, overrides: Sequence[str] = ()):
@@ -79,7 +79,7 @@ class Study:
     # ---- CasADi
     def functions(self) -> dict:
         """casadi.Functions: the generated ones ((in, p) -> out: onaxis, reduced_rhs, full_jac, ...)
-        and the stability ones of runtime/stability_casadi.py with named inputs and outputs:
+        and the stability ones of runtime/physics/stability_casadi.py with named inputs and outputs:
         z_s(z_guess, p) -> (z_s, stiffness), z_c(z_guess, p) -> (z_c, max_mass),
         spin(z_guess, sigma_lo_guess, sigma_hi_guess, p) -> (z_s, sigma_lo, sigma_hi),
         band(z_c_guess, z_hi_guess, s_guess, t_guess, p) -> (z_lo, z_hi, m_hi, m_lo, mass_window)."""
@@ -101,7 +101,7 @@ class Study:
         """d quantity / d key for scene keys (quantity: z_s, stiffness, z_c, max_mass, sigma_lo,
         sigma_hi, z_lo, z_hi, m_lo, m_hi, mass_window; exact, through the rootfinders), at the
         scene's values. keys: a list of scene keys (one string is refused, not spelled out)."""
-        from runtime.scene_keys import KeyMap
+        from runtime.design.scene_keys import KeyMap
         arg.choice(quantity, "quantity", self.quantities())
         keys = arg.names(keys, "keys", self.keys())
         x = np.array([self.value(k) for k in keys])
@@ -141,12 +141,12 @@ class Study:
                          res.reason, res.routes_agree, res.mass)
 
     def simulate(self, spin: float, **options) -> Simulation:
-        """One trajectory (runtime.simulate.simulate; options: tilt (rad, default 0.005: a launch
+        """One trajectory (runtime.simulate.run.simulate; options: tilt (rad, default 0.005: a launch
         with tilt 0 and offset 0 tests nothing and gives levitating None), offset (m), t_end (s;
         in air the run ends when the top falls: details["flight"]), integrator, tol, box (m),
         plot (path), part, h or step (s), n_out, azimuth or tilt_azimuth (rad), as the command
         line's flags)."""
-        from runtime.simulate import simulate
+        from runtime.simulate.run import simulate
         for alias, name in SIMULATE_ALIASES.items():
             if alias in options:
                 if name in options:
@@ -166,12 +166,12 @@ class Study:
 
     def launch(self, n: int = 1000, seed: int = 0, inputs: Mapping[str, object] | None = None,
                **options) -> LaunchOdds:
-        """Launch odds by Monte Carlo (runtime/launch.py): inputs maps spin, tilt, tilt_azimuth,
+        """Launch odds by Monte Carlo (runtime/scan/launch_odds.py): inputs maps spin, tilt, tilt_azimuth,
         offset, velocity, mass, strength, temperature to "normal:MEAN,SD", "uniform:LO,HI" or a
         number (default: the scene's [launch] table, else the scene-scaled defaults); options:
         success_time (s), t_end (s), integrator, tol, workers, scheduler. The same seed gives the
         same verdicts serially, with processes and on dask."""
-        from runtime.launch import monte_carlo
+        from runtime.scan.launch_odds import monte_carlo
         table = dict(self.scene.data.get("launch", {}))
         given = {k: v for k, v in table.items() if k not in ("n", "seed", "success_time", "t_end")}
         given.update(inputs or {})
@@ -185,7 +185,7 @@ class Study:
                           [(e["input"], e["effect"]) for e in out["ranking"]], out)
 
     def scan(self, spins: Sequence[float], axis: str, values: Sequence[float], **options):
-        """A stability map: runtime.scan.ScanResult over spins (rad/s) and one second axis:
+        """A stability map: runtime.scan.stability_map.ScanResult over spins (rad/s) and one second axis:
 
         * "tilt": the initial tilt of the axis (rad);
         * "mass": the top's mass (kg), each started at its own hover height;
@@ -193,9 +193,9 @@ class Study:
           z0 = z_s (1 + h), with -0.5 < h < 0.5 (not metres: 0.046 means z0 = 1.046 z_s;
           scenes may be dimensionless); values outside are refused.
 
-        options: t_end (s), integrator, tol, workers, base_tilt (rad), ... (runtime.scan.scan)."""
-        from runtime.scan import scan
-        from runtime.scan_grid import AXES, check_axis
+        options: t_end (s), integrator, tol, workers, base_tilt (rad), ... (runtime.scan.stability_map.scan)."""
+        from runtime.scan.stability_map import scan
+        from runtime.scan.grid import AXES, check_axis
         arg.choice(axis, "scan axis", AXES)
         spins, values = self._grid(spins, "spins"), self._grid(values, axis)
         check_axis(axis, np.sort(values))
@@ -219,13 +219,13 @@ class Study:
     def optimize(self, maximize: str, vary: Mapping[str, tuple[float, float]],
                  constrain: Sequence[str] = (), grid: int = 20) -> DesignResult:
         """Maximise spin-range or spin-ratio over scene keys in boxes {key: (lo, hi)}, with
-        constraints such as "stiffness>=1" (runtime/design.py; IPOPT, verified)."""
+        constraints such as "stiffness>=1" (runtime/design/optimize.py; IPOPT, verified)."""
         constrain = arg.names(constrain, "constrain")
         return _optimize(self.model, _varies(vary),
                          maximize, [Constraint.parse(c) for c in constrain], grid)
 
     def fit(self, data: str | Path | Sequence[Row], vary: Mapping[str, tuple[float, float]]) -> FitResult:
-        """Least squares of scene keys to measurements (a CSV path or runtime.fit.Row list)."""
+        """Least squares of scene keys to measurements (a CSV path or runtime.design.fit.Row list)."""
         rows = read_rows(data) if isinstance(data, (str, Path)) else data
         return _fit(self.model, rows, _varies(vary))
 

@@ -1,6 +1,6 @@
-"""`python -m runtime ...`: the `levitron` command (runtime/cli.py)."""
+"""`python -m runtime ...`: the `levitron` command (runtime/cli/main.py)."""
 import sys
 
-from .cli import main
+from runtime.cli.main import main
 
 sys.exit(main())

@@ -20,7 +20,7 @@ def thesis_scene():
 
 @pytest.fixture(scope="session")
 def thesis_model(thesis_scene):
-    from runtime.model import load_model
+    from runtime.model.load import load_model
     return load_model(thesis_scene)
 
 
@@ -28,7 +28,7 @@ def thesis_model(thesis_scene):
 def derived_model(tmp_path_factory):
     """derived_model(scene_name, *overrides) -> a Model derived into a temporary folder."""
     from derive.build import derive_scene
-    from runtime.model import Model
+    from runtime.model.load import Model
     cache = {}
 
     def make(name, *overrides):
@@ -44,10 +44,10 @@ def derived_model(tmp_path_factory):
 
 @pytest.fixture(scope="session")
 def csrc_objects():
-    """The objects of runtime/csrc/*.c that every model's library links (runtime/cbuild.py), built
+    """The objects of runtime/csrc/*.c that every model's library links (runtime/model/cbuild.py), built
     once into the shared cache ($LEVITRON_CACHE; under xdist one worker builds, the others wait)."""
-    from runtime.cbuild import DEFAULT_FLAGS, compile_object
-    from runtime.model import CSRC
+    from runtime.model.cbuild import DEFAULT_FLAGS, compile_object
+    from runtime.model.load import CSRC
     return [compile_object(src, DEFAULT_FLAGS, include_dirs=(CSRC,)) for src in sorted(CSRC.glob("*.c"))]
 
 

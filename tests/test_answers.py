@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from runtime import cli
+from runtime.cli import main as cli
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -159,9 +159,9 @@ def test_unconstrained_spin_range_is_solved(capsys):
 def test_optimum_at_vanishing_stiffness_is_reported_with_a_warning(capsys):
     """A box 2e-6 to 4e-6 (relative) below the largest mass that hovers (52.492 g): the top hovers
     just above z_c, the stiffness is 0.7% of m g / z_s, the interval stays bounded (478.7-2533)."""
-    from runtime import equilibrium as eqm
-    from runtime.commands.common import load
-    from runtime.model import load_model
+    from runtime.physics import equilibrium as eqm
+    from runtime.cli.commands.common import load
+    from runtime.model.load import load_model
     top = eqm.equilibria_of(load_model(load("thesis_stable"))).max_mass
     box = f"top.mass={top * (1 - 4e-6)!r}:{top * (1 - 2e-6)!r}"
     r = as_json(capsys, "optimize", "thesis_stable", "--maximize", "spin-range", "--vary", box)
@@ -174,9 +174,9 @@ def test_unbounded_edge_is_refused_and_says_where(thesis_model):
     bounded there (no refusal), the one opened by the diverging root of the ray cubic (beyond 1e25
     rad/s at z_c) is not, and is refused naming the point and z_c."""
     from derive.scene import load_scene
-    from runtime import design_edge
+    from runtime.design import edge as design_edge
     from runtime.errors import UserError
-    from runtime.model import load_model
+    from runtime.model.load import load_model
     model = load_model(load_scene("thesis_stable"))
     design_edge.check_bounded(model, model.p, (478.0, 2533.0), "top.mass = 0.052492")
     with pytest.raises(UserError, match=r"unbounded at top.mass = 0.052492: .* z_c = 0.0994772 m"):
@@ -186,7 +186,7 @@ def test_unbounded_edge_is_refused_and_says_where(thesis_model):
 # ---- item 5: scan summaries show the runs as they are; "cannot hover" is not "fell"
 
 def _scan_result(levitating, status=None, axis="tilt"):
-    """A scan's JSON as the command makes it (runtime/scan.py ScanResult.as_dict), 4 spins x 1 row."""
+    """A scan's JSON as the command makes it (runtime/scan/stability_map.py ScanResult.as_dict), 4 spins x 1 row."""
     spins = [9.5, 10.5, 11.5, 12.5]
     return {"axes": ["spin", axis], "grid": {"spin": spins, axis: [0.01]},
             "levitating": [[v] for v in levitating],
@@ -197,8 +197,8 @@ def _scan_result(levitating, status=None, axis="tilt"):
 
 def test_scan_row_with_a_gap_prints_both_runs():
     """A column inside the range fell: the row reads two runs, never 9.5-12.5."""
-    from runtime.commands.scan import human
-    from runtime.human import Units
+    from runtime.cli.commands.scan import human
+    from runtime.ui.human import Units
     row = human(_scan_result([True, False, True, True])).splitlines()[1]
     u = Units(si=True)
     assert f"stays up for spin {u.rate(9.5)} and {u.rate_span(11.5, 12.5)} (3 of 4)" in row, row
@@ -206,7 +206,7 @@ def test_scan_row_with_a_gap_prints_both_runs():
 
 
 def test_scan_row_with_one_stable_spin_is_no_range():
-    from runtime.commands.scan import human
+    from runtime.cli.commands.scan import human
     row = human(_scan_result([False, True, False, False])).splitlines()[1]
     assert "10.5-10.5" not in row and "stays up for spin 10.5 rad/s (" in row, row
 
@@ -247,6 +247,6 @@ def test_stability_at_a_vertically_unstable_height_says_so(capsys):
 
 
 def test_an_unbounded_interval_reads_above():
-    from runtime.commands.stability import _interval
-    from runtime.human import Units
+    from runtime.cli.commands.stability import _interval
+    from runtime.ui.human import Units
     assert _interval([1.2e26, None], Units(si=True)).startswith("above 1.2e26 rad/s")

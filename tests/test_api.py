@@ -9,8 +9,8 @@ import pytest
 
 import levitron_api as lev
 from derive.paths import ROOT
-from runtime import equilibrium as eqm
-from runtime.stability import stability_of
+from runtime.physics import equilibrium as eqm
+from runtime.physics.stability import stability_of
 
 EXAMPLES = sorted((ROOT / "examples").glob("*.py"))
 

@@ -13,7 +13,7 @@ from derive.geometry import build_plate
 from derive.scene import load_scene
 from derive.spec import build_spec
 from derive.symbols import B_FUNCS, Phi, X, Y, Z
-from runtime.model import load_model
+from runtime.model.load import load_model
 
 N = 1000
 

@@ -11,17 +11,17 @@ import math
 import pytest
 
 from derive.scene import SCENES_DIR, load_scene
-from runtime import equilibrium as eqm
-from runtime.bench import ROW_KEYS
-from runtime.stability import stability_of
+from runtime.physics import equilibrium as eqm
+from runtime.bench.work_precision import ROW_KEYS
+from runtime.physics.stability import stability_of
 
 SCENES = [p.stem for p in sorted(SCENES_DIR.glob("*.toml"))]
 
 
 @pytest.mark.parametrize("name", SCENES)
 def test_bench_quick_on_every_scene(name, tmp_path, capsys):
-    from runtime.cli import main
-    from runtime.model import load_model
+    from runtime.cli.main import main
+    from runtime.model.load import load_model
     model = load_model(load_scene(name))
     lin = stability_of(model)
     rc = main(["bench", name, "--quick", "--out", str(tmp_path), "--json"])
@@ -68,7 +68,7 @@ def test_bench_quick_on_every_scene(name, tmp_path, capsys):
 
 def test_every_kind_of_scene_is_benched():
     """Not vacuous: most scenes have a stable interval and are benched, one is reduced-only."""
-    from runtime.model import load_model
+    from runtime.model.load import load_model
     ran = []
     for name in SCENES:
         model = load_model(load_scene(name))
@@ -80,8 +80,8 @@ def test_every_kind_of_scene_is_benched():
 def test_bench_errors_shrink_with_tolerance():
     """A sanity check of the error measure on the quick rows: tighter tolerance or smaller step
     gives a smaller error for DOP853 and RK4 (the reference is not one of the rows)."""
-    from runtime.bench import bench_model
-    from runtime.model import load_model
+    from runtime.bench.work_precision import bench_model
+    from runtime.model.load import load_model
     res = bench_model(load_model(load_scene("thesis_stable")), "full", quick=True)
     by = {}
     for r in res["rows"]:
@@ -92,7 +92,7 @@ def test_bench_errors_shrink_with_tolerance():
 
 
 def test_cheapest_by_bound_picks_the_fastest_run_within_each_bound():
-    from runtime.bench import BOUNDS, cheapest_by_bound
+    from runtime.bench.work_precision import BOUNDS, cheapest_by_bound
     rows = [{"backend": "c", "integrator": "dop853", "tol": 1e-6, "error": 3e-6, "wall_s": 1.0},
             {"backend": "c", "integrator": "dop853", "tol": 1e-9, "error": 2e-9, "wall_s": 2.0},
             {"backend": "c", "integrator": "rk4", "tol": None, "error": 5e-8, "wall_s": 1.5},
@@ -113,8 +113,8 @@ def test_heyoka_backend_integrates_the_same_problem():
     """heyoka (optional extra `bench`) on the same lowered equations, parameters, initial state and
     error measure as the C rows: its error against the C reference follows its tolerance."""
     pytest.importorskip("heyoka")
-    from runtime import bench
-    from runtime.model import load_model
+    from runtime.bench import work_precision as bench
+    from runtime.model.load import load_model
     model = load_model(load_scene("thesis_stable"))
     su = bench.setup(model)
     part, x0, scale = bench.start(model, "reduced", su)
@@ -127,13 +127,13 @@ def test_heyoka_backend_integrates_the_same_problem():
 
 
 def test_every_bench_kind_is_a_module_with_the_protocol():
-    """The benchmarks' one seam (runtime/bench_kinds.py): each registered kind names a module with
+    """The benchmarks' one seam (runtime/bench/kinds.py): each registered kind names a module with
     bench(model, scene_ref, overrides, out, quick) and scenes that exist."""
     import importlib
     import inspect
 
     from derive.scene import find_scene_file
-    from runtime.bench_kinds import KINDS
+    from runtime.bench.kinds import KINDS
     for kind in KINDS.values():
         fn = importlib.import_module(kind.module).bench
         assert list(inspect.signature(fn).parameters) == ["model", "scene_ref", "overrides", "out", "quick"]

@@ -1,5 +1,5 @@
 """Bounded work: one integrator table that the C library agrees with, and no integrator path without
-a step budget (runtime/integrators_table.py, runtime/step_budget.py; issue 8)."""
+a step budget (runtime/integrate/methods.py, runtime/integrate/budget.py; issue 8)."""
 from __future__ import annotations
 
 import ctypes
@@ -8,11 +8,11 @@ import math
 import numpy as np
 import pytest
 
-from runtime import cintegrate as ci
-from runtime import integrate as ig
+from runtime.integrate import c_backend as ci
+from runtime.integrate import run as ig
 from runtime.errors import UserError
-from runtime.integrators_table import BY_NAME, METHODS, TABLE
-from runtime.step_budget import MAX_STEPS_CAP, check_options, default_budget, step_cap
+from runtime.integrate.methods import BY_NAME, METHODS, TABLE
+from runtime.integrate.budget import MAX_STEPS_CAP, check_options, default_budget, step_cap
 
 T_END = 1000.0     # 160 periods of the unit oscillator: far more than a budget of 3 steps covers
 
@@ -60,13 +60,13 @@ def test_struct_sizes_equal_the_ctypes_mirrors(lib):
 
 
 def test_a_wrong_struct_mirror_is_refused():
-    """_bind compares every mirror with the library's sizeof before the first call."""
+    """bind compares every mirror with the library's sizeof before the first call."""
     class Fake:
         def __init__(self):
             self.lev_integrate = type("F", (), {"argtypes": None})()
             self.lev_sizeof_system = lambda: ctypes.sizeof(ci._System) + 8
     with pytest.raises(RuntimeError, match="_System"):
-        ci._bind(Fake())
+        ci.bind(Fake())
 
 
 def test_every_table_entry_has_a_default_budget():

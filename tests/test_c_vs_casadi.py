@@ -62,7 +62,7 @@ def input_names(model, name: str) -> list[str]:
 
 @pytest.mark.parametrize("scene", SCENES)
 def test_every_function_of_every_scene_agrees(scene):
-    from runtime.model import load_model
+    from runtime.model.load import load_model
     model = load_model(load_scene(scene))
     rng = np.random.default_rng(SEED)
     scale = model.scene.length_scale
@@ -104,7 +104,7 @@ def formula_library(tmp_path_factory):
     """200 formula plates lowered, printed into one C file, compiled, and their CasADi Functions."""
     from derive.emit.c.printer import LevitronCPrinter
     from derive.emit.casadi.builder import build_function
-    from runtime.cbuild import DEFAULT_FLAGS, compile_shared
+    from runtime.model.cbuild import DEFAULT_FLAGS, compile_shared
     plates = formula_plates(N_FORMULAS, SEED)
     with ProcessPoolExecutor(2, mp_context=multiprocessing.get_context("fork")) as pool:
         lowered = list(pool.map(_lower_plate, plates))

@@ -1,6 +1,6 @@
 """The Python around the C calls (issue 10): run_c passes plain addresses carved from one buffer
-(runtime/cintegrate.py), and a map's chunk computes the spin-free inputs of its points once per
-tilt (runtime/scan_runners.py point_setup's memo, runtime.simulate.Launch), with the same numbers
+(runtime/integrate/c_backend.py), and a map's chunk computes the spin-free inputs of its points once per
+tilt (runtime/scan/runners.py point_setup's memo, runtime.simulate.run.Launch), with the same numbers
 as before, bit for bit. Not timed, except that wall_s must contain the C run."""
 from __future__ import annotations
 
@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 from derive.scene import load_scene
-from runtime import cintegrate as ci
-from runtime.model import load_model
-from runtime.scan_runners import point_setup
-from runtime.trajectory import Box
+from runtime.integrate import c_backend as ci
+from runtime.model.load import load_model
+from runtime.scan.points import point_setup
+from runtime.integrate.trajectory import Box
 
 SET = ["top.mass=0.0515"]
 
@@ -80,7 +80,7 @@ def test_wall_time_contains_the_c_run(lib):
 
 def test_chunk_memo_gives_the_same_inputs_bit_for_bit(model):
     """point_setup with a chunk's memo equals point_setup alone, for every kind of map axis."""
-    from runtime.equilibrium import hover_height
+    from runtime.physics.equilibrium import hover_height
     z_s = hover_height(model)
     lighter = model.with_params({"m": 0.0505})
     z_light = hover_height(model, lighter)

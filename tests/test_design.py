@@ -1,5 +1,5 @@
-"""Design optimisation (runtime/design.py, thesis 3.3): IPOPT optima verified by the grid and the
-float routes on two scenes, the scene-key map (runtime/scene_keys.py), the constraint grammar,
+"""Design optimisation (runtime/design/optimize.py, thesis 3.3): IPOPT optima verified by the grid and the
+float routes on two scenes, the scene-key map (runtime/design/scene_keys.py), the constraint grammar,
 physical bounds and --write-scene."""
 from __future__ import annotations
 
@@ -12,11 +12,11 @@ import pytest
 
 from derive.paths import ROOT
 from derive.scene import load_scene
-from runtime import design
-from runtime.constraints import Constraint
+from runtime.design import optimize as design
+from runtime.design.constraints import Constraint
 from runtime.errors import UserError
-from runtime.model import load_model
-from runtime.scene_keys import KeyMap, Vary, pvector
+from runtime.model.load import load_model
+from runtime.design.scene_keys import KeyMap, Vary, pvector
 
 
 @pytest.mark.parametrize("scene, box", [("thesis_stable", "top.mass=0.0505:0.0524"),
@@ -86,9 +86,9 @@ def test_objectives_and_their_constraints():
 
 
 def test_mass_window_optimum_is_verified():
-    """mass-window (thesis 3.3.3, 3.3.11; the band's edges by runtime/stability_casadi.py) grows
+    """mass-window (thesis 3.3.3, 3.3.11; the band's edges by runtime/physics/stability_casadi.py) grows
     with the plate's radius while the scene top's stiffness falls: the optimum sits on the
-    stiffness constraint inside the box, verified by the float band (runtime/bands.py) to 1e-8 and
+    stiffness constraint inside the box, verified by the float band (runtime/physics/bands.py) to 1e-8 and
     by the 20-point grid; just beyond it the constraint fails, just inside the window is smaller."""
     model = load_model(load_scene("thesis_stable"))
     box, floor = Vary.parse("plate.radius=0.06:0.14"), [Constraint.parse("stiffness>=3")]
@@ -109,7 +109,7 @@ def test_mass_window_optimum_is_verified():
 
 def test_command_writes_a_scene_that_reads_back(tmp_path):
     out = tmp_path / "best.toml"
-    res = subprocess.run([sys.executable, "-m", "runtime.cli", "optimize", "loop", "--maximize",
+    res = subprocess.run([sys.executable, "-m", "runtime.cli.main", "optimize", "loop", "--maximize",
                           "spin-ratio", "--vary", "top.mass=0.0197:0.0209", "--constrain",
                           "stiffness>=0.5", "--write-scene", str(out), "--json"],
                          capture_output=True, text=True, cwd=ROOT, check=False)
@@ -130,7 +130,7 @@ def test_command_refuses_bad_input(tmp_path):
                        (["--maximize", "spin-range", "--vary", "top.mass=0.0197:0.0209",
                          "--constrain", "stiffness>=1", "--write-scene", str(tmp_path / "no/x.toml")],
                         "write-scene")):
-        res = subprocess.run([sys.executable, "-m", "runtime.cli", "optimize", "loop", *args],
+        res = subprocess.run([sys.executable, "-m", "runtime.cli.main", "optimize", "loop", *args],
                              capture_output=True, text=True, cwd=ROOT, check=False)
         assert res.returncode == 2 and word in res.stderr, (args, res.stderr)
         assert len(res.stderr.strip().splitlines()) == 1
@@ -139,7 +139,7 @@ def test_command_refuses_bad_input(tmp_path):
 def test_an_answer_is_verified_or_a_one_line_failure():
     """square's spin ratio over the block thickness has a cliff next to the grid's best cell
     (a critical spin enters the interval): either a verified optimum or IPOPT's status, one line."""
-    res = subprocess.run([sys.executable, "-m", "runtime.cli", "optimize", "square", "--maximize",
+    res = subprocess.run([sys.executable, "-m", "runtime.cli.main", "optimize", "square", "--maximize",
                           "spin-ratio", "--vary", "plate.thickness=0.01:0.03", "--constrain",
                           "stiffness>=0.2", "--json"], capture_output=True, text=True, cwd=ROOT,
                          check=False)

@@ -1,4 +1,4 @@
-"""The one equilibrium finder (runtime/equilibrium.py; thesis 3.3.2-3.3.3) on the cases the old
+"""The one equilibrium finder (runtime/physics/equilibrium.py; thesis 3.3.2-3.3.3) on the cases the old
 per-command z grids got wrong (issue 8), through every command that needs an equilibrium:
 
 * two roots a fraction 1e-3, 1e-6, 1e-9 (relative) of the mass below the plate's maximum lie on
@@ -21,11 +21,13 @@ import math
 import numpy as np
 import pytest
 
-from runtime import bench, optimize
-from runtime.scan import scan
-from runtime.simulate import simulate
-from runtime import equilibrium as eqm
-from runtime.cli import _clean
+from runtime.bench import work_precision as bench
+
+from runtime.design import fit_height as optimize
+from runtime.scan.stability_map import scan
+from runtime.simulate.run import simulate
+from runtime.physics import equilibrium as eqm
+from runtime.cli.main import _clean
 from runtime.errors import UserError
 from tests.test_equilibrium import A_PLATE, W_PLATE, G, annulus, fitted_murho
 
@@ -93,7 +95,7 @@ def _write(tmp_path_factory, name: str, text: str) -> str:
 
 def _load(path: str):
     from derive.scene import load_scene
-    from runtime.model import load_model
+    from runtime.model.load import load_model
     return load_model(load_scene(path))
 
 
@@ -110,7 +112,7 @@ def scenes(unit_scene, thesis_model):
 
 def _run(command: str, scene: str, *sets: str, **kw) -> dict:
     import importlib
-    cmd = importlib.import_module(f"runtime.commands.{command}")
+    cmd = importlib.import_module(f"runtime.cli.commands.{command}")
     args = argparse.Namespace(scene=scene, set=list(sets), json=True, **kw)
     return json.loads(json.dumps(_clean(cmd.run(args)), allow_nan=False))
 

@@ -1,4 +1,4 @@
-"""runtime/exact_field.py against independent references: numerical Biot-Savart and surface-charge
+"""runtime/physics/exact_field.py against independent references: numerical Biot-Savart and surface-charge
 quadrature (scipy), high-precision mpmath, the closed on-axis forms, and Maxwell's equations."""
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from scipy import integrate, special
 
-from runtime import exact_field as ef
+from runtime.physics import exact_field as ef
 
 MU0 = ef.MU0
 RNG = np.random.default_rng(20240505)

@@ -1,4 +1,4 @@
-"""Fitting scene keys to measurements (runtime/fit.py): a synthetic fit recovers the true values
+"""Fitting scene keys to measurements (runtime/design/fit.py): a synthetic fit recovers the true values
 within two reported standard errors; an unidentifiable fit is refused naming the keys."""
 from __future__ import annotations
 
@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 
 from derive.scene import load_scene
-from runtime import fit
+from runtime.design import fit
 from runtime.errors import UserError
-from runtime.model import load_model
-from runtime.scene_keys import Vary, pvector, with_values
-from runtime.stability_casadi import CasadiStability
+from runtime.model.load import load_model
+from runtime.design.scene_keys import Vary, pvector, with_values
+from runtime.physics.stability_casadi import CasadiStability
 
 
 def _data(model, truth, plan, rng):

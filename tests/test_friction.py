@@ -1,4 +1,4 @@
-"""Air friction (derive/friction.py) and a real launch (runtime/flight.py, runtime/launch.py).
+"""Air friction (derive/friction.py) and a real launch (runtime/physics/friction.py, runtime/scan/launch_odds.py).
 
 The checks are exact laws, not fits: with friction the spin decays as omega_3(0) exp(-k_spin t)
 along every trajectory (the magnetic torque is perpendicular to the axis), the energy obeys
@@ -13,11 +13,11 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from derive.scene import SceneError, load_scene
-from runtime import launch as mc
-from runtime import simulate as sim
-from runtime.cli import main
+from runtime.scan import launch_odds as mc
+from runtime.simulate import run as sim
+from runtime.cli.main import main
 from runtime.errors import UserError
-from runtime.model import load_model
+from runtime.model.load import load_model
 
 RATES = {"k_spin": 1 / 150.0, "k_tilt": 1 / 20.0, "k_trans": 1 / 30.0}
 
@@ -261,7 +261,7 @@ def test_api_launch_matches_the_command():
 
 
 def test_bench_launch_runs_quick(tmp_path):
-    """The launch benchmark through the benchmarks' one seam (runtime/bench_kinds.py)."""
+    """The launch benchmark through the benchmarks' one seam (runtime/bench/kinds.py)."""
     assert main(["bench", "thesis_air", "--kind", "launch", "--quick", "--out", str(tmp_path)]) == 0
     import json
     r = json.loads((tmp_path / "launch.json").read_text())

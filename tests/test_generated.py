@@ -9,7 +9,7 @@ import pytest
 from derive.build import render
 from derive.paths import GENERATED, ROOT, SCENES_DIR
 from derive.scene import load_scene
-from runtime.cbuild import compiler
+from runtime.model.cbuild import compiler
 
 SCENES = sorted(p.stem for p in SCENES_DIR.glob("*.toml"))
 
@@ -92,7 +92,7 @@ def test_unused_part_is_not_emitted(derived_model):
 
 def test_runtime_never_writes_into_generated(tmp_path, monkeypatch, seed_cache):
     """A stale generated/<scene> is left alone: the runtime derives into the cache and says so."""
-    import runtime.model as rm
+    import runtime.model.load as rm
     fake = tmp_path / "generated"
     (fake / "thesis").mkdir(parents=True)
     stale = '{"input_hash": "stale"}'

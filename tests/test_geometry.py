@@ -1,6 +1,6 @@
 """Base-plate geometries (issue 5): on-axis fields against independent formulas, the expansion's
 convergence to the exact field, the rectangle's 3-D field, the generated code, scenes and the
-`field` command. Thesis eqs. 2.2.6-2.2.11; exact fields in runtime/exact_field.py."""
+`field` command. Thesis eqs. 2.2.6-2.2.11; exact fields in runtime/physics/exact_field.py."""
 from __future__ import annotations
 
 import json
@@ -18,8 +18,8 @@ from derive.plates import length_scale
 from derive.plates.symbolic import build_plate
 from derive.scene import MU0, SceneError, load_scene, validate
 from derive.symbols import Z
-from runtime import exact_field as ef
-from runtime.plates import plate_field
+from runtime.physics import exact_field as ef
+from runtime.physics.plates import plate_field
 
 RNG = np.random.default_rng(7)
 ZS = np.array([0.004, 0.02, 0.05, 0.1, 0.3, 2.0])
@@ -142,7 +142,7 @@ CASES = {
 
 @pytest.mark.parametrize("name", list(CASES))
 def test_whittaker_integral_is_the_exact_field(name):
-    """derive/field_order.py's exact field (from Phi_1 alone) against runtime/exact_field.py."""
+    """derive/field_order.py's exact field (from Phi_1 alone) against runtime/physics/exact_field.py."""
     table, vals, exact = CASES[name]
     _, ph = numeric(table, vals, 1)
     phi1 = sp.lambdify(Z, build_plate(table).phi_derivs(1)[1].xreplace(
@@ -338,7 +338,7 @@ def test_bad_plate_keys_are_one_line_errors(plate, message):
 
 
 def test_field_command_json(tmp_path, monkeypatch, capsys, seed_cache):
-    from runtime.cli import main
+    from runtime.cli.main import main
     monkeypatch.setenv("LEVITRON_CACHE", str(seed_cache(tmp_path / "cache")))
     scene = tmp_path / "loopx.toml"
     shutil.copy(load_scene("loop").path, scene)
@@ -357,11 +357,11 @@ def test_field_command_json(tmp_path, monkeypatch, capsys, seed_cache):
 
 def _stability_summary(table, vals, g, A, C, mu, scale, frac=1.1):
     """z_c, largest mass, stable band, and for the top that hovers at frac * z_c its mass and spin
-    interval (runtime/equilibrium.py, runtime/stability.py: exact linear analysis, thesis 3.3). On the
+    interval (runtime/physics/equilibrium.py, runtime/physics/stability.py: exact linear analysis, thesis 3.3). On the
     axis a 4-fold symmetric plate's field equals an axisymmetric one's to second order in x, y, so
     the on-axis Phi_k decide equilibria and linear stability exactly."""
-    from runtime import equilibrium as eqm
-    from runtime import stability
+    from runtime.physics import equilibrium as eqm
+    from runtime.physics import stability
     _, ph = numeric(table, vals, 5)
     onaxis = lambda z: np.array([f(z) for f in ph])
     rep = eqm.analyse(onaxis, 0.01, g, A, C, mu, scale)

@@ -7,8 +7,10 @@ import re
 
 import pytest
 
-from runtime import cli, progress
-from runtime.human import Units, restate, sig
+from runtime.cli import main as cli
+
+from runtime.ui import progress
+from runtime.ui.human import Units, restate, sig
 
 # a number as printed: not part of a word, a path or a hash
 NUMBER = re.compile(r"(?<![\w/.])(\d+(?:\.\d+)?)(?:e[-+]?\d+)?(?![\w/]|\.\d)")
@@ -128,7 +130,7 @@ def test_version(capsys):
 
 
 def test_every_command_has_an_example(capsys):
-    from runtime.commands import COMMANDS as NAMES
+    from runtime.cli.commands import COMMANDS as NAMES
     for name in NAMES:
         with pytest.raises(SystemExit):
             cli.main([name, "--help"])
@@ -143,9 +145,9 @@ def test_tilt_azimuth_turns_the_axis_only():
     import numpy as np
 
     from derive.scene import load_scene
-    from runtime.equilibrium import hover_height
-    from runtime.model import load_model
-    from runtime.simulate import (
+    from runtime.physics.equilibrium import hover_height
+    from runtime.model.load import load_model
+    from runtime.simulate.run import (
         ANGLES,
         angular_momentum_z,
         coordinates_of,

@@ -16,13 +16,13 @@ import pytest
 
 import levitron_api
 from derive.scene import SceneError, load_scene, override_text, parse_override
-from runtime import fit
-from runtime.cli import main
+from runtime.design import fit
+from runtime.cli.main import main
 from runtime.errors import UserError
-from runtime.scan import scan
-from runtime.scan_grid import parse_range
-from runtime.scene_keys import Vary
-from runtime.simulate import simulate
+from runtime.scan.stability_map import scan
+from runtime.scan.grid import parse_range
+from runtime.design.scene_keys import Vary
+from runtime.simulate.run import simulate
 
 HOSTILE = ['x"\nv2 = "y', "a\\b", "line1\nline2", 'quote " and \' both', "tab\there", "#not a comment",
            "]", "\"\"\"", "é ü ∞"]
@@ -107,7 +107,7 @@ def test_fit_csv_problems_are_one_line(tmp_path, text, message):
     ("z_s,0.1,1e-4", "CSV path or a list"),
 ])
 def test_the_api_fit_checks_rows_as_the_csv_reader_does(rows, message):
-    """runtime.fit.fit (what levitron_api's Study.fit calls) checks before any model work."""
+    """runtime.design.fit.fit (what levitron_api's Study.fit calls) checks before any model work."""
     with pytest.raises(UserError, match=message):
         fit.fit(None, rows, [Vary("plate.murho", -0.003, -0.002)])
 
@@ -130,7 +130,7 @@ def test_the_api_vary_is_checked_as_the_cli_vary():
     ([["a"]], [0.01], "number"),
 ])
 def test_the_api_scan_checks_the_grid_as_the_cli_does(spins, others, message):
-    """runtime.scan.scan (Study.scan and the CLI) refuses before touching the model."""
+    """runtime.scan.stability_map.scan (Study.scan and the CLI) refuses before touching the model."""
     with pytest.raises(UserError, match=message):
         scan(None, "thesis_stable", [], spins, "tilt", others)
 

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from runtime.errors import UserError
-from runtime.integrate import Box, CSystem, csrc_library, integrate, run_c
+from runtime.integrate.run import Box, CSystem, csrc_library, integrate, run_c
 
 TWO_PI = 2.0 * math.pi
 
@@ -293,7 +293,7 @@ def test_casadi_and_scipy_backends_on_the_oscillator(lib):
 @pytest.mark.parametrize("method, engine", [("scipy-dop853", "DOP853"), ("scipy-radau", "Radau"),
                                             ("scipy-lsoda", "LSODA")])
 def test_scipy_stepper_equals_solve_ivp(osc, method, engine):
-    """The budgeted scipy loop (runtime/integrate_scipy.py) is solve_ivp's: the same samples and the
+    """The budgeted scipy loop (runtime/integrate/scipy_backend.py) is solve_ivp's: the same samples and the
     same box exit (event root)."""
     from scipy.integrate import solve_ivp
     x0 = np.array([1.0, 0.0, 0.0, 1.0])

@@ -1,5 +1,5 @@
 """The generated invariants (derive/invariants.py: L_z, L.n in canonical variables) against the numpy
-route of runtime/simulate.py (angular_momentum_z: the generator of rotations about the lab z axis
+route of runtime/simulate/run.py (angular_momentum_z: the generator of rotations about the lab z axis
 from the rotation matrices of derive/kinematics.py, by least squares; spin_momentum), at random
 states of both coordinate sets: two independent routes to the same Noether momenta (thesis 2.3)."""
 from __future__ import annotations
@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from runtime import simulate as sim
+from runtime.simulate import run as sim
 
 
 @pytest.fixture(scope="module")
@@ -38,7 +38,8 @@ def test_the_summary_uses_the_generated_invariants(thesis_model, monkeypatch):
     """The summary's invariants come from one C call over the samples (Model.rows), not from the
     per-sample numpy route, and give the same deviations."""
     r = sim.simulate(thesis_model, spin=1000.0, tilt=0.01, t_end=0.05)
-    monkeypatch.setattr(sim, "angular_momentum_z", lambda *a: (_ for _ in ()).throw(AssertionError))
+    from runtime.simulate import invariants as inv
+    monkeypatch.setattr(inv, "angular_momentum_z", lambda *a: (_ for _ in ()).throw(AssertionError))
     again = sim.simulate(thesis_model, spin=1000.0, tilt=0.01, t_end=0.05)
     assert again["conserved_max_deviation"] == r["conserved_max_deviation"]
     assert r["conserved_max_deviation"]["L_z"] < 1e-8
@@ -46,7 +47,7 @@ def test_the_summary_uses_the_generated_invariants(thesis_model, monkeypatch):
 
 @pytest.mark.parametrize("which", ["thesis_model", "zxz"])
 def test_generated_axis_matches_the_numpy_rotations(which, request):
-    """n = R_bs e_z: the generated `full_axis` against runtime/simulate.py's numpy mirror of
+    """n = R_bs e_z: the generated `full_axis` against runtime/simulate/run.py's numpy mirror of
     derive/kinematics.py's matrices (thesis eqs. 2.1.6-2.1.9, 3.2.2-3.2.5) at random angles."""
     model = request.getfixturevalue(which)
     pt = model.part("full")

@@ -5,7 +5,7 @@ Kills are real (SIGKILL, which no handler sees) at injected points (derive/fault
 LEVITRON_FAULT=POINT:MARKER): between write_atomic's steps, in the derive child, in the runtime while
 its derive child runs. After the next run: the folder is there with one complete model, no temporary
 of a dead owner is left (their mtime is set back past derive/atomic_dir.py's and
-runtime/cache_sweep.py's one minute, as if the minute had passed), and no orphaned child runs on.
+runtime/model/cache_sweep.py's one minute, as if the minute had passed), and no orphaned child runs on.
 """
 from __future__ import annotations
 
@@ -98,7 +98,7 @@ def _scene(folder: Path, name: str) -> Path:
 def _cli(args, cwd: Path, env: dict, timeout: float = 300) -> subprocess.CompletedProcess:
     full = dict(os.environ, PYTHONPATH=str(ROOT), **env)
     full.pop("LEVITRON_DEBUG", None)
-    return subprocess.run([sys.executable, "-m", "runtime.cli", *args], cwd=cwd, env=full,
+    return subprocess.run([sys.executable, "-m", "runtime.cli.main", *args], cwd=cwd, env=full,
                           capture_output=True, text=True, timeout=timeout, check=False)
 
 
@@ -181,7 +181,7 @@ def test_a_scene_edited_during_its_derivation_is_filed_under_what_was_read(tmp_p
     snapshot of what this process read and hashed."""
     from derive.inputs import input_hash
     from derive.scene import load_scene
-    from runtime.model import load_model
+    from runtime.model.load import load_model
     monkeypatch.setenv("LEVITRON_CACHE", str(tmp_path / "cache"))
     path = _scene(tmp_path, "edited")
     scene = load_scene(path)

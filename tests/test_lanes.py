@@ -7,14 +7,14 @@ import numpy as np
 import pytest
 
 from derive.scene import SCENES_DIR, load_scene
-from runtime.model import load_model
-from runtime.scan_c import LANES, drive, lanes_call, lanes_of, lib_verdicts, verified_lanes
+from runtime.model.load import load_model
+from runtime.scan.chunk_c import LANES, drive, lanes_call, lanes_of, lib_verdicts, verified_lanes
 
 SCENES = [p.stem for p in sorted(SCENES_DIR.glob("*.toml"))]
 
 
 def test_one_lane_count_on_every_side():
-    """LEV_LANES of integrators.h, the emitter's LANES and runtime/scan_c.py's are one number."""
+    """LEV_LANES of integrators.h, the emitter's LANES and runtime/scan/chunk_c.py's are one number."""
     import re
 
     from derive.emit.c import emitter
@@ -26,7 +26,7 @@ def test_one_lane_count_on_every_side():
 def _states(model, part, rng, n: int) -> np.ndarray:
     """n states around the scene's hovering point: heights of 0.5..2 plate lengths, angles up to
     +-1.2 rad, momenta of either sign."""
-    from runtime.equilibrium import scale_of
+    from runtime.physics.equilibrium import scale_of
     L = scale_of(model)
     X = rng.normal(size=(n, part.nx)) * 1e-3
     for k, name in enumerate(part.states):
@@ -97,7 +97,7 @@ def test_lanes_driver_equals_one_run_at_a_time(method):
     repeating another) against lev_integrate one point at a time: the same status, end time, rhs
     count, steps and final state for every point, falling ones included (7 points: not a
     multiple of the lanes)."""
-    from runtime.scan_runners import point_setup
+    from runtime.scan.points import point_setup
     model = load_model(load_scene("thesis_stable"))
     pt = model.part("full")
     tol = 1e-9

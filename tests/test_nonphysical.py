@@ -11,7 +11,7 @@ import pytest
 
 from derive.build import render
 from derive.scene import SceneError, validate
-from runtime.cli import main
+from runtime.cli.main import main
 
 
 def _data(formula: str) -> dict:

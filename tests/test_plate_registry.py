@@ -24,7 +24,7 @@ def _example(kind: str) -> dict:
 
 def test_the_three_registries_have_the_same_kinds():
     from derive.plates.symbolic import BUILDERS
-    from runtime.plates import FIELDS
+    from runtime.physics.plates import FIELDS
     kinds = set(plates.KINDS)
     assert kinds == {"annulus", "disk", "loop", "ring_magnet", "rectangle", "compound", "expression"}
     assert set(BUILDERS) == kinds
@@ -37,7 +37,7 @@ def test_the_three_registries_have_the_same_kinds():
 
 def test_no_sympy_on_import_of_the_scene_side():
     code = ("import sys, derive.scene, derive.inputs, derive.plates, derive.plates.docs, "
-            "runtime.plates; s = derive.scene.load_scene('ring_magnet'); derive.inputs.input_hash(s.data); "
+            "runtime.physics.plates; s = derive.scene.load_scene('ring_magnet'); derive.inputs.input_hash(s.data); "
             "print('sympy' in sys.modules)")
     res = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True,
                          check=True)
@@ -113,7 +113,7 @@ def test_length_scale_of_the_scenes():
 
 @pytest.mark.parametrize("kind", sorted(set(plates.KINDS) - {"expression"}))
 def test_every_kind_but_expression_has_a_finite_exact_field(kind):
-    from runtime.plates import plate_field
+    from runtime.physics.plates import plate_field
     scene = validate(_example(kind))
     B = plate_field(scene.data["plate"], scene.params, [[0.01, 0.005, 0.08]])
     assert B.shape == (1, 3) and np.all(np.isfinite(B)) and np.linalg.norm(B) > 0

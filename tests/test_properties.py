@@ -32,7 +32,7 @@ from hypothesis import strategies as st
 from derive.build import render  # noqa: F401  (imports the derive side once, outside the timing)
 from derive.expr_parse import ExpressionError
 from derive.scene import SceneError, load_scene, override_text, parse_override, validate
-from runtime import fit
+from runtime.design import fit
 from runtime.errors import UserError
 from termsize import assert_agree, values_and_sizes
 
@@ -66,7 +66,7 @@ THESIS = load_scene("thesis").data
 
 @pytest.fixture(scope="module")
 def thesis_model():
-    from runtime.model import load_model
+    from runtime.model.load import load_model
     return load_model(load_scene("thesis"))
 
 
@@ -165,7 +165,7 @@ def test_printed_formula_plates_compute_the_same_in_c_and_casadi(tmp_path):
     from derive.emit.c.emitter import body_lines
     from derive.emit.c.printer import LevitronCPrinter
     from derive.emit.casadi.builder import build_function
-    from runtime.cbuild import DEFAULT_FLAGS, compile_shared
+    from runtime.model.cbuild import DEFAULT_FLAGS, compile_shared
     if not PRINTED:
         pytest.skip("run with test_formula_plates_refuse_in_one_line_or_print (it fills PRINTED)")
     assert len(PRINTED) >= 10, f"only {len(PRINTED)} formulas printed: the grammar is too hostile"

@@ -12,8 +12,8 @@ import shlex
 import pytest
 
 from derive.scene import load_scene
-from runtime import cli
-from runtime.provenance import version
+from runtime.cli import main as cli
+from runtime.ui.provenance import version
 
 KEYS = {"package", "version", "command", "time", "python", "scene", "scene_path", "overrides",
         "scene_hash", "input_hash"}

@@ -15,7 +15,7 @@ import shlex
 import pytest
 
 from derive.paths import ROOT
-from runtime import cli
+from runtime.cli import main as cli
 
 README = ROOT / "README.md"
 

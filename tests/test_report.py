@@ -10,8 +10,8 @@ from html.parser import HTMLParser
 
 import pytest
 
-from runtime import cli
-from runtime.human import Units, span
+from runtime.cli import main as cli
+from runtime.ui.human import Units, span
 
 
 class Page(HTMLParser):

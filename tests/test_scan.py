@@ -14,18 +14,18 @@ import numpy as np
 import pytest
 
 from derive.scene import load_scene
-from runtime import scan as sc
-from runtime.eigen_route import full_equilibrium_state
+from runtime.scan import stability_map as sc
+from runtime.physics.eigen_route import full_equilibrium_state
 from runtime.errors import UserError
-from runtime.model import load_model
-from runtime.scan_grid import parse_range
-from runtime.scan_physics import linear_interval
-from runtime.scan_runners import N_OUT, point_run
-from runtime.stability import model_callables
+from runtime.model.load import load_model
+from runtime.scan.grid import parse_range
+from runtime.scan.physics import linear_interval
+from runtime.scan.points import N_OUT, point_run
+from runtime.physics.stability import model_callables
 
 ROOT = Path(__file__).resolve().parent.parent
 SET = ["top.mass=0.0515"]
-BASE = [sys.executable, "-m", "runtime.cli", "scan", "thesis", "--set", SET[0]]
+BASE = [sys.executable, "-m", "runtime.cli.main", "scan", "thesis", "--set", SET[0]]
 
 
 @pytest.fixture(scope="module")
@@ -132,8 +132,8 @@ def test_height_axis_is_a_fraction_of_z_s(model):
 
 
 def test_point_run_is_simulate(model):
-    """The scan's runner, at height 0 with z_s given, is runtime.simulate.simulate number for number."""
-    from runtime.simulate import hover_height, simulate
+    """The scan's runner, at height 0 with z_s given, is runtime.simulate.run.simulate number for number."""
+    from runtime.simulate.run import hover_height, simulate
     z_s = hover_height(model)
     for spin, tilt in ((1000.0, 0.03), (3000.0, 0.01)):
         a = simulate(model, spin, tilt=tilt, t_end=3.0, n_out=N_OUT)

@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 from derive.scene import load_scene
-from runtime import scan as sc
-from runtime import scan_runners
+from runtime.scan import stability_map as sc
+from runtime.scan import runners as scan_runners
 from runtime.errors import UserError
-from runtime.model import load_model
+from runtime.model.load import load_model
 
 distributed = pytest.importorskip("dask.distributed", reason="the test extra installs dask[distributed]")
 

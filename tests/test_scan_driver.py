@@ -1,6 +1,6 @@
-"""The C chunk driver of the stability maps (runtime/csrc/scan_driver.c, runtime/scan_c.py): every
+"""The C chunk driver of the stability maps (runtime/csrc/scan_driver.c, runtime/scan/chunk_c.py): every
 point of a chunk is the run lev_integrate would make on its own (thesis 3.1), and a map through the
-driver equals the map of runtime.simulate's Python path point for point (status, levitating,
+driver equals the map of runtime.simulate.run's Python path point for point (status, levitating,
 survival time; thesis 3.3, fig. 3.8)."""
 from __future__ import annotations
 
@@ -10,12 +10,12 @@ import numpy as np
 import pytest
 
 from derive.scene import load_scene
-from runtime import scan as sc
-from runtime.cintegrate import run_c
+from runtime.scan import stability_map as sc
+from runtime.integrate.c_backend import run_c
 from runtime.errors import UserError
-from runtime.integrate import Box, csrc_library
-from runtime.model import load_model
-from runtime.scan_c import drive
+from runtime.integrate.run import Box, csrc_library
+from runtime.model.load import load_model
+from runtime.scan.chunk_c import drive
 
 SET = ["top.mass=0.0515"]
 
@@ -110,7 +110,7 @@ def test_fixed_step_map_equals_the_python_path(model):
 def test_bench_maps_quick(model):
     """The maps bench (--quick): the C driver at 1 and 2 workers and the Python path, the same map
     from all three, points per second and the CPU time over the rhs-call time of each."""
-    from runtime import bench_maps
+    from runtime.bench import maps as bench_maps
     out = bench_maps.run(model, "thesis", SET, quick=True)
     assert [(r["engine"], r["workers"]) for r in out["rows"]] == [("c", 1), ("c", 2), ("python", 1)]
     assert out["same_map"] is True

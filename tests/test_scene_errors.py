@@ -39,7 +39,7 @@ def test_bad_scene_is_refused_cleanly(tmp_path, label, text, message):
     cache = tmp_path / "cache"
     before = _snapshot(GENERATED)
     env = dict(os.environ, LEVITRON_CACHE=str(cache))
-    for cmd in (["-m", "runtime.cli", "info", str(scene)], ["-m", "derive", str(scene)]):
+    for cmd in (["-m", "runtime.cli.main", "info", str(scene)], ["-m", "derive", str(scene)]):
         res = subprocess.run([sys.executable, *cmd], cwd=ROOT, env=env, capture_output=True, text=True, check=False)
         assert res.returncode == 2, (cmd, res.stdout, res.stderr)
         lines = res.stderr.strip().splitlines()
@@ -52,13 +52,13 @@ def test_bad_scene_is_refused_cleanly(tmp_path, label, text, message):
 
 
 def test_bad_override_is_refused():
-    res = subprocess.run([sys.executable, "-m", "runtime.cli", "info", "thesis", "--set", "top.mass"],
+    res = subprocess.run([sys.executable, "-m", "runtime.cli.main", "info", "thesis", "--set", "top.mass"],
                          cwd=ROOT, capture_output=True, text=True, check=False)
     assert res.returncode == 2 and "has no '='" in res.stderr
 
 
 def test_unknown_scene_names_the_known_ones():
-    res = subprocess.run([sys.executable, "-m", "runtime.cli", "info", "nosuchscene"],
+    res = subprocess.run([sys.executable, "-m", "runtime.cli.main", "info", "nosuchscene"],
                          cwd=ROOT, capture_output=True, text=True, check=False)
     assert res.returncode == 2 and "thesis" in res.stderr
 
@@ -103,7 +103,7 @@ def test_ring_magnet_absurd_magnetization():
 ])
 def test_absurd_input_through_the_command_line(tmp_path, args):
     env = dict(os.environ, LEVITRON_CACHE=str(tmp_path / "cache"))
-    res = subprocess.run([sys.executable, "-m", "runtime.cli", *args], cwd=ROOT, env=env,
+    res = subprocess.run([sys.executable, "-m", "runtime.cli.main", *args], cwd=ROOT, env=env,
                          capture_output=True, text=True, check=False)
     assert res.returncode == 2, (res.stdout, res.stderr)
     lines = res.stderr.strip().splitlines()
@@ -167,16 +167,16 @@ def test_override_reaches_a_compound_plates_parts(tmp_path):
 def test_bad_compound_override_is_one_line(tmp_path, override, message):
     path = tmp_path / "two_rings.toml"
     path.write_text(COMPOUND)
-    r = subprocess.run([sys.executable, "-m", "runtime.cli", "info", str(path), "--set", override],
+    r = subprocess.run([sys.executable, "-m", "runtime.cli.main", "info", str(path), "--set", override],
                        capture_output=True, text=True, cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)})
     assert r.returncode == 2 and message in r.stderr and len(r.stderr.strip().splitlines()) == 1, r.stderr
 
 
 def test_design_keys_reach_a_compound_plates_parts(tmp_path):
-    """optimize --vary and the API name a part's key the same way (runtime/scene_keys.py)."""
+    """optimize --vary and the API name a part's key the same way (runtime/design/scene_keys.py)."""
     from derive.scene import load_scene
     from runtime.errors import UserError
-    from runtime.scene_keys import key_value, with_values
+    from runtime.design.scene_keys import key_value, with_values
     path = tmp_path / "two_rings.toml"
     path.write_text(COMPOUND)
     sc = load_scene(path)

@@ -12,10 +12,10 @@ import pytest
 
 from derive.scene import load_scene
 from runtime.errors import UserError
-from runtime.equilibrium import hover_height
-from runtime.integrate import integrate
-from runtime.model import load_model
-from runtime.simulate import (
+from runtime.physics.equilibrium import hover_height
+from runtime.integrate.run import integrate
+from runtime.model.load import load_model
+from runtime.simulate.run import (
     ANGLES,
     angular_momentum_z,
     coordinates_of,
@@ -48,7 +48,7 @@ def zxz_model(tmp_path_factory):
 
 
 def heavy_top(model) -> dict:
-    """Parameters of a top inside the stable band of the thesis plate (runtime.equilibrium: band
+    """Parameters of a top inside the stable band of the thesis plate (runtime.physics.equilibrium: band
     9.95-11.02 cm) that 200 rad/s stabilises: m = 51.4 g, A and C eight times the thesis's."""
     names = model.param_names
     pv = dict(zip(names, model.p))
@@ -108,7 +108,7 @@ def test_simulate_json_contract_and_plot(model, tmp_path):
 
 
 def test_hard_case_top_falls_off_event_stops_cleanly(model):
-    """The thesis top at its hover height is not spin-stabilisable (see runtime.stability): tilted by
+    """The thesis top at its hover height is not spin-stabilisable (see runtime.physics.stability): tilted by
     0.01 rad it falls within a second; the box event stops the run, and nothing is NaN."""
     out = simulate(model, spin=200.0, tilt=0.01, offset=1e-3, t_end=5.0)
     assert out["levitating"] is False and out["status"] == "left_box"
@@ -232,7 +232,7 @@ def test_bad_options(model, kwargs, words):
 
 
 def test_cli_simulate_json(capsys):
-    from runtime.cli import main
+    from runtime.cli.main import main
     rc = main(["simulate", "thesis", "--spin", "200", "--tilt", "0.01", "--t-end", "0.02", "--json"])
     assert rc == 0
     out = json.loads(capsys.readouterr().out)
@@ -253,7 +253,7 @@ def test_cli_simulate_json(capsys):
 ])
 def test_cli_refuses_unbounded_work_in_one_line(capsys, args, words):
     """Issue 8: each of these ran without end, or raised MemoryError, or (--tol 1) flipped a verdict."""
-    from runtime.cli import main
+    from runtime.cli.main import main
     rc = main(["simulate", "thesis", "--spin", "200", "--tilt", "0.01", *args])
     err = capsys.readouterr().err
     assert rc == 2 and words in err and len(err.strip().splitlines()) == 1

@@ -18,7 +18,7 @@ FULL_SCENES = [p.stem for p in sorted(SCENES_DIR.glob("*.toml"))
 
 @lru_cache(maxsize=None)
 def stability(name: str) -> dict:
-    res = subprocess.run([sys.executable, "-m", "runtime.cli", "stability", name, "--json"],
+    res = subprocess.run([sys.executable, "-m", "runtime.cli.main", "stability", name, "--json"],
                          cwd=ROOT, capture_output=True, text=True)
     assert res.returncode == 0, res.stderr
     return json.loads(res.stdout)

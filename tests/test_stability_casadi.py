@@ -1,4 +1,4 @@
-"""The stability quantities as CasADi Functions (runtime/stability_casadi.py, thesis 3.3.2-3.3.16):
+"""The stability quantities as CasADi Functions (runtime/physics/stability_casadi.py, thesis 3.3.2-3.3.16):
 they agree with the exact float routes to 1e-10 and their exact (implicit-function) gradients with
 central finite differences to 1e-6, on every scene of scenes/ that has the quantity."""
 from __future__ import annotations
@@ -7,10 +7,10 @@ import pytest
 
 from derive.paths import SCENES_DIR
 from derive.scene import load_scene
-from runtime import equilibrium as eqm
-from runtime import stability_casadi as sc
-from runtime.model import load_model
-from runtime.stability import stability_of
+from runtime.physics import equilibrium as eqm
+from runtime.physics import stability_casadi as sc
+from runtime.model.load import load_model
+from runtime.physics.stability import stability_of
 
 SCENES = sorted(p.stem for p in SCENES_DIR.glob("*.toml"))
 
@@ -41,7 +41,7 @@ def test_values_agree_with_float_routes(built):
 
 def test_band_agrees_with_float_band(built):
     """The stable band's edges (z_lo = z_c, z_hi: N(t) with a triple root, thesis 3.3.11) and masses
-    against runtime/bands.py's bisection (rtol 1e-12): 1e-10 relative (measured: < 5e-12)."""
+    against runtime/physics/bands.py's bisection (rtol 1e-12): 1e-10 relative (measured: < 5e-12)."""
     model, cs, st = built
     v = cs.values(st=st)
     band = eqm.equilibria_of(model, bands=True).stable_band

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 import levitron_api as lev
-from runtime import trajectory_file
-from runtime.cli import main
+from runtime.simulate import trajectory_file
+from runtime.cli.main import main
 
 
 @pytest.fixture(scope="module")

@@ -1,6 +1,6 @@
 """The heyoka backend of the emitter: the lowered right-hand side as heyoka expressions.
 
-For the bench only (runtime/bench_heyoka.py): heyoka integrates the same graph the generated C
+For the bench only (runtime/bench/heyoka.py): heyoka integrates the same graph the generated C
 computes (derive/emit/lower.py: Hamilton's equations, thesis 2.3.9-2.3.16 / 3.2.12), handed over
 through `heyoka.from_sympy`, in the bench's scaled states X_k = x_k / scale_k.
 """

@@ -3,7 +3,7 @@
 model.c also exports its own table, `lev_model_table()`: the scene, the input hash, the parameter
 names in order, the state names of each part and every function's name, n_in and n_out, as JSON
 (split into short C string literals, joined by the reader). The runtime checks it against
-manifest.json after loading the library and before any call (runtime/model.py).
+manifest.json after loading the library and before any call (runtime/model/load.py).
 """
 from __future__ import annotations
 
@@ -69,7 +69,7 @@ def lane_lines(f: Lowered, printer: LevitronCPrinter) -> list[str]:
 
 def model_table(scene: str, input_hash: str, params: list[str], parts: dict,
                 lowered: list[Lowered]) -> dict:
-    """What the compiled model says about itself (read by runtime/model_table.py)."""
+    """What the compiled model says about itself (read by runtime/model/table.py)."""
     return {"format": TABLE_FORMAT, "scene": scene, "input_hash": input_hash,
             "parameters": list(params),
             "parts": {name: list(info["states"]) for name, info in parts.items()},

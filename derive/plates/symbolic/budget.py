@@ -1,4 +1,4 @@
-"""A wall-clock budget for sympy work on scene text (expression plates; issue 8, bounded work).
+"""A wall-clock budget for sympy work on scene text (expression plates: bounded work).
 
 Sympy cannot be interrupted cooperatively, so `time_budget` arms a real-time timer (SIGALRM) that
 raises inside the computation; the budget then ends as one SceneError line. The timer repeats

@@ -1,0 +1,72 @@
+"""The benchmarks' one seam: `levitron bench SCENE --kind NAME` (benchmarks are never timed tests).
+
+A benchmark is a module with one function,
+
+    bench(model, scene_ref, overrides, out: Path, quick: bool) -> dict
+
+that measures, writes its report files into `out` (a table and a plot) and returns a JSON-able
+dict with "files" (the paths written) and "headline" (one line for a person); plus one entry in
+KINDS below, with the scenes `make bench` runs it on and its report folder. So a new benchmark
+takes two files: its module and this registry. `python -m runtime.bench.kinds` runs every kind on
+its scenes: the Makefile's `bench` target.
+"""
+from __future__ import annotations
+
+import importlib
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+
+@dataclass(frozen=True)
+class Kind:
+    name: str
+    module: str          # defines bench(model, scene_ref, overrides, out, quick)
+    doc: str
+    scenes: tuple        # what `make bench` runs it on
+    out: str             # its report folder; "{scene}" is the scene's name
+
+
+KINDS = {k.name: k for k in (
+    Kind("work-precision", "runtime.bench.work_precision", "speed against error of every backend and integrator "
+         "(heyoka beside ours when the [bench] extra is installed)",
+         ("thesis_stable", "ring_magnet", "square", "loop", "reduced_only"), "reports/{scene}"),
+    Kind("maps", "runtime.bench.maps", "points per second of a stability map on 1 and 2 workers, the "
+         "C driver against the Python path", ("thesis_stable",), "reports/maps"),
+    Kind("design", "runtime.bench.design", "wall time of verified IPOPT designs", ("thesis_stable",),
+         "reports/design"),
+    Kind("launch", "runtime.bench.launch", "a long flight in air and a launch Monte Carlo",
+         ("thesis_air",), "reports/launch"),
+    Kind("functions", "runtime.bench.functions", "ns per call of every generated function",
+         ("thesis_stable", "ring_magnet"), "reports/{scene}/functions"),
+)}
+DEFAULT = "work-precision"
+QUICK_OUT = "out/bench-quick/{kind}"      # a quick run never overwrites a report
+
+
+def out_dir(kind: str, scene: str, quick: bool) -> Path:
+    return Path((QUICK_OUT if quick else KINDS[kind].out).format(scene=scene, kind=kind))
+
+
+def run(kind: str, model, scene_ref: str, overrides, out: Path, quick: bool) -> dict:
+    """One benchmark through the protocol of the module docstring."""
+    res = importlib.import_module(KINDS[kind].module).bench(model, scene_ref, list(overrides), Path(out),
+                                                            quick)
+    res["kind"] = kind
+    return res
+
+
+def main() -> int:
+    """Every kind on its scenes, each through the `levitron bench` command (the Makefile's bench)."""
+    for kind in KINDS.values():
+        for scene in kind.scenes:
+            cmd = [sys.executable, "-m", "runtime", "bench", scene, "--kind", kind.name]
+            print("$ levitron " + " ".join(cmd[3:]), flush=True)
+            if subprocess.run(cmd, check=False).returncode != 0:
+                return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

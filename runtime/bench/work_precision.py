@@ -1,0 +1,379 @@
+"""Speed against error (work-precision) for the reduced and the full model (docs/contract.md `bench`).
+
+The run is the scene's own: its top (mass, A, C, moment as the scene gives them), hovering at its
+own height z_s (the lowest vertically stable root of thesis 3.3.2-3.3.3, runtime/physics/equilibrium.py),
+spinning at the geometric mean of its linear stability interval (thesis 3.3, runtime/physics/stability.py),
+perturbed by one small dimensionless amplitude DELTA: tilted DELTA rad, offset DELTA z_s, lifted
+2 DELTA z_s. The reduced model (thesis 3.2.12) runs from the same height (a vertical bounce) at the
+same spin (zeta is cyclic there, so the spin does not change the motion). A scene whose full model's
+top has no stable interval is refused with the reason; a scene with only the reduced model is
+benched there, at the interval's spin if its top has one, else at the rate with g1 = 1 (thesis
+3.3.10: sigma^2 = mu Phi_1 / (rho^2 A)).
+
+Time scales come from the model at that point: the fastest angular rate w_fast = max(spin, the
+vertical bounce sqrt(mu Phi_3 / m), the fastest transverse mode of the 8-D linearisation after
+thesis 3.3.5); T_fast = 2 pi / w_fast. Every fixed step is a fraction of T_fast, and a run lasts
+SPIN_PERIODS spin periods.
+
+error  = max_k |x_k(T) - x_ref,k(T)| / scale_k, the largest deviation of the final state from the
+         reference relative to the component's magnitude (lengths z_s, angles 1 rad, linear momenta
+         m sqrt(g z_s), angular momenta C * spin; runtime.simulate.run.state_scales);
+x_ref  = the fixed-step 8th-order DOP853 formula (C, compensated summation) at h = T_fast /
+         REF_STEPS, cross-checked against the same at twice the step (the difference is
+         `reference_check`). The fixed formula's error falls like h^8 until round-off, which the
+         compensated summation keeps near 1e-16 of the state: the runs at T_fast / 200 .. 1200
+         agree to 1e-16 (thesis_stable) and 3e-14 (ring_magnet). The adaptive DOP853 at
+         tol 1e-14, the reference before, is off by 2e-13, which hid every error below it;
+wall_s = the minimum over repeats (at least 3; short runs repeat until MIN_TIMED_S is spent, at
+         most MAX_REPEATS times) of the integrator call alone (model loading, argument conversion
+         and CasADi construction excluded, identically for all backends);
+rhs_evals = right-hand-side calls (CasADi's collocation does not expose its count: null).
+
+Backends: "c" (runtime/csrc/integrators.c over the generated C), "casadi" (casadi.integrator over
+the generated CasADi function), "scipy" (solve_ivp with the generated C right-hand side called
+through ctypes, ~19 us per call; the runtime exposes no lambdified numpy rhs, which would cost about
+the same per call), "heyoka" (integrator "taylor": Taylor's method compiled by LLVM at run time,
+on the same lowered expressions, runtime/bench/heyoka.py; its compile time is the row's
+`compile_s`, not in wall_s; only when heyoka is installed: pip install '.[bench]'; not in --quick).
+
+cheapest_by_bound: for each error bound 1e-5 .. 1e-13 and each backend, the run with the least
+wall_s whose error is within the bound (bench_cheapest_<model>.csv).
+"""
+from __future__ import annotations
+
+import csv
+import json
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from runtime.physics import equilibrium as eqm
+from runtime.ui import progress
+from runtime.physics.eigen_route import transverse_matrix
+from runtime.errors import UserError
+from runtime.ui.human import Units
+from runtime.integrate.run import backend_of, integrate, run_c, time_fn_ns
+from runtime.integrate.methods import lookup
+from runtime.ui.plotting import pyplot, save_figure
+from runtime.simulate.run import initial_state, state_scales
+from runtime.physics.stability import stability_of
+
+ROW_KEYS = ("model", "backend", "integrator", "tol", "error", "wall_s", "rhs_evals")
+EXTRA_KEYS = ("step_or_tol", "status", "steps", "compile_s")
+BOUNDS = tuple(10.0 ** -k for k in range(5, 14))      # the error bounds of cheapest_by_bound
+BACKENDS = ("c", "heyoka", "casadi", "scipy")
+DELTA = 0.01            # the perturbation: tilt DELTA rad, offset DELTA z_s, lift 2 DELTA z_s
+SPIN_PERIODS = 32       # the length of a run
+REF_STEPS = 600         # the reference: h = T_fast / REF_STEPS; its check: twice that step
+MIN_TIMED_S = 0.03      # short runs repeat until this much time is spent (at most MAX_REPEATS)
+MAX_REPEATS = 100
+
+
+@dataclass(frozen=True)
+class Setup:
+    """The scene's own operating point and time scales (see the module docstring)."""
+    p: np.ndarray
+    z_s: float
+    spin: float
+    spin_basis: str
+    spin_interval: tuple[float, float] | None
+    t_fast: float
+    t_end: float
+
+    def as_dict(self) -> dict:
+        return {"z_s": self.z_s, "spin": self.spin, "spin_basis": self.spin_basis,
+                "spin_interval": None if self.spin_interval is None else list(self.spin_interval),
+                "t_fast": self.t_fast, "t_end": self.t_end, "delta": DELTA,
+                "spin_periods": SPIN_PERIODS}
+
+
+def setup(model, p: np.ndarray | None = None) -> Setup:
+    """The operating point of the scene's own top (thesis 3.3.2-3.3.3 and 3.3; module docstring)."""
+    p = np.array(model.p if p is None else p, dtype=float)
+    P = eqm.params_of(model, p)
+    name = model.scene.name
+    z_s = eqm.hover_height(model, p)
+    res = stability_of(model, p=p, z_s=z_s)
+    ph = np.asarray(model.onaxis(z_s, p), float)
+    if res.spin_interval is not None:
+        lo, hi = res.spin_interval
+        spin, basis = math.sqrt(lo * hi), "geometric mean of the linear stability interval"
+    elif "full" in model.parts:
+        raise UserError(f"scene '{name}' has no stable spin interval, and bench runs the scene's top "
+                        f"inside it: {res.reason}")
+    else:
+        rho = P["C"] / P["A"]
+        spin = math.sqrt(abs(P["mu"] * ph[1]) / P["A"]) / rho
+        basis = ("g1 = 1 (thesis 3.3.10): the scene's top has no stable interval; the reduced model "
+                 "does not depend on it")
+    if not (spin > 0 and math.isfinite(spin)):
+        raise UserError(f"scene '{name}': no finite spin to bench at (spin {spin})")
+    rates = [spin]
+    k = P["mu"] * ph[3]
+    if k > 0:
+        rates.append(math.sqrt(k / P["m"]))
+    lam = np.linalg.eigvals(transverse_matrix(ph[1], ph[2], ph[3], P["m"], P["A"], P["C"], P["mu"], spin))
+    rates.append(float(np.abs(lam).max()))
+    t_fast = 2 * math.pi / max(r for r in rates if math.isfinite(r))
+    return Setup(p, z_s, spin, basis, res.spin_interval, t_fast, SPIN_PERIODS * 2 * math.pi / spin)
+
+
+def start(model, part_name: str, su: Setup):
+    """(part, x0, state scales) of the bench run of one part from the Setup's operating point."""
+    part = model.part(part_name)
+    pv = eqm.params_of(model, su.p)
+    if part_name == "full":
+        x0 = initial_state(part, su.z_s, su.spin, DELTA, DELTA * su.z_s, su.p)
+    else:
+        x0 = initial_state(part, su.z_s, su.spin, 0.0, 0.0, su.p)
+    x0[part.states.index("z")] *= 1 + 2 * DELTA
+    return part, x0, state_scales(part, su.z_s, su.spin, pv)
+
+
+def plan(quick: bool) -> list[tuple[str, str, list[float]]]:
+    """(integrator, "tol" or "h", values) from coarse to fine; "h" values are fractions of T_fast."""
+    if quick:
+        return [("rk4", "h", [1 / 30, 1 / 300]), ("dop853", "tol", [1e-6, 1e-10]),
+                ("gauss4", "h", [1 / 30]), ("euler", "h", [1 / 300]),
+                ("cvodes", "tol", [1e-6]), ("casadi-rk", "h", [1 / 30]),
+                ("scipy-dop853", "tol", [1e-6])]
+    tols = [1e-4, 1e-6, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12]
+    fine = [10.0 ** (-k / 2) for k in range(8, 31)]   # 1e-4 .. 1e-15
+    return [("euler", "h", [1 / 30, 1 / 300, 1 / 3000, 1 / 30000]),
+            ("rk4", "h", [1 / 3, 1 / 10, 1 / 30, 1 / 100, 1 / 300, 1 / 1000]),
+            ("dop853", "tol", fine),
+            ("vern9", "tol", fine),
+            ("gauss4", "h", [1 / 3, 1 / 10, 1 / 30, 1 / 100, 1 / 300]),
+            ("midpoint", "h", [1 / 30, 1 / 300, 1 / 3000]),
+            ("cvodes", "tol", tols),
+            ("casadi-rk", "h", [1 / 30, 1 / 100, 1 / 300]),
+            ("casadi-collocation", "h", [1 / 3, 1 / 10, 1 / 30]),
+            ("scipy-dop853", "tol", tols)]
+
+
+def reference(part, x0, su: Setup, scale):
+    """x_ref and reference_check (module docstring)."""
+    ref, check = (run_c(part.model.lib, "dop853-fixed", part.c_function("rhs"), x0, su.p, su.t_end,
+                        h=su.t_fast / steps) for steps in (REF_STEPS, REF_STEPS // 2))
+    for r in (ref, check):
+        if r.status != "completed":
+            raise UserError(f"bench: the reference run of scene '{part.model.scene.name}' ended "
+                            f"'{r.status}': {r.message}")
+    return ref.x_final, float(np.max(np.abs(ref.x_final - check.x_final) / scale))
+
+
+def bench_model(model, part_name: str, quick: bool = False, repeats: int | None = None,
+                su: Setup | None = None) -> dict:
+    su = su or setup(model)
+    part, x0, scale = start(model, part_name, su)
+    x_ref, ref_check = reference(part, x0, su, scale)
+    repeats = repeats or (1 if quick else 3)
+    rows = []
+    runs = [(method, kind, v) for method, kind, values in plan(quick) for v in values]
+    for method, kind, v in progress.track(runs, f"bench {model.scene.name} ({part_name})"):
+        value = v * su.t_fast if kind == "h" else v
+        kw = {"tol": value} if kind == "tol" else {"h": value, "tol": None}
+        best, spent, k = None, 0.0, 0
+        while k < (repeats if not method.startswith("casadi-coll") else 1) or more(k, spent):
+            r = integrate(part, x0, su.t_end, method=method, p=su.p, scale=scale, n_out=1,
+                          time_scale=su.t_fast, **kw)
+            k, spent = k + 1, spent + r.wall_s
+            if best is None or r.wall_s < best.wall_s:
+                best = r
+        err = (float(np.max(np.abs(best.x_final - x_ref) / scale))
+               if best.status == "completed" else math.inf)
+        rows.append({"model": part_name, "backend": backend_of(method), "integrator": method,
+                     "tol": value, "error": err, "wall_s": best.wall_s, "rhs_evals": best.rhs_evals,
+                     "step_or_tol": kind, "status": best.status})
+    heyoka = heyoka_rows(model, part_name, x0, su, scale, x_ref, repeats) if not quick else []
+    rows += heyoka or []
+    return {"rows": rows, "reference_check": ref_check, "setup": su.as_dict(), "z_s": su.z_s,
+            "x0": x0.tolist(), "states": list(part.states),
+            "heyoka": ("not run in --quick (it compiles for seconds per tolerance)" if quick
+                       else "not installed: pip install '.[bench]'" if heyoka is None
+                       else "installed"),
+            "cheapest_by_bound": cheapest_by_bound(rows)}
+
+
+HEYOKA_TOLS = tuple(10.0 ** (-k / 2) for k in range(8, 31))     # 1e-4 .. 1e-15, half decades
+
+
+def more(k: int, spent: float) -> bool:
+    """Repeat a short run (the same rule for every backend): on a busy machine the minimum of
+    many short runs is the run's own cost, so runs under MIN_TIMED_S in total repeat up to
+    MAX_REPEATS times."""
+    return spent < MIN_TIMED_S and k < MAX_REPEATS
+
+
+def heyoka_rows(model, part_name: str, x0, su: Setup, scale, x_ref, repeats: int,
+                tols=HEYOKA_TOLS) -> list | None:
+    """heyoka's Taylor integrator on the same problem (runtime/bench/heyoka.py); None when absent."""
+    from runtime.bench import heyoka as bench_heyoka
+    if not bench_heyoka.available():
+        return None
+    from derive.emit.heyoka import lowered_rhs, system
+    sys_ = system(lowered_rhs(model.scene, part_name), scale)
+    rows = []
+    for tol in tols:
+        r = bench_heyoka.run(sys_, x0, su.p, scale, su.t_end, tol, repeats, more)
+        err = (float(np.max(np.abs(r["x_final"] - x_ref) / scale))
+               if r["status"] == "completed" else math.inf)
+        rows.append({"model": part_name, "backend": "heyoka", "integrator": "taylor", "tol": tol,
+                     "error": err, "wall_s": r["wall_s"], "rhs_evals": None, "step_or_tol": "tol",
+                     "status": r["status"], "steps": r["steps"], "compile_s": r["compile_s"]})
+    return rows
+
+
+def cheapest_by_bound(rows: list[dict]) -> list[dict]:
+    """For each error bound and backend, the cheapest run within it (module docstring)."""
+    out = []
+    for bound in BOUNDS:
+        row = {"bound": bound}
+        for b in BACKENDS:
+            ok = [r for r in rows if r["backend"] == b and r["error"] <= bound]
+            best = min(ok, key=lambda r: r["wall_s"]) if ok else None
+            row[b] = None if best is None else {k: best[k] for k in ("integrator", "tol", "error", "wall_s")}
+        out.append(row)
+    return out
+
+
+def write_cheapest(table: list[dict], path: Path) -> None:
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["bound"] + [f"{b}_{k}" for b in BACKENDS for k in ("integrator", "wall_s", "error")])
+        for row in table:
+            cells = [row["bound"]]
+            for b in BACKENDS:
+                c = row[b]
+                cells += ["", "", ""] if c is None else [c["integrator"], c["wall_s"], c["error"]]
+            w.writerow(cells)
+
+
+def cheapest(rows, integrator, bound=1e-8):
+    ok = [r for r in rows if r["integrator"] == integrator and r["error"] <= bound]
+    return min(ok, key=lambda r: r["wall_s"]) if ok else None
+
+
+def goals(model, full_rows: list[dict], quick: bool, su: Setup | None = None) -> dict:
+    """The figures of the bench's goals (bench_goals.json)."""
+    su = su or setup(model)
+    p = su.p
+    part, x0, _ = start(model, "full", su)
+    out = {}
+    c = cheapest(full_rows, "dop853")
+    s = cheapest(full_rows, "scipy-dop853")
+    v = cheapest(full_rows, "cvodes")
+    out["error_bound"] = 1e-8
+    out["c_dop853"] = c
+    out["scipy_dop853"] = s
+    out["casadi_cvodes"] = v
+    out["speedup_vs_scipy"] = s["wall_s"] / c["wall_s"] if c and s else None
+    out["speedup_vs_cvodes"] = v["wall_s"] / c["wall_s"] if c and v else None
+    out["speedup_goals_met"] = (None if out["speedup_vs_scipy"] is None or out["speedup_vs_cvodes"] is None
+                                else out["speedup_vs_scipy"] >= 100 and out["speedup_vs_cvodes"] >= 2)
+    reps = 200_000 if quick else 5_000_000
+    ns = min(time_fn_ns(model.lib, part.c_function("rhs"), x0, p, len(x0), reps) for _ in range(3))
+    out["full_rhs_ns"] = ns
+    out["full_rhs_ops"] = model.function(f"{part.name}_rhs").ops
+    out["full_rhs_goal_met"] = ns <= 150
+    out["rhs"] = rhs_costs(model, su, reps)
+    # long run: 1e6 steps (quick: 2e4) of gauss4 and RK4 at h = T_fast / 30, energy monitored in C
+    n = 20_000 if quick else 1_000_000
+    h = su.t_fast / 30
+    long = {}
+    e_scale = None
+    for method in ("gauss4", "rk4"):
+        every = max(1, n // 1000)
+        r = run_c(model.lib, method, part.c_function("rhs"), x0, p, n * h, h=h,
+                  jac=part.c_function("jac") if lookup(method).needs_jacobian else None,
+                  energy=part.c_function("energy"), every=every, max_samples=n // every + 3)
+        e_scale = max(abs(r.energy0), eqm.params_of(model, p)["C"] * su.spin ** 2 / 2)
+        dev = (r.energy - r.energy0) / e_scale
+        slope = float(np.polyfit(r.t, dev, 1)[0]) if len(r.t) > 2 else None
+        tenths = [float(np.abs(c_).max()) for c_ in np.array_split(np.abs(dev), 10)]
+        long[method] = {"steps": r.steps, "status": r.status, "wall_s": r.wall_s,
+                        "rhs_evals": r.rhs_evals, "jac_evals": r.jac_evals,
+                        "max_rel_energy_error": r.energy_max_dev / e_scale,
+                        "rel_energy_drift_slope_per_s": slope, "max_per_tenth": tenths}
+    out["long_run"] = {"h": h, "steps": n, "simulated_s": n * h, "energy_scale": e_scale, **long}
+    return out
+
+
+def rhs_costs(model, su: Setup, reps: int) -> dict:
+    """ns per call (best of 3 loops in C) and operation count of every part's rhs, at the bench's
+    initial state."""
+    out = {}
+    for name in ("reduced", "full"):
+        if name in model.parts:
+            part, x0, _ = start(model, name, su)
+            ns = min(time_fn_ns(model.lib, part.c_function("rhs"), x0, su.p, len(x0), reps)
+                     for _ in range(3))
+            out[name] = {"ns": ns, "ops": model.function(f"{name}_rhs").ops}
+    return out
+
+
+def draw(rows: list[dict], path: Path, title: str) -> Path:
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(7.5, 5.5))
+    markers = {"c": "o", "casadi": "s", "scipy": "^", "heyoka": "D"}
+    for integ in dict.fromkeys(r["integrator"] for r in rows):
+        rs = [r for r in rows if r["integrator"] == integ and math.isfinite(r["error"]) and r["error"] > 0]
+        if not rs:
+            continue
+        ax.loglog([r["wall_s"] for r in rs], [r["error"] for r in rs],
+                  marker=markers[rs[0]["backend"]], label=f"{rs[0]['backend']}: {integ}")
+    ax.set_xlabel("wall time (s, min of repeats)")
+    ax.set_ylabel("error of the final state (relative to component scales)")
+    ax.set_title(title)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    return save_figure(fig, path)
+
+
+def bench(model, scene_ref: str, overrides, out: Path, quick: bool) -> dict:
+    """The bench protocol (runtime/bench/kinds.py): `run` into `out`."""
+    return run(model, out, quick)
+
+
+def run(model, out_dir: str | Path = "reports", quick: bool = False) -> dict:
+    t0 = time.perf_counter()
+    su = setup(model)                    # refuses a scene without a stable interval: nothing written
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    files, rows, per_model = [], [], {}
+    units = Units.of_scene(model.scene)
+    for name in ("reduced", "full"):
+        if name not in model.parts:
+            continue
+        res = bench_model(model, name, quick, su=su)
+        per_model[name] = {k: v for k, v in res.items() if k != "rows"}
+        rows += res["rows"]
+        stem = out / f"bench_{name}"
+        with open(f"{stem}.csv", "w", newline="") as fh:
+            w = csv.DictWriter(fh, fieldnames=list(ROW_KEYS) + list(EXTRA_KEYS), restval="")
+            w.writeheader()
+            w.writerows(res["rows"])
+        Path(f"{stem}.json").write_text(json.dumps({"model": name, "scene": model.scene.name,
+                                                     "description": __doc__, **res}, indent=1, default=_json))
+        draw(res["rows"], Path(f"{stem}.png"),
+             f"{model.scene.name}, {name} model: {units.time(su.t_end)} at {units.rate(su.spin)}")
+        write_cheapest(res["cheapest_by_bound"], out / f"bench_cheapest_{name}.csv")
+        files += [f"{stem}.csv", f"{stem}.json", f"{stem}.png", str(out / f"bench_cheapest_{name}.csv")]
+    g = goals(model, [r for r in rows if r["model"] == "full"], quick, su) if "full" in model.parts else {}
+    (out / "bench_goals.json").write_text(json.dumps(g, indent=1, default=_json))
+    files.append(str(out / "bench_goals.json"))
+    return {"rows": rows, "goals": g, "models": per_model, "setup": su.as_dict(), "files": files,
+            "quick": quick,
+            "wall_s": time.perf_counter() - t0}
+
+
+def _json(o):
+    if isinstance(o, float) and not math.isfinite(o):
+        return None
+    if hasattr(o, "tolist"):
+        return o.tolist()
+    raise TypeError(type(o))

@@ -1,0 +1,76 @@
+"""`levitron derive [SCENE ...]`: regenerate models.
+
+The scenes of scenes/, as they are, are derived into generated/ (the same as `make derive`, which
+alone writes committed models). A variant (--set) or an out-of-tree scene is derived into the
+cache, where the other commands find it: generated/ is never overwritten by one.
+"""
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from derive.paths import ROOT, SCENES_DIR
+
+from runtime.ui import progress
+from runtime.errors import UserError
+from runtime.ui.human import duration, lines
+from runtime.model.load import committed_folder, locate
+from runtime.cli.commands.common import load
+
+NAME = "derive"
+HELP = ("regenerate the models of the given scenes (default: all of scenes/); variants (--set) and "
+        "out-of-tree scenes go to the cache, never to generated/")
+MULTI_SCENE = True
+EXAMPLE = 'levitron derive thesis ring_magnet'
+
+
+def add_arguments(parser) -> None:
+    parser.add_argument("--force", action="store_true", help="derive even when nothing changed")
+
+
+def run(args) -> dict:
+    names = args.scenes or sorted(p.stem for p in SCENES_DIR.glob("*.toml"))
+    scenes = [load(n, args.set) for n in names]        # validate all before deriving any
+    committed = [not args.set and committed_folder(s) is not None for s in scenes]
+    done = {}
+    if any(committed):
+        done = {r["name"]: r for r in _derive_committed(
+            [s for s, c in zip(scenes, committed) if c], args.force)}
+    results = []
+    for scene, is_committed in progress.track(list(zip(scenes, committed)), "derive"):
+        if is_committed:
+            results.append(done[scene.name])
+            continue
+        t0 = time.perf_counter()
+        found = locate(scene, args.set, force=args.force)
+        results.append({"name": scene.name, "files": sorted(p.name for p in found.folder.iterdir()),
+                        "seconds": round(time.perf_counter() - t0, 3), "skipped": not found.derived,
+                        "folder": str(found.folder)})
+    return {"scenes": results}
+
+
+def _derive_committed(scenes, force: bool) -> list[dict]:
+    """python -m derive (the runtime never imports sympy) on the scenes' absolute paths: the
+    subprocess runs in the repository, not in the user's folder."""
+    cmd = [sys.executable, "-m", "derive", *(str(Path(s.path).resolve()) for s in scenes), "--json"]
+    if force:
+        cmd.append("--force")
+    res = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, check=False)
+    if res.returncode != 0:
+        last = (res.stderr.strip().splitlines() or ["derive failed"])[-1]
+        raise UserError(last.removeprefix("error: "))
+    return json.loads(res.stdout)["scenes"]
+
+
+def human(r: dict, scene=None) -> str:
+    """One line per scene: derived or unchanged, how long, where."""
+    rows = []
+    for s in r["scenes"]:
+        what = "unchanged (skipped by hash)" if s.get("skipped") else "derived"
+        where = f" -> {s['folder']}" if s.get("folder") else ""
+        rows.append(f"{s['name']}: {what} in {duration(s.get('seconds'))}{where}")
+    done = sum(1 for s in r["scenes"] if not s.get("skipped"))
+    return lines(f"derive: {done} of {len(r['scenes'])} scenes derived", *rows)

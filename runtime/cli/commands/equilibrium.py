@@ -1,0 +1,103 @@
+"""`levitron equilibrium SCENE`: vertical equilibria, z_c, the largest mass, the stable band.
+
+Thesis 3.3.1-3.3.3 and the stable band of docs/contract.md (runtime/physics/equilibrium.py); beside it the
+adiabatic (Berry-Simon) band, never instead.
+"""
+from __future__ import annotations
+
+import time
+
+from runtime.physics import equilibrium as eqm
+from runtime.ui.human import Units, lines, restate, span
+from runtime.ui.reference import stated
+from runtime.ui.plotting import check_plot_path
+from runtime.cli.commands.common import model_of
+
+NAME = "equilibrium"
+HELP = "vertical equilibria, z_c, the largest mass, and the band where a spin can stabilise the top"
+EXAMPLE = 'levitron equilibrium thesis --plot out/thesis_equilibrium.png'
+
+
+def add_arguments(parser) -> None:
+    parser.add_argument("--plot", metavar="FILE", default=None,
+                        help="also draw the equilibrium condition (thesis fig. 3.5) into FILE (.png)")
+
+
+def _band(b):
+    return None if b is None else b.as_dict()
+
+
+def run(args) -> dict:
+    if args.plot is not None:
+        check_plot_path(args.plot)
+    model = model_of(args)
+    m = eqm.params_of(model)["m"]
+    t0 = time.perf_counter()
+    rep = eqm.equilibria_of(model, bands=True)
+    wall = time.perf_counter() - t0
+    band = rep.stable_band
+    reasons = [rep.no_hover_reason(m)] if not rep.stable else []
+    if band is None:
+        reasons.append("no height admits a spin rate that stabilises the top (no stable band)")
+    else:
+        zs = [e.z for e in rep.equilibria if e.vertically_stable]
+        if zs and not any(band.z[0] <= z <= band.z[1] for z in zs):
+            reasons.append(f"this top hovers at z = {zs[0]:.6g} m, outside the stable band "
+                           f"[{band.z[0]:.6g}, {band.z[1]:.6g}] m: no spin stabilises it there; a top of "
+                           f"mass in [{band.mass[0]:.6g}, {band.mass[1]:.6g}] kg would hover inside it")
+    out = {
+        "scene": model.scene.name,
+        "mass": m,
+        "equilibria": [e.as_dict() for e in rep.equilibria],
+        "singularities": [s.as_dict() for s in rep.singularities],
+        "z_c": rep.z_c,
+        "max_mass": rep.max_mass,
+        "stable_band": _band(band),
+        "stable_bands": [b.as_dict() for b in rep.stable_bands],
+        "adiabatic_band": _band(rep.adiabatic_band),
+        "adiabatic_note": "Berry-Simon: |B| has a minimum on the axis (sign(Phi_1) Phi_3 > 0 and "
+                          "Phi_2^2 > 2 Phi_1 Phi_3); an approximation for fast spin, reported beside "
+                          "the exact band, never instead",
+        "reason": "; ".join(reasons) if reasons else None,
+        "length_scale": eqm.scale_of(model),
+        "reference": {"z_stable": stated(model.scene, "z_stable")},
+        "wall_s": wall,
+    }
+    if args.plot:
+        from pathlib import Path
+
+        from runtime.report.figures import figure_3_5
+        out["plot"] = str(figure_3_5(model, Path(args.plot)))
+    return out
+
+
+def human(r: dict, scene=None) -> str:
+    """Answer first: the equilibria (with the scene's stated value beside), then the band, the reason."""
+    u = Units.of_scene(scene) if scene is not None else Units(si=True)
+    ref = (r.get("reference") or {}).get("z_stable")     # only for the scene it describes
+    roots = []
+    for e in r["equilibria"]:
+        kind = "vertically stable" if e["vertically_stable"] else "vertically unstable"
+        if e.get("marginal"):
+            kind = "marginal"
+        if ref and e["vertically_stable"]:
+            kind += f"; {ref['source']}: {u.length(ref['value'])}"
+        roots.append(f"{u.length(e['z'])} ({kind})")
+    band, adia = r["stable_band"], r["adiabatic_band"]
+    band_line = "stable_band: none (no height where a spin can stabilise the top)"
+    if band:
+        band_line = (f"stable_band: z {span(*band['z'], u.cm)}, mass {span(*band['mass'], u.mass)}")
+        if adia:
+            band_line += f"   (Berry-Simon's adiabatic band: {span(*adia['z'], u.cm)})"
+    poles = [f"{s['kind']} at {u.length(s['z'])}" + (f"-{u.length(s['z_end'])}" if s.get("z_end") not in
+                                                        (None, s["z"]) else "")
+             for s in r.get("singularities") or []]
+    return lines(
+        f"equilibria: {', '.join(roots) if roots else 'none'}",
+        band_line,
+        f"singular (not equilibria): {', '.join(poles)}" if poles else "",
+        f"reason: {restate(r['reason'], u)}" if r.get("reason") else "",
+        f"top {u.mass(r['mass'])}; z_c {u.length(r['z_c'])} (where the band starts); the heaviest top "
+        f"that hovers: {u.mass(r['max_mass'])}" if r.get("z_c") is not None else "",
+        u.note,
+        f"plot: {r['plot']}" if r.get("plot") else "")

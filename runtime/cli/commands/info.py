@@ -1,0 +1,88 @@
+"""`levitron info SCENE`: resolved parameters in SI, what is generated, op counts."""
+from __future__ import annotations
+
+import math
+
+from derive import plates
+from derive.scene import MU0
+
+from runtime.physics.friction import decay_times, has_friction
+from runtime.ui.human import Units, lines, restate, sig
+from runtime.cli.commands.common import model_of
+
+NAME = "info"
+HELP = "resolved parameters (SI), generated parts and functions, operation counts"
+EXAMPLE = 'levitron info thesis'
+
+
+def add_arguments(parser) -> None:
+    pass
+
+
+def run(args) -> dict:
+    model = model_of(args)
+    scene = model.scene
+    params = model.pvals()
+    derived = {}
+    if "plate_rho" in params:
+        rho = params["plate_rho"]
+        derived["murho"] = params["mu"] * rho
+        derived["dipole_density_A"] = 4 * math.pi * rho / MU0
+    m = model.manifest
+    return {
+        "scene": scene.name,
+        "file": str(scene.path),
+        "parameters": params,
+        "derived_parameters": derived,
+        "notes": scene.notes,
+        "generated": str(model.folder),
+        "input_hash": m.input_hash,
+        "plate": m.plate, "coordinates": m.coordinates, "field_order": m.field_order,
+        "parts": {k: list(v.states) for k, v in m.parts.items()},
+        "functions": {k: {"ops": f.ops, "n_in": f.n_in, "n_out": f.n_out, "doc": f.doc}
+                      for k, f in m.functions.items()},
+        "decay_times": decay_times(params) if has_friction(model) else None,
+    }
+
+
+def _air(taus: dict | None, u: Units) -> str:
+    """The scene's air friction (derive/friction.py) as decay times, or "" without friction."""
+    if not taus:
+        return ""
+    named = {"k_spin": "spin", "k_tilt": "tilt", "k_trans": "translation"}
+    return "air friction: decay times " + ", ".join(
+        f"{named[k]} {u.time(v) if v else 'none'}" for k, v in taus.items())
+
+
+def _param(name: str, v: float, u: Units, lengths=()) -> str:
+    if name in lengths:
+        return f"{name} {u.length(v)}"
+    if name == "m":
+        return f"mass {u.mass(v)}"
+    if name in ("A", "C"):
+        return f"{name} {u.value(v, 'kg m^2')}"
+    if name == "g":
+        return f"g {u.value(v, 'm/s^2')}"
+    if name == "mu":
+        return f"moment {u.value(v, 'A m^2')}"
+    return f"{name} {sig(v, 6)}"
+
+
+def human(r: dict, scene=None) -> str:
+    """The scene, its parameters (SI names in the JSON), the generated parts and their sizes."""
+    u = Units.of_scene(scene) if scene is not None else Units.of(r["parameters"].get("g"))
+    lengths = set(plates.length_names(scene.data["plate"])) if scene is not None else set()
+    # the dipole density (A) goes through mu0, an SI constant: no meaning in a dimensionless scene
+    derived = {k: v for k, v in r["derived_parameters"].items() if u.si or k != "dipole_density_A"}
+    ops = ", ".join(f"{k} {v['ops']}" for k, v in r["functions"].items())
+    parts = ", ".join(f"{k} ({len(v)} states)" for k, v in r["parts"].items())
+    return lines(
+        f"{r['scene']}: {r['plate']} plate, field order {r['field_order']}, {r['coordinates']} angles",
+        "parameters: " + ", ".join(_param(k, v, u, lengths) for k, v in r["parameters"].items()),
+        "derived: " + ", ".join(f"{k} {sig(v, 6)}" for k, v in derived.items()) if derived else "",
+        f"parts: {parts}",
+        _air(r.get("decay_times"), u),
+        f"operations per call: {ops}",
+        *[f"note: {restate(n, u)}" for n in r.get("notes") or []],
+        f"generated: {r['generated']} (input hash {r['input_hash'][:12]})",
+        u.note)

@@ -1,0 +1,127 @@
+"""`levitron optimize SCENE`: CasADi-based design and fitting (docs/contract.md `optimize`).
+
+    --maximize spin-range|spin-ratio --vary KEY=LO:HI [...] [--constrain EXPR] [--write-scene FILE]
+    --fit DATA.csv --vary KEY=LO:HI [...]
+    --fit-height Z [--param NAME]
+
+Design: runtime/design/optimize.py (IPOPT, verified by a grid and the float routes); fitting:
+runtime/design/fit.py (Gauss-Newton, exact Jacobians); --fit-height: runtime/design/fit_height.py.
+"""
+from __future__ import annotations
+
+from runtime.design.constraints import Constraint
+from runtime.errors import UserError
+from runtime.ui.human import Units, lines, restate, sig
+from runtime.design.fit_height import fit_equilibrium_height
+from runtime.design.scene_keys import Vary
+from runtime.cli.commands.common import model_of
+
+NAME = "optimize"
+HELP = "design (maximise the spin range over scene keys) or fit scene keys to measurements"
+EXAMPLE = ("levitron optimize thesis_stable --maximize spin-range --vary top.mass=0.0505:0.0524 "
+           "--constrain 'stiffness>=0.5'")
+
+
+def add_arguments(parser) -> None:
+    parser.add_argument("--maximize", metavar="OBJECTIVE", default=None,
+                        help="spin-range (sigma_hi - sigma_lo, rad/s), spin-ratio (sigma_hi/sigma_lo) "
+                             "or mass-window ((m_hi - m_lo)/m_hi of the stable band)")
+    parser.add_argument("--vary", action="append", default=[], metavar="KEY=LO:HI",
+                        help="a scene key and its bounds, e.g. plate.hole=0.01:0.05 (repeatable, 1-3)")
+    parser.add_argument("--constrain", action="append", default=[], metavar="EXPR",
+                        help="NAME>=NUMBER or NAME<=NUMBER, NAME one of z_s, stiffness, sigma_lo, "
+                             "sigma_hi (SI units), e.g. stiffness>=1 (repeatable)")
+    parser.add_argument("--grid", type=int, default=20, metavar="N",
+                        help="points a key of the verification grid (>= 20)")
+    parser.add_argument("--write-scene", metavar="FILE", default=None,
+                        help="write the optimised scene to FILE (.toml)")
+    parser.add_argument("--fit", metavar="DATA.csv", default=None,
+                        help="fit the --vary keys to measurements (CSV: quantity,value,sigma[,overrides])")
+    parser.add_argument("--fit-height", type=float, default=None, metavar="Z",
+                        help="the equilibrium height to fit (m)")
+    parser.add_argument("--param", default="mu", help="with --fit-height: the parameter to solve for")
+
+
+def run(args) -> dict:
+    modes = [m for m, v in (("--maximize", args.maximize), ("--fit", args.fit),
+                            ("--fit-height", args.fit_height)) if v is not None]
+    if len(modes) != 1:
+        raise UserError("optimize needs exactly one of --maximize OBJECTIVE, --fit DATA.csv or "
+                        f"--fit-height Z (given: {', '.join(modes) or 'none'})")
+    if args.write_scene is not None:
+        if args.maximize is None:
+            raise UserError("--write-scene goes with --maximize")
+        from runtime.design.scene_write import check_target
+        check_target(args.write_scene)
+    varies = [Vary.parse(v) for v in args.vary]
+    constraints = [Constraint.parse(c) for c in args.constrain]
+    if args.fit_height is not None:
+        if varies or constraints:
+            raise UserError("--fit-height takes --param, not --vary or --constrain")
+        model = model_of(args)
+        out = fit_equilibrium_height(model, args.fit_height, args.param)
+    elif args.fit is not None:
+        from runtime.design.fit import fit, read_rows
+        rows = read_rows(args.fit)
+        model = model_of(args)
+        out = fit(model, rows, varies).as_dict()
+    else:
+        from runtime.design.optimize import optimize
+        model = model_of(args)
+        res = optimize(model, varies, args.maximize, constraints, args.grid)
+        out = res.as_dict()
+        if args.write_scene:
+            from runtime.design.scene_write import write_scene
+            note = (f"levitron optimize {model.scene.name} --maximize {args.maximize}: "
+                    + ", ".join(f"{k} = {v:.6g}" for k, v in res.optimum.items()))
+            out["written"] = str(write_scene(res.scene, args.write_scene, note))
+    out["scene"] = model.scene.name
+    return out
+
+
+def human(r: dict, scene=None) -> str:
+    """Answer first: the optimum (design), the fitted keys with their standard errors (fit), or
+    the fitted parameter (--fit-height); then how it was verified."""
+    u = Units.of_scene(scene) if scene is not None else Units(si=True)
+    if "z_star" in r:
+        fit = ", ".join(f"{k} = {sig(v, 6)}" for k, v in r["optimum"].items())
+        roots = ", ".join(f"{u.length(e['z'])} ({'vertically stable' if e['vertically_stable'] else 'unstable'})"
+                          for e in r.get("equilibria") or [])
+        stable = "vertically stable" if r.get("z_star_vertically_stable") else "vertically unstable"
+        return lines(
+            f"fit: {fit} puts an equilibrium at {u.length(r['z_star'])} ({stable})",
+            f"equilibria then: {roots}" if roots else "",
+            f"solver: {r['solver_status']}, residual {u.value(r['residual_N'], 'N', 2)} "
+            f"({r['objective']})",
+            u.note)
+    status = f"solver: {r['solver_status']}, {r['iterations']} iterations"
+    if "parameters" in r:
+        fitted = ", ".join(f"{k} = {sig(v['value'], 6)} +- {sig(v['stderr'], 2)}"
+                           for k, v in r["parameters"].items())
+        worst = max((abs(x.get("normalized", 0.0)) for x in r.get("residuals") or []), default=None)
+        return lines(f"fit: {fitted}",
+                     f"chi2 {sig(r['objective'], 4)} with {r['dof']} degrees of freedom"
+                     + (f"; largest residual {sig(worst, 3)} sigma" if worst is not None else ""),
+                     status, *_warnings(r, scene), u.note)
+    best = ", ".join(f"{k} = {sig(v, 6)}" for k, v in r["optimum"].items())
+    iv, band = r.get("spin_interval"), r.get("band")
+    ver = r["verification"]
+    unit = u.unit(r.get("objective_unit") or "1")      # a ratio: no unit to show
+    return lines(
+        f"optimum: {best}: {r['objective_name']} {sig(r['objective'], 6)} {unit}".rstrip(),
+        f"stable band {u.length(band['z'][0])} to {u.length(band['z'][1])}, tops of "
+        f"{u.mass(band['mass'][0])} to {u.mass(band['mass'][1])}" if band else "",
+        (f"{'the scene top' + chr(39) + 's ' if band else ''}spin interval {u.rate_span(*iv)} "
+         f"at z_s = {u.length(r['z_s'])}") if iv
+        else "the scene's top has no stable spin interval there" if band else "",
+        f"the scene itself: {r['objective_name']} {sig(r['scene_objective'], 6)} {unit}".rstrip()
+        if r.get("scene_objective") is not None else "",
+        f"verified: float route at the optimum, best of {ver['grid_points']} grid points "
+        f"{sig(ver['grid_best'], 6) if ver.get('grid_best') is not None else 'none feasible'} {unit}".rstrip(),
+        status, *_warnings(r, scene), u.note)
+
+
+def _warnings(r: dict, scene=None) -> list[str]:
+    """Every warning of the result in plain view, one a line."""
+    u = Units.of_scene(scene) if scene is not None else Units(si=True)
+    return [f"warning: {restate(w, u)}" for w in r.get("warnings") or []]

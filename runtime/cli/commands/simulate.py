@@ -1,0 +1,118 @@
+"""`levitron simulate SCENE`: one trajectory from the stable hover height (docs/contract.md)."""
+from __future__ import annotations
+
+from runtime.errors import UserError
+from runtime.ui.human import Units, duration, lines, sig
+from runtime.integrate.methods import DEFAULT, METHODS, lookup
+from runtime.ui.plotting import check_plot_path
+from runtime.simulate.run import DEFAULT_AZIMUTH, DEFAULT_TILT, simulate
+from runtime.cli.commands.common import model_of
+
+NAME = "simulate"
+HELP = ("one trajectory from the stable hover height: does the top stay levitating, for how long, "
+        "energy drift, work and wall time")
+EXAMPLE = 'levitron simulate thesis_stable --spin 1000 --tilt 0.01 --offset 0.001 --t-end 5 --plot out/run.png'
+
+
+def add_arguments(parser) -> None:
+    parser.add_argument("--spin", type=float, default=None, metavar="W",
+                        help="spin rate about the symmetry axis, rad/s (see `levitron stability`)")
+    parser.add_argument("--tilt", type=float, default=None, metavar="TH",
+                        help=f"initial tilt of the axis, rad (default {DEFAULT_TILT}: a launch with tilt "
+                        "0 and offset 0 lies on the invariant set and tests no stability)")
+    parser.add_argument("--tilt-azimuth", type=float, default=DEFAULT_AZIMUTH, metavar="AZ",
+                        help="direction of the tilt, rad from +x towards +y (default pi/2: towards +y)")
+    parser.add_argument("--offset", type=float, default=0.0, metavar="DX", help="initial offset in x, m")
+    parser.add_argument("--t-end", type=float, default=None, metavar="T",
+                        help="run length, s (default 1; in air 5 spin decay times: the run ends when "
+                        "the top falls)")
+    parser.add_argument("--integrator", default=DEFAULT, metavar="NAME",
+                        help=f"one of: {', '.join(METHODS)} (default {DEFAULT})")
+    parser.add_argument("--tol", type=float, default=1e-9, help="tolerance of adaptive integrators (default 1e-9)")
+    parser.add_argument("--step", type=float, default=None, metavar="H",
+                        help="step of fixed-step integrators, s (default: 1/100 of the fastest period)")
+    parser.add_argument("--box", type=float, default=None, metavar="B",
+                        help="half-width of the box the top must stay in, m (default: z_s / 2)")
+    parser.add_argument("--part", default="full", choices=("full", "reduced"), help="model part (default full)")
+    parser.add_argument("--n-out", type=int, default=2000, help="number of output samples (default 2000)")
+    parser.add_argument("--plot", default=None, metavar="FILE", help="draw height, radial offset and tilt to FILE.png")
+    parser.add_argument("--save", default=None, metavar="FILE",
+                        help="write the samples to FILE.csv or FILE.npz: t, the states, energy, L_z, L_n, tilt")
+
+
+def run(args) -> dict:
+    if args.spin is None:
+        raise UserError("pass --spin W (rad/s, or rad per time unit in a dimensionless scene); "
+                        "`levitron stability SCENE` gives the stable spin interval")
+    if args.t_end is not None and not args.t_end > 0:
+        raise UserError(f"--t-end {args.t_end} must be a positive run length in s, e.g. --t-end 1")
+    lookup(args.integrator)   # an unknown name is a one-line UserError
+    if args.plot is not None:
+        check_plot_path(args.plot)
+    model = model_of(args)
+    return simulate(model, spin=args.spin, tilt=args.tilt, offset=args.offset, t_end=args.t_end,
+                    integrator=args.integrator, tol=args.tol, box=args.box, plot=args.plot,
+                    part=args.part, h=args.step, n_out=args.n_out,
+                    azimuth=args.tilt_azimuth, save=args.save)
+
+
+def flight_line(r: dict, u: Units) -> str:
+    """A flight in air as a person says it: "floats 1 min 57 s; falls at 457 rad/s, 0.8 s after the
+    spin crosses the linear limit" (runtime/physics/friction.py)."""
+    fl = r["flight"]
+    iv = fl["spin_interval"]
+    if iv is None:
+        limits = "no spin interval of linear stability at this height: no spin holds the top"
+    else:
+        limits = f"linear limits {u.rate_span(iv[0], iv[1])}"
+    pred = (f"adiabatic prediction {u.time(fl['t_cross'])} (tau ln(omega_0 / sigma_lo))"
+            if fl["t_cross"] else "")
+    above = ""
+    if fl["launched_above"]:
+        above = (f"launched above the upper limit: the spin decays into the interval after "
+                 f"{u.time(fl['t_enter'])}; "
+                 + ("the top fell before that" if fl["fell_before_interval"] else "the top survived that"))
+    if fl["fell"]:
+        after = fl["after_cross"]
+        when = "" if after is None or fl["fell_before_interval"] else (
+            f", {u.time(abs(after))} {'after' if after >= 0 else 'before'} the spin crosses the lower limit")
+        head = f"floats {u.time(fl['flight_time'])}; falls at {u.rate(fl['fall_spin'])}{when}"
+    else:
+        head = (f"still floating after {u.time(r['t_survived'])} (the whole run), spin now "
+                f"{u.rate(fl['spin_final'])}")
+    taus = ", ".join(f"{k.removeprefix('k_')} {u.time(v)}" for k, v in fl["decay_times"].items() if v)
+    return lines(head, f"{limits}; {pred}" if pred else limits, above, f"air friction: decay times {taus}")
+
+
+def human(r: dict, scene=None) -> str:
+    """Answer first: does it stay up, for how long; then the launch, the excursions, the invariants."""
+    u = Units.of_scene(scene) if scene is not None else Units(si=True)
+    if r["levitating"] is None:
+        up = f"untested: {r['untested']}"
+    else:
+        up = "yes" if r["levitating"] else f"no ({r['status']}: {r['message']})"
+    dev = r.get("conserved_max_deviation") or {}
+    if "flight" in r:
+        inv = [f"energy balance {sig(dev.get('energy_balance'), 2)}",
+               f"L_n against exp(-t/tau) {sig(dev.get('L_n_decay'), 2)}"]
+    else:
+        inv = [f"energy {sig(r['energy_drift'], 2)}"]
+        inv += [f"{k} {sig(dev[k], 2)}" for k in ("L_z", "L_n") if dev.get(k) is not None]
+    azi = r.get("tilt_azimuth")
+    toward = f" toward azimuth {u.angle(azi)}" if azi is not None else ""
+    return lines(
+        flight_line(r, u) if "flight" in r else "",
+        f"levitating: {up}, {u.time(r['t_survived'])} of flight (of {u.time(r['t_end'])}), "
+        f"{duration(r['wall_s'])} of wall time",
+        f"launch: spin {u.rate(r['spin']['rad_s'])}, tilt {u.angle(r['tilt'])}"
+        f"{' (the default perturbation)' if r.get('tilt_default') else ''}{toward}, offset "
+        f"{u.length(r['offset'])}, from z_s = {u.length(r['z_s'])}",
+        f"largest excursion: height {u.length(r['max_height_deviation'])}, radial "
+        f"{u.length(r['max_radial_offset'])}, tilt {u.angle(r['max_tilt'])}",
+        f"invariants, largest relative deviation over the run: {', '.join(inv)}",
+        f"integrator: {r['integrator']} ({r['backend']}"
+        f"{', chosen by auto' if r.get('integrator_requested') == 'auto' else ''}), "
+        f"{sig(r['rhs_evals'], 6)} rhs evaluations",
+        u.note,
+        f"plot: {r['plot']}" if r.get("plot") else "",
+        f"samples: {r['saved']}" if r.get("saved") else "")

@@ -1,0 +1,93 @@
+"""`levitron stability SCENE`: the spin interval of linear stability at the stable height.
+
+Two routes (thesis 3.3; runtime/physics/stability.py): "discriminant" (exact rational arithmetic on the ray
+polynomial L and a Sturm count of N(t)) and "eigenvalues" (the generated full model's Jacobian at the
+relative equilibrium). spin_interval is the discriminant route's; both are reported. Rates in rad/s,
+with Hz and rpm beside.
+"""
+from __future__ import annotations
+
+import time
+
+from runtime.ui.human import Units, lines, restate, sig
+from runtime.physics.stability import stability_of
+from runtime.ui.validate import real
+from runtime.cli.commands.common import model_of
+
+NAME = "stability"
+HELP = "spin interval of linear stability at the stable height (two routes), thesis approximations"
+EXAMPLE = 'levitron stability thesis_stable'
+
+
+def add_arguments(parser) -> None:
+    parser.add_argument("--height", type=float, default=None, metavar="Z",
+                        help="analyse the top that hovers at this height (m): its mass is m(Z) = "
+                             "-mu Phi_2(Z)/g, not the scene's (default: the scene's top at its "
+                             "vertically stable equilibrium)")
+
+
+def run(args) -> dict:
+    model = model_of(args)
+    if args.height is not None:
+        real(args.height, "--height", positive=True, unit="m (above the plate, z > 0)")
+    t0 = time.perf_counter()
+    res = stability_of(model, height=args.height)
+    wall = time.perf_counter() - t0
+    out = {"scene": model.scene.name, "mass": res.mass, "scene_mass": model.param("m"),
+           "height_given": args.height is not None}
+    out.update(res.as_dict())
+    out["eigen_source"] = ("full_jac (generated)" if model.has_function("full_jac")
+                           and "p_zeta" in model.part("full").states
+                           else "transverse_matrix (8-D)")
+    out["wall_s"] = wall
+    return out
+
+
+def _agreement(routes) -> str:
+    a, b = routes.get("discriminant"), routes.get("eigenvalues")
+    if not a or not b:
+        return ""
+    rel = max(abs(x - y) / max(abs(x), 1e-300) for x, y in zip(a, b))
+    return f", both routes agree to {sig(max(rel, 1e-16), 1)}"
+
+
+def _where(r: dict, u: Units) -> str:
+    """Which top the interval is for: the scene's, or with --height the top that hovers there."""
+    if not r.get("z_s"):
+        return ""
+    if not r.get("height_given"):
+        return f"at z_s = {u.length(r['z_s'])} for {u.top(r['mass'])}"
+    return (f"at z = {u.length(r['z_s'])} (--height) for the top that hovers there, "
+            f"of mass {u.mass(r['mass'])} (the scene's top is {u.mass(r['scene_mass'])})")
+
+
+def _interval(ivl, u: Units) -> str:
+    """A spin interval; one without an upper end (JSON null: inf) as "above LO"."""
+    lo, hi = ivl
+    return f"above {u.rate(lo)}" if hi is None else u.rate_span(lo, hi)
+
+
+def _approximations(ap: dict, u: Units) -> str:
+    """Thesis 3.3.22/3.3.23, labelled as what they are: an estimate for another top (the one of
+    mass m(z_c) at z_c), for comparison; shown only beside an interval."""
+    if ap.get("sigma1") is None:
+        return ""
+    return (f"for comparison, not this top's interval: the thesis's approximations (eqs. 3.3.22/3.3.23) "
+            f"for {u.top(ap['mass_at_z_c'])} at z_c = {u.length(ap['z_c'])}: "
+            f"{u.rate_span(ap['sigma1'], ap['sigma2'])}")
+
+
+def human(r: dict, scene=None) -> str:
+    """Answer first: the spin interval (rad/s, Hz, rpm), then where, the thesis's approximations."""
+    u = Units.of_scene(scene) if scene is not None else Units(si=True)
+    iv = r.get("spin_interval")
+    head = (f"spin_interval: {u.rate_span(*iv)}{_agreement(r['routes'])}" if iv
+            else "spin_interval: none: no spin rate stabilises this top")
+    approx = _approximations(r.get("approximations") or {}, u) if iv else ""
+    more = r["all_intervals"].get("discriminant", [])[1:] if iv else []
+    return lines(
+        head,
+        _where(r, u),
+        "further intervals: " + ", ".join(_interval(ivl, u) for ivl in more) if more else "",
+        f"reason: {restate(r['reason'], u)}" if r.get("reason") else "",
+        approx, u.note)

@@ -1,0 +1,246 @@
+"""The `levitron` command: `levitron <command> SCENE [--set k=v ...] [--json]` (docs/contract.md).
+
+With --json a command prints one JSON object on stdout and nothing else; logs go to stderr. Without
+it, the command's human view (its module's `human(result, scene)`: the answer first, in cm, g, Hz
+and rpm for SI scenes, runtime/ui/human.py), in colour on a terminal (rich), plain otherwise. Progress
+(runtime/ui/progress.py) goes to stderr only, and only on a terminal without --json or --quiet.
+Every failure is one line on stderr: bad input (a scene, an option, a path, the cache) exits 2 with
+what is wrong and how to fix it; an unexpected exception is a bug and exits 3 with its type and
+message (LEVITRON_DEBUG=1 shows the traceback). A closed stdout (`levitron ... | head -1`) ends
+the command quietly.
+"""
+from __future__ import annotations
+
+import argparse
+import importlib
+import json
+import math
+import os
+import sys
+import threading
+
+from derive.scene import SceneError
+
+from runtime.ui import progress
+from runtime.ui import provenance
+from runtime.model.cbuild import CompileError, resolve_cache_env
+from runtime.ui.provenance import version
+from runtime.cli.commands import COMMANDS
+from runtime.errors import UserError
+from runtime.model.processes import terminate_as_exit
+
+EXIT_USER = 2        # bad input: the message says what to fix
+EXIT_INTERNAL = 3    # a bug: please report it
+EXIT_INTERRUPTED = 130
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse with one-line errors (exit 2): no usage block, a pointer to --help instead."""
+
+    def error(self, message):
+        self.exit(EXIT_USER, f"{self.prog}: error: {message} (see `{self.prog} --help`)\n")
+
+
+
+
+def _modules():
+    return [importlib.import_module(f"runtime.cli.commands.{name}") for name in COMMANDS]
+
+
+def build_parser() -> argparse.ArgumentParser:
+    ap = Parser(prog="levitron", description=__doc__.splitlines()[0])
+    ap.add_argument("--version", action="version", version=f"levitron {version()}")
+    sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for mod in _modules():
+        example = getattr(mod, "EXAMPLE", None)
+        p = sub.add_parser(mod.NAME, help=mod.HELP, description=mod.HELP,
+                           epilog=f"example:\n  {example}" if example else None,
+                           formatter_class=argparse.RawDescriptionHelpFormatter)
+        if getattr(mod, "MULTI_SCENE", False):
+            p.add_argument("scenes", nargs="*", metavar="SCENE", help="scene names or .toml paths")
+        else:
+            p.add_argument("scene", metavar="SCENE", help="a scene name in scenes/ or a .toml path")
+        p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                       help="override a scene key, e.g. --set top.mass=0.03 (repeatable)")
+        if not getattr(mod, "MULTI_SCENE", False):
+            p.add_argument("--temperature", type=float, default=None, metavar="DEGC",
+                           help="the magnets' temperature, degC (the scene key `temperature`: "
+                                "plate/top temperature_coefficient scale their strength from 20 degC)")
+        p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+        p.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
+        mod.add_arguments(p)
+        p.set_defaults(_run=mod.run, _module=mod)
+    return ap
+
+
+def _clean(obj):
+    """JSON-safe: NaN/inf never reach the output (they become null)."""
+    if isinstance(obj, float):
+        return obj if math.isfinite(obj) else None
+    if isinstance(obj, dict):
+        return {str(k): _clean(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_clean(v) for v in obj]
+    if hasattr(obj, "tolist"):
+        return _clean(obj.tolist())
+    return obj
+
+
+def _dump(obj, indent: int = 0) -> str:
+    """The plain listing of a result, for a command without a human view."""
+    pad = "  " * indent
+    if isinstance(obj, dict):
+        lines = []
+        for k, v in obj.items():
+            if isinstance(v, (dict, list)) and v and not all(isinstance(e, (int, float)) for e in v):
+                lines.append(f"{pad}{k}:")
+                lines.append(_dump(v, indent + 1))
+            else:
+                lines.append(f"{pad}{k}: {json.dumps(v)}")
+        return "\n".join(lines)
+    if isinstance(obj, list):
+        return "\n".join(f"{pad}- {json.dumps(v)}" for v in obj)
+    return f"{pad}{obj}"
+
+
+def _scene_or_none(args):
+    """The scene of a one-scene command (its units and stated values), or None."""
+    if not hasattr(args, "scene"):
+        return None
+    from runtime.cli.commands.common import scene_of
+    try:
+        return scene_of(args)
+    except UserError:
+        return None
+
+
+def render(args, result) -> str:
+    """The text printed for `result`: JSON with --json, else the command's human view."""
+    if args.json:
+        return json.dumps(result)
+    view = getattr(args._module, "human", None)
+    return view(result, _scene_or_none(args)) if view else _dump(result)
+
+
+def _debug() -> bool:
+    return os.environ.get("LEVITRON_DEBUG", "") not in ("", "0")
+
+
+def one_line(text: str) -> str:
+    """The first non-empty line of a message; a longer message is named as cut (the rest is shown
+    with LEVITRON_DEBUG=1)."""
+    lines = [ln.strip() for ln in str(text).splitlines() if ln.strip()]
+    if not lines:
+        return "(no message)"
+    if len(lines) == 1:
+        return lines[0]
+    return f"{lines[0]} [{len(lines) - 1} more lines: set LEVITRON_DEBUG=1 to see them]"
+
+
+def os_error_message(exc: OSError) -> str:
+    """An OSError of a path the user gave (a scene, an output file, a folder, the cache) as one line."""
+    why = exc.strerror or type(exc).__name__
+    paths = " -> ".join(str(p) for p in (exc.filename, exc.filename2) if p is not None)
+    if not paths:
+        return f"{why}: {exc}"
+    return f"{paths}: {why}"
+
+
+def _report(command: str, exc: BaseException) -> int:
+    """Print the one-line message of `exc` and return the exit code."""
+    prefix = f"levitron {command}"
+    if isinstance(exc, (UserError, SceneError)):
+        text, code = f"{prefix}: error: {one_line(str(exc))}", EXIT_USER
+    elif isinstance(exc, CompileError):
+        output = str(exc).splitlines()[1:]          # the first line is the compiler's command
+        detail = next((ln for ln in output if "error:" in ln), "")
+        text, code = (f"{prefix}: error: the C compiler failed: {one_line(detail or str(exc))} "
+                      "(LEVITRON_DEBUG=1 shows its full output)"), EXIT_USER
+    elif isinstance(exc, MemoryError):
+        text, code = (f"{prefix}: error: not enough memory for this request ({one_line(str(exc))}): "
+                      "ask for less (fewer output samples, points or a shorter run)"), EXIT_USER
+    elif isinstance(exc, OSError):
+        text, code = f"{prefix}: error: {os_error_message(exc)}", EXIT_USER
+    else:
+        text, code = (f"{prefix}: internal error: {type(exc).__name__}: {one_line(str(exc))} "
+                      "(set LEVITRON_DEBUG=1 for the traceback; please report it)"), EXIT_INTERNAL
+    print(text, file=sys.stderr)
+    return code
+
+
+def _quiet_stdout() -> None:
+    """After a closed pipe: point stdout at /dev/null, so that the interpreter's final flush
+    raises nothing (the Python docs' recipe for SIGPIPE)."""
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):   # an in-memory stdout (tests) has no descriptor
+        pass
+    finally:
+        os.close(devnull)
+
+
+def _emit(text: str, styled: bool = False) -> int:
+    """Write the result to stdout (through rich on a terminal: numbers highlighted, the answer in
+    bold); a reader that went away (`| head -1`) is not an error."""
+    try:
+        if styled and sys.stdout.isatty():
+            from rich.console import Console
+            from rich.highlighter import ReprHighlighter
+            from rich.text import Text
+            head, _, rest = text.partition("\n")
+            body = ReprHighlighter()(Text(head, style="bold"))
+            if rest:
+                body.append("\n").append_text(ReprHighlighter()(Text(rest)))
+            Console(soft_wrap=True).print(body)
+        else:
+            sys.stdout.write(text + "\n")
+        sys.stdout.flush()
+    except BrokenPipeError:
+        _quiet_stdout()
+    return 0
+
+
+def _with_provenance(args, result):
+    """Every JSON object carries where it came from (runtime/ui/provenance.py); a command that made
+    its own block (the report, which shows it) keeps it."""
+    if isinstance(result, dict) and "provenance" not in result:
+        scene = _scene_or_none(args)
+        result["provenance"] = provenance.block(args._argv, scene, getattr(args, "set", ()))
+    return result
+
+
+def main(argv=None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv == ["--version"]:       # without the command modules (numpy, casadi): ~0.1 s, not ~1 s
+        return _emit(f"levitron {version()}")
+    args = build_parser().parse_args(argv)
+    if getattr(args, "temperature", None) is not None:     # one more --set, resolved by the scene
+        args.set = [*args.set, f"temperature={args.temperature!r}"]
+    args._argv = argv
+    resolve_cache_env()           # a relative LEVITRON_CACHE: from the user's folder, once
+    if threading.current_thread() is threading.main_thread():
+        terminate_as_exit()       # SIGTERM: the finally blocks remove their temporaries
+    if args.json or args.quiet:
+        progress.disable()
+    else:
+        progress.enable()
+    try:
+        with progress.task(f"levitron {args.command}"):
+            result = _clean(_with_provenance(args, args._run(args)))
+        text = render(args, result)
+    except KeyboardInterrupt:
+        print(f"levitron {args.command}: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except BrokenPipeError:
+        _quiet_stdout()
+        return 0
+    except Exception as exc:    # every failure is one line; the traceback only on request
+        if _debug() and not isinstance(exc, (UserError, SceneError)):
+            raise
+        return _report(args.command, exc)
+    return _emit(text, styled=not args.json)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,98 @@
+"""Fitting with CasADi on the generated functions (casadi rootfinder, thesis eq. 3.3.2).
+
+`fit_equilibrium_height` answers the question the thesis leaves open: its plate's strength is not
+given, only the equilibrium heights (thesis 3.3: 7.62 cm and 15.68 cm). Solve
+m g + mu Phi_2(z*; p) = 0 (thesis eq. 3.3.2) for one parameter (by default the top's moment mu, so
+that the product mu*strength is fitted) with a Newton rootfinder on the generated CasADi `onaxis`
+function, whose derivatives CasADi supplies by automatic differentiation. The result is then
+checked by the one equilibrium finder (runtime/physics/equilibrium.py): z* must be among the equilibria at
+the fitted value, and a value that is not physical (a mass, inertia or length <= 0) is refused.
+"""
+from __future__ import annotations
+
+import math
+
+import casadi as ca
+import numpy as np
+
+from derive import plates
+
+from runtime.physics import equilibrium as eqm
+from runtime.errors import UserError
+
+# parameters that must be positive
+POSITIVE = ("m", "g", "A", "C")
+
+
+def physical_problem(plate: dict, names: list[str], values: np.ndarray, param: str) -> str | None:
+    """Why the fitted parameter vector is not physical, or None: a mass, inertia or g <= 0, a plate
+    length < 0 (the plate registry's length keys) or a plate without size, or C > 2 A (no rigid
+    body, thesis 2.1.13)."""
+    v = float(values[names.index(param)])
+    if not math.isfinite(v):
+        return f"{param} = {v} is not a number"
+    if param in POSITIVE and not v > 0:
+        return f"{param} = {v:.6g}, but {param} must be > 0"
+    lengths = plates.length_names(plate)
+    if param in lengths and v < 0:
+        return f"{param} = {v:.6g}, but a length must be >= 0"
+    if lengths and param in lengths and not plates.length_scale(plate, dict(zip(names, values))) > 0:
+        return f"{param} = {v:.6g} leaves the plate without size"
+    A, C = (float(values[names.index(k)]) for k in ("A", "C"))
+    if param in ("A", "C") and C > 2 * A:
+        return f"{param} = {v:.6g}, but then C = {C:.6g} > 2 A = {2 * A:.6g} (no rigid body)"
+    return None
+
+
+def fit_equilibrium_height(model, z_star: float, param: str = "mu") -> dict:
+    """The value of `param` for which the top hovers at z_star: m g + mu Phi_2(z_star) = 0."""
+    names = model.param_names
+    if param not in names:
+        raise UserError(f"--param {param!r} is not a parameter of this model: use one of "
+                        f"{', '.join(names)}")
+    if not (z_star > 0 and math.isfinite(z_star)):
+        raise UserError(f"--fit-height {z_star} must be a positive height (m) above the plate")
+    i = names.index(param)
+    onaxis = model.casadi("onaxis")
+    x = ca.SX.sym(param)
+    p = ca.vertcat(*[x if j == i else ca.SX(float(v)) for j, v in enumerate(model.p)])
+    mass, g, mu = (p[names.index(n)] for n in ("m", "g", "mu"))
+    residual = mass * g + mu * onaxis(ca.SX(z_star), p)[2]           # thesis eq. 3.3.2
+    F = ca.Function("equilibrium_residual", [x], [residual])
+    solver = ca.rootfinder("fit", "newton", F, {"abstol": 1e-14, "max_iter": 50,
+                                                "error_on_fail": False})
+    x0 = float(model.p[i]) if model.p[i] != 0 else 1.0
+    value = float(solver(x0))
+    stats = solver.stats()
+    res = float(F(value)) if math.isfinite(value) else math.nan
+    scale = float(model.p[names.index("m")] * model.p[names.index("g")])
+    if param in ("m", "g"):
+        scale = abs(value * float(model.p[names.index("g" if param == "m" else "m")]))
+    if not (math.isfinite(res) and abs(res) <= 1e-10 * scale):
+        raise UserError(f"no value of {param} puts the top at z* = {z_star:g}: the Newton "
+                        f"rootfinder from {param} = {x0:.6g} did not converge; fit another "
+                        "parameter or height")
+    pv = model.p.copy()
+    pv[i] = value
+    why = physical_problem(model.scene.data["plate"], names, pv, param)
+    if why is not None:
+        raise UserError(f"no physical {param} puts the top at z* = {z_star:g}: the fit gives {why}; "
+                        "fit another parameter or height")
+    rep = eqm.equilibria_of(model, pv)
+    found = [e for e in rep.equilibria if abs(e.z - z_star) <= 1e-8 * z_star]
+    if not found:
+        raise UserError(f"the fitted {param} = {value:.6g} solves m g + mu Phi_2(z*) = 0 but the "
+                        f"equilibrium finder finds no equilibrium at z* = {z_star:g} (equilibria: "
+                        f"{', '.join(f'{e.z:.6g}' for e in rep.equilibria) or 'none'})")
+    out = {"objective": "m g + mu Phi_2(z*) = 0 (thesis eq. 3.3.2)", "z_star": z_star,
+           "optimum": {param: value}, "residual_N": res,
+           "solver_status": "converged",
+           "z_star_vertically_stable": found[0].vertically_stable,
+           "equilibria": [e.as_dict() for e in rep.equilibria],
+           "stats": {"solver": "casadi rootfinder newton", **{k: v for k, v in stats.items()
+                                                              if isinstance(v, (int, float, bool, str))}}}
+    if "plate_rho" in names:
+        rho = value if param == "plate_rho" else float(model.p[names.index("plate_rho")])
+        mu_v = value if param == "mu" else float(model.p[names.index("mu")])
+        out["optimum"]["murho"] = mu_v * rho
+    return out

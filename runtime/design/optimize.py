@@ -1,0 +1,412 @@
+"""Design optimisation: the widest range of spins that hold the top, by CasADi and IPOPT (thesis 3.3).
+
+    maximise   spin-range  sigma_hi - sigma_lo (rad/s)   or   spin-ratio  sigma_hi / sigma_lo
+    over       scene keys x in a box (runtime/design/scene_keys.py: p = p(x), exact)
+    subject to m g + mu Phi_2(z_s) = 0                          (thesis 3.3.2)
+               Q(1/sigma_lo^2; z_s) = Q(1/sigma_hi^2; z_s) = 0  (the ray cubic, thesis 3.3.13-3.3.16)
+               the cubic's third root outside [1/sigma_hi^2, 1/sigma_lo^2] by a margin (the slopes
+               of Q at the two ends have opposite signs),
+               sigma_hi >= sigma_lo, and N(t) (thesis 3.3.11) with four real roots at the
+               middle s = 1/(sigma_lo sigma_hi): G > 0, P < 0, D < 0 (the quartic's invariants)
+               the user's constraints (runtime/design/constraints.py), e.g. stiffness >= 1 N/m
+
+The NLP is over the keys only: z_s, sigma_lo and sigma_hi are the rootfinder Function `spin` of
+runtime/physics/stability_casadi.py, so IPOPT works on exact derivatives (implicit function theorem).
+IPOPT's iterates may step across a critical spin, so the NLP does not rely on tracking: at its
+answer the interval's ends are critical spins with no third one between them, and N(t) has four real
+roots in the middle, so the whole interval is one of linear stability and no larger one contains it.
+The margin keeps both edges simple critical spins: where the third root merges with an edge the
+float route's verdict degenerates (the supremum of the objective can sit there, unattainable), so
+the grid and the verification apply the same margin (`third_root_margin`, from the exact ray cubic).
+No stiffness constraint is required: as z_s approaches z_c (mu Phi_3 -> 0) one root of the ray
+cubic grows without bound, but on the scenes the stable interval stays bounded (thesis
+3.3.22-3.3.23); an optimum at vanishing stiffness is reported with a warning, and refused only
+where the interval at z_c is unbounded (runtime/design/edge.py). An optimum on a --vary bound is
+reported with a warning too ("at the bound: widen --vary"): the box, not the physics, stopped it.
+
+Every answer is verified before it is reported: (1) a brute-force grid of the box (>= 20 points a
+key) by the exact float routes (re-resolved scene, runtime/physics/equilibrium.py, runtime/physics/ray_algebra.py);
+IPOPT starts from its best point and searches the grid cells around it (the objective has cliffs
+where a critical spin enters the interval: a local search from the best cell is what a grid can
+certify); (2) the float routes at the optimum (the re-validated scene)
+must reproduce z_s, sigma_lo and sigma_hi to VERIFY_RTOL and satisfy the constraints; (3) the
+grid's best must not beat the optimum by more than VERIFY_RTOL relative. A failure of IPOPT or of
+a check is a UserError naming IPOPT's status or the check.
+"""
+from __future__ import annotations
+
+import contextlib
+import itertools
+import math
+import os
+import sys
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import casadi as ca
+import numpy as np
+
+from derive.scene import Scene
+
+from runtime.design import edge as design_edge
+from runtime.physics import stability_casadi as sc
+from runtime.design.constraints import Constraint
+from runtime.errors import UserError
+from runtime.physics.ray_algebra import RayCoefficients, ray_cubic
+from runtime.design.scene_keys import KeyMap, Vary, key_value
+
+OBJECTIVES = {"spin-range": ("sigma_hi - sigma_lo", "rad/s"),
+              "spin-ratio": ("sigma_hi / sigma_lo", "1"),
+              "mass-window": ("(m_hi - m_lo) / m_hi", "1")}
+BAND_CONSTRAINTS = ("z_s", "stiffness")   # the constraints mass-window takes (the scene's top)
+VERIFY_RTOL = 1e-8
+THIRD_ROOT_MARGIN = 1e-3   # stability_casadi simple_neighbours >= this: the ends are neighbouring simple roots
+MARGIN_SLACK = 1e-8        # the float check's allowance on that normalised margin (IPOPT's tolerance)
+FOUR_REAL_MARGIN = 1e-9    # G > 0, P < 0, D < 0 at the interval's middle, normalised
+GRID_MIN = 20
+IPOPT = {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes", "ipopt.tol": 1e-12,
+         "ipopt.constr_viol_tol": 1e-10, "ipopt.acceptable_constr_viol_tol": 1e-10,
+         "ipopt.max_iter": 300, "show_eval_warnings": False}
+
+
+def objective_of(name: str, lo: float, hi: float) -> float:
+    """spin-range, spin-ratio of the spin interval (lo, hi); mass-window of the masses (lo, hi)."""
+    return hi - lo if name == "spin-range" else hi / lo if name == "spin-ratio" else (hi - lo) / hi
+
+
+def check_objective(name: str, constraints: Sequence[Constraint]) -> None:
+    if name not in OBJECTIVES:
+        raise UserError(f"--maximize {name!r}: use one of {', '.join(OBJECTIVES)}")
+    if name == "mass-window":
+        bad = [str(c) for c in constraints if c.name not in BAND_CONSTRAINTS]
+        if bad:
+            raise UserError(f"--maximize mass-window takes constraints on {' and '.join(BAND_CONSTRAINTS)}"
+                            f" (the scene's top) only, not {', '.join(bad)}")
+
+
+@dataclass(frozen=True)
+class Point:
+    """The float routes at one x: z_s (m), stiffness (N/m), the chosen spin interval (rad/s) and
+    the objective; interval None where no bounded interval satisfies the constraints."""
+
+    x: tuple[float, ...]
+    z_s: float | None
+    stiffness: float | None
+    interval: tuple[float, float] | None
+    value: float | None
+    band: tuple[tuple[float, float], tuple[float, float]] | None = None   # mass-window: (z, mass)
+
+
+def evaluate(model, keymap: KeyMap, x, objective: str, constraints: Sequence[Constraint],
+             near: tuple[float, float] | None = None) -> Point:
+    """The exact float routes at x: the best feasible interval, or the one containing the
+    midpoint of `near` when given (verification of an NLP answer)."""
+    if objective == "mass-window":
+        return evaluate_band(model, keymap, x, constraints, near)
+    _, p = keymap.exact(x)
+    st = sc.starts(model, p)
+    x = tuple(float(v) for v in x)
+    if st.z_s is None:
+        return Point(x, None, None, None, None)
+    vals = {"z_s": st.z_s, "stiffness": st.stiffness}
+    best = None
+    for lo, hi in st.intervals:
+        if near is not None and not lo <= math.sqrt(near[0] * near[1]) <= hi:
+            continue
+        if third_root_margin(model, p, st.z_s, lo, hi) < THIRD_ROOT_MARGIN - MARGIN_SLACK:
+            continue
+        vals.update(sigma_lo=lo, sigma_hi=hi)
+        if all(c.margin(vals[c.name]) >= -VERIFY_RTOL * max(abs(c.bound), abs(vals[c.name]))
+               for c in constraints):
+            v = objective_of(objective, lo, hi)
+            if best is None or v > best[0]:
+                best = (v, (lo, hi))
+    return Point(x, st.z_s, st.stiffness, None if best is None else best[1],
+                 None if best is None else best[0])
+
+
+def evaluate_band(model, keymap: KeyMap, x, constraints: Sequence[Constraint],
+                  near: tuple[float, float] | None = None) -> Point:
+    """mass-window by the exact float route (runtime/physics/bands.py): the widest stable band, or the one
+    containing the middle of the heights `near`; the constraints on the scene's top (z_s,
+    stiffness, thesis 3.3.2-3.3.3)."""
+    from runtime.physics import equilibrium as eqm
+    _, p = keymap.exact(x)
+    x = tuple(float(v) for v in x)
+    rep = eqm.equilibria_of(model, p, bands=True)
+    z_s, k = (rep.stable[0].z, rep.stable[0].stiffness) if rep.stable else (None, None)
+    bands = rep.stable_bands if near is None else [
+        b for b in rep.stable_bands if b.z[0] <= 0.5 * (near[0] + near[1]) <= b.z[1]]
+    band = max(bands, key=lambda b: b.z[1] - b.z[0]) if bands else None
+    vals = {"z_s": z_s, "stiffness": k}
+    ok = band is not None and all(
+        vals[c.name] is not None
+        and c.margin(vals[c.name]) >= -VERIFY_RTOL * max(abs(c.bound), abs(vals[c.name]))
+        for c in constraints)
+    if not ok:
+        return Point(x, z_s, k, None, None)
+    return Point(x, z_s, k, None, objective_of("mass-window", *band.mass), (band.z, band.mass))
+
+
+def third_root_margin(model, p, z_s: float, lo: float, hi: float) -> float:
+    """stability_casadi.simple_neighbours of the exact ray cubic (runtime/physics/ray_algebra.py, thesis
+    3.3.13) at z_s with s1 = 1/hi^2, s2 = 1/lo^2: the float twin of the NLP's constraint."""
+    P = model.pvals(p)
+    ph = model.onaxis(z_s, p)
+    c = RayCoefficients.from_physics(ph[1], ph[2], ph[3], P["m"], P["A"], P["C"], P["mu"])
+    a = [float(v) for v in ray_cubic(c)]
+    return sc.simple_neighbours(a, 1 / hi ** 2, 1 / lo ** 2)
+
+
+def grid_points(varies: Sequence[Vary], n: int) -> list[tuple[float, ...]]:
+    axes = [np.linspace(v.lo, v.hi, n) for v in varies]
+    return list(itertools.product(*axes))
+
+
+@dataclass
+class DesignResult:
+    """A verified design optimum (docs/contract.md `optimize`).
+
+    objective: name; value: objective at the optimum (spin-range in rad/s, spin-ratio
+    and mass-window dimensionless); optimum: scene key -> value (the key's unit,
+    docs/scenes.md); start: where IPOPT started (the grid's best point); z_s (m), stiffness (N/m),
+    spin_interval (rad/s; None where it has none) of the scene's top at the optimum; band (mass-window:
+    {"z": [z_lo, z_hi] m, "mass": [m_lo, m_hi] kg}, the float route's); scene: the re-validated
+    scene at the optimum; verification: float_route (the objective by the exact float routes),
+    grid_best, grid_points, grid_feasible, max_relative_gap (NLP vs float route)."""
+
+    objective: str
+    value: float
+    optimum: dict[str, float]
+    start: dict[str, float]
+    start_value: float
+    scene_value: float | None
+    solver_status: str
+    iterations: int
+    z_s: float | None
+    stiffness: float | None
+    spin_interval: tuple[float, float] | None
+    band: dict | None
+    constraints: list[str]
+    verification: dict
+    scene: Scene = field(repr=False)
+    wall_s: float = 0.0
+    at_bound: dict[str, str] = field(default_factory=dict)   # key -> "lower" | "upper" (--vary bound)
+    warnings: list[str] = field(default_factory=list)        # plain sentences: at a bound, vanishing stiffness
+
+    @property
+    def success(self) -> bool:
+        """scipy-style: IPOPT succeeded and the answer passed every check (a failure raises instead)."""
+        return True
+
+    @property
+    def message(self) -> str:
+        """scipy-style: IPOPT's status, then every warning."""
+        return "; ".join([f"{self.solver_status}: {self.objective} {self.value:.6g} "
+                          f"{OBJECTIVES[self.objective][1]}", *self.warnings])
+
+    def __repr__(self) -> str:
+        keys = ", ".join(f"{k}={v:.6g}" for k, v in self.optimum.items())
+        return (f"DesignResult({self.objective}={self.value:.6g} {OBJECTIVES[self.objective][1]} at "
+                f"{keys}, success={self.success}, warnings={len(self.warnings)})")
+
+    def as_dict(self) -> dict:
+        return {"objective": self.value, "objective_name": self.objective,
+                "at_bound": self.at_bound, "warnings": self.warnings,
+                "success": self.success, "message": self.message,
+                "objective_unit": OBJECTIVES[self.objective][1],
+                "objective_formula": OBJECTIVES[self.objective][0],
+                "optimum": self.optimum, "start": self.start, "start_objective": self.start_value,
+                "scene_objective": self.scene_value,
+                "solver_status": self.solver_status, "iterations": self.iterations,
+                "z_s": self.z_s, "stiffness": self.stiffness,
+                "spin_interval": None if self.spin_interval is None else list(self.spin_interval),
+                "band": self.band, "constraints": self.constraints,
+                "verification": self.verification, "wall_s": self.wall_s}
+
+
+@contextlib.contextmanager
+def _quiet_stderr():
+    """Silence file descriptor 2 for the solve: CasADi prints every failed Newton evaluation (an
+    evaluation error IPOPT recovers from) there, and stderr carries one line per error
+    (docs/contract.md); IPOPT's outcome is reported through its status instead."""
+    sys.stderr.flush()
+    saved = os.dup(2)
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(devnull, 2)
+        yield
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+        os.close(devnull)
+
+
+class _Nlp:
+    """The NLP (module docstring) over the keys u in [0, 1] of their box: z_s, sigma_lo and
+    sigma_hi are the rootfinder Function `spin` of runtime/physics/stability_casadi.py at p(x), started
+    from the grid point's float values (a Newton failure is an evaluation error, after which IPOPT
+    shortens its step); their exact derivatives come through the implicit function theorem."""
+
+    def __init__(self, model, keymap: KeyMap, objective: str, constraints: Sequence[Constraint],
+                 start: Point):
+        sy = sc.symbols(model)
+        n = len(keymap.varies)
+        lo = np.array([v.lo for v in keymap.varies])
+        span = np.array([v.hi - v.lo for v in keymap.varies])
+        u = ca.SX.sym("u", n)
+        p = keymap.p_casadi(lo + span * u)
+        z, slo, shi = sc.spin_function(sy, strict=True)(start.z_s, *start.interval, p)
+        w = ca.SX.sym("w", 3)
+        g_of = ca.Function("g", [w, sy.p], [ca.vertcat(
+            sy.simple_neighbours(1 / w[2] ** 2, 1 / w[1] ** 2, w[0]), (w[2] - w[1]) / w[2],
+            *sy.four_real(1 / (w[1] * w[2]), w[0]), sy.stiffness(w[0]))])
+        g = g_of(ca.vertcat(z, slo, shi), p)
+        quantity = {"z_s": z, "stiffness": g[5], "sigma_lo": slo, "sigma_hi": shi}
+        rows = [g[0], g[1], g[2], g[3], g[4]]
+        lbg = [THIRD_ROOT_MARGIN, 0, FOUR_REAL_MARGIN, -ca.inf, -ca.inf]
+        ubg = [ca.inf, ca.inf, ca.inf, -FOUR_REAL_MARGIN, -FOUR_REAL_MARGIN]
+        for c in constraints:
+            rows.append(c.margin(quantity[c.name]) / max(abs(c.bound), 1e-300))
+            lbg.append(0)
+            ubg.append(ca.inf)
+        f = -objective_of(objective, slo, shi) / objective_of(objective, *start.interval)
+        self.solver = ca.nlpsol("design", "ipopt", {"x": u, "f": f, "g": ca.vertcat(*rows)}, IPOPT)
+        self.answer = ca.Function("answer", [u], [z, slo, shi])
+        self.lbg, self.ubg, self.lo, self.span, self.n = lbg, ubg, lo, span, n
+
+    def solve(self, start: Point, cell: float):
+        """IPOPT from the start within the grid cells around it (cell: one grid step in u)."""
+        u0 = (np.array(start.x) - self.lo) / self.span
+        with _quiet_stderr():
+            sol = self.solver(x0=u0, lbx=np.maximum(u0 - cell, 0), ubx=np.minimum(u0 + cell, 1),
+                              lbg=self.lbg, ubg=self.ubg)
+        st = self.solver.stats()
+        u = np.clip(np.asarray(sol["x"], float).reshape(-1), 0, 1)
+        return st, self.lo + self.span * u, tuple(float(v) for v in self.answer(u))
+
+
+class _BandNlp(_Nlp):
+    """mass-window: maximise (m_hi - m_lo) / m_hi with the band's edges the rootfinder Function
+    `band` of runtime/physics/stability_casadi.py (z_c: Phi_3 = 0; z_hi: N(t) with a triple root, thesis
+    3.3.3, 3.3.11), started from the float band at the grid point; z_s and the stiffness of the
+    scene's top (Function `z_s`) for the user's constraints; z_hi >= z_lo."""
+
+    def __init__(self, model, keymap: KeyMap, constraints: Sequence[Constraint], start: Point):
+        sy = sc.symbols(model)
+        n = len(keymap.varies)
+        lo = np.array([v.lo for v in keymap.varies])
+        span = np.array([v.hi - v.lo for v in keymap.varies])
+        _, p0 = keymap.exact(start.x)
+        st = sc.starts(model, p0, band=True)
+        if st.band is None or st.z_c is None:
+            raise UserError(f"no start for the band's edges at {keymap.describe(start.x)}: the float "
+                            "band has no upper edge where two critical spins merge")
+        u = ca.SX.sym("u", n)
+        p = keymap.p_casadi(lo + span * u)
+        z_lo, z_hi, m_hi, m_lo, window = sc.band_function(sy, strict=True)(st.z_c, *st.band, p)
+        rows, lbg, ubg = [(z_hi - z_lo) / z_hi], [0], [ca.inf]
+        if constraints:
+            z, k = sc.z_s_function(sy)(start.z_s, p)
+            quantity = {"z_s": z, "stiffness": k}
+            for c in constraints:
+                rows.append(c.margin(quantity[c.name]) / max(abs(c.bound), 1e-300))
+                lbg.append(0)
+                ubg.append(ca.inf)
+        f = -window / start.value
+        self.solver = ca.nlpsol("design", "ipopt", {"x": u, "f": f, "g": ca.vertcat(*rows)}, IPOPT)
+        self.answer = ca.Function("answer", [u], [z_lo, z_hi, m_lo, m_hi])
+        self.lbg, self.ubg, self.lo, self.span, self.n = lbg, ubg, lo, span, n
+
+
+def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequence[Constraint] = (),
+             n_grid: int = GRID_MIN) -> DesignResult:
+    """Maximise `objective` over the varied scene keys (module docstring); verified."""
+    t0 = time.perf_counter()
+    check_objective(objective, constraints)
+    if not 1 <= len(varies) <= 3:
+        raise UserError("--vary: give one to three keys (the verification grid has n^k points)")
+    if n_grid < GRID_MIN:
+        raise UserError(f"--grid {n_grid}: at least {GRID_MIN} points a key")
+    keymap = KeyMap(model.scene, model.param_names, varies)
+    pts = [evaluate(model, keymap, x, objective, constraints) for x in grid_points(varies, n_grid)]
+    feasible = [pt for pt in pts if pt.value is not None]
+    if not feasible:
+        what = "a stable band" if objective == "mass-window" else "a stable spin interval"
+        fix = (f"widen the bounds or relax {', '.join(map(str, constraints))}" if constraints
+               else "move or widen the --vary bounds (`levitron equilibrium` gives the band of masses)")
+        raise UserError(f"no point of the {len(pts)}-point grid over the box has {what}"
+                        f"{' that meets the constraints' if constraints else ''}: {fix}")
+    start = max(feasible, key=lambda pt: pt.value)
+    band = objective == "mass-window"
+    nlp = _BandNlp(model, keymap, constraints, start) if band else \
+        _Nlp(model, keymap, objective, constraints, start)
+    stats, x, ans = nlp.solve(start, 1 / (n_grid - 1))
+    status = str(stats.get("return_status"))
+    if not stats.get("success"):
+        raise UserError(f"IPOPT failed (status {status}, {stats.get('iter_count')} iterations) from "
+                        f"{keymap.describe(start.x)}: change the bounds or constraints")
+    keys = [v.key for v in varies]
+    check = evaluate(model, keymap, x, objective, constraints, near=ans[:2] if band else ans[1:])
+    if check.value is None:
+        raise UserError(f"verification failed: at the IPOPT optimum {keymap.describe(x)} the float "
+                        f"routes find no {'stable band' if band else 'stable spin interval'} "
+                        "meeting the constraints there")
+    what = "z_lo, z_hi, m_lo, m_hi" if band else "z_s, sigma_lo, sigma_hi"
+    ref = (*check.band[0], *check.band[1]) if band else (check.z_s, *check.interval)
+    gap = max(abs(a - b) / abs(b) for a, b in zip(ans, ref))
+    if gap > VERIFY_RTOL:
+        raise UserError(f"verification failed: at {keymap.describe(x)} the NLP's {what} differ "
+                        f"from the float routes by {gap:.2g} (relative)")
+    if start.value > check.value * (1 + VERIFY_RTOL):
+        raise UserError(f"verification failed: the grid point {keymap.describe(start.x)} gives "
+                        f"{start.value:.10g}, more than the IPOPT optimum {check.value:.10g}")
+    interval = check.interval
+    if band:    # the scene's top at the optimum: its spin interval, for the record (None if none)
+        interval = sc.starts(model, keymap.exact(x)[1]).spin
+    at_bound = bounds_hit(varies, x)
+    warnings = [f"{k} = {x[i]:.6g} is at the {at_bound[k]} bound of --vary {k}={varies[i].lo:.10g}:"
+                f"{varies[i].hi:.10g}: the box stopped the optimum, not the physics; at the bound: widen --vary"
+                for i, k in enumerate(keys) if k in at_bound]
+    if not band and check.stiffness is not None:
+        p_opt = keymap.exact(x)[1]
+        P = model.pvals(p_opt)
+        from runtime.physics import equilibrium as eqm
+        edge = design_edge.warning(check.stiffness, P["m"], P["g"], check.z_s,
+                                   eqm.equilibria_of(model, p_opt).max_mass)
+        if edge is not None:
+            design_edge.check_bounded(model, p_opt, check.interval, keymap.describe(x))
+            warnings.append(edge)
+    scene_x = [key_value(model.scene.data, k) for k in keys]
+    inside = all(v.lo <= s <= v.hi for v, s in zip(varies, scene_x))
+    scene_pt = evaluate(model, keymap, scene_x, objective, constraints) if inside else None
+    return DesignResult(
+        objective=objective, value=check.value, optimum=dict(zip(keys, map(float, x))),
+        start=dict(zip(keys, start.x)), start_value=start.value,
+        scene_value=None if scene_pt is None else scene_pt.value,
+        solver_status=status, iterations=int(stats.get("iter_count", -1)), z_s=check.z_s,
+        stiffness=check.stiffness, spin_interval=interval,
+        band=None if check.band is None else {"z": list(check.band[0]), "mass": list(check.band[1])},
+        constraints=[str(c) for c in constraints],
+        verification={"float_route": check.value,
+                      "nlp": objective_of(objective, *(ans[2:] if band else ans[1:])),
+                      "max_relative_gap": gap, "grid_best": start.value, "grid_points": len(pts),
+                      "grid_feasible": len(feasible), "grid_per_key": n_grid,
+                      "tolerance": VERIFY_RTOL},
+        scene=keymap.resolve(x), wall_s=time.perf_counter() - t0, at_bound=at_bound,
+        warnings=warnings)
+
+
+def bounds_hit(varies: Sequence[Vary], x, rtol: float = 1e-6) -> dict[str, str]:
+    """{key: "lower" | "upper"} for each key within rtol of its box's span of a --vary bound (IPOPT
+    keeps its iterates ~1e-9 of the span inside the box: bound_relax_factor, mu)."""
+    out = {}
+    for v, xi in zip(varies, x):
+        tol = rtol * (v.hi - v.lo)
+        if xi <= v.lo + tol:
+            out[v.key] = "lower"
+        elif xi >= v.hi - tol:
+            out[v.key] = "upper"
+    return out
+

@@ -1,0 +1,82 @@
+"""Write a scene's data back as TOML (`optimize --write-scene FILE`): a small writer for what
+derive/scene.py reads (top-level keys, sections, sub-tables, arrays of tables, numbers, strings,
+booleans, lists of strings), checked by re-reading; written atomically (nothing half-written)."""
+from __future__ import annotations
+
+import json
+import os
+import re
+import tempfile
+from pathlib import Path
+
+from derive.scene import Scene, SceneError, load_scene
+
+from runtime.errors import UserError
+
+
+def _value(v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, float)):
+        return repr(v)
+    if isinstance(v, str):
+        return json.dumps(v)            # a JSON string is a TOML basic string
+    if isinstance(v, list) and all(not isinstance(x, dict) for x in v):
+        return "[" + ", ".join(_value(x) for x in v) + "]"
+    raise UserError(f"cannot write {v!r} as a TOML value")
+
+
+def _table(lines: list[str], name: str, table: dict) -> None:
+    scalars = {k: v for k, v in table.items() if not isinstance(v, dict)
+               and not (isinstance(v, list) and v and all(isinstance(x, dict) for x in v))}
+    lines.append(f"\n[{name}]")
+    lines += [f"{k} = {_value(v)}" for k, v in scalars.items()]
+    for k, v in table.items():
+        if isinstance(v, dict):
+            _table(lines, f"{name}.{k}", v)
+        elif k not in scalars:
+            for part in v:
+                lines.append(f"\n[[{name}.{k}]]")
+                lines += [f"{pk} = {_value(pv)}" for pk, pv in part.items()]
+
+
+def scene_toml(scene: Scene, comment: str = "") -> str:
+    data = scene.data
+    lines = [f"# {line}" for line in comment.splitlines()]
+    # no `name`: the written scene is named after its file (derive/scene.py load_scene)
+    lines += [f"{k} = {_value(v)}" for k, v in data.items() if not isinstance(v, dict) and k != "name"]
+    for k, v in data.items():
+        if isinstance(v, dict):
+            _table(lines, k, v)
+    return "\n".join(lines) + "\n"
+
+
+def check_target(path: str | Path) -> Path:
+    """A path a scene can be written to (its folder exists, it is not a folder); UserError if not."""
+    p = Path(path)
+    if p.is_dir() or not p.parent.is_dir() or p.suffix != ".toml":
+        raise UserError(f"--write-scene {path}: give a .toml file in an existing folder")
+    if not re.fullmatch(r"[A-Za-z0-9_-]+", p.stem):
+        raise UserError(f"--write-scene {path}: the file name names the scene; use letters, digits, "
+                        "'-' and '_' only")
+    return p
+
+
+def write_scene(scene: Scene, path: str | Path, comment: str = "") -> Path:
+    """Write the scene to path atomically; the text is re-read and must give the same data."""
+    p = check_target(path)
+    fd, tmp = tempfile.mkstemp(prefix=f"{p.stem}_tmp_", suffix=".toml", dir=p.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(scene_toml(scene, comment))
+        try:
+            again = load_scene(tmp)
+        except SceneError as exc:
+            raise UserError(f"--write-scene {path}: the written scene does not read back ({exc})") from None
+        if again.params != scene.params:
+            raise UserError(f"--write-scene {path}: the written scene reads back different numbers")
+        os.replace(tmp, p)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+    return p

@@ -1,0 +1,30 @@
+"""Integrators: one table of methods (methods.py), a step budget for every run, and one backend module
+each (C, CasADi, scipy) behind `integrate`.
+
+Public surface: Box, METHODS, Result, integrate, lookup, resolve. Names load lazily (PEP 562), so
+importing the package costs nothing.
+"""
+from __future__ import annotations
+
+import importlib
+
+_EXPORTS = {
+    "Box": "trajectory",
+    "METHODS": "methods",
+    "Result": "trajectory",
+    "integrate": "run",
+    "lookup": "methods",
+    "resolve": "methods",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str):
+    if name not in _EXPORTS:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_EXPORTS))

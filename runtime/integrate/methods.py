@@ -1,0 +1,109 @@
+"""The one table of integrators (thesis 3.1): every fact about an integrator lives here.
+
+Each entry says its name (the CLI choice), its backend ("c": runtime/csrc/integrators.c; "casadi";
+"scipy"), its id in the C enum ``lev_method`` (C methods; the library exports the same numbers
+through ``lev_method_id`` and tests/test_budgets.py checks both sides), whether it takes a fixed step
+(``h``) or controls its error adaptively (``tol``), whether it uses the generated Jacobian, and
+whether the energy is monitored in C after every step. runtime.integrate.run, runtime.simulate.run,
+runtime.scan.stability_map, runtime.bench.work_precision and the CLI read it; nothing else lists integrators.
+
+Besides the methods of TABLE, the name ``auto`` is accepted wherever an integrator is named: it
+stands for the C method the bench measured cheapest at the requested tolerance (``resolve``:
+dop853 down to AUTO_VERN9_BELOW_TOL, vern9 below). It is resolved before any run, and the run
+records the method actually used (``Result.method``, simulate's ``integrator``) beside the name
+asked for (``details["integrator_requested"]``, simulate's ``integrator_requested``).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Integrator:
+    name: str
+    backend: str                 # "c", "casadi" or "scipy"
+    fixed_step: bool             # True: a fixed step h; False: adaptive, tolerance tol
+    needs_jacobian: bool = False  # uses the generated Jacobian (simplified Newton)
+    monitors_energy: bool = False  # the energy is evaluated after every step (in C)
+    c_id: int | None = None      # the value of enum lev_method (C methods only)
+    engine: str | None = None    # the casadi plugin or scipy's solve_ivp method name
+
+
+TABLE: tuple[Integrator, ...] = (
+    Integrator("euler", "c", True, monitors_energy=True, c_id=0),          # thesis eq. 3.1.2
+    Integrator("rk4", "c", True, monitors_energy=True, c_id=1),            # thesis eqs. 3.1.3-3.1.4
+    Integrator("dop853", "c", False, monitors_energy=True, c_id=2),
+    Integrator("gauss4", "c", True, needs_jacobian=True, monitors_energy=True, c_id=3),
+    Integrator("midpoint", "c", True, needs_jacobian=True, monitors_energy=True, c_id=4),
+    Integrator("dop853-fixed", "c", True, monitors_energy=True, c_id=5),
+    Integrator("vern9", "c", False, monitors_energy=True, c_id=6),         # Verner 9(8), 2010
+    Integrator("cvodes", "casadi", False, engine="cvodes"),
+    Integrator("casadi-rk", "casadi", True, engine="rk"),
+    Integrator("casadi-collocation", "casadi", True, engine="collocation"),
+    Integrator("scipy-dop853", "scipy", False, engine="DOP853"),
+    Integrator("scipy-rk45", "scipy", False, engine="RK45"),
+    Integrator("scipy-radau", "scipy", False, engine="Radau"),
+    Integrator("scipy-bdf", "scipy", False, engine="BDF"),
+    Integrator("scipy-lsoda", "scipy", False, engine="LSODA"),
+)
+
+AUTO = "auto"
+# `auto`'s crossover: vern9 for tol < AUTO_VERN9_BELOW_TOL, dop853 for tol >= it. Measured by
+# `make bench` on the full model of four scenes (reports/{thesis_stable,ring_magnet,loop,square}/
+# bench_full.csv, the work-precision rows; bench_cheapest_full.csv, the cheapest run per error
+# bound). At the same tol vern9 is ~6x more accurate (error ~3 tol against dop853's ~20 tol), so the
+# two are compared at equal error: for vern9 tolerances above 1e-10 dop853 reaches vern9's error
+# with fewer rhs calls and less wall time; at 1e-10 they tie (within 2% of rhs calls); from 3.2e-11
+# (error ~1e-10) down vern9 needs fewer rhs calls in all four scenes (1-5% at 3.2e-11, 9-12% at
+# 1e-12). bench_cheapest_full.csv says the same in error terms: dop853 cheapest down to error
+# bounds of 1e-10 to 1e-11 (1e-11 for thesis_stable), vern9 below.
+AUTO_VERN9_BELOW_TOL = 1e-10
+# `auto` in the name lookup (its facts are those of both candidates: C, adaptive, energy in C);
+# not in TABLE, which lists the methods that run (tests/test_budgets.py checks TABLE against C)
+AUTO_ENTRY = Integrator(AUTO, "c", False, monitors_energy=True)
+
+BY_NAME: dict[str, Integrator] = {**{i.name: i for i in TABLE}, AUTO: AUTO_ENTRY}
+METHODS: tuple[str, ...] = tuple(BY_NAME)
+DEFAULT = "dop853"          # the integrator of simulate, scan and integrate unless one is named
+
+
+def lookup(name: str) -> Integrator:
+    """The table entry of `name`; an unknown name is a one-line UserError listing the choices."""
+    entry = BY_NAME.get(name)
+    if entry is None:
+        from runtime.errors import UserError
+        raise UserError(f"unknown integrator {name!r}; choose one of: {', '.join(METHODS)}")
+    return entry
+
+
+def resolve(name: str, tol: float | None = None, h: float | None = None) -> str:
+    """The method that runs for the requested `name`: `name` itself, or for ``auto`` the C method
+    the bench measured cheapest at tolerance `tol` (AUTO_VERN9_BELOW_TOL). `auto` takes a tolerance,
+    never a fixed step; an unknown name or a bad combination is a one-line UserError."""
+    lookup(name)
+    if name != AUTO:
+        return name
+    from runtime.errors import UserError
+    if h is not None:
+        fixed = ", ".join(i.name for i in TABLE if i.fixed_step)
+        raise UserError(f"integrator auto picks an adaptive method from the tolerance and takes no "
+                        f"fixed step (h={h}); for a fixed step name a fixed-step method ({fixed})")
+    if tol is None or not math.isfinite(tol) or tol <= 0:
+        raise UserError(f"integrator auto picks its method from the tolerance, and tol={tol} is not a "
+                        "positive finite number; pass e.g. --tol 1e-9")
+    return "vern9" if tol < AUTO_VERN9_BELOW_TOL else "dop853"
+
+
+def auto_note(tol: float) -> str:
+    """How ``auto`` chose for `tol` (one line, recorded with every run it resolves)."""
+    used = resolve(AUTO, tol)
+    side = "below" if used == "vern9" else "at or above"
+    return (f"auto: {used} for tol {tol:g} ({side} the crossover {AUTO_VERN9_BELOW_TOL:g}: "
+            "vern9 below, dop853 at or above; runtime/integrate/methods.py)")
+
+
+def choice_details(requested: str, tol: float | None) -> dict:
+    """What a run records of how its method was chosen (Result.details): nothing for a named
+    method; for ``auto`` the request and auto_note(tol)."""
+    return {"integrator_requested": AUTO, "auto": auto_note(tol)} if requested == AUTO else {}

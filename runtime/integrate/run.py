@@ -1,0 +1,154 @@
+"""Integrate a model part: C integrators, CasADi integrators and scipy's solve_ivp (thesis 3.1).
+
+The C integrators (runtime/csrc/integrators.c) run the whole trajectory inside C over the
+generated right-hand side, with no Python call per step:
+
+- ``euler``        explicit Euler, fixed step h                        (thesis eq. 3.1.2)
+- ``rk4``          classical Runge-Kutta 4, fixed step h               (thesis eqs. 3.1.3-3.1.4)
+- ``dop853``       Dormand-Prince 8(5,3), adaptive (rtol = tol, atol = tol * scale), dense output,
+                   box event
+- ``gauss4``       2-stage Gauss-Legendre, order 4, symplectic, fixed step h, stage equations solved
+                   to round-off by simplified Newton with the generated Jacobian
+- ``midpoint``     implicit midpoint (1-stage Gauss), order 2, symplectic, fixed step h
+- ``dop853-fixed`` the 8th-order DOP853 formula at a fixed step (used by the order tests)
+- ``vern9``        Verner's 9(8) pair, adaptive like dop853, dense output, box event
+- ``auto``         dop853 or vern9, whichever the bench measured cheapest at the requested tol
+                   (runtime.integrate.methods.resolve); the Result names the method that ran
+                   (``method``) and records the request (``details["integrator_requested"]``,
+                   ``details["auto"]``)
+
+CasADi (through ``part.casadi("rhs")``): ``cvodes`` (adaptive BDF/Adams of SUNDIALS, here
+Adams-Moulton for the non-stiff levitron), ``casadi-rk`` (CasADi's fixed-step RK4) and
+``casadi-collocation`` (CasADi's fixed-step Legendre collocation).
+scipy: ``scipy-dop853``, ``scipy-rk45``, ``scipy-radau``, ``scipy-bdf``, ``scipy-lsoda``, scipy's
+OdeSolver classes stepped as ``solve_ivp`` does, with the part's numpy-facing right-hand side (one
+Python call per stage). runtime/integrate/methods.py is the one list of these names and their facts.
+
+The pieces: runtime/integrate/c_backend.py (the C integrators through ctypes), runtime/integrate/casadi_backend.py,
+runtime/integrate/scipy_backend.py, runtime/integrate/trajectory.py (Box, Result) and runtime/integrate/budget.py.
+
+Every run has a step budget (runtime/integrate/budget.py) and stops with status "step_budget" once it is
+used up: in C a counter compare per step, in CasADi CVODES' max_num_steps, in scipy a count of steps
+and of right-hand side calls.
+
+Tolerances are made dimension-aware by a per-component ``scale`` (state magnitudes): every
+adaptive backend controls |local error_k| <= tol * (scale_k + |x_k|). The box (``Box``) stops a
+C or scipy run at the first exit (dense-output bisection in C, event root in scipy); CasADi has no
+events, so a CasADi run is checked on its output grid and truncated at the first sample outside.
+"""
+from __future__ import annotations
+
+import ctypes
+import math
+
+import numpy as np
+
+from runtime.integrate.c_backend import CSystem, bind, _f64, csrc_library, run_c, time_fn_ns
+from runtime.errors import UserError
+from runtime.integrate.casadi_backend import integrate_casadi
+from runtime.integrate.scipy_backend import integrate_scipy
+from runtime.integrate.methods import DEFAULT, choice_details, lookup, resolve
+from runtime.integrate.budget import check_options, default_budget, fixed_steps
+from runtime.integrate.trajectory import Box, Result
+
+# the names callers import from here (the pieces live in the modules above)
+__all__ = ["Box", "CSystem", "Result", "backend_of", "csrc_library", "default_scale", "integrate",
+           "run_c", "time_fn_ns"]
+
+
+def backend_of(method: str) -> str:
+    """The backend name of docs/contract.md's bench rows: "c", "casadi" or "scipy"."""
+    return lookup(method).backend
+
+
+def _lib_of(part) -> ctypes.CDLL:
+    lib = getattr(part, "lib", None)
+    if lib is None and getattr(part, "model", None) is not None:
+        lib = part.model.lib
+    if lib is None:
+        raise TypeError("the part exposes no compiled library (part.lib or part.model.lib)")
+    return bind(lib)
+
+
+def _has_function(part, name: str) -> bool:
+    try:
+        return part.c_function(name) is not None
+    except (AttributeError, KeyError, LookupError):
+        return False
+
+
+def default_scale(x0: np.ndarray) -> np.ndarray:
+    """Per-component magnitudes when the caller gives none: |x0_k|, or the smallest nonzero |x0_j|
+    for the components that start at zero (callers that know the physics should pass `scale`)."""
+    a = np.abs(x0)
+    nz = a[a > 0]
+    floor = nz.min() if nz.size else 1.0
+    return np.where(a > 0, a, floor)
+
+
+def _validate(method, x0, n, t_end, tol, h, n_out, scale, time_scale, what, max_steps):
+    lookup(method)
+    if x0.shape != (n,):
+        raise UserError(f"initial state has shape {x0.shape}, the part has {n} states; pass {n} numbers")
+    if not np.all(np.isfinite(x0)):
+        raise UserError("initial state is not finite; check the initial conditions")
+    check_options(method, t_end, tol, h, n_out, time_scale, what, max_steps)
+    if scale is not None:
+        s = np.asarray(scale, dtype=float)
+        if s.shape != (n,) or not np.all(np.isfinite(s)) or np.any(s <= 0):
+            raise UserError(f"scale must be {n} positive numbers (state magnitudes)")
+
+
+def integrate(part, x0, t_end: float, method: str = DEFAULT, tol: float | None = 1e-8,
+              h: float | None = None, p=None, box: Box | None = None, n_out: int = 200,
+              scale=None, monitor_energy: bool = False, max_steps: int | None = None,
+              scipy_rhs: str = "auto", time_scale: float | None = None,
+              time_scale_what: str = "the fastest period") -> Result:
+    """Integrate `part` from x0 over [0, t_end] with `method` (see the module docstring).
+
+    tol: adaptive methods (rtol = tol, atol_k = tol * scale_k). h: fixed-step methods.
+    n_out: number of output intervals (adaptive: dense output on a uniform grid; fixed: every
+    ceil(N / n_out)-th step). time_scale: the fastest period of the motion (runtime.simulate.run);
+    it sets the default step budget and the limits of runtime.integrate.budget.check_options.
+    max_steps: the step budget (None: runtime.integrate.budget.default_budget). A run that uses it up
+    stops with status "step_budget". method "auto": the C method resolve(tol) picks (its name in
+    Result.method, the request in Result.details). Raises UserError for bad options."""
+    requested, method = method, resolve(method, tol, h)
+    res = _integrate(part, x0, t_end, method, tol, h, p, box, n_out, scale, monitor_energy,
+                     max_steps, scipy_rhs, time_scale, time_scale_what)
+    res.details.update(choice_details(requested, tol))
+    return res
+
+
+def _integrate(part, x0, t_end, method, tol, h, p, box, n_out, scale, monitor_energy, max_steps,
+               scipy_rhs, time_scale, time_scale_what) -> Result:
+    x0 = _f64(x0)
+    n = len(part.states)
+    _validate(method, x0, n, t_end, tol, h, n_out, scale, time_scale, time_scale_what, max_steps)
+    t_end, n_out = float(t_end), int(n_out)
+    budget = int(max_steps) if max_steps is not None else default_budget(method, t_end, h, time_scale)
+    p = _f64(part.p if p is None else p)
+    scale = default_scale(x0) if scale is None else _f64(scale)
+    backend = lookup(method).backend
+    if backend == "c":
+        return _integrate_c(part, method, x0, p, t_end, tol, h, box, n_out, scale,
+                            monitor_energy, budget)
+    if backend == "casadi":
+        return integrate_casadi(part, method, x0, p, t_end, tol, h, box, n_out, scale, budget)
+    return integrate_scipy(part, method, x0, p, t_end, tol, box, n_out, scale, scipy_rhs, budget)
+
+
+def _integrate_c(part, method, x0, p, t_end, tol, h, box, n_out, scale, monitor_energy, max_steps):
+    lib = _lib_of(part)
+    rhs = part.c_function("rhs")
+    energy = part.c_function("energy") if monitor_energy else None
+    if not lookup(method).fixed_step:
+        t_out = np.linspace(0.0, t_end, n_out + 1)
+        return run_c(lib, method, rhs, x0, p, t_end, rtol=tol, atol=tol * scale, energy=energy,
+                     box=box, t_out=t_out, max_steps=max_steps)
+    n_steps = fixed_steps(t_end, h)
+    every = max(1, math.ceil(n_steps / n_out))
+    jac = (part.c_function("jac") if lookup(method).needs_jacobian and _has_function(part, "jac")
+           else None)
+    return run_c(lib, method, rhs, x0, p, t_end, h=h, jac=jac, energy=energy, box=box,
+                 every=every, max_samples=n_steps // every + 3, max_steps=max_steps)

@@ -1,0 +1,455 @@
+"""Load a generated model: verify it, compile and cache its C, load its CasADi functions (no sympy).
+
+    model = load_model(scene)        # derives first (in a subprocess) if generated/ is missing or stale
+    part = model.part("full")        # "reduced" | "full"
+    part.rhs(x), part.energy(x), part.jac(x)          # backend="c" (default) or "casadi"
+
+Nothing is used unverified: the manifest is typed and checked, with the sha256 of itself and of
+every file (runtime/model/manifest.py); the compiled library's own table must agree with the manifest
+before any call (runtime/model/table.py); a damaged cached model is derived again, once, and a
+damaged generated/ is an error saying `make derive`. The C library is model.c compiled together
+with the hand-written runtime/csrc/*.c (integrators), cached by content hash (runtime/model/cbuild.py).
+"""
+from __future__ import annotations
+
+import ctypes
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+from functools import cached_property
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+import tomli_w
+
+from derive.faults import die_at
+from derive.inputs import input_hash
+from derive.paths import GENERATED, ROOT, is_committed_scene
+from derive.scene import Scene
+
+from runtime.model.cbuild import cache_dir, cache_problem, compile_shared, locked
+from runtime.errors import UserError
+from runtime.model.manifest import ArtefactError, FunctionInfo, Manifest, read_manifest
+from runtime.model.table import disagreement, read_table
+from runtime.model.processes import die_with_parent
+
+CSRC = Path(__file__).resolve().parent.parent / "csrc"
+
+_DOUBLE_P = ctypes.POINTER(ctypes.c_double)
+_VOID3 = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p)
+
+NEEDS_OF_PART = {"reduced": "reduced", "full": "full"}
+
+
+class MissingPart(UserError):
+    """The scene's model lacks a part that a command needs."""
+
+
+class CFunction:
+    """The one ctypes call path: a generated (or runtime/csrc test) C function
+    `void f(const double *in, const double *p, double *out)` bound to preallocated buffers of the
+    sizes the manifest states, checked against the library's own table (Model.lib) (the
+    marshalling of a fresh call costs more than the function).
+
+        f = CFunction(fn, n_in, n_out, p);  y = f(x)          # a copy of the output
+    """
+
+    def __init__(self, fn, n_in: int, n_out: int, p: np.ndarray):
+        # its own prototype over the function's address, taking plain int addresses: a third of
+        # the cost of a call through pointer argtypes (the equilibrium survey makes ~800 a search)
+        self._fn = _VOID3(ctypes.cast(fn, ctypes.c_void_p).value)
+        self.n_in, self.n_out = int(n_in), int(n_out)
+        self._in = np.zeros(self.n_in)
+        self._out = np.zeros(self.n_out)
+        self._p = np.array(p, dtype=float).reshape(-1)
+        self._args = tuple(a.ctypes.data for a in (self._in, self._p, self._out))
+
+    def __call__(self, x) -> np.ndarray:
+        x = np.asarray(x, dtype=float).reshape(-1)
+        if x.size != self.n_in:
+            raise ValueError(f"expected {self.n_in} inputs, got {x.size}")
+        self._in[:] = x
+        self._fn(*self._args)
+        return self._out.copy()
+
+    def at(self, z: float) -> np.ndarray:
+        """f([z]) for a function of one input (the on-axis functions of a height), without the
+        array conversion."""
+        if self.n_in != 1:
+            raise ValueError(f"at(z) is for a function of one input; this one takes {self.n_in}")
+        self._in[0] = z
+        self._fn(*self._args)
+        return self._out.copy()
+
+
+# ---------------------------------------------------------------- where a model lives
+
+def committed_folder(scene: Scene) -> Path | None:
+    """generated/<name>/ for a scene of scenes/ (its committed model), else None."""
+    return GENERATED / scene.name if is_committed_scene(scene.name, scene.path) else None
+
+
+def cache_folder(scene: Scene) -> Path:
+    """The cache folder of the scene's model: keyed by the input hash (derive/inputs.py)."""
+    return cache_dir() / "derived" / f"{scene.name}-{input_hash(scene.data)[:16]}"
+
+
+def _manifest_hash(folder: Path) -> str | None:
+    try:
+        data = json.loads((folder / "manifest.json").read_text())
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError):
+        return None
+    return data.get("input_hash") if isinstance(data, dict) else None
+
+
+class Located(NamedTuple):
+    """A verified model folder: where, its manifest, what to do when it is damaged, and whether
+    this call derived it."""
+
+    folder: Path
+    manifest: Manifest
+    fix: str
+    derived: bool
+
+
+def make_derive_fix(name: str) -> str:
+    return f"run `make derive` to regenerate generated/{name}"
+
+
+def locate(scene: Scene, overrides=(), force: bool = False) -> Located:
+    """The scene's verified model folder: generated/<name>/ when it is current for the scene (a scene
+    of scenes/, also with --set overrides of numbers, which are runtime parameters), else a folder
+    in the cache keyed by the input hash, derived first (python -m derive, in a subprocess: the
+    runtime does not import sympy) when missing, damaged (derived again, once) or `force`d.
+
+    The runtime never writes into generated/ (only `make derive` does): a damaged current
+    generated/<name> is an ArtefactError naming the file."""
+    ihash = input_hash(scene.data)
+    committed = committed_folder(scene)
+    if committed is not None and _manifest_hash(committed) == ihash and not force:
+        fix = make_derive_fix(scene.name)
+        return Located(committed, read_manifest(committed, fix, ihash), fix, False)
+    out = cache_folder(scene)
+    fix = f"delete {out} (or run `make clean-cache`) and try again"
+    note = None
+    if committed is not None and committed.exists() and not overrides:
+        note = (f"generated/{scene.name} is stale (the scene or derive/ changed): using a fresh "
+                "derivation in the cache; run `make derive` to update generated/")
+    if not force:
+        try:
+            return Located(out, read_manifest(out, fix, ihash), fix, False)
+        except ArtefactError as exc:
+            if os.path.lexists(out):
+                note = f"the cached model is damaged ({str(exc).split('; ')[0]}): deriving it again"
+    _derive_into(scene, overrides, out, ihash, note)
+    return Located(out, read_manifest(out, fix, ihash), fix, True)
+
+
+def _derive_into(scene: Scene, overrides, out: Path, ihash: str, note: str | None = None) -> None:
+    """Derive the scene into `out` (a cache folder): into a temporary folder beside it, then one
+    rename, so concurrent processes (scan workers) never see a half-written model. The temporary
+    folder is removed on every path. `note`: why, said once the cache is known to be writable."""
+    if scene.path is None:
+        raise UserError(f"scene '{scene.name}' was not read from a file: nothing to derive from")
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{scene.name}-{os.getpid()}-", dir=out.parent))
+    except OSError as exc:
+        raise cache_problem(out.parent, exc) from None
+    if note:
+        print(f"levitron: {note}", file=sys.stderr)
+    print(f"levitron: deriving the model of scene '{scene.name}' ...", file=sys.stderr)
+    try:
+        # the scene as this process read it (overrides applied), written by a TOML writer: the
+        # child derives exactly what is hashed here, even if the file is edited meanwhile
+        snapshot = tmp / f"{scene.name}.toml"
+        snapshot.write_text(tomli_w.dumps(scene.data), encoding="utf-8")
+        cmd = [sys.executable, "-m", "derive", str(snapshot), "--out", str(tmp), "--force"]
+        child = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                 cwd=ROOT, preexec_fn=die_with_parent)
+        try:
+            die_at("runtime.deriving")
+            _, err = child.communicate()
+        finally:
+            if child.poll() is None:         # interrupted (SIGTERM, Ctrl-C): the child goes too
+                child.kill()
+                child.wait()
+        if child.returncode < 0:
+            raise UserError(f"derive for scene '{scene.name}' was killed (signal {-child.returncode}) "
+                            "before it finished: run the command again (out of memory? see `dmesg`)")
+        if child.returncode != 0:
+            last = (err.strip().splitlines() or ["no message"])[-1].removeprefix("error: ")
+            raise UserError(f"derive failed for scene '{scene.name}': {last}")
+        _install(tmp / scene.name, out, tmp, ihash)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+def _intact(folder: Path, ihash: str) -> bool:
+    try:
+        read_manifest(folder, "", ihash)
+    except ArtefactError:
+        return False
+    return True
+
+
+def _install(new: Path, out: Path, trash: Path, ihash: str) -> None:
+    """Rename `new` to `out`; a damaged `out` is first moved into `trash` (removed by the caller),
+    an intact one (another process's identical result, installed meanwhile) is kept. Under a lock
+    on the cache's derived/ folder, so that two processes that derived the same model at once
+    never take each other's installed result for a damaged one."""
+    with locked(out.parent):
+        _install_unlocked(new, out, trash, ihash)
+
+
+def _install_unlocked(new: Path, out: Path, trash: Path, ihash: str) -> None:
+    if _intact(out, ihash):
+        return
+    try:
+        if os.path.lexists(out):
+            try:
+                os.replace(out, trash / "damaged")
+            except FileNotFoundError:
+                pass                          # another process moved it at the same moment
+        os.replace(new, out)
+    except OSError as exc:
+        if _manifest_hash(out) != ihash:      # not another process's identical result: a real error
+            raise cache_problem(out.parent, exc) from None
+
+
+class Part:
+    """One part ("reduced" or "full") of a loaded model."""
+
+    def __init__(self, model: Model, name: str):
+        self.model = model
+        self.name = name
+        self.states: list[str] = list(model.manifest.parts[name].states)
+        self.params: list[str] = model.param_names
+        self.nx = len(self.states)
+
+    @property
+    def p(self) -> np.ndarray:
+        return self.model.p
+
+    def has(self, kind: str) -> bool:
+        return self.model.has_function(f"{self.name}_{kind}")
+
+    def c_function(self, kind: str):
+        """The ctypes function pointer of `<part>_<kind>` (signature: in, p, out)."""
+        return self.model.c_function(f"{self.name}_{kind}")
+
+    def casadi(self, kind: str):
+        return self.model.casadi(f"{self.name}_{kind}")
+
+    def _call(self, kind, x, p, backend):
+        return self.model.call(f"{self.name}_{kind}", x, p, backend)
+
+    def rhs(self, x, p=None, backend: str = "c") -> np.ndarray:
+        """d state / dt (thesis eqs. 2.3.10-2.3.16, or the reduced 4-D system after eq. 3.2.12)."""
+        return self._call("rhs", x, p, backend)
+
+    def energy(self, x, p=None, backend: str = "c") -> float:
+        """The Hamiltonian (thesis eq. 2.3.9 / 3.2.12)."""
+        return float(self._call("energy", x, p, backend)[0])
+
+    def jac(self, x, p=None, backend: str = "c") -> np.ndarray:
+        if not self.has("jac"):
+            raise MissingPart(f"scene '{self.model.scene.name}' has no Jacobian of the {self.name} "
+                              f"model: add \"linear\" to model.needs")
+        return self._call("jac", x, p, backend).reshape(self.nx, self.nx)
+
+    def index(self, state_name: str) -> int:
+        return self.states.index(state_name)
+
+
+class Model:
+    """A verified generated model with its scene's parameter values.
+
+    `manifest` is the typed Manifest (runtime/model/manifest.py); `fix` says what to do when a file of
+    the folder turns out damaged (default: `make derive`)."""
+
+    def __init__(self, scene: Scene, folder: Path, manifest: Manifest | None = None,
+                 fix: str | None = None):
+        self.scene = scene
+        self.folder = Path(folder)
+        self.fix = fix or make_derive_fix(self.folder.name)
+        self.manifest = manifest if manifest is not None else read_manifest(self.folder, self.fix)
+        names = self.manifest.parameters
+        missing = [n for n in names if n not in scene.params]
+        if missing:
+            raise UserError(f"scene '{scene.name}' gives no value for parameter {missing[0]}: "
+                            "re-derive the model (make derive)")
+        self.p = np.array([scene.params[n] for n in names], dtype=float)
+        self._casadi = {}
+        self._parts = {}
+        self._cfuncs = {}
+
+    # ---- parameters
+    @property
+    def param_names(self) -> list[str]:
+        """The parameter names in the order of the vector p."""
+        return list(self.manifest.parameters)
+
+    def _index(self, name: str) -> int:
+        try:
+            return self.manifest.parameters.index(name)
+        except ValueError:
+            raise UserError(f"unknown parameter {name!r}: the model's parameters are "
+                            f"{', '.join(self.manifest.parameters)}") from None
+
+    def param(self, name: str) -> float:
+        """The scene's value of one parameter (UserError naming the valid ones if unknown)."""
+        return float(self.p[self._index(name)])
+
+    def pvals(self, p=None) -> dict[str, float]:
+        """name -> value of the parameter vector p (default the scene's)."""
+        p = self.p if p is None else np.asarray(p, dtype=float).reshape(-1)
+        if p.size != len(self.manifest.parameters):
+            raise ValueError(f"expected {len(self.manifest.parameters)} parameters, got {p.size}")
+        return {n: float(v) for n, v in zip(self.manifest.parameters, p)}
+
+    def with_params(self, overrides: dict, p=None) -> np.ndarray:
+        """A copy of p (default the scene's) with the named parameters replaced."""
+        out = np.array(self.p if p is None else p, dtype=float).reshape(-1)
+        if out.size != len(self.manifest.parameters):
+            raise ValueError(f"expected {len(self.manifest.parameters)} parameters, got {out.size}")
+        for name, value in overrides.items():
+            out[self._index(name)] = float(value)
+        return out
+
+    # ---- parts and functions
+    @property
+    def parts(self) -> list[str]:
+        return list(self.manifest.parts)
+
+    def part(self, name: str) -> Part:
+        if name not in self.manifest.parts:
+            raise MissingPart(f"scene '{self.scene.name}' has no {name} model (model.needs = "
+                              f"{self.scene.needs}): add \"{NEEDS_OF_PART.get(name, name)}\" to "
+                              "model.needs in the scene")
+        if name not in self._parts:
+            self._parts[name] = Part(self, name)
+        return self._parts[name]
+
+    def has_function(self, name: str) -> bool:
+        return name in self.manifest.functions
+
+    def function(self, name: str) -> FunctionInfo:
+        """The manifest's entry of a generated function (MissingPart if the model has none)."""
+        info = self.manifest.functions.get(name)
+        if info is None:
+            raise MissingPart(f"scene '{self.scene.name}' has no generated function {name}")
+        return info
+
+    # ---- C backend
+    @cached_property
+    def library_path(self) -> Path:
+        sources = [self.folder / "model.c"] + sorted(CSRC.glob("*.c"))
+        return compile_shared(sources, include_dirs=(self.folder, CSRC))
+
+    @cached_property
+    def lib(self) -> ctypes.CDLL:
+        """The compiled library (verified by cbuild before dlopen), its own table checked against
+        the manifest before any function of it is called."""
+        try:
+            lib = ctypes.CDLL(str(self.library_path))
+        except OSError as exc:
+            raise ArtefactError(f"{self.library_path} cannot be loaded ({exc}); delete it and try "
+                                "again") from None
+        problem = disagreement(read_table(lib), self.manifest)
+        if problem is not None:
+            raise ArtefactError(f"{self.folder / 'manifest.json'} does not describe its model.c "
+                                f"({problem}); {self.fix}")
+        return lib
+
+    def c_function(self, name: str):
+        fn = self._cfuncs.get(name)
+        if fn is None:
+            self.function(name)
+            fn = getattr(self.lib, name)
+            fn.argtypes = [_DOUBLE_P, _DOUBLE_P, _DOUBLE_P]
+            fn.restype = None
+            self._cfuncs[name] = fn
+        return fn
+
+    def fast(self, name: str, p: np.ndarray | None = None) -> CFunction:
+        """The generated C function `name` bound to parameters p (default the scene's) with
+        preallocated buffers: for hot loops (root searches, Jacobian sweeps)."""
+        info = self.function(name)
+        p = self.p if p is None else np.asarray(p, dtype=float)
+        if p.size != self.p.size:
+            raise ValueError(f"{name}: expected {self.p.size} parameters, got {p.size}")
+        return CFunction(self.c_function(name), info.n_in, info.n_out, p)
+
+    # ---- CasADi backend
+    def casadi(self, name: str):
+        """The casadi.Function (in, p) -> out of `name`, its sizes checked against the manifest."""
+        if name not in self._casadi:
+            self._casadi[name] = self._load_casadi(self.function(name))
+        return self._casadi[name]
+
+    def _load_casadi(self, info: FunctionInfo):
+        import casadi as ca
+        path = self.folder / info.casadi
+        try:
+            fn = ca.Function.load(str(path))
+        except RuntimeError as exc:
+            why = (str(exc).strip().splitlines() or ["unreadable"])[-1]
+            raise ArtefactError(f"{path} cannot be loaded by CasADi ({why}); {self.fix}") from None
+        sizes = (fn.n_in(), fn.n_out()) == (2, 1) and (fn.nnz_in(0), fn.nnz_in(1), fn.nnz_out(0)) \
+            == (info.n_in, self.p.size, info.n_out)
+        if not sizes:
+            raise ArtefactError(f"{path} does not take {info.n_in} inputs and {self.p.size} "
+                                f"parameters to {info.n_out} outputs as manifest.json says; {self.fix}")
+        return fn
+
+    # ---- evaluation
+    def call(self, name: str, x, p=None, backend: str = "c") -> np.ndarray:
+        info = self.function(name)
+        x = np.ascontiguousarray(x, dtype=float).reshape(-1)
+        p = self.p if p is None else np.ascontiguousarray(p, dtype=float)
+        if x.size != info.n_in or p.size != self.p.size:
+            raise ValueError(f"{name}: expected {info.n_in} inputs and {self.p.size} parameters, "
+                             f"got {x.size}, {p.size}")
+        if backend == "c":
+            return self.fast(name, p)(x)
+        if backend == "casadi":
+            return np.asarray(self.casadi(name)(x, p), dtype=float).reshape(-1)
+        raise UserError(f"unknown backend {backend!r}: use 'c' or 'casadi'")
+
+    def rows(self, name: str, X, p=None) -> np.ndarray:
+        """The generated C function `name` at every row of X (rows, n_in) -> (rows, n_out), in one
+        C call (runtime/csrc lev_rows): the invariants of a trajectory's samples, no Python loop."""
+        info = self.function(name)
+        X = np.ascontiguousarray(X, dtype=float).reshape(-1, info.n_in)
+        p = self.p if p is None else np.ascontiguousarray(p, dtype=float)
+        if p.size != self.p.size:
+            raise ValueError(f"{name}: expected {self.p.size} parameters, got {p.size}")
+        out = np.empty((X.shape[0], info.n_out))
+        f = self.lib.lev_rows
+        if f.argtypes is None:
+            f.argtypes = [ctypes.c_void_p, ctypes.c_long, ctypes.c_int, ctypes.c_int, ctypes.c_void_p,
+                          ctypes.c_void_p, ctypes.c_void_p]
+            f.restype = None
+        f(ctypes.cast(self.c_function(name), ctypes.c_void_p), X.shape[0], info.n_in, info.n_out,
+          X.ctypes.data, p.ctypes.data, out.ctypes.data)
+        return out
+
+    def onaxis(self, z, p=None, backend: str = "c") -> np.ndarray:
+        """[Phi_0, ..., Phi_K](z) of the plate (thesis eq. 2.2.6 and eqs. 2.2.12-2.2.14)."""
+        return self.call("onaxis", [float(z)], p, backend)
+
+    def field(self, xyz, p=None, backend: str = "c") -> np.ndarray:
+        """B(x, y, z) from the model's expansion (thesis eq. 2.2.7)."""
+        return self.call("field", xyz, p, backend)
+
+
+def load_model(scene: Scene, overrides=()) -> Model:
+    """The loaded, verified model of a scene (derived first if needed). `overrides` are the --set
+    strings."""
+    found = locate(scene, overrides)
+    return Model(scene, found.folder, found.manifest, found.fix)

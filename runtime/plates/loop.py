@@ -1,6 +1,0 @@
-"""Exact field of a circular current loop (complete elliptic integrals, runtime/exact_field.py)."""
-from ..exact_field import loop_field
-
-
-def field(table, p, points, part_field):
-    return loop_field(points, p["a"], p["current"])

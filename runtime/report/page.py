@@ -1,0 +1,150 @@
+"""One self-contained HTML page about a scene: what a plate designer sends to a colleague.
+
+    html, facts = build(model, scene_ref, overrides)      # facts: the numbers on the page (SI)
+
+The page holds the scene (its parameters), the vertical equilibria and the stable band (thesis
+3.3.2-3.3.3, with the equilibrium figure), the spin interval of linear stability (thesis 3.3), a
+small stability map (8 spins x 6 tilts, one slow period each: a sketch, not a converged map) and the
+trajectory of a typical launch (the geometric mean of the spin interval, tilt 0.01 rad). Figures
+are embedded as base64 PNG; the page refers to nothing outside itself (no scripts, no links, no
+fonts), so it opens anywhere, offline.
+"""
+from __future__ import annotations
+
+import base64
+import html
+import math
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from derive import plates
+
+from runtime.physics import equilibrium as eqm
+from runtime.ui import progress
+from runtime.ui.human import Units, restate, sig, span
+from runtime.physics.stability import stability_of
+
+MAP_SPINS, MAP_TILTS = 8, 6
+LAUNCH_TILT = 0.01            # rad
+LAUNCH_PERIODS = 3            # the launch runs this many slow periods
+
+CSS = """body{font-family:system-ui,sans-serif;max-width:60em;margin:2em auto;padding:0 1em;color:#222}
+h1{font-size:1.6em}h2{font-size:1.2em;margin-top:1.6em;border-bottom:1px solid #ccc}
+table{border-collapse:collapse}td,th{padding:.2em .8em;text-align:left;border-bottom:1px solid #eee}
+.answer{font-size:1.15em;font-weight:600}img{max-width:100%}.note{color:#666;font-size:.9em}"""
+
+
+def _png(path: Path) -> str:
+    data = base64.b64encode(Path(path).read_bytes()).decode("ascii")
+    return f'<img alt="{html.escape(Path(path).stem)}" src="data:image/png;base64,{data}">'
+
+
+def _table(rows) -> str:
+    body = "".join(f"<tr><th>{html.escape(str(k))}</th><td>{html.escape(str(v))}</td></tr>"
+                   for k, v in rows)
+    return f"<table>{body}</table>"
+
+
+def _p(text: str, cls: str = "") -> str:
+    c = f' class="{cls}"' if cls else ""
+    return f"<p{c}>{html.escape(text)}</p>"
+
+
+def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -> tuple[str, dict]:
+    """The page and the facts it shows (SI numbers, for --json); provenance: the block of
+    runtime/ui/provenance.py, shown at the foot of the page (its command rebuilds the page)."""
+    from runtime.scan import stability_map as sc
+    from runtime.report.figures import figure_3_5
+    from runtime.scan.physics import slow_period
+    from runtime.scan.plot import draw as draw_map
+    from runtime.simulate.run import simulate
+
+    scene = model.scene
+    u = Units.of_scene(scene)
+    P = model.pvals()
+    lengths = set(plates.length_names(scene.data["plate"]))
+    facts: dict = {"scene": scene.name, "units": "SI" if u.si else "dimensionless"}
+    parts = [f"<h1>{html.escape(scene.name)}: does the top levitate?</h1>"]
+    with tempfile.TemporaryDirectory(prefix="levitron-report-") as tmp, \
+            progress.task(f"report {scene.name}", total=4) as tick:
+        tmp = Path(tmp)
+        rep = eqm.equilibria_of(model, bands=True)
+        band = rep.stable_band
+        facts["equilibria"] = [e.as_dict() for e in rep.equilibria]
+        facts["stable_band"] = band.as_dict() if band is not None else None
+        res = stability_of(model)
+        iv = res.spin_interval
+        facts["spin_interval"] = list(iv) if iv else None
+        facts["z_s"] = res.z_s
+        answer = (f"{u.top(P['m']).capitalize()} hovers at {u.length(facts['z_s'])} and is stable for "
+                  f"spin rates {u.rate_span(*iv)}." if iv else
+                  "No spin rate makes this top stable: " + restate(
+                      rep.no_hover_reason(P["m"]) or res.reason or "no stable hover height", u))
+        parts.append(_p(answer, "answer"))
+        parts.append("<h2>Scene</h2>")
+        parts.append(_table([("file", scene.path), ("plate", scene.data["plate"].get("kind")),
+                             ("top mass", u.mass(P["m"])), ("g", u.value(P["g"], "m/s^2")),
+                             ("A, C (inertia)", f"{sig(P['A'], 4)}, {u.value(P['C'], 'kg m^2')}"),
+                             *[(k, u.length(v) if k in lengths else sig(v, 6))
+                               for k, v in P.items() if k.startswith("plate_")]]))
+        if u.note:
+            parts.append(_p(u.note, "note"))
+        parts.append("<h2>Equilibria and the stable band</h2>")
+        roots = ", ".join(f"{u.length(e.z)} ({'vertically stable' if e.vertically_stable else 'unstable'})"
+                          for e in rep.equilibria) or "none"
+        parts.append(_table([
+            ("equilibria (thesis 3.3.2)", roots),
+            ("stable band", f"z {span(*band.z, u.cm)}, mass {span(*band.mass, u.mass)}" if band else "none"),
+            ("heaviest top that hovers", u.mass(rep.max_mass) if rep.max_mass else "n/a")]))
+        parts.append(_png(figure_3_5(model, tmp / "equilibrium.png")))
+        tick()
+        parts.append("<h2>Spin interval (linear stability, thesis 3.3)</h2>")
+        parts.append(_p(f"spin interval: {u.rate_span(*iv)} at z_s = {u.length(facts['z_s'])}" if iv
+                        else f"no stable spin interval: {restate(res.reason, u)}"))
+        tick()
+        if iv:
+            spin = math.sqrt(iv[0] * iv[1])
+            T = slow_period(model, P["m"], facts["z_s"], spin)
+            spins = np.linspace(0.5 * iv[0], 1.25 * iv[1], MAP_SPINS)
+            tilts = np.linspace(0.005, 0.1, MAP_TILTS)
+            m = sc.scan(model, scene_ref, list(overrides), spins, "tilt", tilts, t_end=T, quiet=True)
+            facts["map"] = {"spins": spins.tolist(), "tilts": tilts.tolist(), "t_end": T,
+                            "fraction_levitating": m.as_dict()["fraction_levitating"]}
+            parts.append("<h2>A small stability map</h2>")
+            parts.append(_p(f"{MAP_SPINS} spins x {MAP_TILTS} tilts, each run one slow period "
+                            f"({u.time(T)}); levitating at "
+                            f"{sig(100 * facts['map']['fraction_levitating'], 3)}% of the points. "
+                            "A sketch: `levitron scan` draws a finer, longer one.", "note"))
+            parts.append(_png(draw_map(m, tmp / "map.png", f"{scene.name}: levitating vs spin and tilt", u)))
+            tick()
+            run = simulate(model, spin=spin, tilt=LAUNCH_TILT, t_end=LAUNCH_PERIODS * T,
+                           plot=tmp / "launch.png")
+            facts["launch"] = {k: run[k] for k in ("levitating", "t_survived", "max_tilt",
+                                                   "max_height_deviation", "energy_drift")}
+            facts["launch"]["spin"] = spin
+            parts.append("<h2>A typical launch</h2>")
+            parts.append(_p(f"spin {u.rate(spin)} (the geometric mean of the interval), tilt "
+                            f"{u.angle(LAUNCH_TILT)}: {'levitating' if run['levitating'] else run['status']} "
+                            f"for {u.time(run['t_survived'])}; largest tilt {u.angle(run['max_tilt'])}, "
+                            f"energy drift {sig(run['energy_drift'], 2)}"))
+            parts.append(_png(Path(run["plot"])))
+            tick()
+    page = ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+            f"<title>levitron report: {html.escape(scene.name)}</title><style>{CSS}</style></head>"
+            f"<body>{''.join(parts)}{_provenance(provenance, scene.name)}"
+            "</body></html>\n")
+    if provenance is not None:
+        facts["provenance"] = provenance
+    return page, facts
+
+
+def _provenance(block: dict | None, name: str) -> str:
+    """The foot of the page: how it was made (the command that rebuilds it), by which version, from
+    which scene file (with its hash), when."""
+    if block is None:
+        return f'<p class="note">levitron report {html.escape(name)}</p>'
+    rows = [(k.replace("_", " "), ", ".join(v) if isinstance(v, list) else v)
+            for k, v in block.items() if v not in (None, [], "")]
+    return "<h2>Provenance</h2>" + _table(rows)

@@ -1,0 +1,351 @@
+"""Launch odds by Monte Carlo: how likely a launch by hand is to float, and which input matters most.
+
+Every sample is one full nonlinear run of the full model (thesis 2.3, with air friction where the
+scene declares it, derive/friction.py) from a launch drawn from distributions:
+
+    spin          the spin rate about the axis (rad/s)
+    tilt          the tilt of the axis (rad), towards tilt_azimuth (rad from +x towards +y)
+    offset        the horizontal offset of the centre of mass along x (m)
+    velocity      the initial horizontal velocity along y (m/s), p_y = m v
+    mass          the relative deviation of the top's mass (washers, manufacture): m (1 + d)
+    strength      the relative deviation of the magnets' strength: mu (1 + d) (thesis 2.2.1: only
+                  the product of the top's moment and the plate's strength enters the dynamics)
+    temperature   the magnets' temperature (degC), through the scene's temperature coefficients
+
+Each is "normal:MEAN,SD", "uniform:LO,HI" or a number (fixed), given by a flag or the scene's
+[launch] table. The defaults scale with the scene (never SI magnitudes: scenes may be
+dimensionless): the spin normal about the geometric mean of the spin interval with a 10 % spread,
+a tilt up to 0.02 rad, an offset of 1 % of z_s, a velocity of 1 % of sqrt(g z_s), 0.2 % of mass and
+0.5 % of strength. Each sample starts at the hover height of its own mass and strength
+(runtime.physics.equilibrium.hover_height; none: the sample "cannot hover").
+
+Success means floating at least success_time (default: the run length, or in air half the spin
+decay time; without friction and without a run length, runtime/scan/stability_map.py's PERIODS slow periods).
+The probability comes with its 95 % Wilson score interval; the flight times with median and
+quartiles; each input's effect is the spread of the success rate over its quintiles.
+
+The samples are drawn once from numpy's PCG64 generator at the seed, in a fixed order, and the
+runs go through the C chunk driver (runtime/scan/chunk_c.py, the lane variants where verified): serial,
+with local processes or on dask (runtime/scan/runners.py), every run is the same arithmetic, so a
+seed gives the same verdicts everywhere.
+"""
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from runtime.errors import UserError
+from runtime.physics.friction import has_friction
+from runtime.integrate.methods import DEFAULT, lookup, resolve
+
+INPUTS = ("spin", "tilt", "tilt_azimuth", "offset", "velocity", "mass", "strength", "temperature")
+Z95 = 1.959963984540054          # the 97.5 % point of the standard normal
+MAX_N = 10**6
+BINS = 5
+RANGE95 = 3.86        # 95 % point of the range of BINS = 5 standard normals (Tippett's tables)
+
+
+@dataclass(frozen=True)
+class Dist:
+    """One input's distribution: kind "normal" (a = mean, b = sd), "uniform" (a = lo, b = hi) or
+    "fixed" (a)."""
+    kind: str
+    a: float
+    b: float = 0.0
+
+    def sample(self, rng: np.random.Generator, n: int) -> np.ndarray:
+        if self.kind == "normal":
+            return rng.normal(self.a, self.b, n) if self.b > 0 else np.full(n, self.a)
+        if self.kind == "uniform":
+            return rng.uniform(self.a, self.b, n)
+        return np.full(n, self.a)
+
+    @property
+    def spread(self) -> bool:
+        return (self.kind == "normal" and self.b > 0) or (self.kind == "uniform" and self.b > self.a)
+
+    def text(self) -> str:
+        return {"normal": f"normal:{self.a:g},{self.b:g}", "uniform": f"uniform:{self.a:g},{self.b:g}",
+                "fixed": f"{self.a:g}"}[self.kind]
+
+
+def parse_dist(name: str, spec) -> Dist:
+    """ "normal:MEAN,SD" | "uniform:LO,HI" | a number -> Dist (one-line UserError otherwise)."""
+    how = f"write e.g. --{name.replace('_', '-')} normal:MEAN,SD, uniform:LO,HI or a number"
+    if isinstance(spec, bool):
+        raise UserError(f"launch {name} = {spec!r} is not a distribution: {how}")
+    if isinstance(spec, (int, float)):
+        value = float(spec)
+        if not math.isfinite(value):
+            raise UserError(f"launch {name} = {spec} is not finite: {how}")
+        return Dist("fixed", value)
+    text = str(spec).strip()
+    kind, sep, args = text.partition(":")
+    if not sep:
+        try:
+            return parse_dist(name, float(text))
+        except ValueError:
+            raise UserError(f"launch {name} = {text!r} is not a distribution: {how}") from None
+    kind = kind.strip().lower()
+    if kind not in ("normal", "uniform"):
+        raise UserError(f"launch {name}: unknown distribution {kind!r}: use normal or uniform ({how})")
+    try:
+        a, b = (float(v) for v in args.split(","))
+    except ValueError:
+        raise UserError(f"launch {name} = {text!r} needs two numbers after '{kind}:': {how}") from None
+    if not (math.isfinite(a) and math.isfinite(b)):
+        raise UserError(f"launch {name} = {text!r} has a number that is not finite: {how}")
+    if kind == "normal" and b < 0:
+        raise UserError(f"launch {name} = {text!r}: the standard deviation {b:g} is negative; give SD >= 0")
+    if kind == "uniform" and b < a:
+        raise UserError(f"launch {name} = {text!r}: the range {a:g},{b:g} is reversed; give LO <= HI")
+    return Dist(kind, a, b)
+
+
+def wilson(k: int, n: int, z: float = Z95) -> tuple[float, float]:
+    """The Wilson score interval of a binomial proportion k / n (Wilson 1927)."""
+    if n <= 0:
+        raise UserError("the Wilson interval needs at least one sample")
+    p = k / n
+    den = 1 + z * z / n
+    centre = (p + z * z / (2 * n)) / den
+    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / den
+    return max(0.0, centre - half), min(1.0, centre + half)
+
+
+@dataclass(frozen=True)
+class Plan:
+    """What every chunk of a Monte Carlo shares (picklable: sent to the workers)."""
+    scene: str
+    overrides: tuple
+    dists: tuple                 # ((input name, Dist), ...) in INPUTS order
+    n: int
+    seed: int
+    t_end: float
+    integrator: str
+    tol: float
+
+
+def defaults(model, interval, z_s: float) -> dict[str, Dist]:
+    """The default launch spread of the module docstring, scaled by the scene."""
+    pv = model.pvals()
+    spin = math.sqrt(interval[0] * interval[1]) if interval else None
+    out = {"tilt": Dist("uniform", 0.0, 0.02), "tilt_azimuth": Dist("uniform", 0.0, 2 * math.pi),
+           "offset": Dist("normal", 0.0, 0.01 * z_s),
+           "velocity": Dist("normal", 0.0, 0.01 * math.sqrt(pv["g"] * z_s)),
+           "mass": Dist("normal", 0.0, 0.002), "strength": Dist("normal", 0.0, 0.005),
+           "temperature": Dist("fixed", float(model.scene.data.get("temperature", 20.0)))}
+    if spin is not None:
+        out["spin"] = Dist("normal", spin, 0.1 * spin)
+    return out
+
+
+def samples(plan: Plan) -> dict[str, np.ndarray]:
+    """All n samples of every input, drawn in INPUTS order from PCG64(seed): the same everywhere."""
+    rng = np.random.Generator(np.random.PCG64(plan.seed))
+    return {name: d.sample(rng, plan.n) for name, d in plan.dists}
+
+
+def temperature_factor(model, T: float) -> float:
+    """The factor on mu at temperature T relative to the scene's own (derive/scene.py's linear
+    model of both magnets' remanence)."""
+    from derive.scene import T_REF
+    data = model.scene.data
+    ap = float(data["plate"].get("temperature_coefficient", 0.0))
+    at = float(data["top"].get("temperature_coefficient", 0.0))
+    T0 = float(data.get("temperature", T_REF))
+    f = (1 + ap * (T - T_REF)) * (1 + at * (T - T_REF))
+    return f / ((1 + ap * (T0 - T_REF)) * (1 + at * (T0 - T_REF)))
+
+
+def run_chunk(plan: Plan, indices) -> dict:
+    """The samples `indices` through the C chunk driver: {"points": [{i, t, status}], ...}."""
+    from runtime.simulate import run as sim
+    from runtime.physics.equilibrium import hover_height
+    from runtime.scan.chunk_c import drive, verified_lanes
+    from runtime.scan.runners import model_for
+    from runtime.integrate.budget import check_options, default_budget
+    model = model_for(plan.scene, plan.overrides)
+    S = samples(plan)
+    pt = model.part("full")
+    iy = pt.states.index("p_y")
+    method = plan.integrator
+    rows, points = [], []
+    for i in indices:
+        mu = model.param("mu") * (1 + S["strength"][i]) * temperature_factor(model, S["temperature"][i])
+        m = model.param("m") * (1 + S["mass"][i])
+        if not (m > 0 and math.isfinite(mu)):
+            points.append({"i": int(i), "t": 0.0, "status": "invalid"})
+            continue
+        p = model.with_params({"m": m, "mu": mu})
+        try:
+            z_s = hover_height(model, p)
+        except UserError:
+            points.append({"i": int(i), "t": 0.0, "status": "cannot_hover"})
+            continue
+        spin = float(S["spin"][i])
+        pv = model.pvals(p)
+        la = sim.launch(pt, z_s, float(S["tilt"][i]), float(S["offset"][i]), p, float(S["tilt_azimuth"][i]))
+        x0 = sim.launch_state(la, spin)
+        x0[iy] += m * float(S["velocity"][i])
+        T, what = sim.fastest_period(spin, pv, sim.vertical_stiffness(model, p, z_s, pv))
+        check_options(method, plan.t_end, plan.tol, None, 2, T, what)
+        box = sim.default_box(pt, z_s)
+        if box.excess(x0) > 0:
+            points.append({"i": int(i), "t": 0.0, "status": "left_box"})
+            continue
+        rows.append((int(i), x0, p, plan.tol * sim.state_scales(pt, z_s, spin, pv),
+                     (box.z_lo, box.z_hi, box.r_max), default_budget(method, plan.t_end, None, T)))
+    if rows:
+        bx = sim.default_box(pt, 1.0)
+        lanes = verified_lanes(model, pt, rows[0][1], rows[0][2], rows[0][3] / plan.tol)
+        res = drive(model.lib, method, pt.c_function("rhs"), None, plan.t_end, plan.tol, bx.ix, bx.iy,
+                    bx.iz, np.array([r[1] for r in rows]), np.array([r[2] for r in rows]),
+                    np.array([r[3] for r in rows]), np.zeros(len(rows)), np.array([r[4] for r in rows]),
+                    np.array([r[5] for r in rows]), rhs_lanes=lanes)
+        points += [{"i": r[0], "t": float(res["t_final"][k]), "status": res["status"][k]}
+                   for k, r in enumerate(rows)]
+    return {"points": points}
+
+
+def effects(S: Mapping[str, np.ndarray], ok: np.ndarray, dists: Mapping[str, Dist]) -> list[dict]:
+    """Per input with a spread: the success rate in each of BINS quantile bins of the input, and
+    its effect, the largest minus the smallest of those rates; ranked, largest effect first.
+    `noise`: the effect an input without influence stays below by chance in 95 % of samples, the
+    95 % point of the range of BINS normal rates, 3.9 binomial standard deviations of one bin's
+    rate (3.9 sqrt(p (1 - p) / (n / BINS))), so that a small sample's ranking is read as it is."""
+    out = []
+    p = float(np.mean(ok)) if len(ok) else 0.0
+    noise = RANGE95 * math.sqrt(p * (1 - p) / max(len(ok) / BINS, 1.0))
+    for name, d in dists.items():
+        if not d.spread:
+            continue
+        x = S[name]
+        edges = np.quantile(x, np.linspace(0, 1, BINS + 1))
+        idx = np.clip(np.searchsorted(edges, x, side="right") - 1, 0, BINS - 1)
+        rates = [float(ok[idx == b].mean()) if np.any(idx == b) else None for b in range(BINS)]
+        have = [r for r in rates if r is not None]
+        out.append({"input": name, "effect": (max(have) - min(have)) if have else 0.0, "noise": noise,
+                    "bins": [[float(edges[b]), float(edges[b + 1])] for b in range(BINS)],
+                    "success_rate": rates})
+    return sorted(out, key=lambda e: -e["effect"])
+
+
+def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n: int = 1000,
+                seed: int = 0, success_time: float | None = None, t_end: float | None = None,
+                integrator: str = DEFAULT, tol: float = 1e-8, workers: int = 1,
+                scheduler: str | None = None, quiet: bool = False) -> dict:
+    """The launch odds of the module docstring. given: input name -> a distribution spec (flags or
+    the scene's [launch] table, flags first); others take `defaults`."""
+    from runtime.scan import runners
+    from runtime.physics.equilibrium import hover_height
+    from runtime.physics.stability import stability_of
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= MAX_N:
+        raise UserError(f"--n {n} must be a whole number of launches from 1 to {MAX_N}")
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise UserError(f"--seed {seed} must be a whole number >= 0")
+    if "full" not in model.parts:
+        raise UserError("launch runs the full model: this scene's model.needs has no \"full\"; add it")
+    unknown = sorted(set(given) - set(INPUTS))
+    if unknown:
+        raise UserError(f"unknown launch input {unknown[0]!r}: use one of {', '.join(INPUTS)}")
+    z_s = hover_height(model)
+    interval = stability_of(model, z_s=z_s).spin_interval
+    dists = defaults(model, interval, z_s)
+    dists.update({k: parse_dist(k, v) for k, v in given.items()})
+    if "spin" not in dists:
+        raise UserError("the scene's top has no spin interval of linear stability at its hover height, "
+                        "so there is no default spin: pass --spin normal:MEAN,SD")
+    for key in ("mass", "strength"):
+        d = dists[key]
+        low = d.a - 8 * d.b if d.kind == "normal" else d.a
+        if low <= -1:
+            raise UserError(f"--{key} {d.text()} makes the {key} non-positive (a relative deviation "
+                            f"reaches {low:g} <= -1): give a smaller spread")
+    if dists["temperature"].kind != "fixed" or dists["temperature"].a != model.scene.data.get("temperature", 20.0):
+        d = dists["temperature"]
+        lo = d.a - 8 * d.b if d.kind == "normal" else d.a
+        if lo < -273.15:
+            raise UserError(f"--temperature {d.text()} reaches below absolute zero: give degC above -273.15")
+    air = has_friction(model) and model.pvals()["k_spin"] > 0
+    tau = 1 / model.pvals()["k_spin"] if air else None
+    if success_time is None:
+        success_time = t_end if t_end is not None else (0.5 * tau if air else None)
+    if success_time is None:          # no friction: a map's run length (runtime/scan/stability_map.py)
+        from runtime.scan.stability_map import PERIODS
+        from runtime.scan.physics import slow_period
+        success_time = PERIODS * slow_period(model, model.param("m"), z_s, float(dists["spin"].a))
+    if t_end is None:
+        t_end = success_time
+    for label, v in (("--success-time", success_time), ("--t-end", t_end)):
+        if not (math.isfinite(v) and v > 0):
+            raise UserError(f"{label} {v} must be a positive time")
+    if success_time > t_end:
+        raise UserError(f"--success-time {success_time:g} is longer than --t-end {t_end:g}: no run "
+                        "could succeed; make --t-end at least the success time")
+    method = resolve(integrator, tol, None)
+    if lookup(method).backend != "c" or lookup(method).fixed_step:
+        raise UserError(f"launch runs adaptive C integrators only (dop853, vern9, auto), not {integrator!r}")
+    plan = Plan(scene_ref, tuple(overrides), tuple((k, dists[k]) for k in INPUTS), int(n), int(seed),
+                float(t_end), method, float(tol))
+    n_chunks = max(1, workers) * 4 if (workers > 1 or scheduler) else 1
+    chunks = runners.split(list(range(plan.n)), n_chunks)
+    runners.remember(plan, model)
+    if scheduler:
+        client = runners.dask_client(scheduler)
+        try:
+            results = runners.run_dask(plan, chunks, client, quiet, fn=run_chunk, what="launch")
+        finally:
+            client.close()
+    elif workers > 1:
+        results = runners.run_processes(plan, chunks, workers, quiet, fn=run_chunk, what="launch")
+    else:
+        results = runners.run_serial(plan, chunks, quiet, fn=run_chunk, what="launch")
+    return summarize(plan, results, success_time, interval, z_s, tau)
+
+
+def summarize(plan: Plan, results, success_time: float, interval, z_s: float, tau) -> dict:
+    """The answer (docs/contract.md `launch`) from the chunks' points."""
+    pts = sorted((p for r in results for p in r["points"]), key=lambda p: p["i"])
+    t = np.array([p["t"] for p in pts])
+    status = [p["status"] for p in pts]
+    ok = t >= success_time * (1 - 1e-12)
+    k = int(ok.sum())
+    S = samples(plan)
+    lo, hi = wilson(k, plan.n)
+    q1, med, q3 = (float(v) for v in np.quantile(t, [0.25, 0.5, 0.75]))
+    dists = dict(plan.dists)
+    return {
+        "probability": k / plan.n, "probability_ci95": [lo, hi], "successes": k, "n": plan.n,
+        "seed": plan.seed, "success_time": success_time, "t_end": plan.t_end,
+        "flight_time": {"median": med, "q1": q1, "q3": q3, "censored": int(np.sum(t >= plan.t_end * (1 - 1e-12))),
+                        "values": t.tolist()},
+        "outcomes": {s: status.count(s) for s in sorted(set(status))},
+        "ranking": effects(S, ok, dists),
+        "inputs": {name: d.text() for name, d in plan.dists},
+        "z_s": z_s, "spin_interval": list(interval) if interval else None,
+        "spin_decay_time": tau, "integrator": plan.integrator, "tol": plan.tol,
+        "verdicts": ok.tolist(),
+    }
+
+
+def draw(result: dict, path, units, scene: str = ""):
+    """The flight-time histogram with the success time drawn in."""
+    from runtime.ui.plotting import pyplot, save_figure, style
+    plt = pyplot()
+    style()
+    tu = "s" if units.si else "time units"
+    fig, ax = plt.subplots(figsize=(7, 4))
+    ax.hist(result["flight_time"]["values"], bins=40, color="C0")
+    ax.axvline(result["success_time"], color="C3", ls="--", label=f"success time {result['success_time']:.4g} {tu}")
+    ax.set_xlabel(f"flight time ({tu})")
+    ax.set_ylabel("launches")
+    lo, hi = result["probability_ci95"]
+    ax.set_title(f"{scene}: {100 * result['probability']:.1f} % of {result['n']} launches float "
+                 f"(95 % CI {100 * lo:.1f}-{100 * hi:.1f} %)", fontsize="medium")
+    ax.legend(loc="best")
+    fig.tight_layout()
+    return save_figure(fig, path)

@@ -1,0 +1,71 @@
+"""The picture of a stability map (thesis fig. 3.8; runtime/scan/stability_map.py's ScanResult)."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from runtime.ui.human import Units
+from runtime.ui.plotting import pyplot, save_figure, style
+from runtime.scan.grid import UNITS
+
+
+NO_HOVER = "no_hover_height"     # the scan's status of a point with no equilibrium
+NO_HOVER_COLOUR = "0.75"          # light grey: outside viridis, which runs from purple to yellow
+
+
+def _edges(v: np.ndarray) -> np.ndarray:
+    if v.size == 1:
+        d = abs(v[0]) * 0.05 or 0.5
+        return np.array([v[0] - d, v[0] + d])
+    mid = 0.5 * (v[1:] + v[:-1])
+    return np.concatenate([[2 * v[0] - mid[0]], mid, [2 * v[-1] - mid[-1]]])
+
+
+def draw(res, path: str | Path, title: str = "", units: Units | None = None) -> Path:
+    """The map (thesis fig. 3.8): colour = t_survived / t_end (1 = levitating, marked with dots;
+    grey where the top cannot hover and nothing was run)
+    over spin (x) and the other axis (y); the linear spin interval as vertical lines (for a mass
+    scan, one pair per mass row: it moves with the mass). units: the scene's (runtime/ui/human.py;
+    default SI)."""
+    u = units or Units(si=True)
+    plt = pyplot()
+    style()
+    frac = (res.t_survived / res.t_end).T
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    mesh = ax.pcolormesh(_edges(res.spins), _edges(res.others), frac, cmap="viridis", vmin=0, vmax=1,
+                         shading="flat")
+    fig.colorbar(mesh, ax=ax, label="t_survived / t_end  (1 = levitating)")
+    from matplotlib.colors import ListedColormap
+    from matplotlib.patches import Patch
+    extra = []
+    no_hover = np.array([[st == NO_HOVER for st in row] for row in res.status], bool).T
+    if no_hover.any():      # not simulated: its own colour, never the "fell at once" of the colour map
+        ax.pcolormesh(_edges(res.spins), _edges(res.others), np.ma.masked_where(~no_hover, no_hover),
+                      cmap=ListedColormap([NO_HOVER_COLOUR]), shading="flat")
+        extra.append(Patch(color=NO_HOVER_COLOUR, label="cannot hover (no equilibrium: not simulated)"))
+    S, O = np.meshgrid(res.spins, res.others, indexing="ij")
+    ax.plot(S[res.levitating], O[res.levitating], "o", ms=4, mfc="w", mec="k", mew=0.6, ls="none",
+            label="levitating")
+    los = [li["spin_interval"][0] if li["spin_interval"] else np.nan for li in res.linear]
+    his = [li["spin_interval"][1] if li["spin_interval"] else np.nan for li in res.linear]
+    if res.axis == "mass":   # the interval moves with the mass: vertical lines per row
+        ye = _edges(res.others)
+        label = "linear stability interval (thesis 3.3)"
+        for j in range(res.others.size):
+            if np.isfinite(los[j]):
+                ax.vlines([los[j], his[j]], ye[j], ye[j + 1], colors="r", lw=1.5, label=label)
+                label = None
+    elif np.isfinite(los[0]):
+        ax.axvline(los[0], color="r", lw=1.5, label="linear stability interval (thesis 3.3)")
+        ax.axvline(his[0], color="r", lw=1.5)
+    ax.grid(False)
+    ax.set_xlim(_edges(res.spins)[[0, -1]])
+    ax.set_xlabel(u.label("spin", UNITS["spin"]))
+    ax.set_ylabel(u.label(res.axis, UNITS[res.axis]))
+    runs = f"{res.spins.size} x {res.others.size} runs of t_end = {u.time(res.t_end)} each"
+    ax.set_title(f"{title}\n{runs}" if title else f"stability map: {res.axis} vs spin, {runs}")
+    handles, _ = ax.get_legend_handles_labels()
+    ax.legend(handles=handles + extra, loc="upper right", fontsize=8, framealpha=0.8)
+    fig.tight_layout()
+    return save_figure(fig, path, "--out")

@@ -1,0 +1,82 @@
+"""One point of a map, set up and run: runtime.simulate's pieces (initial state, box, time scale,
+scales; thesis 3.1-3.3) shared by the Python path (`point_run`) and the C chunk driver
+(runtime/scan/chunk_c.py), so that both integrate the same problem."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from runtime.integrate.methods import DEFAULT
+
+N_OUT = 100            # dense-output samples per run: only the survival matters here
+
+
+@dataclass(frozen=True)
+class PointSetup:
+    """Everything one run of a grid point needs (runtime.simulate.run's pieces, thesis 3.1-3.3)."""
+    part: object
+    p: np.ndarray
+    z_s: float
+    box: object                 # runtime.integrate.trajectory.Box
+    time_scale: float
+    time_scale_what: str
+    h: float | None             # fixed-step integrators: the step; adaptive: None
+    x0: np.ndarray
+    scale: np.ndarray           # state magnitudes: atol = tol * scale
+
+
+def point_setup(model, spin: float, tilt: float = 0.0, height: float = 0.0,
+                integrator: str = DEFAULT, h: float | None = None, p: np.ndarray | None = None,
+                z_s: float | None = None, memo: dict | None = None) -> PointSetup:
+    """The initial state (runtime.simulate.run.initial_state: the Legendre map of the generated rhs),
+    box, fastest time scale and state scales of one grid point, started at z_0 = z_s (1 + height)
+    (thesis 3.3.2); shared by `point_run` and the C chunk driver (runtime/scan/chunk_c.py), so that both
+    integrate the same problem. memo: a dict shared by the points of a chunk, which keeps the
+    spin-free inputs (hover height, vertical stiffness, box, the simulate.Launch with its Legendre
+    map) per parameters, hover height, tilt and height: the same numbers, computed once."""
+    from runtime.simulate import run as sim
+    from runtime.integrate.methods import lookup
+    p = model.p if p is None else p
+    memo = {} if memo is None else memo
+    site_key = (np.asarray(p).tobytes(), z_s)
+    site = memo.get(site_key)
+    if site is None:
+        pt, pvals = model.part("full"), model.pvals(p)
+        if z_s is None:
+            from runtime.physics.equilibrium import hover_height
+            z_s = hover_height(model, p)
+        site = memo[site_key] = (pt, pvals, z_s, sim.vertical_stiffness(model, p, z_s, pvals),
+                                 sim.default_box(pt, z_s))
+    pt, pvals, z_s, stiffness, box = site
+    launch_key = (site_key, tilt, height)
+    la = memo.get(launch_key)
+    if la is None:
+        la = memo[launch_key] = sim.launch(pt, z_s * (1.0 + height), tilt, 0.0, p)
+    T, what = sim.fastest_period(spin, pvals, stiffness)
+    if lookup(integrator).fixed_step and h is None:
+        h = T / 100
+    return PointSetup(pt, p, z_s, box, T, what, h, sim.launch_state(la, spin),
+                      sim.state_scales(pt, z_s, spin, pvals))
+
+
+def point_run(model, spin: float, tilt: float = 0.0, height: float = 0.0, t_end: float = 1.0,
+              integrator: str = DEFAULT, tol: float | None = 1e-9, h: float | None = None,
+              p: np.ndarray | None = None, z_s: float | None = None, n_out: int = N_OUT) -> dict:
+    """runtime.simulate.run.simulate from the same pieces (initial state, box, scales, integrator,
+    summary), with two differences: the hover height z_s may be given (a scan finds it once per
+    mass, not once per point: it costs more than a short run), and the top may start displaced to
+    z_0 = z_s (1 + height), at rest vertically; box and checks stay centred on z_s (thesis 3.3.2).
+    With height = 0 the result is simulate()'s, number for number (tests/test_scan.py)."""
+    from runtime.simulate import run as sim
+    from runtime.integrate.run import integrate
+    from runtime.integrate.methods import lookup, resolve
+    integrator = resolve(integrator, tol, h)     # "auto": the method simulate() would run
+    entry = lookup(integrator)
+    su = point_setup(model, spin, tilt, height, integrator, h, p, z_s)
+    res = integrate(su.part, su.x0, t_end, method=integrator, tol=None if entry.fixed_step else tol,
+                    h=su.h, p=su.p, box=su.box, n_out=n_out, scale=su.scale,
+                    monitor_energy=entry.monitors_energy, time_scale=su.time_scale,
+                    time_scale_what=su.time_scale_what)
+    return sim.summarize(su.part, res, su.x0, su.p, su.z_s, su.box, spin, tilt, 0.0, t_end,
+                         integrator, tol, su.h, None)

@@ -1,0 +1,262 @@
+"""The grid points of a stability map and the runners that share the grid out (runtime/scan/stability_map.py).
+
+Every grid point is one nonlinear run of the full model from runtime.simulate.run's pieces
+(`point_setup`: initial state, box, time scale, scales; thesis 3.1-3.3). The grid is dealt into
+chunks (`split`); a chunk runs in one thread (`run_chunk`): for the C integrators through the C
+chunk driver (runtime/scan/chunk_c.py: one C call per chunk, no Python per run, no output samples, no
+energy monitor), otherwise (or with engine "python") one `point_run` per point, which is
+runtime.simulate.run.simulate number for number. Both give the same status and survival time per point
+(tests/test_scan_driver.py).
+
+Runners: serial, local processes (concurrent.futures.ProcessPoolExecutor, spawn; each worker loads
+the model once in its initializer, and the compiled C library is found in the content-hash cache
+of runtime/model/cbuild.py, so no worker recompiles), or a dask.distributed cluster (optional dependency,
+the `cluster` extra; the workers need this package and the scene file at the same path). Runs are
+deterministic, so all three give the same map.
+"""
+from __future__ import annotations
+
+import os
+import sys
+import threading
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+
+
+from runtime.ui import progress
+from runtime.errors import UserError
+from derive.faults import die_at
+from runtime.scan.points import point_run  # noqa: F401 (re-exported)
+
+CONNECT_TIMEOUT_S = 20  # how long to try to reach a dask scheduler (and to wait for a worker)
+MAX_POOL_RESTARTS = 3   # new local pools after lost workers, per scan
+
+
+@dataclass(frozen=True)
+class Common:
+    """What every grid point shares (picklable: sent to the workers)."""
+    scene: str                  # a scene name or an absolute path
+    overrides: tuple[str, ...]  # the --set strings
+    axis: str
+    t_end: float
+    integrator: str
+    tol: float | None
+    base_tilt: float
+    hover: tuple = ()           # z_s per value of the other axis (None: that mass does not hover)
+    h: float | None = None      # fixed-step integrators: None = runtime.simulate.run's default step
+    engine: str = "c"           # "c": the chunk driver (C integrators); "python": run_point per point
+
+
+_MODELS: dict = {}
+_LOCK = threading.Lock()
+
+
+def model_for(scene: str, overrides: Sequence[str]):
+    """The loaded model of (scene, overrides), once per process (and per dask worker)."""
+    key = (scene, tuple(overrides))
+    with _LOCK:
+        model = _MODELS.get(key)
+        if model is None:
+            from derive.scene import SceneError, load_scene
+            from runtime.model.load import load_model
+            try:
+                sc = load_scene(scene, list(overrides))
+            except SceneError as exc:
+                raise UserError(str(exc)) from None
+            model = load_model(sc, list(overrides))
+            _ = model.lib  # compile or load from the content-hash cache now, not inside a timed run
+            _MODELS[key] = model
+        return model
+
+
+def remember(common: Common, model) -> None:
+    """Register an already loaded model (serial runs reuse the caller's)."""
+    with _LOCK:
+        _MODELS[(common.scene, tuple(common.overrides))] = model
+
+
+def _init_worker(scene: str, overrides: tuple[str, ...]) -> None:
+    model_for(scene, overrides)
+    import runtime.scan.chunk_c  # noqa: F401  (import once here, not inside the first timed chunk)
+
+
+def task_point(common: Common, task: tuple[int, int, float, float]) -> dict:
+    """The keyword arguments of point_setup / point_run for one task (i, j, spin, other)."""
+    _, j, spin, other = task
+    model = model_for(common.scene, common.overrides)
+    return {"spin": spin, "tilt": other if common.axis == "tilt" else common.base_tilt,
+            "height": other if common.axis == "height" else 0.0, "integrator": common.integrator,
+            "h": common.h, "z_s": common.hover[j],
+            "p": model.with_params({"m": other}) if common.axis == "mass" else model.p}
+
+
+def run_point(common: Common, task: tuple[int, int, float, float]) -> dict:
+    """One grid point (i_spin, j_other, spin, other) -> its survival (a thesis 3.1-3.2 run), through
+    runtime.simulate.run's Python path (one integrate call with dense output and energy monitor)."""
+    model = model_for(common.scene, common.overrides)
+    r = point_run(model, t_end=common.t_end, tol=common.tol, **task_point(common, task))
+    return {"i": task[0], "j": task[1], "levitating": bool(r["levitating"]),
+            "t_survived": float(r["t_survived"]), "status": r["status"], "rhs_evals": r["rhs_evals"]}
+
+
+def run_chunk(common: Common, tasks: Sequence[tuple]) -> dict:
+    """A chunk of grid points in this thread: through the C chunk driver (runtime/scan/chunk_c.py, one C
+    call, no Python per run) for the C integrators unless common.engine is "python", else one
+    `run_point` per point. Returns the points, the chunk's CPU time (this thread's) and the method
+    that ran (common.integrator, or for "auto" the one runtime.integrate.methods.resolve picks)."""
+    from runtime.integrate.methods import lookup, resolve
+    common = replace(common, integrator=resolve(common.integrator, common.tol, common.h))
+    model = model_for(common.scene, common.overrides)
+    cpu0 = time.thread_time()
+    if common.engine == "c" and lookup(common.integrator).backend == "c":
+        from runtime.scan.chunk_c import run_chunk_c
+        points = run_chunk_c(model, common, [(t, task_point(common, t)) for t in tasks])
+        engine = "c"
+    else:
+        points = [run_point(common, t) for t in tasks]
+        engine = "python"
+    return {"points": points, "cpu_s": time.thread_time() - cpu0, "engine": engine,
+            "method": common.integrator}
+
+
+def _run_chunk_packed(args: tuple) -> dict:
+    fn, common, chunk = args
+    return fn(common, chunk)
+
+
+def split(tasks: Sequence[tuple], n_chunks: int) -> list[list[tuple]]:
+    """`tasks` dealt into at most n_chunks chunks, every n_chunks-th task into the same one, so
+    that each chunk samples the whole grid and the chunks take about the same time."""
+    n = max(1, min(int(n_chunks), len(tasks)))
+    return [list(tasks[c::n]) for c in range(n)] if tasks else []
+
+
+def run_serial(common: Common, chunks: Sequence[list], quiet: bool = False, fn=None,
+               what: str = "scan") -> list[dict]:
+    """The chunks one after the other in this process (progress: runtime/ui/progress.py, points).
+    fn(common, chunk) -> {"points": [...], ...} runs one chunk (default run_chunk: a map's; the
+    launch Monte Carlo, runtime/scan/launch_odds.py, brings its own); `common` needs .scene and .overrides."""
+    fn = fn or run_chunk
+    out = []
+    with progress.task(what, total=sum(map(len, chunks)), quiet=quiet) as tick:
+        for chunk in chunks:
+            out.append(fn(common, chunk))
+            tick(len(chunk))
+    return out
+
+
+def run_worker_chunk(fn, common: Common, tasks: Sequence[tuple]) -> dict:
+    """fn(common, tasks) (run_chunk, or the launch Monte Carlo's) in a local worker process, with
+    the kill tests' injected fault point."""
+    die_at("scan.worker_chunk")
+    return fn(common, tasks)
+
+
+def usable_cores() -> int:
+    """The cores this process may run on (its CPU affinity), at least 1."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):
+        return max(1, os.cpu_count() or 1)
+
+
+def run_processes(common: Common, chunks: Sequence[list], workers: int,
+                  quiet: bool = False, fn=None, what: str = "scan") -> list[dict]:
+    """Local processes (spawn: no fork of a process holding BLAS threads or a loaded library);
+    fn as in run_serial. A worker that dies (killed, out of memory) breaks the pool: the chunks
+    not yet returned run again in a new pool, at most MAX_POOL_RESTARTS times; runs are
+    deterministic, so the answer is the one a serial run gives."""
+    fn = fn or run_chunk
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+    from concurrent.futures.process import BrokenProcessPool
+    ctx = multiprocessing.get_context("spawn")
+    pending = dict(enumerate(chunks))
+    done: dict[int, dict] = {}
+    restarts = 0
+    with progress.task(f"{what} ({workers} processes)", total=sum(map(len, chunks)), quiet=quiet) as tick:
+        while pending:
+            try:
+                with ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
+                                         initargs=(common.scene, tuple(common.overrides))) as ex:
+                    futures = {ex.submit(run_worker_chunk, fn, common, c): k for k, c in pending.items()}
+                    for fut in as_completed(futures):
+                        k = futures[fut]
+                        done[k] = fut.result()
+                        del pending[k]
+                        tick(len(done[k]["points"]))
+            except BrokenProcessPool:
+                restarts += 1
+                if restarts > MAX_POOL_RESTARTS:
+                    raise UserError(f"{what}: worker processes died {restarts} times (killed, or out of "
+                                    "memory?): run with fewer --workers, or --workers 1") from None
+                print(f"levitron: a {what} worker process died: running its {len(pending)} unfinished "
+                      "chunks again in a new pool", file=sys.stderr)
+    return [done[k] for k in sorted(done)]
+
+
+def dask_client(address: str, timeout: float | None = None):
+    """A dask.distributed Client of the scheduler at `address` with at least one worker, within
+    `timeout` seconds (default CONNECT_TIMEOUT_S) for each step; one-line UserErrors when dask is
+    missing, nothing answers, something that is not a dask scheduler answers (its handshake would
+    never end: the connection runs in a daemon thread, given up after the timeout), or the
+    cluster has no worker."""
+    try:
+        from dask.distributed import Client
+    except ImportError:
+        raise UserError("--scheduler needs dask.distributed, which is not installed: "
+                        "pip install 'levitron[cluster]' (or 'dask[distributed]'), or use --workers N "
+                        "for local processes") from None
+    timeout = CONNECT_TIMEOUT_S if timeout is None else float(timeout)
+    box: dict = {}
+
+    def connect() -> None:
+        try:
+            box["client"] = Client(address, timeout=timeout)
+        except Exception as exc:    # noqa: BLE001 (handed to the caller; one that gave up drops it)
+            box["error"] = exc
+
+    th = threading.Thread(target=connect, name="levitron-dask-connect", daemon=True)
+    th.start()
+    th.join(timeout + 5.0)
+    if th.is_alive():
+        raise UserError(f"no dask scheduler answered at {address!r} within {timeout + 5:g} s (is it a "
+                        "dask scheduler? another service accepts the connection but never answers "
+                        "dask's handshake): give the address `dask scheduler` prints, or use --workers N")
+    if "error" in box and not isinstance(box["error"], (OSError, TimeoutError, ValueError)):
+        raise box["error"]
+    if "error" in box:
+        raise UserError(f"cannot reach the dask scheduler at {address!r} ({box['error']}); start one "
+                        "with `dask scheduler` and workers with `dask worker ADDRESS`, or use "
+                        "--workers N") from None
+    client = box["client"]
+    try:
+        client.wait_for_workers(1, timeout=timeout)
+    except TimeoutError:
+        client.close()
+        raise UserError(f"the dask scheduler at {address!r} has no workers (waited {timeout:g} s): "
+                        f"start some with `dask worker {address}`, or use --workers N") from None
+    return client
+
+
+def dask_threads(client) -> int:
+    """The number of worker threads of the cluster (at least 1)."""
+    return max(1, sum(client.nthreads().values()))
+
+
+def run_dask(common: Common, chunks: Sequence[list], client, quiet: bool = False, fn=None,
+             what: str = "scan") -> list[dict]:
+    """The chunks as tasks of a dask.distributed cluster (`client`, from dask_client). Every worker
+    loads the model once (runtime.scan.runners.model_for, per process) and runs its chunks through the
+    C chunk driver, which releases the GIL: threads of one worker run in parallel. fn as in
+    run_serial."""
+    from dask.distributed import as_completed
+    fn = fn or run_chunk
+    out = []
+    with progress.task(f"{what} (dask)", total=sum(map(len, chunks)), quiet=quiet) as tick:
+        futures = client.map(_run_chunk_packed, [(fn, common, c) for c in chunks], pure=False)
+        for fut in as_completed(futures):
+            out.append(fut.result())
+            tick(len(out[-1]["points"]))
+    return out

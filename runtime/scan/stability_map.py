@@ -1,0 +1,309 @@
+"""Stability maps: which (spin, tilt | mass | height) starts keep the top up (docs/contract.md `scan`).
+
+The thesis's fig. 3.8 (after Gans, Jones & Nelson / Gans et al.) shows the stable trajectories as a
+function of spin and tilt. Here every grid point is one nonlinear run of the full model
+(`point_run`: runtime.simulate.run.simulate from the same pieces, thesis 3.1-3.2: the C integrators
+over the generated Hamilton equations 2.3.10-2.3.16), started at the vertically stable hover height
+z_s (thesis 3.3.2-3.3.3, found once per mass rather than once per point), and a point
+"levitates" when the top stays inside the box of runtime.simulate.run (|z - z_s| and the radial offset
+at most z_s / 2) for the whole run. (A top started exactly upright on the axis, tilt 0, stays on
+the invariant set of thesis 3.2.1 by symmetry and "levitates" at any spin: the tilt-0 row of a tilt
+map is that symmetric solution, not a stability statement.) The second axis is one of
+
+* ``tilt``:   the initial tilt of the symmetry axis (rad), as in `levitron simulate --tilt`;
+* ``mass``:   the top's mass (kg). m is a runtime parameter of the generated model (no new
+  derivation); each mass starts at its own hover height z_s(m) (the lowest vertically stable root of
+  m g + mu Phi_2(z) = 0, thesis 3.3.2). Masses the plate cannot hold stably are marked not levitating
+  without a run (status "no_hover_height");
+* ``height``: the initial vertical displacement as a FRACTION of z_s: the top starts at rest (apart
+  from its spin) at z_0 = z_s (1 + height). A fraction, not a length, because scenes may be
+  dimensionless (docs/contract.md); |height| < 1/2 keeps the start inside the box.
+
+For the mass and height axes the runs start with the small tilt ``base_tilt`` (default 0.01 rad):
+an upright top on the axis stays there by symmetry, whatever its linear stability, so a seed is
+needed for an unstable transverse mode to grow.
+
+Default run length: ``PERIODS`` (3) periods of the slowest motion at the relative equilibrium, i.e.
+the slowest transverse (precession/wobble) mode of the 8-D linearisation after thesis 3.3.5
+(runtime.physics.eigen_route.transverse_matrix) at a spin inside the linear interval, or the vertical bounce
+2 pi sqrt(m / (mu Phi_3)) (thesis 3.3.3) if that is slower. For the thesis plate with a 51.5 g top
+the slow mode is ~1.8 rad/s (3.5 s), so the default is ~10.5 s; a top that is linearly unstable
+typically leaves the box within a few e-folding times, and over three slow periods even weak
+instabilities near the ends of the interval (growth ~0.5/s from a 0.01 rad seed) show. A mass
+scan takes the median slow period over the masses that some spin stabilises (near the critical
+height z_c the vertical bounce period diverges, so the longest would be unbounded).
+
+The linear stability interval (thesis 3.3, runtime.physics.stability.analyse: exact discriminant route) is
+reported beside the map, per value of the second axis (it changes only with the mass), together
+with the fraction of grid points where the nonlinear run agrees with it.
+
+This module orchestrates the map (`scan`, `ScanResult`). The pieces, one idea each:
+runtime/scan/grid.py (the axes and their ranges), runtime/scan/runners.py (one grid point, the
+chunks of the grid, and the serial, process and dask runners), runtime/scan/chunk_c.py (a chunk in one
+C call: runtime/csrc/scan_driver.c), runtime/scan/physics.py (the linear interval and the slow
+period), runtime/scan/plot.py (the picture).
+
+cpu_s is the CPU time of the chunks (the threads that ran them: inputs and integration, not the
+start of worker processes), to compare with rhs_evals times the cost of one right-hand side.
+"""
+from __future__ import annotations
+
+import math
+import sys
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from runtime.errors import UserError
+from runtime.integrate.methods import DEFAULT
+from runtime.scan.grid import AXES, MAX_POINTS, UNITS, check_axis
+from runtime.scan.physics import linear_interval, reference_spin, slow_period
+from runtime.scan.points import N_OUT
+from runtime.scan.runners import (
+    Common,
+    dask_client,
+    dask_threads,
+    remember,
+    run_dask,
+    run_processes,
+    run_serial,
+    split,
+    usable_cores,
+)
+from runtime.ui.validate import axis_values, count, real
+
+PERIODS = 3            # default run length in slow periods (see the module docstring)
+BASE_TILT = 0.01       # rad, the seed tilt of mass and height scans
+CHUNKS_PER_WORKER = 8  # chunks per worker (process or dask thread): the last ones balance the load
+ENGINES = ("c", "python")
+
+
+@dataclass
+class ScanResult:
+    axis: str
+    spins: np.ndarray
+    others: np.ndarray
+    levitating: np.ndarray
+    t_survived: np.ndarray
+    status: list
+    linear: list                  # per value of the other axis: linear_interval dicts
+    t_end: float
+    t_end_basis: dict
+    wall_s: float
+    runner: dict
+    rhs_evals: int
+    cpu_s: float
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def success(self) -> bool:
+        """scipy-style: every point that could be run ended normally (reached t_end or left the
+        box); points without a hover height were not run and do not count."""
+        return all(st in ("completed", "left_box", "no_hover_height", "") for row in self.status for st in row)
+
+    @property
+    def message(self) -> str:
+        bad = sorted({st for row in self.status for st in row} -
+                     {"completed", "left_box", "no_hover_height", ""})
+        return (f"levitating at {100 * float(self.levitating.mean()):.3g}% of {self.levitating.size} "
+                f"points (spin x {self.axis}, t_end {self.t_end:.4g} s each)"
+                + (f"; runs ended by {', '.join(bad)}" if bad else ""))
+
+    def __repr__(self) -> str:
+        return (f"ScanResult(spin {self.spins.size} x {self.axis} {self.others.size}, levitating "
+                f"{int(self.levitating.sum())} of {self.levitating.size}, t_end={self.t_end:.4g} s, "
+                f"success={self.success})")
+
+    def agreement(self) -> float | None:
+        """Fraction of grid points where 'levitating' equals 'spin inside the linear interval'."""
+        pred = np.zeros_like(self.levitating)
+        have = False
+        for j, lin in enumerate(self.linear):
+            iv = lin.get("spin_interval")
+            if iv is not None:
+                have = True
+                pred[:, j] = (self.spins >= iv[0]) & (self.spins <= iv[1])
+        if not have:
+            return None
+        return float(np.mean(pred == self.levitating))
+
+    def as_dict(self) -> dict:
+        scene_lin = self.linear[0] if self.axis != "mass" else self.extra.get("scene_linear")
+        return {
+            "axes": ["spin", self.axis],
+            "grid": {"spin": self.spins.tolist(), self.axis: self.others.tolist()},
+            "units": {"spin": UNITS["spin"], self.axis: UNITS[self.axis]},
+            "spin_hz": (self.spins / (2 * math.pi)).tolist(),
+            "levitating": self.levitating.tolist(),
+            "t_survived": self.t_survived.tolist(),
+            "status": self.status,
+            "fraction_levitating": float(self.levitating.mean()),
+            "spin_interval": None if scene_lin is None else scene_lin["spin_interval"],
+            "linear": {
+                "spin_interval": [lin["spin_interval"] for lin in self.linear],
+                "z_s": [lin["z_s"] for lin in self.linear],
+                "note": "thesis 3.3 (exact discriminant route), one entry per value of the "
+                        f"{self.axis} axis; null where no spin stabilises",
+                "agreement": self.agreement(),
+            },
+            "t_end": self.t_end,
+            "t_end_basis": self.t_end_basis,
+            "wall_s": self.wall_s,
+            "cpu_s": self.cpu_s,
+            "rhs_evals": self.rhs_evals,
+            "points": int(self.levitating.size),
+            "runner": self.runner,
+            **self.extra.get("public", {}),
+        }
+
+
+def check_run_options(model, axis: str, spins: np.ndarray, others: np.ndarray, hover: Sequence,
+                      t_end: float, integrator: str, tol: float | None, h: float | None) -> None:
+    """Refuse, before any run, options that no run of the grid can honour
+    (runtime.integrate.budget.check_options at the fastest time scale of the grid: the largest |spin|,
+    each hover height; fixed-step runs without --step take 1/100 of their own fastest period)."""
+    from runtime.integrate.methods import lookup
+    from runtime.simulate.run import time_scale
+    from runtime.integrate.budget import check_options
+    spin = float(np.abs(spins).max())
+    fastest = None
+    for j, z_s in enumerate(hover):
+        if z_s is None:
+            continue
+        p = model.with_params({"m": others[j]}) if axis == "mass" else model.p
+        T = time_scale(model, p, z_s, spin, model.pvals(p))
+        fastest = T if fastest is None or T[0] < fastest[0] else fastest
+    if fastest is None:
+        return
+    T, what = fastest
+    fixed = lookup(integrator).fixed_step
+    check_options(integrator, t_end, None if fixed else tol, (h or T / 100) if fixed else h,
+                  N_OUT, T, what)
+
+
+def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axis: str,
+         others: np.ndarray, t_end: float | None = None, integrator: str = DEFAULT,
+         tol: float | None = 1e-9, workers: int = 1, scheduler: str | None = None,
+         base_tilt: float = BASE_TILT, h: float | None = None, quiet: bool = False,
+         engine: str = "c", scheduler_timeout: float | None = None) -> ScanResult:
+    """Run the map (module docstring). scene_ref/overrides let the workers load the same model.
+    engine "c": chunks of points through the C chunk driver (runtime/scan/chunk_c.py) when the integrator
+    is a C one; "python": one runtime.simulate.run-style run per point (the reference path)."""
+    from runtime.physics.equilibrium import hover_height
+    if axis not in AXES:
+        raise UserError(f"unknown axis {axis!r}; scan over one of --tilt, --mass, --height")
+    spins = axis_values(spins, "spin", MAX_POINTS)
+    others = axis_values(others, axis, MAX_POINTS)
+    check_axis(axis, others)
+    workers = count(workers, "--workers")
+    if spins.size * others.size > MAX_POINTS:
+        raise UserError(f"{spins.size * others.size} grid points is too many (at most {MAX_POINTS}); "
+                        "use fewer points per axis")
+    if scheduler is not None and workers != 1:
+        raise UserError("pass either --workers N (local processes) or --scheduler ADDRESS (dask), not both")
+    if t_end is not None:
+        t_end = real(t_end, "--t-end", positive=True, unit="s", what="run length")
+    if engine not in ENGINES:
+        raise UserError(f"unknown engine {engine!r}; choose one of: {', '.join(ENGINES)}")
+    base_tilt = real(base_tilt, "--base-tilt", max_abs=math.pi, unit="rad")
+    if axis != "tilt" and base_tilt == 0:
+        raise UserError("--base-tilt 0 launches every point on the invariant set (thesis 3.2.1), "
+                        f"where the ideal top stays at any spin: the map would test nothing; give a "
+                        f"small tilt, e.g. --base-tilt {BASE_TILT}")
+    t_wall = time.perf_counter()
+
+    # the hover heights (runtime.physics.equilibrium.hover_height, thesis 3.3.2-3.3.3) and the linear picture
+    status_pre: dict[int, str] = {}
+    if axis == "mass":
+        lin, hover = [], []
+        for j, m in enumerate(others):
+            p = model.with_params({"m": m})
+            try:
+                hover.append(hover_height(model, p))
+            except UserError:
+                hover.append(None)
+                status_pre[j] = "no_hover_height"
+            lin.append(linear_interval(model, m))
+        scene_lin = linear_interval(model)
+    else:
+        lin = [linear_interval(model)] * len(others)
+        hover = [hover_height(model)] * len(others)
+        scene_lin = lin[0]
+
+    # the default run length: PERIODS slow periods of the scene's top (mass scan: the median over
+    # the masses that some spin stabilises, else over those that hover)
+    if t_end is None:
+        cands = [li for j, li in enumerate(lin) if j not in status_pre and li["z_s"] is not None]
+        good = [li for li in cands if li["spin_interval"] is not None]
+        if axis != "mass":
+            pool = cands
+        else:
+            pool = good or cands
+        if not pool:
+            raise UserError("no value of the scan has a stable hover height to set a run length "
+                            "from; pass --t-end T or change the --mass range (see `levitron equilibrium`)")
+        rows = sorted((slow_period(model, li["mass"], li["z_s"], reference_spin(li["spin_interval"], spins)),
+                       reference_spin(li["spin_interval"], spins), li["mass"]) for li in pool)
+        T, ref, m_ref = rows[(len(rows) - 1) // 2]
+        t_end = PERIODS * T
+        basis = {"periods": PERIODS, "slow_period_s": T, "reference_spin": ref, "mass": m_ref,
+                 "note": "default: periods of the slowest motion at the relative equilibrium "
+                         "(transverse modes, thesis 3.3.5, or the vertical bounce, 3.3.3)"}
+    else:
+        basis = {"given": True}
+
+    from runtime.integrate.methods import resolve
+    requested, integrator = integrator, resolve(integrator, tol, h)    # "auto": the method it picks
+    check_run_options(model, axis, spins, others, hover, float(t_end), integrator, tol, h)
+    common = Common(scene_ref, tuple(overrides), axis, float(t_end), integrator, tol,
+                    float(base_tilt), tuple(hover), h, engine)
+    tasks = [(i, j, float(s), float(o)) for i, s in enumerate(spins) for j, o in enumerate(others)
+             if j not in status_pre]
+    if scheduler is not None:
+        client = dask_client(scheduler, scheduler_timeout)
+        try:
+            threads = dask_threads(client)
+            chunks = split(tasks, CHUNKS_PER_WORKER * threads)
+            runner = {"kind": "dask", "scheduler": scheduler, "threads": threads}
+            chunk_results = run_dask(common, chunks, client, quiet)
+        finally:
+            client.close()
+    elif workers > 1 and len(tasks) > 1:
+        n = min(workers, len(tasks), usable_cores())
+        if n < min(workers, len(tasks)):
+            print(f"levitron: --workers {workers} capped at the {n} cores this process may use (the "
+                  "runs are CPU-bound: more processes than cores only add switching)", file=sys.stderr)
+        chunks = split(tasks, CHUNKS_PER_WORKER * n)
+        runner = {"kind": "processes", "workers": n}
+        chunk_results = run_processes(common, chunks, n, quiet)
+    else:
+        chunks = split(tasks, CHUNKS_PER_WORKER)
+        runner = {"kind": "serial", "workers": 1}
+        remember(common, model)
+        chunk_results = run_serial(common, chunks, quiet)
+    runner["chunks"] = len(chunks)
+    runner["engine"] = "+".join(sorted({c["engine"] for c in chunk_results})) or None
+    results = [r for c in chunk_results for r in c["points"]]
+
+    shape = (spins.size, others.size)
+    lev = np.zeros(shape, bool)
+    ts = np.zeros(shape)
+    status = [["" for _ in others] for _ in spins]
+    for i in range(spins.size):
+        for j, why in status_pre.items():
+            status[i][j] = why
+    rhs = 0
+    cpu = sum(c["cpu_s"] for c in chunk_results)
+    for r in results:
+        lev[r["i"], r["j"]] = r["levitating"]
+        ts[r["i"], r["j"]] = r["t_survived"]
+        status[r["i"]][r["j"]] = r["status"]
+        rhs += int(r["rhs_evals"] or 0)
+    return ScanResult(axis, spins, others, lev, ts, status, lin, float(t_end), basis,
+                      time.perf_counter() - t_wall, runner, rhs, cpu,
+                      extra={"scene_linear": scene_lin,
+                             "public": {"integrator": integrator, "integrator_requested": requested,
+                                        "tol": tol,
+                                        "base_tilt": base_tilt if axis != "tilt" else None}})

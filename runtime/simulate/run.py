@@ -1,0 +1,234 @@
+"""One trajectory of the top from its stable hover height (docs/contract.md `simulate`; thesis 3.1-3.3).
+
+The initial state: the centre of mass at (offset, 0, z_s), where z_s is the vertically stable root
+of m g + mu Phi_2(z) = 0 (thesis eqs. 3.3.2-3.3.3, from runtime.physics.equilibrium); the symmetry axis
+n tilted by `tilt` rad towards the azimuth `azimuth` (rad from +x towards +y; default pi/2, i.e.
+towards +y), n = (sin tilt cos az, sin tilt sin az, cos tilt) (Tait-Bryan angles of thesis 3.2.2:
+vartheta = asin(sin tilt cos az), phi = atan2(sin tilt sin az, cos tilt); z-x-z Euler angles of
+2.1.9: phi = az + pi/2, theta = tilt); at rest except
+for the spin: angular velocity omega = spin * n, i.e. a right-handed spin of `spin` rad/s about n
+(zeta_dot = -spin in Tait-Bryan angles, where omega_3 = -(zeta_dot + phi_dot sin vartheta),
+thesis 3.2.9; psi_dot = +spin in z-x-z angles, 2.1.10). The momenta are built from these
+velocities through the model's own Legendre map: the coordinate rows of the generated rhs are
+dq/dt = M(q)^-1 p (thesis eq. 2.3.8), linear in p, so p = M(q) qdot is solved from that map.
+With Tait-Bryan angles this gives p_zeta = C (zeta_dot + phi_dot sin vartheta) = -C omega_3.
+
+The default launch is perturbed: a launch with tilt 0 and offset 0 lies exactly on the invariant
+set I (thesis 3.2.1), where the ideal top stays at any spin, so it tests no stability. Without a
+given tilt the axis starts DEFAULT_TILT rad from the vertical (Gans et al. perturb by 0.001-0.005
+rad); a launch given exactly on I is run but answers `levitating: null` with the reason.
+
+With air friction (a scene with decay times, derive/friction.py) the run goes on until the top
+falls or t_end (default FRICTION_T_END_TAUS spin decay times), and the answer carries a `flight`
+block (runtime/physics/friction.py): the flight time, the spin at which the top fell and the adiabatic
+prediction tau ln(omega_0 / sigma_lo).
+
+The run stops when the top leaves a box that scales with the hover height (default half-width
+z_s / 2 in z and radially; scenes may be dimensionless, so never a fixed length).
+
+Conserved quantities (Noether): the energy H (thesis 2.3.9 / 3.2.11), p_zeta (zeta is cyclic) and
+the z-component of the total angular momentum L_z = x p_y - y p_x + sum_a p_a d a/d alpha, where
+d a/d alpha is the change of the angles under a rotation of the whole top by alpha about the lab z
+axis (R_bs -> Q_z(alpha) R_bs), computed here from the rotation matrices of derive/kinematics.py.
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from runtime.physics.equilibrium import hover_height
+from runtime.errors import UserError
+from runtime.ui.validate import count, real
+from runtime.integrate.run import Box, Result, integrate
+from runtime.integrate.methods import AUTO, DEFAULT, auto_note, lookup, resolve
+
+from runtime.physics import friction as flight
+
+from runtime.simulate import trajectory_file
+from runtime.ui.human import Units
+from runtime.physics.stability import stability_of
+from runtime.simulate.invariants import (  # noqa: F401 (the run's pieces, by name: sim.X)
+    angular_momentum_z, deviations, invariants, largest_deviation, rows_of, spin_momentum, spin_rate, tilt_of)
+from runtime.simulate.plot import draw, draw_flight
+from runtime.simulate.rotations import (  # noqa: F401
+    ANGLES, DEFAULT_AZIMUTH, SPIN_ANGLE, TILT_ANGLE, angle_generator_z, coordinates_of, rotation_bs,
+    rotation_bs_derivatives, tilt_angles)
+from runtime.simulate.start import (  # noqa: F401
+    DEFAULT_TILT, UNTESTED, Launch, coordinate_names, default_box, fastest_period,
+    initial_state, launch, launch_state, legendre_map, on_invariant_set, state_scales, time_scale,
+    vertical_stiffness)
+
+# ---------------------------------------------------------------- rotations (numpy mirrors of
+# derive/kinematics.py: passive elementary matrices of thesis eqs. 2.1.6-2.1.8 and 3.2.3-3.2.5)
+
+
+# ---------------------------------------------------------------- initial state
+
+
+FRICTION_T_END_TAUS = 5.0        # default run length with friction: 5 tau, the spin falls by e^5
+
+
+def default_t_end(model, part: str, p) -> float:
+    """1 time unit, or FRICTION_T_END_TAUS spin decay times for a full model in air."""
+    if part == "full" and flight.has_friction(model) and model.pvals(p)["k_spin"] > 0:
+        return FRICTION_T_END_TAUS / model.pvals(p)["k_spin"]
+    return 1.0
+
+
+def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
+             t_end: float | None = None,
+             integrator: str = DEFAULT, tol: float | None = 1e-9, box: float | None = None,
+             plot: str | Path | None = None, part: str = "full", h: float | None = None,
+             n_out: int = 2000, params: dict | None = None,
+             azimuth: float = DEFAULT_AZIMUTH, save: str | Path | None = None,
+             trajectory: bool = False) -> dict:
+    """Run one trajectory and answer docs/contract.md's `simulate` keys (plus details).
+
+    box: the half-width of the box (m), default z_s / 2. params: parameter values overriding the
+    scene's for this run (names of manifest.json `parameters`). integrator: a name of
+    runtime/integrate/methods.py or "auto" (resolved from tol: the answer's `integrator` is the
+    method that ran, `integrator_requested` the name asked for, `integrator_choice` auto's reason).
+    tilt None: DEFAULT_TILT for the full model, 0 for the reduced one; t_end None: default_t_end.
+    save: write the samples to a .csv or .npz file (runtime/simulate/trajectory_file.py; `saved` names it);
+    trajectory: also return them as out["trajectory"] = {column: array} (not JSON: the API's)."""
+    if save is not None:
+        trajectory_file.check_path(save)
+    spin = real(spin, "--spin", unit="rad/s")
+    tilt = None if tilt is None else real(tilt, "--tilt", max_abs=math.pi, unit="rad")
+    offset = real(offset, "--offset", unit="m")
+    azimuth = real(azimuth, "--tilt-azimuth", unit="rad")
+    t_end = None if t_end is None else real(t_end, "--t-end (run length)", unit="s")  # its range: check_options
+    n_out = count(n_out, "--n-out")
+    tol = None if tol is None else real(tol, "--tol (tolerance)")
+    box = None if box is None else real(box, "--box", positive=True, unit="m")
+    h = None if h is None else real(h, "--step", positive=True, unit="s")
+    pt = model.part(part)
+    p = model.with_params(params or {})
+    pvals = model.pvals(p)
+    tilt_default = tilt is None
+    if tilt is None:
+        tilt = DEFAULT_TILT if coordinates_of(pt) is not None else 0.0
+    if t_end is None:
+        t_end = default_t_end(model, part, p)
+    requested, integrator = integrator, resolve(integrator, tol, h)   # "auto": dop853 or vern9
+    entry = lookup(integrator)
+    z_s = hover_height(model, p)
+    T, what = time_scale(model, p, z_s, spin, pvals)
+    bx = default_box(pt, z_s, box)
+    if entry.fixed_step and h is None:
+        h = T / 100
+    x0 = initial_state(pt, z_s, spin, tilt, offset, p, azimuth)
+    if bx.excess(x0) > 0:
+        raise UserError(f"the initial state is already outside the box (offset {offset} m vs half-width "
+                        f"{bx.z_hi - z_s:.4g} m); pass a smaller --offset or a larger --box")
+    scale = state_scales(pt, z_s, spin, pvals)
+    res = integrate(pt, x0, t_end, method=integrator, tol=tol if not entry.fixed_step else None,
+                    h=h, p=p, box=bx, n_out=n_out, scale=scale,
+                    monitor_energy=entry.monitors_energy, time_scale=T, time_scale_what=what)
+    air = part == "full" and flight.has_friction(model)
+    fl = None
+    if air:
+        st = stability_of(model, p=p, z_s=z_s)    # the ideal top's interval at z_s (rates set to 0)
+        fl = flight.flight(model, pt, p, res, x0, spin, z_s, t_end, st.spin_interval,
+                           lambda X: spin_rate(pt, X, pvals["C"], p))
+    out = summarize(pt, res, x0, p, z_s, bx, spin, tilt, offset, t_end, integrator, tol, h, plot, fl)
+    out["tilt_azimuth"] = azimuth
+    out["tilt_default"] = tilt_default and coordinates_of(pt) is not None
+    if on_invariant_set(pt, tilt, offset):
+        out["levitating"], out["untested"] = None, UNTESTED
+    out["integrator_requested"] = requested
+    if requested == AUTO:
+        out["integrator_choice"] = auto_note(tol)
+    if save is not None or trajectory:
+        names, table = trajectory_table(pt, res, p)
+        out["saved"] = str(trajectory_file.write(save, names, table)) if save is not None else None
+        if trajectory:
+            out["trajectory"] = {n: table[:, i] for i, n in enumerate(names)}
+    return out
+
+
+def trajectory_table(pt, res: Result, p) -> tuple[list[str], np.ndarray]:
+    """The samples of a run as columns (runtime/simulate/trajectory_file.py): t, the states, energy, L_z,
+    L_n and tilt, each derived column from a generated function in one C call."""
+    X = np.atleast_2d(res.X)
+    H = res.energy if res.energy is not None else rows_of(pt, "energy", X, p)[:, 0]
+    inv = invariants(pt, X, p)
+    cols = [np.asarray(res.t, float)[:, None], X, np.asarray(H, float)[:, None], inv,
+            tilt_of(pt, X)[:, None]]
+    return ["t", *pt.states, "energy", "L_z", "L_n", "tilt"], np.hstack(cols)
+
+
+def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, integrator, tol, h,
+              plot, fl: dict | None = None) -> dict:
+    """simulate's answer. fl: the flight block of a run in air (runtime/physics/friction.py); there the energy
+    drift is the residual of the energy balance and L.n is compared with its exponential decay."""
+    s = list(pt.states)
+    X = res.X
+    H = res.energy if res.energy is not None else rows_of(pt, "energy", X, p)[:, 0]
+    H0 = pt.energy(x0, p)
+    names = pt.model.param_names if hasattr(pt, "model") else []
+    pv = dict(zip(names, p))
+    terms = abs(H0)
+    if names:
+        terms = max(terms, pv["m"] * abs(pv["g"]) * z_s + 0.5 * pv["C"] * spin ** 2)
+    drift = np.abs(H - H0) / terms
+    z = X[:, s.index("z")]
+    r = np.hypot(X[:, s.index("x")], X[:, s.index("y")]) if "x" in s else np.zeros(len(X))
+    exc = np.sqrt(r ** 2 + (z - z_s) ** 2)
+    tilt_t = tilt_of(pt, X)
+    inv = invariants(pt, np.vstack([x0, res.x_final]), p)
+    lz0, lz1 = float(inv[0, 0]), float(inv[1, 0])
+    pz = ([float(x0[s.index("p_zeta")]), float(res.x_final[s.index("p_zeta")])]
+          if "p_zeta" in s else None)
+    out = {
+        "levitating": res.status == "completed",
+        "t_survived": res.t_final,
+        "max_excursion": float(exc.max()),
+        "energy_drift": float(drift.max()),
+        "rhs_evals": res.rhs_evals,
+        "wall_s": res.wall_s,
+        "final_state": {k: float(v) for k, v in zip(s, res.x_final)},
+        "status": res.status,
+        "message": res.message,
+        "z_s": z_s,
+        "spin": {"rad_s": spin, "hz": spin / (2 * math.pi), "rpm": spin * 60 / (2 * math.pi)},
+        "tilt": tilt, "offset": offset, "t_end": t_end,
+        "integrator": integrator, "backend": res.backend,
+        "tol": tol if not lookup(integrator).fixed_step else None,
+        "step": h if lookup(integrator).fixed_step else None,
+        "box": {"z": [bx.z_lo, bx.z_hi], "r_max": bx.r_max if math.isfinite(bx.r_max) else None},
+        "max_height_deviation": float(np.abs(z - z_s).max()),
+        "max_radial_offset": float(r.max()),
+        "max_tilt": float(tilt_t.max()),
+        "energy_drift_final": float((H[-1] - H0) / terms) if len(H) else None,
+        "energy_scale": terms,
+        "conserved": {
+            "energy": [float(H0), float(pt.energy(res.x_final, p))],
+            "L_z": [lz0, lz1],
+            "p_zeta": pz,
+        },
+        "conserved_max_deviation": deviations(pt, X, x0, p, pv, spin, float(drift.max())),
+        "part": pt.name if hasattr(pt, "name") else None,
+        "coordinates": coordinates_of(pt),
+        "plot": None,
+    }
+    if fl is not None:
+        out["flight"] = fl
+        out["fall_spin"], out["t_cross"] = fl["fall_spin"], fl["t_cross"]
+        out["energy_drift"] = fl["energy_balance"]
+        out["energy_drift_final"] = None
+        out["conserved_max_deviation"] = {"energy_balance": fl["energy_balance"], "L_z": None,
+                                          "L_n_decay": fl["spin_decay_deviation"]}
+    if plot:
+        scene = getattr(getattr(pt, "model", None), "scene", None)
+        u = Units.of_scene(scene) if scene is not None else Units.of(pv.get("g"))
+        name = getattr(scene, "name", "")
+        if fl is not None:
+            out["plot"] = str(draw_flight(res.t, z - z_s, spin_rate(pt, X, pv["C"], p), plot, out, u, name))
+        else:
+            out["plot"] = str(draw(res.t, z - z_s, r, tilt_t, plot, out, u, name))
+    return out
+
+

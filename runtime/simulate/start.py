@@ -1,0 +1,176 @@
+"""The launch: the initial state at the hover height (thesis 3.3.2-3.3.3) with the axis tilted and
+the top spinning, its momenta through the model's own Legendre map (thesis eq. 2.3.8), the box the
+top must stay in, the state scales and the fastest time scale (runtime/simulate/run.py's module
+docstring has the conventions). A launch with tilt 0 and offset 0 lies on the invariant set
+(thesis 3.2.1) and tests nothing: DEFAULT_TILT is the default perturbation."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from runtime.errors import UserError
+from runtime.integrate.run import Box
+from runtime.simulate.rotations import (ANGLES, DEFAULT_AZIMUTH, SPIN_ANGLE, coordinates_of,
+                                        rotation_bs, rotation_bs_derivatives, tilt_angles)
+
+
+def coordinate_names(part) -> list[str]:
+    return [s for s in part.states if not s.startswith("p_")]
+
+
+def legendre_map(part, q: np.ndarray, p=None) -> tuple[np.ndarray, np.ndarray]:
+    """The coordinate rows of the generated rhs at coordinates q, dq/dt = M(q)^-1 p_q (thesis eq.
+    2.3.8), linear in the momenta: (f0, Minv), f0 the rows at p_q = 0 and Minv's column k the rows
+    at p_k = 1 less f0."""
+    s = list(part.states)
+    coords = coordinate_names(part)
+    ic = [s.index(c) for c in coords]
+    ip = [s.index("p_" + c) for c in coords]
+    base = np.zeros(len(s))
+    base[ic] = q
+    f0 = part.rhs(base, p)[ic]
+    cols = []
+    for k in ip:
+        e = base.copy()
+        e[k] = 1.0
+        cols.append(part.rhs(e, p)[ic] - f0)
+    return f0, np.array(cols).T
+
+
+DEFAULT_TILT = 0.005             # rad: the default launch's tilt (module docstring)
+
+
+def on_invariant_set(part, tilt: float, offset: float) -> bool:
+    """A full-model launch with tilt 0 and offset 0: on I (thesis 3.2.1), where it tests nothing."""
+    return coordinates_of(part) is not None and tilt == 0.0 and offset == 0.0
+
+
+UNTESTED = ("the launch lies on the invariant set (tilt 0, offset 0; thesis 3.2.1), where the ideal "
+            "top stays at any spin: this run tests no stability; give a tilt (e.g. --tilt "
+            f"{DEFAULT_TILT}) or an offset")
+
+
+@dataclass(frozen=True)
+class Launch:
+    """The spin-free part of the initial state (module docstring): the coordinates q, the Legendre
+    map at q (legendre_map: f0, Minv) and the spin angle's rate per unit spin, 1 / along. A map
+    (runtime/scan/runners.py) computes it once per launch position and tilt for all its spins."""
+    q: np.ndarray
+    f0: np.ndarray
+    Minv: np.ndarray
+    i_spin: int          # the spin angle's index among the coordinates
+    along: float         # omega . n per unit rate of the spin angle: +1 or -1
+    ic: list             # the state indices of the coordinates ...
+    ip: list             # ... and of their momenta
+    n: int               # the number of states
+
+
+def launch(part, z_s: float, tilt: float = 0.0, offset: float = 0.0, p=None,
+           azimuth: float = DEFAULT_AZIMUTH) -> Launch:
+    """The Launch of initial_state(part, z_s, spin, tilt, offset, p, azimuth), for every spin."""
+    s = list(part.states)
+    coords = coordinate_names(part)
+    q = np.zeros(len(coords))
+    q[coords.index("z")] = z_s
+    kind = coordinates_of(part)
+    if kind is None:
+        if tilt != 0.0 or offset != 0.0:
+            raise UserError("the reduced model keeps the top upright on the axis: use tilt = offset "
+                            "= 0, or simulate the full model (--part full)")
+        # as Tait-Bryan on the invariant set: omega_3 = -zeta_dot
+        i_spin, along = coords.index("zeta"), -1.0
+    else:
+        q[coords.index("x")] = offset
+        angles = tilt_angles(kind, tilt, azimuth)
+        for a, v in zip(ANGLES[kind], angles):
+            q[coords.index(a)] = v
+        n = rotation_bs(kind, angles)[:, 2]
+        want = [math.sin(tilt) * math.cos(azimuth), math.sin(tilt) * math.sin(azimuth), math.cos(tilt)]
+        if not np.allclose(n, want, atol=1e-14, rtol=0):
+            raise AssertionError(f"tilt convention broken: n = {n}")
+        # the spin angle's rate that gives omega . n = spin, omega = vee(dR/da R^T) a_dot
+        ispin = ANGLES[kind].index(SPIN_ANGLE[kind])
+        W = rotation_bs_derivatives(kind, angles)[ispin] @ rotation_bs(kind, angles).T
+        along = float(np.dot([W[2, 1], W[0, 2], W[1, 0]], n))    # = +1 or -1
+        i_spin = coords.index(SPIN_ANGLE[kind])
+    f0, Minv = legendre_map(part, q, p)
+    return Launch(q, f0, Minv, i_spin, along, [s.index(c) for c in coords],
+                  [s.index("p_" + c) for c in coords], len(s))
+
+
+def launch_state(la: Launch, spin: float) -> np.ndarray:
+    """The initial state of a Launch at `spin`: the momenta solve dq/dt = M(q)^-1 p (thesis eq.
+    2.3.8) for the coordinate rates, at rest except for the spin angle's rate spin / along."""
+    qdot = np.zeros(len(la.q))
+    qdot[la.i_spin] = spin / la.along       # the reduced model: along = -1, exactly -spin
+    x = np.zeros(la.n)
+    x[la.ic] = la.q
+    x[la.ip] = np.linalg.solve(la.Minv, qdot - la.f0)
+    return x
+
+
+def initial_state(part, z_s: float, spin: float, tilt: float = 0.0, offset: float = 0.0,
+                  p=None, azimuth: float = DEFAULT_AZIMUTH) -> np.ndarray:
+    """The state of the module docstring, in the part's state order."""
+    return launch_state(launch(part, z_s, tilt, offset, p, azimuth), spin)
+
+
+def state_scales(part, z_s: float, spin: float, pvals: dict) -> np.ndarray:
+    """Magnitudes of the state components (for tolerances and errors): lengths z_s, angles 1 rad,
+    linear momenta m sqrt(g z_s), angular momenta max(C |spin|, A sqrt(g / z_s))."""
+    m, g, A, C = pvals["m"], pvals["g"], pvals["A"], pvals["C"]
+    out = []
+    for name in part.states:
+        if name in ("x", "y", "z"):
+            out.append(z_s)
+        elif name in ("p_x", "p_y", "p_z"):
+            out.append(m * math.sqrt(g * z_s))
+        elif name.startswith("p_"):
+            out.append(max(C * abs(spin), A * math.sqrt(g / z_s)))
+        else:
+            out.append(1.0)
+    return np.array(out)
+
+
+def default_box(part, z_s: float, half_width: float | None = None) -> Box:
+    """|z - z_s| <= b and sqrt(x^2 + y^2) <= b, b = z_s / 2 unless given."""
+    b = 0.5 * z_s if half_width is None else float(half_width)
+    if not (b > 0 and math.isfinite(b)):
+        raise UserError(f"box half-width {half_width} must be a positive length (m)")
+    s = list(part.states)
+    ix = s.index("x") if "x" in s else -1
+    iy = s.index("y") if "y" in s else -1
+    return Box(iz=s.index("z"), z_lo=z_s - b, z_hi=z_s + b, ix=ix, iy=iy,
+               r_max=b if ix >= 0 else math.inf)
+
+
+def fastest_period(spin: float, pvals: dict, stiffness: float) -> tuple[float, str]:
+    """The fastest time scale of the motion near the hover height, and what it is: the shortest of
+    the spin period 2 pi / |spin|, the nutation period 2 pi A / (C |spin|) and the vertical bounce
+    2 pi sqrt(m / U''), U'' = mu Phi_3(z_s) (thesis 3.3.3). In the scene's units of time (scenes
+    may be dimensionless): never a fixed number of seconds."""
+    periods = []
+    if stiffness > 0:
+        periods.append((2 * math.pi * math.sqrt(pvals["m"] / stiffness),
+                        "the vertical bounce period 2 pi sqrt(m / U'')"))
+    if spin:
+        periods.append((2 * math.pi / abs(spin), f"the spin period 2 pi / |spin| at spin {spin:g}"))
+        periods.append((2 * math.pi * pvals["A"] / (pvals["C"] * abs(spin)),
+                        f"the nutation period 2 pi A / (C |spin|) at spin {spin:g}"))
+    periods = [(T, what) for T, what in periods if math.isfinite(T) and T > 0]
+    if not periods:
+        raise UserError("the top has no spin and no vertical stiffness at its hover height: no time "
+                        "scale to integrate over")
+    return min(periods)
+
+
+def vertical_stiffness(model, p, z_s: float, pvals: dict) -> float:
+    """U''(z_s) = mu Phi_3(z_s), the vertical stiffness at the hover height (thesis 3.3.3)."""
+    return pvals["mu"] * float(model.onaxis(z_s, p)[3])
+
+
+def time_scale(model, p, z_s: float, spin: float, pvals: dict) -> tuple[float, str]:
+    """fastest_period at the hover height z_s of parameters p."""
+    return fastest_period(spin, pvals, vertical_stiffness(model, p, z_s, pvals))

@@ -1,0 +1,51 @@
+"""A run's samples as data: the table of a trajectory and its files (CSV, .npz).
+
+Columns: t, the part's states (SI, manifest.json order), then the derived columns the summary
+uses, each from a generated function over all samples (runtime/simulate/run.py): energy (H, thesis
+2.3.9), L_z and L_n (derive/invariants.py) and tilt (the angle of the axis n = R_bs e_z to the
+vertical, rad). `write` picks the format by the suffix; `read` gives the same table back.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from runtime.errors import UserError
+
+SUFFIXES = (".csv", ".npz")
+
+
+def check_path(path) -> Path:
+    """The --save path: a .csv or .npz file in an existing folder (one-line UserError otherwise)."""
+    p = Path(path)
+    if p.suffix.lower() not in SUFFIXES:
+        raise UserError(f"--save {path}: give a file ending in {' or '.join(SUFFIXES)} (CSV or numpy's .npz)")
+    if p.is_dir():
+        raise UserError(f"--save {path} is a folder: give a file name ending in .csv or .npz")
+    if not p.parent.exists():
+        raise UserError(f"--save {path}: the folder {p.parent} does not exist: create it first")
+    return p
+
+
+def write(path, names: list[str], table: np.ndarray) -> Path:
+    """The table (rows: samples, columns: names) to path.csv (a header line, %.17g: every double
+    round-trips) or path.npz (one array per column)."""
+    p = check_path(path)
+    if p.suffix.lower() == ".csv":
+        np.savetxt(p, table, delimiter=",", header=",".join(names), comments="", fmt="%.17g")
+    else:
+        np.savez(p, **{n: table[:, i] for i, n in enumerate(names)})
+    return p
+
+
+def read(path) -> tuple[list[str], np.ndarray]:
+    """(names, table) of a file that `write` wrote."""
+    p = Path(path)
+    if p.suffix.lower() == ".csv":
+        with open(p) as fh:
+            names = fh.readline().strip().split(",")
+        return names, np.atleast_2d(np.loadtxt(p, delimiter=",", skiprows=1))
+    with np.load(p) as data:
+        names = list(data.files)
+        return names, np.column_stack([data[n] for n in names])

@@ -1,0 +1,63 @@
+"""Checks of the numbers a user gives, shared by the command line and the Python API.
+
+The CLI parses its options and passes them to the same functions that levitron_api calls
+(runtime.simulate.run.simulate, runtime.scan.stability_map.scan, runtime.design.fit.fit); those functions check their
+inputs here, so a NaN spin or a negative sigma is refused with the same one-line UserError
+whichever way it came in.
+"""
+from __future__ import annotations
+
+import math
+import numbers
+
+import numpy as np
+
+from runtime.errors import UserError
+
+
+def real(value, label: str, *, positive: bool = False, nonnegative: bool = False,
+         max_abs: float | None = None, unit: str = "", what: str = "") -> float:
+    """`value` as a finite float (not a bool, not text), within the given bounds; `what` names the
+    quantity in the messages ("run length", "tolerance")."""
+    noun = f"{what} in {unit}" if what and unit else what or (f"number in {unit}" if unit else "number")
+    unit = f" {unit}" if unit else ""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise UserError(f"{label} = {value!r} is not a number: give a finite number{unit}")
+    v = float(value)
+    if not math.isfinite(v):
+        raise UserError(f"{label} = {v} must be a finite number{unit}")
+    if positive and not v > 0:
+        raise UserError(f"{label} = {v:g} must be a positive {noun}")
+    if nonnegative and v < 0:
+        raise UserError(f"{label} = {v:g}{unit} must not be negative")
+    if max_abs is not None and abs(v) > max_abs:
+        raise UserError(f"{label} = {v:g}{unit} is beyond +-{max_abs:g}{unit}: give a smaller value")
+    return v
+
+
+def count(value, label: str, *, low: int = 1, high: int | None = None) -> int:
+    """A whole number (not a bool, not a float) in [low, high]."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise UserError(f"{label} = {value!r} must be a whole number")
+    n = int(value)
+    if n < low or (high is not None and n > high):
+        top = f" and at most {high}" if high is not None else ""
+        raise UserError(f"{label} = {n} must be at least {low}{top}")
+    return n
+
+
+def axis_values(values, label: str, max_points: int) -> np.ndarray:
+    """The values of one grid axis: a non-empty 1-D sequence of finite numbers."""
+    if isinstance(values, (str, bytes)) or np.isscalar(values):
+        raise UserError(f"{label}: give a list of numbers, not {values!r}")
+    try:
+        arr = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise UserError(f"{label}: every value must be a number") from None
+    if arr.ndim != 1 or arr.size == 0:
+        raise UserError(f"{label}: give a non-empty list of numbers (got shape {arr.shape})")
+    if arr.size > max_points:
+        raise UserError(f"{label}: {arr.size} values is too many (at most {max_points})")
+    if not np.all(np.isfinite(arr)):
+        raise UserError(f"{label}: every value must be finite (got {arr[~np.isfinite(arr)][0]})")
+    return arr
