@@ -134,24 +134,13 @@ def start(model, part_name: str, su: Setup):
 
 
 def plan(quick: bool) -> list[tuple[str, str, list[float]]]:
-    """(integrator, "tol" or "h", values) from coarse to fine; "h" values are fractions of T_fast."""
-    if quick:
-        return [("rk4", "h", [1 / 30, 1 / 300]), ("dop853", "tol", [1e-6, 1e-10]),
-                ("gauss4", "h", [1 / 30]), ("euler", "h", [1 / 300]),
-                ("cvodes", "tol", [1e-6]), ("casadi-rk", "h", [1 / 30]),
-                ("scipy-dop853", "tol", [1e-6])]
-    tols = [1e-4, 1e-6, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12]
-    fine = [10.0 ** (-k / 2) for k in range(8, 31)]   # 1e-4 .. 1e-15
-    return [("euler", "h", [1 / 30, 1 / 300, 1 / 3000, 1 / 30000]),
-            ("rk4", "h", [1 / 3, 1 / 10, 1 / 30, 1 / 100, 1 / 300, 1 / 1000]),
-            ("dop853", "tol", fine),
-            ("vern9", "tol", fine),
-            ("gauss4", "h", [1 / 3, 1 / 10, 1 / 30, 1 / 100, 1 / 300]),
-            ("midpoint", "h", [1 / 30, 1 / 300, 1 / 3000]),
-            ("cvodes", "tol", tols),
-            ("casadi-rk", "h", [1 / 30, 1 / 100, 1 / 300]),
-            ("casadi-collocation", "h", [1 / 3, 1 / 10, 1 / 30]),
-            ("scipy-dop853", "tol", tols)]
+    """(integrator, "tol" or "h", values) from coarse to fine, read from the integrator table
+    (runtime/integrate/methods.py: each entry's sweep and quick_sweep); "h" values are fractions of
+    T_fast. The quick plan runs C integrators first, as the full one does."""
+    from runtime.integrate.methods import TABLE
+    rows = [(m.name, "h" if m.fixed_step else "tol", list(m.quick_sweep if quick else m.sweep))
+            for m in TABLE]
+    return [r for r in rows if r[2]]
 
 
 def reference(part, x0, su: Setup, scale):

@@ -28,20 +28,33 @@ class Integrator:
     monitors_energy: bool = False  # the energy is evaluated after every step (in C)
     c_id: int | None = None      # the value of enum lev_method (C methods only)
     engine: str | None = None    # the casadi plugin or scipy's solve_ivp method name
+    sweep: tuple = ()            # the bench's values, coarse to fine: tol, or h as a fraction of T_fast
+    quick_sweep: tuple = ()      # the same for `levitron bench --quick`
+
+
+# the bench's sweeps (runtime/bench/work_precision.py reads them from the table)
+TOLS = (1e-4, 1e-6, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12)
+FINE_TOLS = tuple(10.0 ** (-k / 2) for k in range(8, 31))      # 1e-4 .. 1e-15
 
 
 TABLE: tuple[Integrator, ...] = (
-    Integrator("euler", "c", True, monitors_energy=True, c_id=0),          # thesis eq. 3.1.2
-    Integrator("rk4", "c", True, monitors_energy=True, c_id=1),            # thesis eqs. 3.1.3-3.1.4
-    Integrator("dop853", "c", False, monitors_energy=True, c_id=2),
-    Integrator("gauss4", "c", True, needs_jacobian=True, monitors_energy=True, c_id=3),
-    Integrator("midpoint", "c", True, needs_jacobian=True, monitors_energy=True, c_id=4),
+    Integrator("euler", "c", True, monitors_energy=True, c_id=0,           # thesis eq. 3.1.2
+               sweep=(1 / 30, 1 / 300, 1 / 3000, 1 / 30000), quick_sweep=(1 / 300,)),
+    Integrator("rk4", "c", True, monitors_energy=True, c_id=1,             # thesis eqs. 3.1.3-3.1.4
+               sweep=(1 / 3, 1 / 10, 1 / 30, 1 / 100, 1 / 300, 1 / 1000), quick_sweep=(1 / 30, 1 / 300)),
+    Integrator("dop853", "c", False, monitors_energy=True, c_id=2, sweep=FINE_TOLS,
+               quick_sweep=(1e-6, 1e-10)),
+    Integrator("gauss4", "c", True, needs_jacobian=True, monitors_energy=True, c_id=3,
+               sweep=(1 / 3, 1 / 10, 1 / 30, 1 / 100, 1 / 300), quick_sweep=(1 / 30,)),
+    Integrator("midpoint", "c", True, needs_jacobian=True, monitors_energy=True, c_id=4,
+               sweep=(1 / 30, 1 / 300, 1 / 3000)),
     Integrator("dop853-fixed", "c", True, monitors_energy=True, c_id=5),
-    Integrator("vern9", "c", False, monitors_energy=True, c_id=6),         # Verner 9(8), 2010
-    Integrator("cvodes", "casadi", False, engine="cvodes"),
-    Integrator("casadi-rk", "casadi", True, engine="rk"),
-    Integrator("casadi-collocation", "casadi", True, engine="collocation"),
-    Integrator("scipy-dop853", "scipy", False, engine="DOP853"),
+    Integrator("vern9", "c", False, monitors_energy=True, c_id=6, sweep=FINE_TOLS),  # Verner 9(8), 2010
+    Integrator("cvodes", "casadi", False, engine="cvodes", sweep=TOLS, quick_sweep=(1e-6,)),
+    Integrator("casadi-rk", "casadi", True, engine="rk", sweep=(1 / 30, 1 / 100, 1 / 300),
+               quick_sweep=(1 / 30,)),
+    Integrator("casadi-collocation", "casadi", True, engine="collocation", sweep=(1 / 3, 1 / 10, 1 / 30)),
+    Integrator("scipy-dop853", "scipy", False, engine="DOP853", sweep=TOLS, quick_sweep=(1e-6,)),
     Integrator("scipy-rk45", "scipy", False, engine="RK45"),
     Integrator("scipy-radau", "scipy", False, engine="Radau"),
     Integrator("scipy-bdf", "scipy", False, engine="BDF"),
@@ -49,6 +62,12 @@ TABLE: tuple[Integrator, ...] = (
 )
 
 AUTO = "auto"
+DEFAULT_STEP_FRACTION = 1 / 100   # a fixed-step run without a step takes this part of its fastest period
+
+
+def default_step(fastest_period: float) -> float:
+    """The step of a fixed-step run given none: DEFAULT_STEP_FRACTION of the fastest period."""
+    return DEFAULT_STEP_FRACTION * fastest_period
 # `auto`'s crossover: vern9 for tol < AUTO_VERN9_BELOW_TOL, dop853 for tol >= it. Measured by
 # `make bench` on the full model of four scenes (reports/{thesis_stable,ring_magnet,loop,square}/
 # bench_full.csv, the work-precision rows; bench_cheapest_full.csv, the cheapest run per error

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from runtime.integrate.methods import DEFAULT
+from runtime.integrate.methods import DEFAULT, default_step
 
 N_OUT = 100            # dense-output samples per run: only the survival matters here
 
@@ -55,7 +55,7 @@ def point_setup(model, spin: float, tilt: float = 0.0, height: float = 0.0,
         la = memo[launch_key] = sim.launch(pt, z_s * (1.0 + height), tilt, 0.0, p)
     T, what = sim.fastest_period(spin, pvals, stiffness)
     if lookup(integrator).fixed_step and h is None:
-        h = T / 100
+        h = default_step(T)
     return PointSetup(pt, p, z_s, box, T, what, h, sim.launch_state(la, spin),
                       sim.state_scales(pt, z_s, spin, pvals))
 

@@ -57,7 +57,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from runtime.errors import UserError
-from runtime.integrate.methods import DEFAULT
+from runtime.integrate.methods import DEFAULT, default_step
 from runtime.scan.grid import AXES, MAX_POINTS, UNITS, check_axis
 from runtime.scan.physics import linear_interval, reference_spin, slow_period
 from runtime.scan.points import N_OUT
@@ -179,7 +179,7 @@ def check_run_options(model, axis: str, spins: np.ndarray, others: np.ndarray, h
         return
     T, what = fastest
     fixed = lookup(integrator).fixed_step
-    check_options(integrator, t_end, None if fixed else tol, (h or T / 100) if fixed else h,
+    check_options(integrator, t_end, None if fixed else tol, (h or default_step(T)) if fixed else h,
                   N_OUT, T, what)
 
 

@@ -42,7 +42,7 @@ from runtime.physics.equilibrium import hover_height
 from runtime.errors import UserError
 from runtime.ui.validate import count, real
 from runtime.integrate.run import Box, Result, integrate
-from runtime.integrate.methods import AUTO, DEFAULT, auto_note, lookup, resolve
+from runtime.integrate.methods import AUTO, DEFAULT, auto_note, default_step, lookup, resolve
 
 from runtime.physics import friction as flight
 
@@ -118,7 +118,7 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
     T, what = time_scale(model, p, z_s, spin, pvals)
     bx = default_box(pt, z_s, box)
     if entry.fixed_step and h is None:
-        h = T / 100
+        h = default_step(T)
     x0 = initial_state(pt, z_s, spin, tilt, offset, p, azimuth)
     if bx.excess(x0) > 0:
         raise UserError(f"the initial state is already outside the box (offset {offset} m vs half-width "
