@@ -30,7 +30,7 @@ def test_the_three_registries_have_the_same_kinds():
     assert set(BUILDERS) == kinds
     assert set(FIELDS) == kinds
     # one file per kind on each side, named after the kind
-    for folder in ("derive/plates", "derive/plates/symbolic", "runtime/plates"):
+    for folder in ("derive/plates", "derive/plates/symbolic", "runtime/physics/plates"):
         files = {p.stem for p in (ROOT / folder).glob("*.py")}
         assert kinds <= files, (folder, kinds - files)
 
