@@ -136,3 +136,24 @@ def test_damaged_object_is_rebuilt(tmp_path, monkeypatch, capsys):
     assert "damaged" in capsys.readouterr().err
     assert _call(b, "b") == 4.0
     assert sum(map(is_intact, objects)) == 1                 # common.c's; a.c's is not needed by b
+
+
+def test_locked_excludes_a_second_holder_until_released(tmp_path):
+    """cbuild.locked (object builds, installing a derived model): a second holder of the folder's
+    lock (here a thread with its own descriptor, as another process would have) waits for the
+    first to let go."""
+    import threading
+
+    from runtime.cbuild import locked
+    got = threading.Event()
+
+    def second():
+        with locked(tmp_path):
+            got.set()
+
+    with locked(tmp_path):
+        t = threading.Thread(target=second)
+        t.start()
+        assert not got.wait(0.5)          # held: the second holder is still waiting
+    assert got.wait(30)                   # released: it gets the lock
+    t.join()
