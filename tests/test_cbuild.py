@@ -165,3 +165,24 @@ def test_a_folder_where_the_library_belongs_is_named(tmp_path, monkeypatch):
     (cache_dir() / f"lev_{source_hash([src], DEFAULT_FLAGS)}.so").mkdir()
     with pytest.raises(CacheError, match="is a folder where the compiled library belongs"):
         compile_shared([src])
+
+
+def test_locked_excludes_a_second_holder_until_released(tmp_path):
+    """cbuild.locked (object builds, installing a derived model): a second holder of the folder's
+    lock (here a thread with its own descriptor, as another process would have) waits for the
+    first to let go."""
+    import threading
+
+    from runtime.model.cbuild import locked
+    got = threading.Event()
+
+    def second():
+        with locked(tmp_path):
+            got.set()
+
+    with locked(tmp_path):
+        t = threading.Thread(target=second)
+        t.start()
+        assert not got.wait(0.5)          # held: the second holder is still waiting
+    assert got.wait(30)                   # released: it gets the lock
+    t.join()
