@@ -8,8 +8,8 @@ more held an integer literal that gcc reduced modulo 2^64: about a third of the 
 one and failed here by about |value|.
 
 The 200 formula plates run the real parser, plate builder, spec (onaxis and field), lowering, C
-printer and CasADi builder, lowered in two processes and compiled into one shared library (one
-compiler call, cached by content); two of them, and the two formulas of the issue, are derived in
+printer and CasADi builder, in CHUNKS tests (pytest-xdist spreads them over its workers), each
+compiled into one shared library (one compiler call, cached by content); two of them, and the two formulas of the issue, are derived in
 full (the reduced model) and loaded as models, so the template and the runtime's loading are
 covered too.
 """
@@ -17,8 +17,8 @@ from __future__ import annotations
 
 import ctypes
 import dataclasses
-import multiprocessing
-from concurrent.futures import ProcessPoolExecutor
+
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -99,15 +99,17 @@ def _c_function(name: str, low, printer) -> str:
     return "\n".join(lines + ["}"])
 
 
-@pytest.fixture(scope="module")
-def formula_library(tmp_path_factory):
-    """200 formula plates lowered, printed into one C file, compiled, and their CasADi Functions."""
+CHUNKS = 4        # the 200 plates in 4 tests, which pytest-xdist spreads over the workers
+
+
+def formula_library(chunk: int, folder: str):
+    """Plates chunk, chunk + CHUNKS, ... of the 200 lowered, printed into one C file, compiled,
+    and their CasADi Functions."""
     from derive.emit.c.printer import LevitronCPrinter
     from derive.emit.casadi.builder import build_function
     from runtime.model.cbuild import DEFAULT_FLAGS, compile_shared
-    plates = formula_plates(N_FORMULAS, SEED)
-    with ProcessPoolExecutor(2, mp_context=multiprocessing.get_context("fork")) as pool:
-        lowered = list(pool.map(_lower_plate, plates))
+    plates = formula_plates(N_FORMULAS, SEED)[chunk::CHUNKS]
+    lowered = [_lower_plate(t) for t in plates]
     printer = LevitronCPrinter()
     source = ["#pragma GCC optimize(\"fp-contract=fast\")", "#include <math.h>",
               "#ifndef M_PI", "#define M_PI 3.14159265358979323846", "#endif"]
@@ -118,20 +120,26 @@ def formula_library(tmp_path_factory):
             source.append(_c_function(cname, low, printer))
             cases.append((i, cname, low.name, params,
                           build_function(dataclasses.replace(low, name=cname), len(params))))
-    src = tmp_path_factory.mktemp("formulas") / "formulas.c"
+    src = Path(folder) / f"formulas{chunk}.c"
     src.write_text("\n\n".join(source) + "\n")
     lib = ctypes.CDLL(str(compile_shared([src], DEFAULT_FLAGS)))
     return plates, cases, lib
 
 
-def test_random_formula_plates_agree(formula_library):
-    plates, cases, lib = formula_library
-    assert len(cases) == 2 * N_FORMULAS
+def test_the_random_formulas_carry_large_whole_numbers():
+    plates = formula_plates(N_FORMULAS, SEED)
+    assert len(plates) == N_FORMULAS
     big = sum(any(k in (p.get("phi0") or p.get("bz")) for k in ("2**6", "2**7", "1e19", "1e20", "18446",
                                                                    "92233", "12345678901"))
               for p in plates)
     assert big >= N_FORMULAS // 5, f"only {big} formulas carry a whole number >= 2^63"
-    rng = np.random.default_rng(SEED)
+
+
+@pytest.mark.parametrize("chunk", range(CHUNKS))
+def test_random_formula_plates_agree(chunk, tmp_path):
+    plates, cases, lib = formula_library(chunk, str(tmp_path))
+    assert len(cases) == 2 * len(plates) and len(plates) == N_FORMULAS // CHUNKS
+    rng = np.random.default_rng(SEED + chunk)
     dbl = ctypes.POINTER(ctypes.c_double)
     for i, cname, kind, params, fn in cases:
         table = plates[i]
