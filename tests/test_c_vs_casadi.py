@@ -9,9 +9,9 @@ one and failed here by about |value|.
 
 The 200 formula plates run the real parser, plate builder, spec (onaxis and field), lowering, C
 printer and CasADi builder, in CHUNKS tests (pytest-xdist spreads them over its workers), each
-compiled into one shared library (one compiler call, cached by content); two of them, and the two formulas of the issue, are derived in
-full (the reduced model) and loaded as models, so the template and the runtime's loading are
-covered too.
+compiled into one shared library (one compiler call, cached by content); two of them, and the
+two formulas of the issue, are derived in full (the reduced model) and loaded as models, so the
+template and the runtime's loading are covered too.
 """
 from __future__ import annotations
 
