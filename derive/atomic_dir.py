@@ -68,7 +68,8 @@ def swap_in(new: Path, target: Path, exchange: bool = True) -> None:
 _PID = re.compile(r"\.(?:new|old)-(\d+)-")
 
 
-def _owner_alive(pid: int) -> bool:
+def owner_alive(pid: int) -> bool:
+    """Whether process `pid` still runs (a temporary's owner: sweeps leave a live owner's alone)."""
     try:
         os.kill(pid, 0)
     except ProcessLookupError:
@@ -104,7 +105,7 @@ def sweep(parent: Path, name: str, stale_after: float = STALE_AFTER_S) -> list[P
             old_enough = now - p.lstat().st_mtime >= stale_after
         except FileNotFoundError:
             continue
-        if m and not _owner_alive(int(m.group(1))) and old_enough:
+        if m and not owner_alive(int(m.group(1))) and old_enough:
             shutil.rmtree(p, ignore_errors=True)
             gone.append(p)
     return gone

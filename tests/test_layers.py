@@ -151,3 +151,13 @@ def test_the_input_hash_covers_what_shapes_generated_only():
     assert {"spec.py", "mechanics.py", "friction.py", "emit/lower.py", "emit/c/printer.py",
             "plates/annulus.py", "inputs.py", "build.py"} <= names
     assert any(n.endswith(".j2") for n in names)
+
+
+def test_every_public_name_of_every_package_resolves():
+    """Each subpackage's lazy surface (runtime.lazy_surface) names only what exists."""
+    import importlib
+    for name in LAYERS[1:]:
+        pkg = importlib.import_module(f"runtime.{name}")
+        for public in pkg.__all__:
+            assert getattr(pkg, public) is not None, (name, public)
+            assert public in dir(pkg)

@@ -15,19 +15,13 @@ import shutil
 import time
 from pathlib import Path
 
+from derive.atomic_dir import owner_alive
+
 STALE_AFTER_S = 60.0
 _DERIVED_TMP = re.compile(r"\.[A-Za-z0-9_-]+?-(\d+)-[A-Za-z0-9_]+\Z")
 _LIB_TMP = re.compile(r"\.lev_[0-9a-f]+_(\d+)_[A-Za-z0-9_]+\.(so|sha256)\Z")
 
 
-def _alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
-    return True
 
 
 def _stale(path: Path, pid: int, now: float, stale_after: float) -> bool:
@@ -35,7 +29,7 @@ def _stale(path: Path, pid: int, now: float, stale_after: float) -> bool:
         age = now - path.lstat().st_mtime
     except FileNotFoundError:
         return False
-    return age >= stale_after and pid != os.getpid() and not _alive(pid)
+    return age >= stale_after and pid != os.getpid() and not owner_alive(pid)
 
 
 def sweep_cache(root: Path, stale_after: float = STALE_AFTER_S) -> list[Path]:

@@ -4,20 +4,10 @@ Public surface: build. Names load lazily (PEP 562), so importing the package cos
 """
 from __future__ import annotations
 
-import importlib
+from runtime import lazy_surface
 
 _EXPORTS = {
     "build": "page",
 }
 
-__all__ = sorted(_EXPORTS)
-
-
-def __getattr__(name: str):
-    if name not in _EXPORTS:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    return getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
-
-
-def __dir__():
-    return sorted(set(globals()) | set(_EXPORTS))
+__getattr__, __dir__, __all__ = lazy_surface(__name__, _EXPORTS)
