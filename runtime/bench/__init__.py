@@ -3,3 +3,5 @@ maps, design, launches.
 
 No public names: `levitron bench SCENE --kind KIND` runs one (the registry: kinds.py).
 """
+
+__all__: list[str] = []
