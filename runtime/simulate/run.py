@@ -45,7 +45,6 @@ from runtime.integrate.run import Box, Result, integrate
 from runtime.integrate.methods import AUTO, DEFAULT, auto_note, default_step, lookup, resolve
 
 from runtime.physics import friction as flight
-
 from runtime.simulate import trajectory_file
 from runtime.ui.human import Units
 from runtime.physics.stability import stability_of
@@ -59,13 +58,6 @@ from runtime.simulate.start import (  # noqa: F401
     DEFAULT_TILT, UNTESTED, Launch, coordinate_names, default_box, fastest_period,
     initial_state, launch, launch_state, legendre_map, on_invariant_set, state_scales, time_scale,
     vertical_stiffness)
-
-# ---------------------------------------------------------------- rotations (numpy mirrors of
-# derive/kinematics.py: passive elementary matrices of thesis eqs. 2.1.6-2.1.8 and 3.2.3-3.2.5)
-
-
-# ---------------------------------------------------------------- initial state
-
 
 FRICTION_T_END_TAUS = 5.0        # default run length with friction: 5 tau, the spin falls by e^5
 
