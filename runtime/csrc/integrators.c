@@ -200,7 +200,7 @@ const char *lev_status_message(int status)
     }
 }
 
-/* ---- the method table and the struct sizes (checked against runtime/integrators_table.py) ---- */
+/* ---- the method table and the struct sizes (checked against runtime/integrate/methods.py) ---- */
 
 static const char *const METHOD_NAMES[] = {"euler", "rk4", "dop853", "gauss4", "midpoint",
                                            "dop853-fixed", "vern9"};

@@ -95,7 +95,7 @@ typedef struct {
 } lev_stats;
 
 /* out[r * n_out ..] = f(in[r * n_in ..], p) for r = 0 .. rows - 1: a generated function over the
- * samples of a trajectory in one call (the invariants of a run, runtime/model.py Model.rows). */
+ * samples of a trajectory in one call (the invariants of a run, runtime/model/load.py Model.rows). */
 void lev_rows(lev_fn f, long rows, int n_in, int n_out, const double *in, const double *p,
               double *out);
 
@@ -141,14 +141,14 @@ long lev_integrate_lanes(int method, int n, int n_p, lev_fn rhs_lanes, long coun
 /* A one-line message for a status code. */
 const char *lev_status_message(int status);
 
-/* The method table (runtime/integrators_table.py holds the same; tests compare the two):
+/* The method table (runtime/integrate/methods.py holds the same; tests compare the two):
  * the enum value of a method name (-1 if unknown), the name of an enum value (NULL if unknown),
  * and 1 if the method takes a fixed step, 0 if adaptive, -1 if unknown. */
 int lev_method_id(const char *name);
 const char *lev_method_name(int method);
 int lev_method_fixed_step(int method);
 
-/* sizeof of the structs passed through ctypes (runtime/integrate.py checks its mirrors). */
+/* sizeof of the structs passed through ctypes (runtime/integrate/c_backend.py checks its mirrors). */
 size_t lev_sizeof_system(void);
 size_t lev_sizeof_options(void);
 size_t lev_sizeof_stats(void);

@@ -1,4 +1,4 @@
-/* A chunk of a stability map in one call (runtime/scan_c.py; thesis 3.1-3.2, fig. 3.8).
+/* A chunk of a stability map in one call (runtime/scan/chunk_c.py; thesis 3.1-3.2, fig. 3.8).
  *
  * Every point of the chunk is one lev_integrate run (integrators.h) of the same system from its
  * own initial state, with its own parameter vector, tolerances, box and step budget, and with no
@@ -29,7 +29,7 @@
  *   atol[k n ..)        adaptive methods: absolute tolerances of point k (may be NULL for fixed)
  *   h[k]                fixed-step methods: the step; adaptive: the first step (0 = automatic)
  *   box[3 k ..)         z_lo, z_hi, r_max of point k (r_max = inf: no radial limit)
- *   max_steps[k]        the step budget of point k (> 0; runtime/step_budget.py)
+ *   max_steps[k]        the step budget of point k (> 0; runtime/integrate/budget.py)
  * Outputs per point: status[k] (enum lev_status), t_final[k] (the time of the last state: t_end,
  * or the located exit from the box), rhs_evals[k], steps[k] (accepted steps) and, when x_final is
  * not NULL, x_final[k n ..) (the final state).
