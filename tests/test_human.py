@@ -168,3 +168,24 @@ def test_tilt_azimuth_turns_the_axis_only():
         assert math.isclose(part.energy(x), part.energy(ref), rel_tol=1e-12)
         assert math.isclose(angular_momentum_z(part, x), angular_momentum_z(part, ref), rel_tol=1e-12)
         assert math.isclose(float(tilt_of(part, x)[0]), t, rel_tol=1e-12)
+
+
+def test_top_level_help_lists_every_command(capsys):
+    """`levitron --help` builds every command's parser (a '%' in a help text broke it once)."""
+    from runtime.cli.commands import COMMANDS as NAMES
+    with pytest.raises(SystemExit) as exc:
+        cli.main(["--help"])
+    assert exc.value.code == 0
+    out = capsys.readouterr().out
+    assert all(name in out for name in NAMES)
+
+
+def test_a_one_shot_command_imports_only_its_own_module():
+    """`levitron stability` parses with its own command module only (no design, scan or report)."""
+    import subprocess
+    import sys
+    code = ("import sys; from runtime.cli import main as m; m.main(['stability', 'thesis_stable', '--json']); "
+            "print(sorted(k for k in sys.modules if k.startswith('runtime.cli.commands.')), file=sys.stderr)")
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
+    assert res.returncode == 0, res.stderr
+    assert "runtime.cli.commands.stability" in res.stderr and "runtime.cli.commands.report" not in res.stderr

@@ -43,15 +43,17 @@ class Parser(argparse.ArgumentParser):
 
 
 
-def _modules():
-    return [importlib.import_module(f"runtime.cli.commands.{name}") for name in COMMANDS]
+def _modules(names=COMMANDS):
+    return [importlib.import_module(f"runtime.cli.commands.{name}") for name in names]
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The parser of every command, or with `only` of that one command alone (a one-shot command
+    then imports only its own module: `levitron stability` loads no design, scan or report code)."""
     ap = Parser(prog="levitron", description=__doc__.splitlines()[0])
     ap.add_argument("--version", action="version", version=f"levitron {version()}")
     sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    for mod in _modules():
+    for mod in _modules((only,) if only in COMMANDS else COMMANDS):
         example = getattr(mod, "EXAMPLE", None)
         p = sub.add_parser(mod.NAME, help=mod.HELP, description=mod.HELP,
                            epilog=f"example:\n  {example}" if example else None,
@@ -214,7 +216,7 @@ def main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv == ["--version"]:       # without the command modules (numpy, casadi): ~0.1 s, not ~1 s
         return _emit(f"levitron {version()}")
-    args = build_parser().parse_args(argv)
+    args = build_parser(argv[0] if argv else None).parse_args(argv)
     if getattr(args, "temperature", None) is not None:     # one more --set, resolved by the scene
         args.set = [*args.set, f"temperature={args.temperature!r}"]
     args._argv = argv

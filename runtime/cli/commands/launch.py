@@ -11,7 +11,7 @@ from runtime.ui.plotting import check_plot_path
 from runtime.cli.commands.common import model_of, scene_of
 
 NAME = "launch"
-HELP = ("launch odds by Monte Carlo: the probability (95 % Wilson interval) that a launch floats at "
+HELP = ("launch odds by Monte Carlo: the probability (a 95 percent Wilson interval) that a launch floats at "
         "least --success-time, the flight times, and which input matters most")
 EXAMPLE = "levitron launch thesis_air --n 200 --t-end 60 --workers 2 --out out/launch.png"
 
