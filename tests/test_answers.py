@@ -169,15 +169,27 @@ def test_optimum_at_vanishing_stiffness_is_reported_with_a_warning(capsys):
     assert any(w.startswith("the optimum sits at vanishing stiffness: k = ") for w in r["warnings"])
 
 
-def test_unbounded_edge_is_refused_and_says_where(thesis_model):
+def test_unbounded_edge_is_refused_and_says_where(thesis_model, monkeypatch):
     """check_bounded on the float route at z_c of thesis_stable: the interval from 478.9 rad/s is
-    bounded there (no refusal), the one opened by the diverging root of the ray cubic (beyond 1e25
-    rad/s at z_c) is not, and is refused naming the point and z_c."""
+    bounded there (no refusal), the one opened by the diverging root of the ray cubic (beyond 1e23
+    rad/s) is not, and is refused naming the point and z_c. At the float z_c itself Phi_3 is
+    rounding (+-1e-14, its sign set by the last bits of the generated onaxis), and the diverging
+    root exists only where Phi_3 > 0: so z_c is taken one part in 1e14 below the float root, where
+    Phi_3 = +4.7e-13 whatever the rounding."""
+    import dataclasses
+
     from derive.scene import load_scene
     from runtime.design import edge as design_edge
     from runtime.errors import UserError
     from runtime.model.load import load_model
     model = load_model(load_scene("thesis_stable"))
+    found = design_edge.eqm.equilibria_of
+
+    def below_z_c(model, p=None, bands=False):
+        rep = found(model, p, bands)
+        return dataclasses.replace(rep, z_c=rep.z_c * (1 - 1e-14))
+    monkeypatch.setattr(design_edge.eqm, "equilibria_of", below_z_c)
+    assert model.onaxis(below_z_c(model, model.p).z_c)[3] > 1e-13
     design_edge.check_bounded(model, model.p, (478.0, 2533.0), "top.mass = 0.052492")
     with pytest.raises(UserError, match=r"unbounded at top.mass = 0.052492: .* z_c = 0.0994772 m"):
         design_edge.check_bounded(model, model.p, (1e26, 2e26), "top.mass = 0.052492")

@@ -105,14 +105,13 @@ CHUNKS = 4        # the 200 plates in 4 tests, which pytest-xdist spreads over t
 def formula_library(chunk: int, folder: str):
     """Plates chunk, chunk + CHUNKS, ... of the 200 lowered, printed into one C file, compiled,
     and their CasADi Functions."""
-    from derive.emit.c.printer import LevitronCPrinter
+    from derive.emit.c.printer import FMA_PRELUDE, LevitronCPrinter
     from derive.emit.casadi.builder import build_function
     from runtime.model.cbuild import DEFAULT_FLAGS, compile_shared
     plates = formula_plates(N_FORMULAS, SEED)[chunk::CHUNKS]
     lowered = [_lower_plate(t) for t in plates]
     printer = LevitronCPrinter()
-    source = ["#pragma GCC optimize(\"fp-contract=fast\")", "#include <math.h>",
-              "#ifndef M_PI", "#define M_PI 3.14159265358979323846", "#endif"]
+    source = [FMA_PRELUDE, "#ifndef M_PI", "#define M_PI 3.14159265358979323846", "#endif"]
     cases = []
     for i, (params, lows) in enumerate(lowered):
         for low in lows:

@@ -33,8 +33,11 @@ from pathlib import Path
 from runtime.errors import UserError
 from runtime.model.processes import die_with_parent
 
-DEFAULT_FLAGS = ("-O3", "-std=c99", "-fno-math-errno", "-fPIC", "-shared", "-march=native", "-Wall",
-                 "-Wextra")   # no errno from sqrt: the lane variants of model.c vectorise
+# no errno from sqrt: the lane variants of model.c vectorise; no contraction of a * b + c into an
+# fma but where the C says so (LEV_FMA in model.c, LEV_MADD in integrators.c), so a function and its
+# lane variant round alike (derive/emit/c/printer.py); -march=native: fma() is one instruction
+DEFAULT_FLAGS = ("-O3", "-std=c99", "-fno-math-errno", "-ffp-contract=off", "-fPIC", "-shared",
+                 "-march=native", "-Wall", "-Wextra")
 STRICT_FLAGS = DEFAULT_FLAGS + ("-Werror",)       # the hand-written runtime/csrc alone
 
 

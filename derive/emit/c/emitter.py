@@ -13,7 +13,7 @@ from pathlib import Path
 import jinja2
 
 from ..lower import Lowered
-from .printer import LevitronCPrinter
+from .printer import FMA_PRELUDE, LevitronCPrinter
 
 TEMPLATES = Path(__file__).resolve().parent / "templates"
 TABLE_FORMAT = 1
@@ -94,7 +94,7 @@ def render(banner: str, guard: str, params: list[str], parts: dict, kmax: int,
     env = _env()
     table_json = json.dumps(table, sort_keys=True, separators=(",", ":"), ensure_ascii=True)
     uses_sincos = any(line.startswith("lev_sincos(") for f in funcs for line in f["lines"])
-    ctx = {"uses_sincos": uses_sincos, "lanes": LANES, "banner": banner, "guard": guard,
+    ctx = {"fma_prelude": FMA_PRELUDE, "uses_sincos": uses_sincos, "lanes": LANES, "banner": banner, "guard": guard,
            "params": params, "parts": parts, "kmax": kmax,
            "functions": funcs, "table_lines": c_string_chunks(table_json)}
     return env.get_template("model.h.j2").render(**ctx), env.get_template("model.c.j2").render(**ctx)

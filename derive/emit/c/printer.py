@@ -7,14 +7,38 @@ declare); a number no double holds raises DoubleRangeError.
 
 x**3 -> x*x*x, x**-2 -> 1.0/(x*x), x**(1/2) -> sqrt(x), x**(-3/2) -> 1.0/(x*sqrt(x)):
 no pow() call for the small powers that the field expansion is full of.
+
+Every product that is a term of a sum is fused into it explicitly: a*b*c + d - e*f is printed
+LEV_FMA(-e, f, LEV_FMA(a*b, c, d)), the terms that are not products first, in sympy's order, then
+the products one by one. LEV_FMA (FMA_PRELUDE, at the top of model.c) is C99's fma() where the
+target has the instruction (FP_FAST_FMA) and a*b + c otherwise, and the model is compiled with
+contraction off (runtime/model/cbuild.py, the pragmas of model.c.j2), so the compiler fuses nothing
+else: the scalar function and its lane variant (the same statements in a loop the compiler
+vectorises) round alike by construction, where the compiler's own contraction fused them
+differently.
 """
 from __future__ import annotations
 
 from sympy.printing.c import C99CodePrinter
+from sympy.printing.precedence import PRECEDENCE, precedence
 
 from ...doubles import DoubleRangeError, c_literal
 
 MAX_INLINE_POWER = 8
+FMA = "LEV_FMA"
+# what every C file of printed expressions needs first (model.c.j2 and tests/test_c_vs_casadi.py):
+# contraction off, math.h and LEV_FMA
+FMA_PRELUDE = """#if defined(__clang__)
+#pragma STDC FP_CONTRACT OFF
+#elif defined(__GNUC__)
+#pragma GCC optimize("fp-contract=off")
+#endif
+#include <math.h>
+#ifdef FP_FAST_FMA
+#define LEV_FMA(a, b, c) fma(a, b, c)       /* one instruction: a * b + c rounded once */
+#else
+#define LEV_FMA(a, b, c) ((a) * (b) + (c))  /* no fma instruction: libm's would be slow */
+#endif"""
 
 
 class LevitronCPrinter(C99CodePrinter):
@@ -68,3 +92,53 @@ class LevitronCPrinter(C99CodePrinter):
                 return prod if k == 0 else f"({prod})"
             return f"(1.0/({prod}))"
         return super()._print_Pow(expr)
+
+    def _factor(self, f) -> str:
+        return self._print(f) if f.is_Number else self.parenthesize(f, PRECEDENCE["Mul"])
+
+    def _fma_operands(self, term) -> tuple[str, str] | None:
+        """(a, b) with term = a * b as printed: a the product of all but the last factor (negated
+        where the coefficient is negative, which is exact), b the last factor; x**n (n <= 8) as
+        x*...*x times x. None when the term is no product of two or more factors or has a divisor
+        (then its last operation is a division)."""
+        if term.is_Pow and term.exp.is_Integer and 2 <= int(term.exp) <= MAX_INLINE_POWER:
+            base = self._factor(term.base)
+            return "*".join([base] * (int(term.exp) - 1)), base
+        if not term.is_Mul:
+            return None
+        coeff, rest = term.as_coeff_Mul()
+        factors = list(rest.as_ordered_factors()) if rest.is_Mul else [rest]
+        if any(f.is_Pow and f.exp.is_number and f.exp < 0 for f in factors):
+            return None
+        ops = ([abs(coeff)] if abs(coeff) != 1 else []) + factors
+        if len(ops) < 2:
+            return None
+        if len(ops) == 2 and coeff > 0:
+            head = self._print(ops[0])
+        else:
+            head = "*".join(self._factor(f) for f in ops[:-1])
+        return ("-" + head if coeff < 0 else head), self._print(ops[-1])
+
+    def _print_Add(self, expr, order=None):
+        """The terms that are no products first (sympy's order, as sympy prints them), then each
+        product fused in: LEV_FMA(a, b, the sum so far)."""
+        terms = self._as_ordered_terms(expr, order=order)
+        operands = [self._fma_operands(t) for t in terms]
+        plain = [t for t, ab in zip(terms, operands) if ab is None]
+        products = [ab for ab in operands if ab is not None]
+        if not plain:                    # all products: the first one starts the sum unfused
+            plain, products = terms[:1], products[1:]
+        acc = ""
+        for term in plain:
+            t = self._print(term)
+            if precedence(term) < PRECEDENCE["Add"]:
+                t = f"({t})"
+            if not acc:
+                acc = t
+            elif t.startswith("-"):
+                acc = f"{acc} - {t[1:]}"
+            else:
+                acc = f"{acc} + {t}"
+        for a, b in products:
+            acc = f"{FMA}({a}, {b}, {acc})"
+        return acc
