@@ -24,8 +24,8 @@ from runtime.errors import UserError
 from runtime.design.fit import FitResult
 from runtime.scan.stability_map import ScanResult
 
-from .results import Equilibria, Equilibrium, LaunchOdds, Simulation, Stability
+from .results import Equilibria, Equilibrium, LaunchOdds, Simulation, Simulations, Stability
 from .study import Study, load
 
 __all__ = ["DesignResult", "Equilibria", "Equilibrium", "FitResult", "LaunchOdds", "ScanResult",
-           "SceneError", "Simulation", "Stability", "Study", "UserError", "load"]
+           "SceneError", "Simulation", "Simulations", "Stability", "Study", "UserError", "load"]

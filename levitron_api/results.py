@@ -12,6 +12,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from runtime.ui.human import Units, sig
 
 _SI = Units(si=True)
@@ -163,3 +165,62 @@ class LaunchOdds:
     flight_time: dict
     ranking: list
     details: dict = field(repr=False, default_factory=dict)
+
+
+@dataclass(frozen=True, repr=False)
+class Simulations:
+    """Many launches in one call of the C chunk driver (Study.simulate_many, runtime/scan/batch.py),
+    each the run Study.simulate makes with the same options, as arrays of length n: levitating
+    (bool: the run reached t_end), untested (a launch on the invariant set, which tests nothing:
+    Study.simulate's levitating None), status (runtime/integrate/c_backend.py STATUS names),
+    t_survived (s), rhs_evals (without simulate's dense-output evaluations), steps, z_s (m, each
+    launch's hover height), final_states (n, len(states)), SI; inputs: the launch columns
+    {spin (rad/s), tilt (rad), offset (m), azimuth (rad), and any varied scene keys}; wall_s (s,
+    the whole call); details: t_end, integrator, tol, lanes (whether the lane variant ran)."""
+
+    levitating: np.ndarray
+    untested: np.ndarray
+    status: np.ndarray
+    t_survived: np.ndarray
+    rhs_evals: np.ndarray
+    steps: np.ndarray
+    z_s: np.ndarray
+    final_states: np.ndarray
+    states: list
+    inputs: dict
+    wall_s: float
+    details: dict = field(default_factory=dict)
+
+    def __len__(self) -> int:
+        return int(self.status.size)
+
+    def final_state(self, i: int) -> dict:
+        """Launch i's final state by name, as Study.simulate's final_state."""
+        return {k: float(v) for k, v in zip(self.states, self.final_states[i])}
+
+    @property
+    def success(self) -> bool:
+        """Every run ended normally: reached t_end, or stopped when the top left the box."""
+        return bool(np.all(np.isin(self.status, NORMAL_ENDS)))
+
+    @property
+    def message(self) -> str:
+        n = len(self)
+        bad = np.flatnonzero(~np.isin(self.status, NORMAL_ENDS))
+        if bad.size:
+            kinds = ", ".join(sorted(set(self.status[bad].tolist())))
+            return (f"{bad.size} of {n} runs did not end normally ({kinds}; the first: launch "
+                    f"{int(bad[0])})")
+        lev = int(np.sum(self.levitating & ~self.untested))
+        text = f"{n} runs ended normally; {lev} stayed up for the whole {self.details.get('t_end', 0):.6g} s"
+        if np.any(self.untested):
+            text += f"; {int(np.sum(self.untested))} launched on the invariant set test nothing"
+        return text
+
+    def __repr__(self) -> str:
+        n = len(self)
+        lev = int(np.sum(self.levitating & ~self.untested))
+        ts = self.t_survived
+        return (f"Simulations(n={n}, levitating={lev} of {n - int(np.sum(self.untested))} tested, "
+                f"t_survived={np.min(ts):.6g}-{np.max(ts):.6g} s of {self.details.get('t_end', float('nan')):.6g} s, "
+                f"lanes={self.details.get('lanes')}, success={self.success})")

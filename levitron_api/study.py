@@ -21,12 +21,14 @@ from runtime.design.scene_keys import Vary, key_value, pvector, with_values
 from runtime.physics.stability import stability_of
 
 from . import arguments as arg
-from .results import Equilibria, Equilibrium, LaunchOdds, Simulation, Stability
+from .results import Equilibria, Equilibrium, LaunchOdds, Simulation, Simulations, Stability
 
 # Study.simulate's options: runtime.simulate.run.simulate's keywords, and the command line's names
 SIMULATE_OPTIONS = ("tilt", "offset", "t_end", "integrator", "tol", "box", "plot", "part", "h",
                     "n_out", "azimuth", "save")
 SIMULATE_ALIASES = {"tilt_azimuth": "azimuth", "step": "h"}     # --tilt-azimuth, --step
+# Study.simulate_many's: runtime.scan.batch.simulate_many's keywords and `values` (scene keys)
+MANY_OPTIONS = ("tilt", "offset", "azimuth", "t_end", "integrator", "tol", "box", "h", "part", "values")
 
 
 def override_texts(overrides: Mapping[str, object] | None) -> list[str]:
@@ -147,22 +149,45 @@ class Study:
         plot (path), part, h or step (s), n_out, azimuth or tilt_azimuth (rad), as the command
         line's flags)."""
         from runtime.simulate.run import simulate
-        for alias, name in SIMULATE_ALIASES.items():
-            if alias in options:
-                if name in options:
-                    raise arg.UserError(f"pass {alias} or {name}, not both (the same option)")
-                options[name] = options.pop(alias)
-        for name in options:
-            arg.choice(name, "simulate option", [*SIMULATE_OPTIONS, *SIMULATE_ALIASES])
-        for name in ("tilt", "offset", "t_end", "tol", "box", "h", "azimuth"):
-            if options.get(name) is not None:
-                options[name] = arg.number(options[name], name)
+        options = _options(options, SIMULATE_OPTIONS, "simulate option",
+                           ("tilt", "offset", "t_end", "tol", "box", "h", "azimuth"))
         out = simulate(self.model, arg.number(spin, "spin"), trajectory=True, **options)
         samples = out.pop("trajectory")
         return Simulation(out["levitating"], float(out["t_survived"]),
                           float(out["max_excursion"]), float(out["energy_drift"]),
                           int(out["rhs_evals"]), float(out["wall_s"]), dict(out["final_state"]),
                           out, samples)
+
+    def simulate_many(self, spin, **options) -> Simulations:
+        """Many launches in one call (runtime/scan/batch.py: one call of the C chunk driver, the
+        lane variant of the rhs where it verifies), each the run `simulate` makes with the same
+        options, bit for bit: spin (rad/s), tilt (rad), offset (m), azimuth or tilt_azimuth (rad)
+        are numbers or 1-D arrays, broadcast to one length; `values` {scene key: number or array}
+        gives each launch its own parameters (re-resolved like p_of, each with its own hover
+        height); t_end (s), integrator (a C one), tol, box (m), h or step (s), part: one for all,
+        as simulate's."""
+        from runtime.scan.batch import launch_columns, simulate_many
+        options = _options(options, MANY_OPTIONS, "simulate_many option", ("t_end", "tol", "box", "h"))
+        values = options.pop("values", None) or {}
+        if not isinstance(values, Mapping):
+            raise arg.UserError("values must be a mapping of scene key -> number or array, e.g. "
+                                "{'top.mass': [0.051, 0.052]}")
+        p = None
+        if values:
+            keys = list(values)
+            for key in keys:
+                arg.choice(key, "scene key", self.keys())
+            cols = launch_columns({k: values[k] for k in keys})
+            rows: dict = {}
+            p = np.array([rows.setdefault(key, self.p_of(dict(zip(keys, key))))
+                          for key in zip(*(cols[k].tolist() for k in keys))])
+        out = simulate_many(self.model, spin, p=p, **options)
+        inputs = dict(out["inputs"], **({k: cols[k] for k in values} if values else {}))
+        return Simulations(out["levitating"], out["untested"], out["status"], out["t_survived"],
+                           out["rhs_evals"], out["steps"], out["z_s"], out["final_state"],
+                           out["states"], inputs, out["wall_s"],
+                           {k: out[k] for k in ("t_end", "integrator", "integrator_requested", "tol",
+                                                "step", "lanes")})
 
     def launch(self, n: int = 1000, seed: int = 0, inputs: Mapping[str, object] | None = None,
                **options) -> LaunchOdds:
@@ -228,6 +253,22 @@ class Study:
         """Least squares of scene keys to measurements (a CSV path or runtime.design.fit.Row list)."""
         rows = read_rows(data) if isinstance(data, (str, Path)) else data
         return _fit(self.model, rows, _varies(vary))
+
+
+def _options(options: dict, valid: Sequence[str], what: str, numbers: Sequence[str]) -> dict:
+    """simulate's options with the command line's names (tilt_azimuth, step) taken as theirs,
+    unknown names refused with the valid ones listed, `numbers` checked as numbers."""
+    for alias, name in SIMULATE_ALIASES.items():
+        if alias in options:
+            if name in options:
+                raise arg.UserError(f"pass {alias} or {name}, not both (the same option)")
+            options[name] = options.pop(alias)
+    for name in options:
+        arg.choice(name, what, [*valid, *SIMULATE_ALIASES])
+    for name in numbers:
+        if options.get(name) is not None:
+            options[name] = arg.number(options[name], name)
+    return options
 
 
 def _varies(vary) -> list[Vary]:

@@ -1,8 +1,8 @@
-"""Many runs on the chunked C driver: stability maps (serial, local processes, dask) and the launch
-Monte Carlo.
+"""Many runs on the chunked C driver: stability maps (serial, local processes, dask), the launch
+Monte Carlo and batched simulations.
 
-Public surface: ScanResult, monte_carlo, scan, wilson. Names load lazily (PEP 562), so importing
-the package costs nothing.
+Public surface: ScanResult, monte_carlo, scan, simulate_many, wilson. Names load lazily (PEP 562),
+so importing the package costs nothing.
 """
 from __future__ import annotations
 
@@ -12,6 +12,7 @@ _EXPORTS = {
     "ScanResult": "stability_map",
     "monte_carlo": "launch_odds",
     "scan": "stability_map",
+    "simulate_many": "batch",
     "wilson": "launch_odds",
 }
 

@@ -44,6 +44,7 @@ def bind_driver(lib: ctypes.CDLL) -> ctypes.CDLL:
 
 LANES = 4              # LEV_LANES (integrators.h) = derive/emit/c/emitter.py LANES
 LANES_CHECK = 32       # states on which a lane variant must equal the scalar rhs bit for bit
+LANES_METHODS = ("dop853", "vern9")     # the methods of lev_integrate_lanes (scan_driver.c)
 
 
 def lanes_of(lib: ctypes.CDLL, rhs_name: str):
@@ -69,9 +70,10 @@ def verified_lanes(model, part, x0: np.ndarray, p: np.ndarray, scale: np.ndarray
     """The lane variant of the part's rhs if it equals the scalar rhs bit for bit on LANES_CHECK
     states about x0 (relative changes of 1e-3 of the state scales, each lane its own parameters
     p scaled by 1 +- 1e-3), else None; the verdict is kept per library. The two are the same
-    statements, but the compiler may fuse a * b + c differently in the vectorised loop (it does
-    in one of the ring magnet's outputs, by an ulp): maps must not depend on the engine, so a
-    variant that differs is not used, and the scan runs one point at a time."""
+    statements with the same explicit fused multiply-adds and no others (derive/emit/c/printer.py),
+    so they agree by construction; the check stays because maps must not depend on the engine: a
+    compiler that still rounded the vectorised loop differently would get a variant that is not
+    used, and the scan would run one point at a time."""
     verdicts = lib_verdicts(model.lib)
     key = f"{part.name}_rhs"
     if key not in verdicts:
@@ -134,6 +136,30 @@ def drive(lib: ctypes.CDLL, method: str, rhs, jac, t_end: float, rtol: float, ix
             "rhs_evals": rhs_evals, "steps": steps, "x_final": x_final}
 
 
+def drive_runs(model, part, method: str, t_end: float, tol: float | None, x0: np.ndarray,
+               p: np.ndarray, scale: np.ndarray, h: np.ndarray, box: np.ndarray,
+               max_steps: np.ndarray) -> dict:
+    """Runs of one model part from x0 (k, n) with parameters p (k, n_p) in one lev_scan_chunk
+    call: adaptive methods with rtol = tol, atol = tol * scale (k, n) (runtime.integrate.run's
+    tolerances), fixed-step ones with the steps h (k,); box (k, 3) = z_lo, z_hi, r_max around each
+    run's hover height; max_steps (k,) the step budgets; the generated Jacobian where the method
+    needs it; the lane variant of the rhs where it verifies (verified_lanes). What the stability
+    maps, the launch odds and the batched simulations share. Returns drive's arrays and `lanes`
+    (whether the lane variant ran)."""
+    from runtime.simulate.start import default_box
+    entry = lookup(method)
+    jac = part.c_function("jac") if entry.needs_jacobian and part.has("jac") else None
+    bx = default_box(part, 1.0)                # the state indices of x, y and z
+    x0 = np.asarray(x0, float)
+    lanes = verified_lanes(model, part, x0[0], np.asarray(p, float)[0], np.asarray(scale, float)[0])
+    res = drive(model.lib, method, part.c_function("rhs"), jac, t_end,
+                0.0 if entry.fixed_step else tol, bx.ix, bx.iy, bx.iz, x0, p,
+                None if entry.fixed_step else tol * np.asarray(scale, float), h, box, max_steps,
+                rhs_lanes=lanes)
+    res["lanes"] = lanes is not None and method in LANES_METHODS
+    return res
+
+
 def run_chunk_c(model, common, points: Sequence[tuple]) -> list[dict]:
     """The grid points [(task, point_setup keywords)] of one chunk through lev_scan_chunk, with the
     options runtime.integrate.run would give each run (atol = tol * scale, rtol = tol; the default step
@@ -149,17 +175,12 @@ def run_chunk_c(model, common, points: Sequence[tuple]) -> list[dict]:
     for su in setups:
         check_options(common.integrator, common.t_end, tol, su.h, N_OUT, su.time_scale,
                       su.time_scale_what)
-    pt, bx = setups[0].part, setups[0].box
-    jac = (pt.c_function("jac") if entry.needs_jacobian and pt.has("jac") else None)
-    res = drive(model.lib, common.integrator, pt.c_function("rhs"), jac, common.t_end,
-                0.0 if tol is None else tol, bx.ix, bx.iy, bx.iz,
-                np.array([su.x0 for su in setups]), np.array([su.p for su in setups]),
-                None if tol is None else np.array([tol * su.scale for su in setups]),
-                np.array([su.h or 0.0 for su in setups]),
-                np.array([(su.box.z_lo, su.box.z_hi, su.box.r_max) for su in setups]),
-                np.array([default_budget(common.integrator, common.t_end, su.h, su.time_scale)
-                          for su in setups]),
-                rhs_lanes=verified_lanes(model, pt, setups[0].x0, setups[0].p, setups[0].scale))
+    res = drive_runs(model, setups[0].part, common.integrator, common.t_end, tol,
+                     np.array([su.x0 for su in setups]), np.array([su.p for su in setups]),
+                     np.array([su.scale for su in setups]), np.array([su.h or 0.0 for su in setups]),
+                     np.array([(su.box.z_lo, su.box.z_hi, su.box.r_max) for su in setups]),
+                     np.array([default_budget(common.integrator, common.t_end, su.h, su.time_scale)
+                               for su in setups]))
     return [{"i": task[0], "j": task[1], "levitating": res["status"][k] == "completed",
              "t_survived": float(res["t_final"][k]), "status": res["status"][k],
              "rhs_evals": int(res["rhs_evals"][k])}

@@ -165,7 +165,7 @@ def run_chunk(plan: Plan, indices) -> dict:
     """The samples `indices` through the C chunk driver: {"points": [{i, t, status}], ...}."""
     from runtime.simulate import run as sim
     from runtime.physics.equilibrium import hover_height
-    from runtime.scan.chunk_c import drive, verified_lanes
+    from runtime.scan.chunk_c import drive_runs
     from runtime.scan.runners import model_for
     from runtime.integrate.budget import check_options, default_budget
     model = model_for(plan.scene, plan.overrides)
@@ -197,15 +197,13 @@ def run_chunk(plan: Plan, indices) -> dict:
         if box.excess(x0) > 0:
             points.append({"i": int(i), "t": 0.0, "status": "left_box"})
             continue
-        rows.append((int(i), x0, p, plan.tol * sim.state_scales(pt, z_s, spin, pv),
+        rows.append((int(i), x0, p, sim.state_scales(pt, z_s, spin, pv),
                      (box.z_lo, box.z_hi, box.r_max), default_budget(method, plan.t_end, None, T)))
     if rows:
-        bx = sim.default_box(pt, 1.0)
-        lanes = verified_lanes(model, pt, rows[0][1], rows[0][2], rows[0][3] / plan.tol)
-        res = drive(model.lib, method, pt.c_function("rhs"), None, plan.t_end, plan.tol, bx.ix, bx.iy,
-                    bx.iz, np.array([r[1] for r in rows]), np.array([r[2] for r in rows]),
-                    np.array([r[3] for r in rows]), np.zeros(len(rows)), np.array([r[4] for r in rows]),
-                    np.array([r[5] for r in rows]), rhs_lanes=lanes)
+        res = drive_runs(model, pt, method, plan.t_end, plan.tol, np.array([r[1] for r in rows]),
+                         np.array([r[2] for r in rows]), np.array([r[3] for r in rows]),
+                         np.zeros(len(rows)), np.array([r[4] for r in rows]),
+                         np.array([r[5] for r in rows]))
         points += [{"i": r[0], "t": float(res["t_final"][k]), "status": res["status"][k]}
                    for k, r in enumerate(rows)]
     return {"points": points}

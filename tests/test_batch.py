@@ -1,0 +1,81 @@
+"""Many launches in one call (runtime/scan/batch.py, levitron_api Study.simulate_many): each run is
+the one Study.simulate makes with the same options, bit for bit (status, survival time, final
+state), through one call of the C chunk driver on the lane variant of the rhs."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import levitron_api as lev
+
+SPINS = [300.0, 900.0, 1500.0, 2500.0, 4000.0, 1200.0, 700.0, 2000.0, 1800.0]
+TILTS = [0.0, 0.05, 0.1, 0.02, 0.2, 0.15, 0.01, 0.3, 0.005]
+T_END = 0.5
+
+
+@pytest.fixture(scope="module")
+def study():
+    return lev.load("thesis_stable")
+
+
+def _assert_same_as_one_at_a_time(many, one_at_a_time):
+    for i, one in enumerate(one_at_a_time):
+        assert many.status[i] == one.status, i
+        assert many.t_survived[i] == one.t_survived, i
+        assert many.final_state(i) == one.final_state, i
+        assert (None if many.untested[i] else bool(many.levitating[i])) == one.levitating, i
+
+
+def test_many_launches_equal_simulate_one_at_a_time(study):
+    """Spins and tilts where the top floats, falls (left the box) and one on the invariant set
+    (tilt 0: untested): 9 launches, not a multiple of the lanes."""
+    many = study.simulate_many(SPINS, tilt=TILTS, t_end=T_END)
+    assert many.details["lanes"] is True and len(many) == len(SPINS)
+    _assert_same_as_one_at_a_time(many, [study.simulate(s, tilt=t, t_end=T_END)
+                                         for s, t in zip(SPINS, TILTS)])
+    assert {"completed", "left_box"} <= set(many.status.tolist()) and many.untested[0]
+    assert many.success and "9 runs ended normally" in many.message
+    assert "Simulations(n=9," in repr(many) and "success=True" in repr(many)
+
+
+def test_a_number_repeats_and_offsets_azimuths_and_vern9_agree(study):
+    spins = [1200.0, 1600.0, 2200.0]
+    kw = dict(tilt=0.03, offset=[0.0, 0.002, -0.001], tilt_azimuth=1.0, t_end=0.3, integrator="vern9",
+              tol=1e-10)
+    many = study.simulate_many(spins, **kw)
+    assert many.details["integrator"] == "vern9"
+    _assert_same_as_one_at_a_time(many, [study.simulate(s, tilt=0.03, offset=o, tilt_azimuth=1.0,
+                                                        t_end=0.3, integrator="vern9", tol=1e-10)
+                                         for s, o in zip(spins, kw["offset"])])
+
+
+def test_a_fixed_step_batch_equals_simulate(study):
+    many = study.simulate_many([1500.0, 2500.0], tilt=0.05, t_end=0.05, integrator="rk4", step=1e-4)
+    assert many.details["lanes"] is False
+    _assert_same_as_one_at_a_time(many, [study.simulate(s, tilt=0.05, t_end=0.05, integrator="rk4",
+                                                        step=1e-4) for s in (1500.0, 2500.0)])
+
+
+def test_each_launch_may_have_its_own_scene_keys(study):
+    """values={"top.mass": array}: every launch its own parameter vector and hover height, as
+    lev.load(scene, {"top.mass": m}).simulate(...)."""
+    masses = [0.0512, 0.0515, 0.0518]
+    many = study.simulate_many(1500.0, tilt=0.05, t_end=0.3, values={"top.mass": masses})
+    assert len(set(many.z_s.tolist())) == 3
+    np.testing.assert_array_equal(many.inputs["top.mass"], masses)
+    _assert_same_as_one_at_a_time(many, [lev.load("thesis_stable", {"top.mass": m}).simulate(
+        1500.0, tilt=0.05, t_end=0.3) for m in masses])
+
+
+@pytest.mark.parametrize("kw, match", [
+    (dict(spin=[1000.0, float("nan")]), "finite"),
+    (dict(spin=[1000.0, 1200.0], tilt=[0.1, 0.2, 0.3]), "different lengths"),
+    (dict(spin=1000.0, integrator="cvodes"), "C integrators"),
+    (dict(spin="fast"), "number"),
+    (dict(spin=1000.0, tilt=4.0), "beyond"),
+    (dict(spin=1000.0, n_out=5), "unknown"),
+    (dict(spin=1000.0, values={"top.colour": [1.0]}), "unknown"),
+])
+def test_bad_batches_are_one_line_errors(study, kw, match):
+    with pytest.raises(lev.UserError, match=match):
+        study.simulate_many(**kw)
