@@ -79,3 +79,20 @@ def test_each_launch_may_have_its_own_scene_keys(study):
 def test_bad_batches_are_one_line_errors(study, kw, match):
     with pytest.raises(lev.UserError, match=match):
         study.simulate_many(**kw)
+
+
+@pytest.mark.parametrize("scene, options", [
+    ("ring_magnet", {"tilt": [0.02, 0.1, 0.3]}),            # its lanes verify now; two of these fall
+    ("thesis_air", {"tilt": 0.02}),                          # with friction
+    ("reduced_only", {"part": "reduced"}),                  # on the invariant set: untested
+])
+def test_other_scenes_and_the_reduced_model_equal_simulate(scene, options):
+    st = lev.load(scene)
+    spins = [800.0, 1500.0, 2500.0]
+    many = st.simulate_many(spins, t_end=0.5, **options)
+    tilts = options.get("tilt", [None] * 3)
+    tilts = tilts if isinstance(tilts, list) else [tilts] * 3
+    kw = {k: v for k, v in options.items() if k != "tilt"}
+    _assert_same_as_one_at_a_time(many, [st.simulate(s, t_end=0.5, **kw, **({} if t is None else {"tilt": t}))
+                                         for s, t in zip(spins, tilts)])
+    assert many.details["lanes"] is True

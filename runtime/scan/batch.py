@@ -119,13 +119,13 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
         key = (None if row is None else row.tobytes(), *(float(cols[n][i]) for n in names))
         site = sites.get(key)
         if site is None:
-            p = model.with_params(dict(zip(names, key[1:])), row)
-            pv = model.pvals(p)
-            zs = hover_height(model, p)
-            te = sim.default_t_end(model, part, p) if t_end is None else t_end
-            site = sites[key] = (p, pv, zs, sim.vertical_stiffness(model, p, zs, pv),
+            pk = model.with_params(dict(zip(names, key[1:])), row)
+            pv = model.pvals(pk)
+            zs = hover_height(model, pk)
+            te = sim.default_t_end(model, part, pk) if t_end is None else t_end
+            site = sites[key] = (pk, pv, zs, sim.vertical_stiffness(model, pk, zs, pv),
                                  sim.default_box(pt, zs, box), te)
-        p, pv, zs, stiffness, bx, te = site
+        pk, pv, zs, stiffness, bx, te = site
         if run_t_end is None:
             run_t_end = te
         elif te != run_t_end:
@@ -134,7 +134,7 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
         lkey = (key, tilt_i, off_i, az_i)
         la = launches.get(lkey)
         if la is None:
-            la = launches[lkey] = sim.launch(pt, zs, tilt_i, off_i, p, az_i)
+            la = launches[lkey] = sim.launch(pt, zs, tilt_i, off_i, pk, az_i)
         x0[i] = sim.launch_state(la, spin_i)
         if bx.excess(x0[i]) > 0:
             raise UserError(f"launch {i}: the initial state is already outside the box (offset {off_i} m "
@@ -142,7 +142,7 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
         T, what = sim.fastest_period(spin_i, pv, stiffness)
         hi = (default_step(T) if h is None else h) if entry.fixed_step else None
         check_options(integrator, run_t_end, None if entry.fixed_step else tol, hi, CHECK_N_OUT, T, what)
-        P.append(p)
+        P.append(pk)
         scale[i] = sim.state_scales(pt, zs, spin_i, pv)
         hs[i] = hi or 0.0
         boxes[i] = (bx.z_lo, bx.z_hi, bx.r_max)
@@ -156,7 +156,7 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
     return {"levitating": status == "completed", "untested": untested, "status": status,
             "t_survived": res["t_final"], "rhs_evals": res["rhs_evals"], "steps": res["steps"],
             "z_s": z_s, "final_state": res["x_final"], "states": list(pt.states),
-            "inputs": {c: v for c, v in cols.items() if c != "p"}, "t_end": float(run_t_end), "integrator": integrator,
-            "integrator_requested": requested, "tol": None if entry.fixed_step else tol,
+            "inputs": {c: v for c, v in cols.items() if c != "p"}, "t_end": float(run_t_end),
+            "integrator": integrator, "integrator_requested": requested, "tol": None if entry.fixed_step else tol,
             "step": hs if entry.fixed_step else None, "lanes": bool(res["lanes"]),
             "wall_s": time.perf_counter() - t_wall}
