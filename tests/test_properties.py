@@ -163,14 +163,14 @@ def test_formula_plates_refuse_in_one_line_or_print(formula, key):
 def test_printed_formula_plates_compute_the_same_in_c_and_casadi(tmp_path):
     """The plates the grammar test printed, compiled together: C equals CasADi where it is finite."""
     from derive.emit.c.emitter import body_lines
-    from derive.emit.c.printer import LevitronCPrinter
+    from derive.emit.c.printer import FMA_PRELUDE, LevitronCPrinter
     from derive.emit.casadi.builder import build_function
     from runtime.model.cbuild import DEFAULT_FLAGS, compile_shared
     if not PRINTED:
         pytest.skip("run with test_formula_plates_refuse_in_one_line_or_print (it fills PRINTED)")
     assert len(PRINTED) >= 10, f"only {len(PRINTED)} formulas printed: the grammar is too hostile"
     printer = LevitronCPrinter()
-    src = ["#include <math.h>", "#ifndef M_PI", "#define M_PI 3.14159265358979323846", "#endif"]
+    src = [FMA_PRELUDE, "#ifndef M_PI", "#define M_PI 3.14159265358979323846", "#endif"]
     cases = []
     for i, (table, params, lowered) in enumerate(PRINTED):
         for low in lowered:
