@@ -96,3 +96,14 @@ def test_other_scenes_and_the_reduced_model_equal_simulate(scene, options):
     _assert_same_as_one_at_a_time(many, [st.simulate(s, t_end=0.5, **kw, **({} if t is None else {"tilt": t}))
                                          for s, t in zip(spins, tilts)])
     assert many.details["lanes"] is True
+
+
+def test_launch_states_are_launch_state_for_each_spin(study):
+    """The batch's initial states come from one batched solve per launch position
+    (runtime/simulate/start.py launch_states): the states launch_state gives one spin at a time."""
+    from runtime.physics.equilibrium import hover_height
+    from runtime.simulate.start import launch, launch_state, launch_states
+    pt = study.model.part("full")
+    la = launch(pt, hover_height(study.model), 0.07, 0.001, study.model.p, 0.4)
+    spins = np.linspace(-3000.0, 3000.0, 41)
+    np.testing.assert_array_equal(launch_states(la, spins), np.array([launch_state(la, s) for s in spins]))

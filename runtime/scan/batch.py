@@ -109,11 +109,12 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
                         f"not {integrator!r}: run that one through simulate")
     k = cols["spin"].size
     sites: dict = {}        # per parameter vector: p, pvals, z_s, stiffness, box, t_end
-    launches: dict = {}     # per parameter vector and launch position: simulate's Launch
     x0 = np.zeros((k, len(pt.states)))
     P, scale, hs, boxes = [], np.zeros_like(x0), np.zeros(k), np.zeros((k, 3))
     budget, z_s = np.zeros(k, np.int64), np.zeros(k)
     run_t_end = t_end
+    groups: dict = {}       # launch position -> (its Launch, the indices of its launches)
+    at = []                 # per launch: its site
     for i in range(k):
         row = None if rows is None else rows[int(cols["p"][i])]
         key = (None if row is None else row.tobytes(), *(float(cols[n][i]) for n in names))
@@ -125,20 +126,23 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
             te = sim.default_t_end(model, part, pk) if t_end is None else t_end
             site = sites[key] = (pk, pv, zs, sim.vertical_stiffness(model, pk, zs, pv),
                                  sim.default_box(pt, zs, box), te)
-        pk, pv, zs, stiffness, bx, te = site
         if run_t_end is None:
-            run_t_end = te
-        elif te != run_t_end:
+            run_t_end = site[5]
+        elif site[5] != run_t_end:
             raise UserError("the launches' parameters give different default run lengths: pass t_end")
-        spin_i, tilt_i, off_i, az_i = (float(cols[c][i]) for c in ("spin", "tilt", "offset", "azimuth"))
-        lkey = (key, tilt_i, off_i, az_i)
-        la = launches.get(lkey)
-        if la is None:
-            la = launches[lkey] = sim.launch(pt, zs, tilt_i, off_i, pk, az_i)
-        x0[i] = sim.launch_state(la, spin_i)
+        at.append(site)
+        lkey = (key, float(cols["tilt"][i]), float(cols["offset"][i]), float(cols["azimuth"][i]))
+        if lkey not in groups:
+            groups[lkey] = (sim.launch(pt, site[2], *lkey[1:3], site[0], lkey[3]), [])
+        groups[lkey][1].append(i)
+    for la, idx in groups.values():          # every spin of a launch position in one solve
+        x0[idx] = sim.launch_states(la, cols["spin"][idx])
+    for i, (pk, pv, zs, stiffness, bx, _) in enumerate(at):
+        spin_i = float(cols["spin"][i])
         if bx.excess(x0[i]) > 0:
-            raise UserError(f"launch {i}: the initial state is already outside the box (offset {off_i} m "
-                            f"vs half-width {bx.z_hi - zs:.4g} m); pass a smaller offset or a larger box")
+            raise UserError(f"launch {i}: the initial state is already outside the box (offset "
+                            f"{cols['offset'][i]} m vs half-width {bx.z_hi - zs:.4g} m); pass a smaller "
+                            "offset or a larger box")
         T, what = sim.fastest_period(spin_i, pv, stiffness)
         hi = (default_step(T) if h is None else h) if entry.fixed_step else None
         check_options(integrator, run_t_end, None if entry.fixed_step else tol, hi, CHECK_N_OUT, T, what)

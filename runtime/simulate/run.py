@@ -56,8 +56,8 @@ from runtime.simulate.rotations import (  # noqa: F401
     rotation_bs_derivatives, tilt_angles)
 from runtime.simulate.start import (  # noqa: F401
     DEFAULT_TILT, UNTESTED, Launch, coordinate_names, default_box, fastest_period,
-    initial_state, launch, launch_state, legendre_map, on_invariant_set, state_scales, time_scale,
-    vertical_stiffness)
+    initial_state, launch, launch_state, launch_states, legendre_map, on_invariant_set, state_scales,
+    time_scale, vertical_stiffness)
 
 FRICTION_T_END_TAUS = 5.0        # default run length with friction: 5 tau, the spin falls by e^5
 

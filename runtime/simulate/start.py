@@ -111,6 +111,18 @@ def launch_state(la: Launch, spin: float) -> np.ndarray:
     return x
 
 
+def launch_states(la: Launch, spins: np.ndarray) -> np.ndarray:
+    """launch_state at each of `spins`, (k, n): the same right-hand sides, solved in one batched
+    call (numpy solves each with its own LAPACK gesv, as launch_state does), so the same states."""
+    spins = np.asarray(spins, dtype=float).reshape(-1)
+    qdot = np.zeros((spins.size, len(la.q)))
+    qdot[:, la.i_spin] = spins / la.along
+    X = np.zeros((spins.size, la.n))
+    X[:, la.ic] = la.q
+    X[:, la.ip] = np.linalg.solve(la.Minv, (qdot - la.f0)[..., None])[..., 0]
+    return X
+
+
 def initial_state(part, z_s: float, spin: float, tilt: float = 0.0, offset: float = 0.0,
                   p=None, azimuth: float = DEFAULT_AZIMUTH) -> np.ndarray:
     """The state of the module docstring, in the part's state order."""
