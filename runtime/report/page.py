@@ -23,7 +23,7 @@ from derive import plates
 
 from runtime.physics import equilibrium as eqm
 from runtime.ui import progress
-from runtime.ui.human import Units, restate, sig, span
+from runtime.ui.human import SI_SYMBOLS, Units, restate, sig, span
 from runtime.physics.stability import stability_of
 
 MAP_SPINS, MAP_TILTS = 8, 6
@@ -64,9 +64,9 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
     scene = model.scene
     u = Units.of_scene(scene)
     P = model.pvals()
-    lengths = set(plates.length_names(scene.data["plate"]))
     facts: dict = {"scene": scene.name, "units": "SI" if u.si else "dimensionless"}
-    parts = [f"<h1>{html.escape(scene.name)}: does the top levitate?</h1>"]
+    parts = [f"<h1>{html.escape(scene.name)}: does the top levitate?</h1>",
+             _p(_made(provenance), "note")]
     with tempfile.TemporaryDirectory(prefix="levitron-report-") as tmp, \
             progress.task(f"report {scene.name}", total=4) as tick:
         tmp = Path(tmp)
@@ -78,17 +78,17 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
         iv = res.spin_interval
         facts["spin_interval"] = list(iv) if iv else None
         facts["z_s"] = res.z_s
-        answer = (f"{u.top(P['m']).capitalize()} hovers at {u.length(facts['z_s'])} and is stable for "
-                  f"spin rates {u.rate_span(*iv)}." if iv else
-                  "No spin rate makes this top stable: " + restate(
-                      rep.no_hover_reason(P["m"]) or res.reason or "no stable hover height", u))
+        hints = eqm.hover_reasons(rep, P["m"])
+        facts["hints"] = hints
+        if iv:
+            answer = (f"{u.top(P['m']).capitalize()} hovers at {u.length(facts['z_s'])} and is stable "
+                      f"for spin rates {u.rate_span(*iv)}.")
+        else:      # what a person can change first (the CLI's `reason`), the technical why below
+            why = "; ".join(restate(h, u) for h in hints) or restate(res.reason or "", u)
+            answer = f"No: {u.top(P['m'])} cannot levitate over this plate: {why}."
         parts.append(_p(answer, "answer"))
         parts.append("<h2>Scene</h2>")
-        parts.append(_table([("file", scene.path), ("plate", scene.data["plate"].get("kind")),
-                             ("top mass", u.mass(P["m"])), ("g", u.value(P["g"], "m/s^2")),
-                             ("A, C (inertia)", f"{sig(P['A'], 4)}, {u.value(P['C'], 'kg m^2')}"),
-                             *[(k, u.length(v) if k in lengths else sig(v, 6))
-                               for k, v in P.items() if k.startswith("plate_")]]))
+        parts.append(_table(scene_rows(scene, overrides, u, P)))
         if u.note:
             parts.append(_p(u.note, "note"))
         parts.append("<h2>Equilibria and the stable band</h2>")
@@ -138,6 +138,78 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
     if provenance is not None:
         facts["provenance"] = provenance
     return page, facts
+
+
+def _made(block: dict | None) -> str:
+    """The line under the title: when, by which version, from which scene (its hash)."""
+    if block is None:
+        return ""
+    when = str(block.get("time", "")).replace("T", " ").replace("+00:00", " UTC")
+    digest = str(block.get("scene_hash", ""))[:12]
+    return (f"levitron {block.get('version')}, {when}; scene hash {digest}"
+            + (f"; --set {' '.join(block['overrides'])}" if block.get("overrides") else ""))
+
+
+def _shown(v, unit: str, u: Units) -> str:
+    """A scene key's value in the scene's units: lengths in cm/mm, masses in g (SI); a bare number
+    in a dimensionless scene (no SI unit, not even one the human units do not know)."""
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        return str(v)
+    if unit == "m":
+        return u.length(v)
+    if unit == "kg":
+        return u.mass(v)
+    if unit == "s":
+        return u.time(v)
+    if not u.si:
+        return u.value(v, unit, 6) if unit in SI_SYMBOLS or not unit else sig(v, 6)
+    return f"{sig(v, 6)} {unit}".rstrip()
+
+
+def _key_units(section: str, table: dict) -> dict[str, str]:
+    """key -> SI unit of a scene section (derive/scene.py's key tables, the plate kinds' own)."""
+    from derive.scene import FIELD_KEYS, TOP_KEYS
+    if section == "plate":
+        kind = plates.KINDS.get(table.get("kind"))
+        return {k.name: k.unit for k in kind.keys} if kind is not None else {}
+    return {k.name: k.unit for k in {"top": TOP_KEYS, "field": FIELD_KEYS}.get(section, ())}
+
+
+def scene_rows(scene, overrides, u: Units, P: dict) -> list[tuple[str, str]]:
+    """The scene as its author wrote it: one row per key (`plate.radius`, with its unit; the keys
+    --set changed marked), the scene file, and the top's magnetic moment (thesis 2.2.11 needs only
+    the product mu rho where the scene gives murho)."""
+    from derive.scene import SCENE_KEYS
+    changed = {o.split("=", 1)[0].strip() for o in overrides}
+    top_units = {k.name: k.unit for k in SCENE_KEYS}
+    rows = [("file", f"{scene.path}" + (f" with --set {', '.join(overrides)}" if overrides else ""))]
+
+    def add(key: str, v, unit: str) -> None:
+        rows.append((key + (" (--set)" if key in changed else ""), _shown(v, unit, u)))
+
+    def walk(prefix: str, section: str, table: dict) -> None:
+        units = _key_units(section, table)
+        for k, v in table.items():
+            if isinstance(v, dict):
+                walk(f"{prefix}{k}.", section, v)
+            elif isinstance(v, list) and v and all(isinstance(x, dict) for x in v):
+                for i, part in enumerate(v):
+                    walk(f"{prefix}{k}.{i}.", "plate", part)
+            else:
+                add(prefix + k, v, units.get(k, ""))
+
+    for k in ("g", "temperature"):
+        if k in scene.data:
+            add(k, scene.data[k], top_units.get(k, ""))
+    for section in ("top", "plate", "field"):
+        if isinstance(scene.data.get(section), dict):
+            walk(f"{section}.", section, scene.data[section])
+    if "moment" not in scene.data.get("top", {}):
+        rows.append(("the top's magnetic moment mu", "not given: the plate's murho = mu rho is the only "
+                     "product the dynamics sees (thesis 2.2.11)"))
+    else:
+        rows.append(("the top's magnetic moment mu", _shown(P["mu"], "A m^2", u)))
+    return rows
 
 
 def _provenance(block: dict | None, name: str) -> str:

@@ -40,6 +40,9 @@ def run(args) -> dict:
                            and "p_zeta" in model.part("full").states
                            else "transverse_matrix (8-D)")
     out["wall_s"] = wall
+    # the vertical stiffness U'' = mu Phi_3(z_s) (thesis 3.3.3), N/m: what --constrain stiffness>=K
+    # of `optimize` speaks of; it does not depend on the mass
+    out["stiffness"] = (model.param("mu") * float(model.onaxis(res.z_s)[3]) if res.z_s else None)
     return out
 
 
@@ -88,6 +91,8 @@ def human(r: dict, scene=None) -> str:
     return lines(
         head,
         _where(r, u),
+        f"vertical stiffness there: U'' = mu Phi_3 = {u.value(r['stiffness'], 'N/m')} (thesis 3.3.3)"
+        if r.get("stiffness") is not None else "",
         "further intervals: " + ", ".join(_interval(ivl, u) for ivl in more) if more else "",
         f"reason: {restate(r['reason'], u)}" if r.get("reason") else "",
         approx, u.note)
