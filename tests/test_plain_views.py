@@ -63,3 +63,43 @@ def test_optimize_help_lists_every_objective(capsys):
     text = " ".join(capsys.readouterr().out.split())
     for name in OBJECTIVES:
         assert name in text
+
+
+UNIT_RING = """name = "unit_ring"
+g = 1.0
+units = "dimensionless"
+[top]
+mass = 0.02015
+A = 0.01
+C = 0.006
+moment = -1.0
+[plate]
+kind = "ring_magnet"
+r_out = 1.0
+r_in = 0.5
+thickness = 0.3
+remanence = 1.0
+[field]
+order = 4
+[model]
+needs = ["reduced", "full", "linear"]
+"""
+
+
+def test_a_band_above_z_c_and_approximations_out_of_range_say_so(tmp_path, capsys):
+    """A ring in its own units whose stable band (1.231-1.237) starts above z_c = 1.099: z_c is
+    not called "where the band starts"; the thesis's small-g21 estimates there give sigma_1 above
+    sigma_2, which is said, not printed as an interval."""
+    path = tmp_path / "unit_ring.toml"
+    path.write_text(UNIT_RING)
+    eq = _json(capsys, "equilibrium", str(path))
+    assert eq["stable_band"]["z"][0] > 1.1 * eq["z_c"]
+    out = _out(capsys, "equilibrium", str(path))
+    assert "where the band starts" not in out and "(the heaviest top's height, below the band)" in out
+    assert "(where the band starts)" in _out(capsys, "equilibrium", "thesis")
+    st = _json(capsys, "stability", str(path))
+    ap = st["approximations"]
+    assert ap["sigma1"] > ap["sigma2"]
+    out = _out(capsys, "stability", str(path))
+    assert "the thesis's approximations (eqs. 3.3.22/3.3.23) do not apply" in out
+    assert f"{ap['sigma1']:.4g}-{ap['sigma2']:.4g}" not in out

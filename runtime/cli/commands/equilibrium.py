@@ -73,6 +73,15 @@ def _stiffness(equilibria, u: Units) -> str:
             ", ".join(f"{u.value(e['stiffness'], 'N/m')} at {u.length(e['z'])}" for e in stable))
 
 
+def _z_c_role(r: dict) -> str:
+    """What z_c is to this plate: where the stable band starts (the thesis's plate), or only the
+    height of the heaviest top that hovers, where the band starts higher up."""
+    band = r.get("stable_band")
+    if band and abs(band["z"][0] - r["z_c"]) <= 1e-6 * r["z_c"]:
+        return "where the band starts"
+    return "the heaviest top's height" + (", below the band" if band else "")
+
+
 def human(r: dict, scene=None) -> str:
     """Answer first: the equilibria (with the scene's stated value beside), then the band, the reason."""
     u = Units.of_scene(scene) if scene is not None else Units(si=True)
@@ -100,7 +109,7 @@ def human(r: dict, scene=None) -> str:
         f"singular (not equilibria): {', '.join(poles)}" if poles else "",
         f"reason: {restate(r['reason'], u)}" if r.get("reason") else "",
         _stiffness(r["equilibria"], u),
-        f"top {u.mass(r['mass'])}; z_c {u.length(r['z_c'])} (where the band starts); the heaviest top "
+        f"top {u.mass(r['mass'])}; z_c {u.length(r['z_c'])} ({_z_c_role(r)}); the heaviest top "
         f"that hovers: {u.mass(r['max_mass'])}" if r.get("z_c") is not None else "",
         u.note,
         f"plot: {r['plot']}" if r.get("plot") else "")

@@ -75,6 +75,10 @@ def _approximations(ap: dict, u: Units) -> str:
     mass m(z_c) at z_c), for comparison; shown only beside an interval."""
     if ap.get("sigma1") is None:
         return ""
+    if ap["sigma1"] >= ap["sigma2"]:    # small-g21 estimates beyond their range: no interval at all
+        return (f"for comparison: the thesis's approximations (eqs. 3.3.22/3.3.23) do not apply to "
+                f"{u.top(ap['mass_at_z_c'])} at z_c = {u.length(ap['z_c'])}: they give sigma_1 = "
+                f"{u.rate(ap['sigma1'])} above sigma_2 = {u.rate(ap['sigma2'])}")
     return (f"for comparison, not this top's interval: the thesis's approximations (eqs. 3.3.22/3.3.23) "
             f"for {u.top(ap['mass_at_z_c'])} at z_c = {u.length(ap['z_c'])}: "
             f"{u.rate_span(ap['sigma1'], ap['sigma2'])}")
