@@ -91,3 +91,25 @@ def ring_magnet_model():
     from derive.scene import load_scene
     from runtime.model.load import load_model
     return load_model(load_scene("ring_magnet"))
+
+
+def test_equilibrium_plot_zooms_where_the_crossings_sit_close(ring_magnet_model, tmp_path, monkeypatch):
+    """ring_magnet's crossings and band (6.09-7.25 cm) fill a tenth of the 0-12 cm range: a zoom row
+    shows them; the thesis plate's (7.62-15.74 cm of 0-20 cm) needs none."""
+    import matplotlib.figure
+
+    from derive.scene import load_scene
+    from runtime.model.load import load_model
+    from runtime.report.figures import figure_3_5
+    seen = []
+    save = matplotlib.figure.Figure.savefig
+
+    def recording(fig, *a, **k):
+        seen.append([ax.get_xlabel() for ax in fig.axes])
+        return save(fig, *a, **k)
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", recording)
+    figure_3_5(ring_magnet_model, tmp_path / "ring.png")
+    figure_3_5(load_model(load_scene("thesis")), tmp_path / "thesis.png")
+    ring, thesis = seen
+    assert "zoom: z (cm)" in ring
+    assert not any(label.startswith("zoom") for label in thesis)

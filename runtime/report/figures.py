@@ -290,7 +290,9 @@ def figure_3_7(model, path: Path) -> Path:
         ax.axvline(g21c, color="k", lw=0.8, ls=":", label=f"this plate at z_c: g21 = {sig(g21c, 3)} (dimensionless)")
     ax.set_xlabel(r"$g_{21}$ (dimensionless, thesis 3.3.13; $g_{31} = 0$)")
     ax.set_ylabel(f"critical spin rate ({rate_unit})")
-    ax.set_title(f"{model.scene.name}: critical spin rates (thesis fig. 3.7), m = {u.mass(m)}")
+    who = (f"for the top that hovers at z_c = {u.length(z_c)}, of mass m(z_c) = {u.mass(m)}"
+           if m_c else f"for the scene's top, m = {u.mass(m)}")
+    ax.set_title(f"{model.scene.name}: critical spin rates (thesis fig. 3.7)\n{who}", fontsize=9)
     ax.legend(fontsize=8)
     fig.tight_layout()
     return save_figure(fig, path)
