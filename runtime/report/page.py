@@ -68,7 +68,10 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
     parts = [f"<h1>{html.escape(scene.name)}: does the top levitate?</h1>",
              _p(_made(provenance), "note")]
     with tempfile.TemporaryDirectory(prefix="levitron-report-") as tmp, \
-            progress.task(f"report {scene.name}", total=4) as tick:
+            progress.stages(f"report {scene.name}", ["equilibria and the band", "spin interval",
+                                                     "a small stability map", "a typical launch"],
+                            [1, 1, 3, 2]) as stage:
+        stage(0)
         tmp = Path(tmp)
         rep = eqm.equilibria_of(model, bands=True)
         band = rep.stable_band
@@ -99,11 +102,12 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
             ("stable band", f"z {span(*band.z, u.cm)}, mass {span(*band.mass, u.mass)}" if band else "none"),
             ("heaviest top that hovers", u.mass(rep.max_mass) if rep.max_mass else "n/a")]))
         parts.append(_png(figure_3_5(model, tmp / "equilibrium.png")))
-        tick()
+        stage(1)
         parts.append("<h2>Spin interval (linear stability, thesis 3.3)</h2>")
         parts.append(_p(f"spin interval: {u.rate_span(*iv)} at z_s = {u.length(facts['z_s'])}" if iv
                         else f"no stable spin interval: {restate(res.reason, u)}"))
-        tick()
+        if iv:
+            stage(2)
         if iv:
             spin = math.sqrt(iv[0] * iv[1])
             T = slow_period(model, P["m"], facts["z_s"], spin)
@@ -118,7 +122,7 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
                             f"{sig(100 * facts['map']['fraction_levitating'], 3)}% of the points. "
                             "A sketch: `levitron scan` draws a finer, longer one.", "note"))
             parts.append(_png(draw_map(m, tmp / "map.png", f"{scene.name}: levitating vs spin and tilt", u)))
-            tick()
+            stage(3)
             run = simulate(model, spin=spin, tilt=LAUNCH_TILT, t_end=LAUNCH_PERIODS * T,
                            plot=tmp / "launch.png")
             facts["launch"] = {k: run[k] for k in ("levitating", "t_survived", "max_tilt",
@@ -130,7 +134,6 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
                             f"for {u.time(run['t_survived'])}; largest tilt {u.angle(run['max_tilt'])}, "
                             f"energy drift {sig(run['energy_drift'], 2)}"))
             parts.append(_png(Path(run["plot"])))
-            tick()
     page = ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
             f"<title>levitron report: {html.escape(scene.name)}</title><style>{CSS}</style></head>"
             f"<body>{''.join(parts)}{_provenance(provenance, scene.name)}"
