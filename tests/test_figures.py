@@ -113,3 +113,14 @@ def test_equilibrium_plot_zooms_where_the_crossings_sit_close(ring_magnet_model,
     ring, thesis = seen
     assert "zoom: z (cm)" in ring
     assert not any(label.startswith("zoom") for label in thesis)
+
+
+def test_map_spins_resolve_a_narrow_interval():
+    """The sketch maps (report, fig. 3.8) run 0.5 lo to 1.25 hi; an interval narrower than three of
+    those steps (a dimensionless ring's 4.09-4.093) gets a grid around it instead, with points inside."""
+    from runtime.scan.physics import spins_around
+    wide = spins_around((459.6, 2740.0), 8)
+    assert wide[0] == pytest.approx(229.8) and wide[-1] == pytest.approx(3425.0)
+    narrow = spins_around((4.09, 4.093), 8)
+    inside = narrow[(narrow >= 4.09) & (narrow <= 4.093)]
+    assert len(inside) >= 2 and narrow[0] < 4.09 and narrow[-1] > 4.093

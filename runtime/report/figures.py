@@ -306,7 +306,7 @@ def figure_3_8(model, path: Path, scene_ref: str, overrides=(), quick: bool = Fa
     the scene's top falling there). None (nothing written) where the plate has no stable band."""
     from runtime.physics.stability import stability_of
     from runtime.scan import stability_map as sc
-    from runtime.scan.physics import slow_period
+    from runtime.scan.physics import slow_period, spins_around
     from runtime.scan.plot import draw as draw_map
     u = Units.of_scene(model.scene)
     m = model.param("m")
@@ -325,7 +325,7 @@ def figure_3_8(model, path: Path, scene_ref: str, overrides=(), quick: bool = Fa
         title += (f"\nno spin stabilises it; spins around the interval of {u.top(m_ref)} "
                   f"(mid-band, {u.length(mid)})")
     n_spin, n_tilt = (8, 6) if quick else (16, 10)
-    spins = np.linspace(0.5 * iv[0], 1.25 * iv[1], n_spin)
+    spins = spins_around(iv, n_spin)
     tilts = np.linspace(0.005, 0.1, n_tilt)
     T = slow_period(model, m_ref, z_ref, math.sqrt(iv[0] * iv[1]))
     result = sc.scan(model, scene_ref, list(overrides), spins, "tilt", tilts, t_end=T, quiet=True)

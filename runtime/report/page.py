@@ -57,7 +57,7 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
     runtime/ui/provenance.py, shown at the foot of the page (its command rebuilds the page)."""
     from runtime.scan import stability_map as sc
     from runtime.report.figures import figure_3_5
-    from runtime.scan.physics import slow_period
+    from runtime.scan.physics import slow_period, spins_around
     from runtime.scan.plot import draw as draw_map
     from runtime.simulate.run import simulate
 
@@ -111,7 +111,7 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
         if iv:
             spin = math.sqrt(iv[0] * iv[1])
             T = slow_period(model, P["m"], facts["z_s"], spin)
-            spins = np.linspace(0.5 * iv[0], 1.25 * iv[1], MAP_SPINS)
+            spins = spins_around(iv, MAP_SPINS)
             tilts = np.linspace(0.005, 0.1, MAP_TILTS)
             m = sc.scan(model, scene_ref, list(overrides), spins, "tilt", tilts, t_end=T, quiet=True)
             facts["map"] = {"spins": spins.tolist(), "tilts": tilts.tolist(), "t_end": T,
