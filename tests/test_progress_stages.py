@@ -62,3 +62,20 @@ def test_a_structural_set_shows_its_stages(tmp_path, monkeypatch, capsys, seed_c
     assert "levitron: deriving: the reduced model 3/7 (" in err
     assert re.search(r"deriving: C and CasADi files 7/7 \(\d+:\d\d elapsed, eta \d+:\d\d\)", err)
     assert "levitron: compiling: " in err
+
+
+def test_a_long_count_writes_its_progress_off_a_terminal(monkeypatch, capsys):
+    """A scan's points (runtime/scan/runners.py, log_every 10 s): off a terminal a line with the
+    count and the ETA at most once per log_every, none for a step shorter than that."""
+    monkeypatch.delenv("LEVITRON_PROGRESS", raising=False)
+    progress.enable()
+    with progress.task("scan", total=4, log_every=1e-9) as tick:
+        tick(1)
+        tick(2)
+        tick(1)
+    lines = capsys.readouterr().err.splitlines()
+    assert [ln.split(" (")[0] for ln in lines] == ["levitron: scan: 1/4", "levitron: scan: 3/4"]
+    assert all("eta" in ln for ln in lines)
+    with progress.task("scan", total=4, log_every=60) as tick:
+        tick(4)
+    assert capsys.readouterr().err == ""

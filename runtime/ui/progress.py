@@ -71,12 +71,35 @@ def _noop(n: int = 1) -> None:
     return None
 
 
+def _timed_lines(description: str, total: int, every: float):
+    """tick(n) that, off a terminal, writes "levitron: scan: 120/1000 (0:10 elapsed, eta 1:20)"
+    on stderr at most once per `every` seconds, the first after `every` seconds: a long step is
+    not silent in a log, a short one writes nothing."""
+    start = time.monotonic()
+    state = {"done": 0, "last": start}
+
+    def tick(n: int = 1) -> None:
+        state["done"] += n
+        now = time.monotonic()
+        if now - state["last"] >= every and state["done"] < total:
+            state["last"] = now
+            done, elapsed = state["done"], now - start
+            print(f"levitron: {description}: {done}/{total} ({_hms(elapsed)} elapsed, eta "
+                  f"{_hms(elapsed / done * (total - done))})", file=sys.stderr, flush=True)
+    return tick
+
+
 @contextlib.contextmanager
-def task(description: str, total: int | None = None, quiet: bool = False):
+def task(description: str, total: int | None = None, quiet: bool = False,
+         log_every: float | None = None):
     """A progress bar for `total` steps (None: a spinner with elapsed time); yields tick(n=1).
-    Tasks opened inside another share its display (one line each). quiet: none at all."""
+    Tasks opened inside another share its display (one line each). quiet: none at all.
+    log_every (seconds): off a terminal, a line of the count and the ETA at most that often."""
     if quiet or not active():
-        yield _noop
+        if not quiet and total and log_every and lines_allowed():
+            yield _timed_lines(description, total, log_every)
+        else:
+            yield _noop
         return
     outer = _state.get("bar")
     if outer is not None:
