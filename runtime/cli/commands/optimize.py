@@ -1,8 +1,8 @@
 """`levitron optimize SCENE`: CasADi-based design and fitting (docs/contract.md `optimize`).
 
-    --maximize spin-range|spin-ratio --vary KEY=LO:HI [...] [--constrain EXPR] [--write-scene FILE]
+    --maximize spin-range|spin-ratio|mass-window --vary KEY=LO:HI [...] [--constrain EXPR] [--write-scene FILE]
     --fit DATA.csv --vary KEY=LO:HI [...]
-    --fit-height Z [--param NAME]
+    --fit-height Z [--param KEY]   (a scene key, e.g. plate.murho, or a parameter name, e.g. mu)
 
 Design: runtime/design/optimize.py (IPOPT, verified by a grid and the float routes); fitting:
 runtime/design/fit.py (Gauss-Newton, exact Jacobians); --fit-height: runtime/design/fit_height.py.
