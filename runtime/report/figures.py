@@ -327,7 +327,9 @@ def figure_3_8(model, path: Path, scene_ref: str, overrides=(), quick: bool = Fa
     n_spin, n_tilt = (8, 6) if quick else (16, 10)
     spins = spins_around(iv, n_spin)
     tilts = np.linspace(0.005, 0.1, n_tilt)
-    T = slow_period(model, m_ref, z_ref, math.sqrt(iv[0] * iv[1]))
+    # one slow period of the scanned top itself (at its own hover height where it has one)
+    T = slow_period(model, m, res.z_s, math.sqrt(iv[0] * iv[1])) if res.z_s else \
+        slow_period(model, m_ref, z_ref, math.sqrt(iv[0] * iv[1]))
     result = sc.scan(model, scene_ref, list(overrides), spins, "tilt", tilts, t_end=T, quiet=True)
     return draw_map(result, path, title, u)
 

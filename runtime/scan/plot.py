@@ -50,7 +50,7 @@ def draw(res, path: str | Path, title: str = "", units: Units | None = None) -> 
     S, O = np.meshgrid(res.spins, others, indexing="ij")
     # white dots ringed in black: visible on the dark and on the bright end of the colour map
     ax.plot(S[res.levitating], O[res.levitating], "o", ms=5, mfc="w", mec="k", mew=1.0, ls="none",
-            label="levitating")
+            label="levitating" if res.levitating.any() else "levitating: no run")
     los = [li["spin_interval"][0] if li["spin_interval"] else np.nan for li in res.linear]
     his = [li["spin_interval"][1] if li["spin_interval"] else np.nan for li in res.linear]
     if res.axis == "mass":   # the interval moves with the mass: vertical lines per row
