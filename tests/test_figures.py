@@ -124,3 +124,12 @@ def test_map_spins_resolve_a_narrow_interval():
     narrow = spins_around((4.09, 4.093), 8)
     inside = narrow[(narrow >= 4.09) & (narrow <= 4.093)]
     assert len(inside) >= 2 and narrow[0] < 4.09 and narrow[-1] > 4.093
+
+
+def test_a_figure_the_scene_cannot_have_is_named_not_drawn(tmp_path, capsys):
+    """reduced_only has no full model: fig. 3.8 (a map of full runs) is not drawn and says why;
+    the others are, and the count is the files in the folder."""
+    code, r = _run(capsys, "reduced_only", "--out", str(tmp_path), "--quick")
+    assert code == 0
+    assert set(r["not_drawn"]) == {"3.8"} and "full model" in r["not_drawn"]["3.8"]
+    assert len(r["files"]) == len(list(tmp_path.iterdir())) == 4 + 3

@@ -21,16 +21,20 @@ w = 0); plates without a hole parameter draw one panel. No sympy here.
 from __future__ import annotations
 
 import math
-import textwrap
 from pathlib import Path
 
 import numpy as np
 
+from runtime.errors import UserError
 from runtime.physics import equilibrium as eqm
 from runtime.ui import progress
 from runtime.ui.human import Units, restate, sig, span
 from runtime.ui.plotting import band, pyplot, save_figure, style
 from runtime.physics.ray_algebra import l_cubic
+
+
+class NotDrawn(Exception):
+    """A figure that this scene cannot have, and why (make_figures reports it, writes nothing)."""
 
 
 def _variants(model) -> list[tuple[str, np.ndarray]]:
@@ -201,44 +205,42 @@ def figure_3_4(model, path: Path, orbits: int = 7) -> Path:
     def U(z):
         return m * g * z + mu * float(on(float(z))[1])
 
-    fig, ax = plt.subplots(figsize=(6.4, 5.6))
     stable = rep.stable
-    if not stable or "reduced" not in model.parts:
-        why = ("no vertically stable equilibrium: " + restate(rep.no_hover_reason(m) or "", u)
-               if not stable else "this scene has no reduced model (model.needs)")
-        ax.text(0.5, 0.5, "\n".join(textwrap.wrap(why, 60)), ha="center", va="center",
-                transform=ax.transAxes)
-        ax.set_axis_off()
-    else:
-        zs = stable[0].z
-        below = [e.z for e in rep.equilibria if e.z < zs and not e.vertically_stable]
-        z_lo = below[-1] if below else 0.5 * zs
-        barrier = U(z_lo) - U(zs)
-        T0 = 2 * math.pi * math.sqrt(m / stable[0].stiffness)
-        part = model.part("reduced")
-        colours = plt.get_cmap("viridis")(np.linspace(0.05, 0.9, orbits))
-        for k, f in enumerate(np.linspace(0.05, 0.95, orbits)):
-            E = f * barrier
-            x0 = np.array([zs, 0.0, math.sqrt(2 * m * E), 0.0])
-            # the period grows towards the separatrix (logarithmically): 1.5 periods of
-            # the small oscillation, times the factor of the energy's nearness to it
-            t_end = 1.5 * T0 * (1 + math.log(1 / (1 - f)))
-            r = integrate(part, x0, t_end, method="dop853", tol=1e-10, n_out=800)
-            ax.plot(r.X[:, 0] * kz, r.X[:, 2] * kp, color=colours[k], lw=1.2,
-                    label=f"E - U(z_s) = {sig(f, 2)} x barrier" if k in (0, orbits - 1) else None)
-        zz = np.linspace(z_lo, 5 * zs - 4 * z_lo, 1600)
-        Ez = np.array([U(v) for v in zz]) - U(zs)
-        pz = np.sqrt(np.clip(2 * m * (barrier - Ez), 0, None))
-        keep = Ez <= barrier
-        for sign in (1, -1):
-            ax.plot(zz[keep] * kz, sign * pz[keep] * kp, "k--", lw=0.8,
-                    label="separatrix (energy of the unstable equilibrium)" if sign > 0 else None)
-        ax.plot([zs * kz], [0], "ko", ms=5, label=f"z_s = {u.length(zs)} (vertically stable)")
-        ax.plot([z_lo * kz], [0], "kx", ms=6,
-                label=f"{u.length(z_lo)} (unstable)" if below else None)
-        ax.set_xlabel(f"height z ({lu})")
-        ax.set_ylabel(f"vertical momentum p_z ({pu})")
-        ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2)
+    if "reduced" not in model.parts:
+        raise NotDrawn("the scene has no reduced model (add \"reduced\" to model.needs)")
+    if not stable:
+        raise NotDrawn("no vertically stable equilibrium, no closed orbit: "
+                       + restate(rep.no_hover_reason(m) or "", u))
+    fig, ax = plt.subplots(figsize=(6.4, 5.6))
+    zs = stable[0].z
+    below = [e.z for e in rep.equilibria if e.z < zs and not e.vertically_stable]
+    z_lo = below[-1] if below else 0.5 * zs
+    barrier = U(z_lo) - U(zs)
+    T0 = 2 * math.pi * math.sqrt(m / stable[0].stiffness)
+    part = model.part("reduced")
+    colours = plt.get_cmap("viridis")(np.linspace(0.05, 0.9, orbits))
+    for k, f in enumerate(np.linspace(0.05, 0.95, orbits)):
+        E = f * barrier
+        x0 = np.array([zs, 0.0, math.sqrt(2 * m * E), 0.0])
+        # the period grows towards the separatrix (logarithmically): 1.5 periods of
+        # the small oscillation, times the factor of the energy's nearness to it
+        t_end = 1.5 * T0 * (1 + math.log(1 / (1 - f)))
+        r = integrate(part, x0, t_end, method="dop853", tol=1e-10, n_out=800)
+        ax.plot(r.X[:, 0] * kz, r.X[:, 2] * kp, color=colours[k], lw=1.2,
+                label=f"E - U(z_s) = {sig(f, 2)} x barrier" if k in (0, orbits - 1) else None)
+    zz = np.linspace(z_lo, 5 * zs - 4 * z_lo, 1600)
+    Ez = np.array([U(v) for v in zz]) - U(zs)
+    pz = np.sqrt(np.clip(2 * m * (barrier - Ez), 0, None))
+    keep = Ez <= barrier
+    for sign in (1, -1):
+        ax.plot(zz[keep] * kz, sign * pz[keep] * kp, "k--", lw=0.8,
+                label="separatrix (energy of the unstable equilibrium)" if sign > 0 else None)
+    ax.plot([zs * kz], [0], "ko", ms=5, label=f"z_s = {u.length(zs)} (vertically stable)")
+    ax.plot([z_lo * kz], [0], "kx", ms=6,
+            label=f"{u.length(z_lo)} (unstable)" if below else None)
+    ax.set_xlabel(f"height z ({lu})")
+    ax.set_ylabel(f"vertical momentum p_z ({pu})")
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2)
     ax.set_title(f"{model.scene.name}, {u.top(m)}: phase portrait p_z(z) of the reduced model\n"
                  "(thesis 3.2.12, fig. 3.4), one orbit per energy", fontsize=9)
     fig.tight_layout()
@@ -298,29 +300,39 @@ def figure_3_7(model, path: Path) -> Path:
     return save_figure(fig, path)
 
 
-def figure_3_8(model, path: Path, scene_ref: str, overrides=(), quick: bool = False) -> Path | None:
+def figure_3_8(model, path: Path, scene_ref: str, overrides=(), quick: bool = False) -> Path:
     """Thesis fig. 3.8: stable launches over spin and tilt, a stability map of the scene's own top
     (runtime/scan, one slow period per run; 8 x 6 runs with quick, else 16 x 10). Spins: 0.5 x
     the lower to 1.25 x the upper end of its linear interval (thesis 3.3), or, where it has none,
     of the interval of the top that hovers in the middle of the stable band (the map then shows
-    the scene's top falling there). None (nothing written) where the plate has no stable band."""
+    the scene's top falling there). NotDrawn without a full model or a stable band."""
     from runtime.physics.stability import stability_of
     from runtime.scan import stability_map as sc
     from runtime.scan.physics import slow_period, spins_around
     from runtime.scan.plot import draw as draw_map
     u = Units.of_scene(model.scene)
     m = model.param("m")
-    res = stability_of(model)
+    if "full" not in model.parts:
+        raise NotDrawn("the scene has no full model (add \"full\" to model.needs): the map "
+                       "simulates the whole top")
+    try:
+        res = stability_of(model)
+        iv, z_s = res.spin_interval, res.z_s
+    except UserError as exc:           # no hover height at all: nothing to launch from
+        raise NotDrawn(f"{u.top(m)} cannot hover: {restate(str(exc), u)}") from None
+    if z_s is None:
+        raise NotDrawn(f"{u.top(m)} has no vertically stable height to launch from: "
+                       + restate(res.reason or "", u))
     title = f"{model.scene.name}, {u.top(m)}: launches over spin and tilt (thesis fig. 3.8)"
-    iv, z_ref, m_ref = res.spin_interval, res.z_s, m
+    z_ref, m_ref = z_s, m
     if iv is None:
         band_ = eqm.equilibria_of(model, bands=True).stable_band
         if band_ is None:
-            return None
+            raise NotDrawn("the plate has no stable band: no spin to scan around")
         mid = 0.5 * (band_.z[0] + band_.z[1])
         other = stability_of(model, height=mid)
         if other.spin_interval is None:
-            return None
+            raise NotDrawn("no spin interval in the middle of the stable band to scan around")
         iv, z_ref, m_ref = other.spin_interval, mid, other.mass
         title += (f"\nno spin stabilises it; spins around the interval of {u.top(m_ref)} "
                   f"(mid-band, {u.length(mid)})")
@@ -328,7 +340,7 @@ def figure_3_8(model, path: Path, scene_ref: str, overrides=(), quick: bool = Fa
     spins = spins_around(iv, n_spin)
     tilts = np.linspace(0.005, 0.1, n_tilt)
     # one slow period of the scanned top itself (at its own hover height where it has one)
-    T = slow_period(model, m, res.z_s, math.sqrt(iv[0] * iv[1])) if res.z_s else \
+    T = slow_period(model, m, z_s, math.sqrt(iv[0] * iv[1])) if z_s else \
         slow_period(model, m_ref, z_ref, math.sqrt(iv[0] * iv[1]))
     result = sc.scan(model, scene_ref, list(overrides), spins, "tilt", tilts, t_end=T, quiet=True)
     return draw_map(result, path, title, u)
@@ -340,18 +352,20 @@ SCENE_FIGURES = (("3.4", "fig3_4_phase_portrait"), ("3.5", "fig3_5_equilibrium")
 
 
 def make_figures(outdir, model, scene_ref: str | None = None, overrides=(),
-                 quick: bool = False) -> list[Path]:
+                 quick: bool = False) -> tuple[list[Path], dict[str, str]]:
     """Draw the scene's thesis figures 3.4-3.8 into outdir as <scene>_fig3_N_*.png; returns the
-    paths written (3.8 is left out where the plate has no stable band: nothing to scan).
+    paths written and {figure: why} of those this scene cannot have (NotDrawn: 3.4 without a
+    vertically stable height, 3.8 without a full model or a stable band).
     scene_ref/overrides: how the scan's workers load the same model (default the scene's name)."""
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     name = model.scene.name
     draw = {"3.4": figure_3_4, "3.5": figure_3_5, "3.6": figure_3_6, "3.7": figure_3_7,
             "3.8": lambda mdl, path: figure_3_8(mdl, path, scene_ref or name, overrides, quick)}
-    written = []
+    written, not_drawn = [], {}
     for number, stem in progress.track(SCENE_FIGURES, f"figures of {name}", stage=lambda j: f"fig. {j[0]}"):
-        out = draw[number](model, outdir / f"{name}_{stem}.png")
-        if out is not None:
-            written.append(Path(out))
-    return written
+        try:
+            written.append(Path(draw[number](model, outdir / f"{name}_{stem}.png")))
+        except NotDrawn as why:
+            not_drawn[number] = str(why)
+    return written, not_drawn

@@ -53,14 +53,11 @@ def run(args) -> dict:
     written = []
     if kept is None:
         written += solver_compare.run(outdir, quick=args.quick)["files"]
-    scene_files = [str(p) for p in figures_stability.make_figures(outdir, model, args.scene, args.set,
-                                                                  args.quick)]
-    names = {Path(f).name for f in scene_files}
-    missing = [n for n, stem in figures_stability.SCENE_FIGURES
-               if f"{model.scene.name}_{stem}.png" not in names]
+    drawn, not_drawn = figures_stability.make_figures(outdir, model, args.scene, args.set, args.quick)
+    scene_files = [str(p) for p in drawn]
     return {"scene": model.scene.name, "files": written + scene_files, "scene_files": scene_files,
             "solver_files": written or kept, "solver_files_kept": kept is not None,
-            "not_drawn": {n: "the plate has no stable band: no launch to scan" for n in missing}}
+            "not_drawn": not_drawn}
 
 
 def human(r: dict, scene=None) -> str:
