@@ -167,3 +167,17 @@ def test_reports_render_in_chromium(scene, tmp_path):
     assert img.shape[:2] == (3000, 1200)
     ink = (img[..., :3].mean(axis=2) < 0.9).mean()          # not blank: text and figures drawn
     assert ink > 0.02
+
+
+def test_a_top_too_heavy_to_hover_is_told_which_tops_would(tmp_path, capsys):
+    """A 60 g top over the thesis plate has no equilibrium at all: the page's answer and
+    `levitron equilibrium` name the masses that would hover in the band, in grams."""
+    out = tmp_path / "heavy.html"
+    _report(["report", "thesis", "--set", "top.mass=0.06", "--out", str(out)])
+    page = Page()
+    page.feed(out.read_text())
+    answer = next(t for t in page.text if t.startswith("No: "))
+    assert "the top of mass 60 g is too heavy for the plate, which holds at most 52.49 g" in answer
+    assert "a top of mass in 50.35-52.49 g would hover inside the stable band 9.948-11.02 cm" in answer
+    assert cli.main(["equilibrium", "thesis", "--set", "top.mass=0.06"]) == 0
+    assert "a top of mass in 50.35-52.49 g would hover inside the stable band" in capsys.readouterr().out
