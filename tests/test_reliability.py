@@ -546,7 +546,7 @@ def test_head_one_is_quiet(tmp_path, seed_cache):
     res = subprocess.run(["bash", "-c", cmd], check=False, cwd=tmp_path, env=env,
                          capture_output=True, text=True, timeout=60)
     assert res.returncode == 0, res.stderr
-    assert res.stderr == ""
+    assert _error_line(res.stderr) == []      # at most the "levitron: compiling: ..." stage notes
     assert res.stdout.count("\n") == 1
 
 

@@ -76,6 +76,7 @@ def run(out_dir: str | Path = "reports", quick: bool = False) -> dict:
              for m in ("euler", "rk4")}
     result = {
         "problem": "mass point on a circle, F = -m v^2/r (thesis eq. 3.1.8), r0 = 1, v0 = 1",
+        "quick": quick,
         "figure_3_2": {"steps_per_turn": steps_per_turn, "turns": list(range(1, turns + 1)),
                        "error": {m: per_turn[m].tolist() for m in per_turn}},
         "figure_3_3": {"energy_limit": 0.01, "step": hs.tolist(), "max_steps": cap,

@@ -44,37 +44,68 @@ def physical_problem(plate: dict, names: list[str], values: np.ndarray, param: s
     return None
 
 
-def fit_equilibrium_height(model, z_star: float, param: str = "mu") -> dict:
-    """The value of `param` for which the top hovers at z_star: m g + mu Phi_2(z_star) = 0."""
+def _key_route(model, key: str):
+    """(x0, p(x) as CasADi, p(value) re-resolved) for a scene key (`plate.murho`, `top.moment`,
+    `top.mass`): the one scene-key mapping of runtime/design/scene_keys.py (the resolver's own,
+    as --vary uses it), on a box of +-0.1 % around the scene's value to measure its powers."""
+    from runtime.design.scene_keys import KeyMap, Vary, key_value
+    x0 = key_value(model.scene.data, key)
+    if x0 == 0:
+        raise UserError(f"--param {key} = 0 in the scene: fit a key the scene sets to a nonzero number")
+    lo, hi = sorted((0.999 * x0, 1.001 * x0))
+    km = KeyMap(model.scene, model.param_names, [Vary.checked(key, lo, hi, f"--param {key}")])
+    return x0, (lambda x: km.p_casadi(ca.vertcat(x))), (lambda v: km.exact(np.array([v]))[1])
+
+
+def _name_route(model, param: str):
+    """(x0, p(x) as CasADi, p(value)) for a generated parameter name (`mu`, `plate_rho`)."""
     names = model.param_names
     if param not in names:
-        raise UserError(f"--param {param!r} is not a parameter of this model: use one of "
-                        f"{', '.join(names)}")
+        raise UserError(f"--param {param!r} is not a scene key (section.key, e.g. plate.murho or "
+                        f"top.moment) and not a parameter of this model ({', '.join(names)})")
+    i = names.index(param)
+
+    def p_of(x):
+        return ca.vertcat(*[x if j == i else ca.SX(float(v)) for j, v in enumerate(model.p)])
+
+    def exact(v):
+        pv = model.p.copy()
+        pv[i] = v
+        return pv
+    return (float(model.p[i]) if model.p[i] != 0 else 1.0), p_of, exact
+
+
+def fit_equilibrium_height(model, z_star: float, param: str = "mu") -> dict:
+    """The value of `param` for which the top hovers at z_star: m g + mu Phi_2(z_star) = 0.
+    param: a scene key as --vary takes it (`plate.murho`, `top.moment`, `plate.remanence`,
+    `top.mass`), or a generated parameter's name (`mu`, `plate_rho`; the default mu)."""
+    names = model.param_names
+    by_key = "." in str(param)
+    x0, p_of, exact = _key_route(model, param) if by_key else _name_route(model, param)
     if not (z_star > 0 and math.isfinite(z_star)):
         raise UserError(f"--fit-height {z_star} must be a positive height (m) above the plate")
-    i = names.index(param)
     onaxis = model.casadi("onaxis")
-    x = ca.SX.sym(param)
-    p = ca.vertcat(*[x if j == i else ca.SX(float(v)) for j, v in enumerate(model.p)])
+    x = ca.SX.sym("x")
+    p = p_of(x)
     mass, g, mu = (p[names.index(n)] for n in ("m", "g", "mu"))
     residual = mass * g + mu * onaxis(ca.SX(z_star), p)[2]           # thesis eq. 3.3.2
     F = ca.Function("equilibrium_residual", [x], [residual])
     solver = ca.rootfinder("fit", "newton", F, {"abstol": 1e-14, "max_iter": 50,
                                                 "error_on_fail": False})
-    x0 = float(model.p[i]) if model.p[i] != 0 else 1.0
     value = float(solver(x0))
     stats = solver.stats()
     res = float(F(value)) if math.isfinite(value) else math.nan
     scale = float(model.p[names.index("m")] * model.p[names.index("g")])
-    if param in ("m", "g"):
-        scale = abs(value * float(model.p[names.index("g" if param == "m" else "m")]))
+    if param in ("m", "top.mass"):
+        scale = abs(value * float(model.p[names.index("g")]))
+    elif param == "g":
+        scale = abs(value * float(model.p[names.index("m")]))
     if not (math.isfinite(res) and abs(res) <= 1e-10 * scale):
         raise UserError(f"no value of {param} puts the top at z* = {z_star:g}: the Newton "
                         f"rootfinder from {param} = {x0:.6g} did not converge; fit another "
                         "parameter or height")
-    pv = model.p.copy()
-    pv[i] = value
-    why = physical_problem(model.scene.data["plate"], names, pv, param)
+    pv = exact(value)       # a scene key: re-resolved and validated (derive/scene.py), else UserError
+    why = None if by_key else physical_problem(model.scene.data["plate"], names, pv, param)
     if why is not None:
         raise UserError(f"no physical {param} puts the top at z* = {z_star:g}: the fit gives {why}; "
                         "fit another parameter or height")
@@ -91,8 +122,6 @@ def fit_equilibrium_height(model, z_star: float, param: str = "mu") -> dict:
            "equilibria": [e.as_dict() for e in rep.equilibria],
            "stats": {"solver": "casadi rootfinder newton", **{k: v for k, v in stats.items()
                                                               if isinstance(v, (int, float, bool, str))}}}
-    if "plate_rho" in names:
-        rho = value if param == "plate_rho" else float(model.p[names.index("plate_rho")])
-        mu_v = value if param == "mu" else float(model.p[names.index("mu")])
-        out["optimum"]["murho"] = mu_v * rho
+    if "plate_rho" in names and param != "plate.murho":
+        out["optimum"]["murho"] = float(pv[names.index("mu")] * pv[names.index("plate_rho")])
     return out

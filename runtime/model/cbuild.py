@@ -164,11 +164,16 @@ def compile_shared(sources: list[Path | str], flags: tuple[str, ...] = DEFAULT_F
         print(f"levitron: the cached library {target} is damaged (size or sha256 differs from "
               f"{_stamp_path(target).name}): rebuilding it", file=sys.stderr)
     cc = compiler()
-    if len(sources) > 1:        # link the cached objects, in the order of the sources
-        objects = [compile_object(src, tuple(flags), include_dirs) for src in sources]
-        _build(target, [cc, *flags], [*map(str, objects), "-lm"])
-    else:
-        _build(target, [cc, *all_flags], [*map(str, sources), "-lm"])
+    from runtime.ui import progress
+    what = (f"{len(sources)} C sources" if len(sources) > 1 else sources[0].name)
+    with progress.stages("compiling", [what, "linking"], [0.9, 0.1]) as stage:
+        stage(0)
+        if len(sources) > 1:        # link the cached objects, in the order of the sources
+            objects = [compile_object(src, tuple(flags), include_dirs) for src in sources]
+            stage(1)
+            _build(target, [cc, *flags], [*map(str, objects), "-lm"])
+        else:
+            _build(target, [cc, *all_flags], [*map(str, sources), "-lm"])
     return target
 
 

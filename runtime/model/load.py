@@ -36,6 +36,7 @@ from runtime.errors import UserError
 from runtime.model.manifest import ArtefactError, FunctionInfo, Manifest, read_manifest
 from runtime.model.table import disagreement, read_table
 from runtime.model.processes import die_with_parent
+from runtime.ui import progress
 
 CSRC = Path(__file__).resolve().parent.parent / "csrc"
 
@@ -168,12 +169,12 @@ def _derive_into(scene: Scene, overrides, out: Path, ihash: str, note: str | Non
         # child derives exactly what is hashed here, even if the file is edited meanwhile
         snapshot = tmp / f"{scene.name}.toml"
         snapshot.write_text(tomli_w.dumps(scene.data), encoding="utf-8")
-        cmd = [sys.executable, "-m", "derive", str(snapshot), "--out", str(tmp), "--force"]
-        child = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        cmd = [sys.executable, "-m", "derive", str(snapshot), "--out", str(tmp), "--force", "--stages"]
+        child = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
                                  cwd=ROOT, preexec_fn=die_with_parent)
         try:
             die_at("runtime.deriving")
-            _, err = child.communicate()
+            err = _follow_stages(child)
         finally:
             if child.poll() is None:         # interrupted (SIGTERM, Ctrl-C): the child goes too
                 child.kill()
@@ -187,6 +188,30 @@ def _derive_into(scene: Scene, overrides, out: Path, ihash: str, note: str | Non
         _install(tmp / scene.name, out, tmp, ihash)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
+
+
+# the stages of python -m derive --stages (derive/__main__.py's STAGES) and their shares of a
+# derivation's time (measured: thesis and ring_magnet at field orders 4 and 6), for the ETA
+DERIVE_STAGES = ("the plate's on-axis potential", "the field's order", "the reduced model",
+                 "Hamilton's equations", "the full model's Jacobian and energy",
+                 "common subexpressions", "C and CasADi files")
+DERIVE_WEIGHTS = (0.3, 0.1, 1.2, 0.9, 1.7, 1.25, 0.15)
+
+
+def _follow_stages(child) -> str:
+    """Read the derive child's stderr to its end, showing each "stage k/n NAME" line as a progress
+    stage ("deriving: Hamilton's equations 4/7", runtime/ui/progress.py); returns the other lines."""
+    import re
+    rest = []
+    with progress.stages("deriving", DERIVE_STAGES, DERIVE_WEIGHTS) as stage:
+        for line in child.stderr:
+            m = re.match(r"stage (\d+)/(\d+) ", line)
+            if m and int(m.group(2)) == len(DERIVE_STAGES):
+                stage(int(m.group(1)) - 1)
+            else:
+                rest.append(line)
+    child.wait()
+    return "".join(rest)
 
 
 def _intact(folder: Path, ihash: str) -> bool:

@@ -135,13 +135,34 @@ class EquilibriumReport:
                     f"(z = {', '.join(f'{e.z:.6g}' for e in self.equilibria)}) mu Phi_3 <= 0 "
                     "(thesis 3.3.3)" + sing)
         if self.max_mass is not None and self.z_c is not None and m > self.max_mass:
-            return (f"the top (m = {m:.6g}) is too heavy for the plate, which holds at most "
-                    f"{self.max_mass:.6g} (at z_c = {self.z_c:.6g})" + sing)
+            return (f"the top of mass {m:.6g} kg is too heavy for the plate, which holds at most "
+                    f"{self.max_mass:.6g} kg (at z_c = {self.z_c:.6g} m)" + sing)
         return (f"m g + mu Phi_2(z) has no root for z > 0: the field cannot hold a top of mass "
                 f"{m:.6g} with this moment" + sing)
 
 
 # ------------------------------------------------------------------------ the search
+
+def hover_reasons(rep: EquilibriumReport, m: float) -> list[str]:
+    """Why a top of mass m cannot be made to levitate over this plate, as SI sentences (the JSON's
+    `reason`), each ending in what would help: no vertically stable height; no stable band; or a
+    hover height outside the band (thesis 3.3.2-3.3.3), then with the masses that would hover
+    inside it. Empty where the top hovers inside a stable band."""
+    reasons = [rep.no_hover_reason(m)] if not rep.stable else []
+    band = rep.stable_band
+    if band is None:
+        reasons.append("no height admits a spin rate that stabilises the top (no stable band)")
+    else:
+        zs = [e.z for e in rep.equilibria if e.vertically_stable]
+        if not zs:
+            reasons.append(f"a top of mass in [{band.mass[0]:.6g}, {band.mass[1]:.6g}] kg would hover "
+                           f"inside the stable band [{band.z[0]:.6g}, {band.z[1]:.6g}] m")
+        elif not any(b.z[0] <= z <= b.z[1] for b in rep.stable_bands for z in zs):
+            reasons.append(f"this top hovers at z = {zs[0]:.6g} m, outside the stable band "
+                           f"[{band.z[0]:.6g}, {band.z[1]:.6g}] m: no spin stabilises it there; a top of "
+                           f"mass in [{band.mass[0]:.6g}, {band.mass[1]:.6g}] kg would hover inside it")
+    return reasons
+
 
 class NonFiniteModel(UserError):
     """The plate's on-axis functions are NaN or infinite at every sampled height."""

@@ -23,7 +23,7 @@ from derive import plates
 
 from runtime.physics import equilibrium as eqm
 from runtime.ui import progress
-from runtime.ui.human import Units, restate, sig, span
+from runtime.ui.human import SI_SYMBOLS, Units, restate, sig, span
 from runtime.physics.stability import stability_of
 
 MAP_SPINS, MAP_TILTS = 8, 6
@@ -57,18 +57,21 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
     runtime/ui/provenance.py, shown at the foot of the page (its command rebuilds the page)."""
     from runtime.scan import stability_map as sc
     from runtime.report.figures import figure_3_5
-    from runtime.scan.physics import slow_period
+    from runtime.scan.physics import slow_period, spins_around
     from runtime.scan.plot import draw as draw_map
     from runtime.simulate.run import simulate
 
     scene = model.scene
     u = Units.of_scene(scene)
     P = model.pvals()
-    lengths = set(plates.length_names(scene.data["plate"]))
     facts: dict = {"scene": scene.name, "units": "SI" if u.si else "dimensionless"}
-    parts = [f"<h1>{html.escape(scene.name)}: does the top levitate?</h1>"]
+    parts = [f"<h1>{html.escape(scene.name)}: does the top levitate?</h1>",
+             _p(_made(provenance), "note")]
     with tempfile.TemporaryDirectory(prefix="levitron-report-") as tmp, \
-            progress.task(f"report {scene.name}", total=4) as tick:
+            progress.stages(f"report {scene.name}", ["equilibria and the band", "spin interval",
+                                                     "a small stability map", "a typical launch"],
+                            [1, 1, 3, 2]) as stage:
+        stage(0)
         tmp = Path(tmp)
         rep = eqm.equilibria_of(model, bands=True)
         band = rep.stable_band
@@ -78,17 +81,17 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
         iv = res.spin_interval
         facts["spin_interval"] = list(iv) if iv else None
         facts["z_s"] = res.z_s
-        answer = (f"{u.top(P['m']).capitalize()} hovers at {u.length(facts['z_s'])} and is stable for "
-                  f"spin rates {u.rate_span(*iv)}." if iv else
-                  "No spin rate makes this top stable: " + restate(
-                      rep.no_hover_reason(P["m"]) or res.reason or "no stable hover height", u))
+        hints = eqm.hover_reasons(rep, P["m"])
+        facts["hints"] = hints
+        if iv:
+            answer = (f"{u.top(P['m']).capitalize()} hovers at {u.length(facts['z_s'])} and is stable "
+                      f"for spin rates {u.rate_span(*iv)}.")
+        else:      # what a person can change first (the CLI's `reason`), the technical why below
+            why = "; ".join(restate(h, u) for h in hints) or restate(res.reason or "", u)
+            answer = f"No: {u.top(P['m'])} cannot levitate over this plate: {why}."
         parts.append(_p(answer, "answer"))
         parts.append("<h2>Scene</h2>")
-        parts.append(_table([("file", scene.path), ("plate", scene.data["plate"].get("kind")),
-                             ("top mass", u.mass(P["m"])), ("g", u.value(P["g"], "m/s^2")),
-                             ("A, C (inertia)", f"{sig(P['A'], 4)}, {u.value(P['C'], 'kg m^2')}"),
-                             *[(k, u.length(v) if k in lengths else sig(v, 6))
-                               for k, v in P.items() if k.startswith("plate_")]]))
+        parts.append(_table(scene_rows(scene, overrides, u, P)))
         if u.note:
             parts.append(_p(u.note, "note"))
         parts.append("<h2>Equilibria and the stable band</h2>")
@@ -99,15 +102,16 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
             ("stable band", f"z {span(*band.z, u.cm)}, mass {span(*band.mass, u.mass)}" if band else "none"),
             ("heaviest top that hovers", u.mass(rep.max_mass) if rep.max_mass else "n/a")]))
         parts.append(_png(figure_3_5(model, tmp / "equilibrium.png")))
-        tick()
+        stage(1)
         parts.append("<h2>Spin interval (linear stability, thesis 3.3)</h2>")
         parts.append(_p(f"spin interval: {u.rate_span(*iv)} at z_s = {u.length(facts['z_s'])}" if iv
                         else f"no stable spin interval: {restate(res.reason, u)}"))
-        tick()
+        if iv:
+            stage(2)
         if iv:
             spin = math.sqrt(iv[0] * iv[1])
             T = slow_period(model, P["m"], facts["z_s"], spin)
-            spins = np.linspace(0.5 * iv[0], 1.25 * iv[1], MAP_SPINS)
+            spins = spins_around(iv, MAP_SPINS)
             tilts = np.linspace(0.005, 0.1, MAP_TILTS)
             m = sc.scan(model, scene_ref, list(overrides), spins, "tilt", tilts, t_end=T, quiet=True)
             facts["map"] = {"spins": spins.tolist(), "tilts": tilts.tolist(), "t_end": T,
@@ -118,7 +122,7 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
                             f"{sig(100 * facts['map']['fraction_levitating'], 3)}% of the points. "
                             "A sketch: `levitron scan` draws a finer, longer one.", "note"))
             parts.append(_png(draw_map(m, tmp / "map.png", f"{scene.name}: levitating vs spin and tilt", u)))
-            tick()
+            stage(3)
             run = simulate(model, spin=spin, tilt=LAUNCH_TILT, t_end=LAUNCH_PERIODS * T,
                            plot=tmp / "launch.png")
             facts["launch"] = {k: run[k] for k in ("levitating", "t_survived", "max_tilt",
@@ -130,7 +134,6 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
                             f"for {u.time(run['t_survived'])}; largest tilt {u.angle(run['max_tilt'])}, "
                             f"energy drift {sig(run['energy_drift'], 2)}"))
             parts.append(_png(Path(run["plot"])))
-            tick()
     page = ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
             f"<title>levitron report: {html.escape(scene.name)}</title><style>{CSS}</style></head>"
             f"<body>{''.join(parts)}{_provenance(provenance, scene.name)}"
@@ -138,6 +141,78 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
     if provenance is not None:
         facts["provenance"] = provenance
     return page, facts
+
+
+def _made(block: dict | None) -> str:
+    """The line under the title: when, by which version, from which scene (its hash)."""
+    if block is None:
+        return ""
+    when = str(block.get("time", "")).replace("T", " ").replace("+00:00", " UTC")
+    digest = str(block.get("scene_hash", ""))[:12]
+    return (f"levitron {block.get('version')}, {when}; scene hash {digest}"
+            + (f"; --set {' '.join(block['overrides'])}" if block.get("overrides") else ""))
+
+
+def _shown(v, unit: str, u: Units) -> str:
+    """A scene key's value in the scene's units: lengths in cm/mm, masses in g (SI); a bare number
+    in a dimensionless scene (no SI unit, not even one the human units do not know)."""
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        return str(v)
+    if unit == "m":
+        return u.length(v)
+    if unit == "kg":
+        return u.mass(v)
+    if unit == "s":
+        return u.time(v)
+    if not u.si:
+        return u.value(v, unit, 6) if unit in SI_SYMBOLS or not unit else sig(v, 6)
+    return f"{sig(v, 6)} {unit}".rstrip()
+
+
+def _key_units(section: str, table: dict) -> dict[str, str]:
+    """key -> SI unit of a scene section (derive/scene.py's key tables, the plate kinds' own)."""
+    from derive.scene import FIELD_KEYS, TOP_KEYS
+    if section == "plate":
+        kind = plates.KINDS.get(table.get("kind"))
+        return {k.name: k.unit for k in kind.keys} if kind is not None else {}
+    return {k.name: k.unit for k in {"top": TOP_KEYS, "field": FIELD_KEYS}.get(section, ())}
+
+
+def scene_rows(scene, overrides, u: Units, P: dict) -> list[tuple[str, str]]:
+    """The scene as its author wrote it: one row per key (`plate.radius`, with its unit; the keys
+    --set changed marked), the scene file, and the top's magnetic moment (thesis 2.2.11 needs only
+    the product mu rho where the scene gives murho)."""
+    from derive.scene import SCENE_KEYS
+    changed = {o.split("=", 1)[0].strip() for o in overrides}
+    top_units = {k.name: k.unit for k in SCENE_KEYS}
+    rows = [("file", f"{scene.path}" + (f" with --set {', '.join(overrides)}" if overrides else ""))]
+
+    def add(key: str, v, unit: str) -> None:
+        rows.append((key + (" (--set)" if key in changed else ""), _shown(v, unit, u)))
+
+    def walk(prefix: str, section: str, table: dict) -> None:
+        units = _key_units(section, table)
+        for k, v in table.items():
+            if isinstance(v, dict):
+                walk(f"{prefix}{k}.", section, v)
+            elif isinstance(v, list) and v and all(isinstance(x, dict) for x in v):
+                for i, part in enumerate(v):
+                    walk(f"{prefix}{k}.{i}.", "plate", part)
+            else:
+                add(prefix + k, v, units.get(k, ""))
+
+    for k in ("g", "temperature"):
+        if k in scene.data:
+            add(k, scene.data[k], top_units.get(k, ""))
+    for section in ("top", "plate", "field"):
+        if isinstance(scene.data.get(section), dict):
+            walk(f"{section}.", section, scene.data[section])
+    if "moment" not in scene.data.get("top", {}):
+        rows.append(("the top's magnetic moment mu", "not given: the plate's murho = mu rho is the only "
+                     "product the dynamics sees (thesis 2.2.11)"))
+    else:
+        rows.append(("the top's magnetic moment mu", _shown(P["mu"], "A m^2", u)))
+    return rows
 
 
 def _provenance(block: dict | None, name: str) -> str:

@@ -54,3 +54,16 @@ def reference_spin(interval: Sequence[float] | None, spins: np.ndarray) -> float
     if lo > 0:
         return math.sqrt(lo * hi)
     return hi if hi > 0 else 1.0
+
+
+def spins_around(interval: Sequence[float], n: int) -> np.ndarray:
+    """n spins for a sketch of a map around a linear interval [lo, hi]: 0.5 lo to 1.25 hi, so that
+    both ends and the falls beyond them show; where the interval is narrower than three steps of
+    that grid (no point or one would fall inside it), lo - (hi - lo) to hi + (hi - lo) instead, so
+    that the map resolves it."""
+    lo, hi = float(interval[0]), float(interval[1])
+    wide = np.linspace(0.5 * lo, 1.25 * hi, n)
+    if hi - lo >= 3 * (wide[1] - wide[0]):
+        return wide
+    w = hi - lo
+    return np.linspace(max(lo - w, 0.0), hi + w, n)

@@ -32,8 +32,11 @@ def draw(res, path: str | Path, title: str = "", units: Units | None = None) -> 
     plt = pyplot()
     style()
     frac = (res.t_survived / res.t_end).T
+    # masses in g in an SI scene (as everywhere else in the tool), the scene's units otherwise
+    ky, y_unit = (1e3, "g") if res.axis == "mass" and u.si else (1.0, None)
+    others = res.others * ky
     fig, ax = plt.subplots(figsize=(8, 5.5))
-    mesh = ax.pcolormesh(_edges(res.spins), _edges(res.others), frac, cmap="viridis", vmin=0, vmax=1,
+    mesh = ax.pcolormesh(_edges(res.spins), _edges(others), frac, cmap="viridis", vmin=0, vmax=1,
                          shading="flat")
     fig.colorbar(mesh, ax=ax, label="t_survived / t_end  (1 = levitating)")
     from matplotlib.colors import ListedColormap
@@ -41,16 +44,17 @@ def draw(res, path: str | Path, title: str = "", units: Units | None = None) -> 
     extra = []
     no_hover = np.array([[st == NO_HOVER for st in row] for row in res.status], bool).T
     if no_hover.any():      # not simulated: its own colour, never the "fell at once" of the colour map
-        ax.pcolormesh(_edges(res.spins), _edges(res.others), np.ma.masked_where(~no_hover, no_hover),
+        ax.pcolormesh(_edges(res.spins), _edges(others), np.ma.masked_where(~no_hover, no_hover),
                       cmap=ListedColormap([NO_HOVER_COLOUR]), shading="flat")
         extra.append(Patch(color=NO_HOVER_COLOUR, label="cannot hover (no equilibrium: not simulated)"))
-    S, O = np.meshgrid(res.spins, res.others, indexing="ij")
-    ax.plot(S[res.levitating], O[res.levitating], "o", ms=4, mfc="w", mec="k", mew=0.6, ls="none",
-            label="levitating")
+    S, O = np.meshgrid(res.spins, others, indexing="ij")
+    # white dots ringed in black: visible on the dark and on the bright end of the colour map
+    ax.plot(S[res.levitating], O[res.levitating], "o", ms=5, mfc="w", mec="k", mew=1.0, ls="none",
+            label="levitating" if res.levitating.any() else "levitating: no run")
     los = [li["spin_interval"][0] if li["spin_interval"] else np.nan for li in res.linear]
     his = [li["spin_interval"][1] if li["spin_interval"] else np.nan for li in res.linear]
     if res.axis == "mass":   # the interval moves with the mass: vertical lines per row
-        ye = _edges(res.others)
+        ye = _edges(others)
         label = "linear stability interval (thesis 3.3)"
         for j in range(res.others.size):
             if np.isfinite(los[j]):
@@ -62,7 +66,7 @@ def draw(res, path: str | Path, title: str = "", units: Units | None = None) -> 
     ax.grid(False)
     ax.set_xlim(_edges(res.spins)[[0, -1]])
     ax.set_xlabel(u.label("spin", UNITS["spin"]))
-    ax.set_ylabel(u.label(res.axis, UNITS[res.axis]))
+    ax.set_ylabel(f"{res.axis} ({y_unit})" if y_unit else u.label(res.axis, UNITS[res.axis]))
     runs = f"{res.spins.size} x {res.others.size} runs of t_end = {u.time(res.t_end)} each"
     ax.set_title(f"{title}\n{runs}" if title else f"stability map: {res.axis} vs spin, {runs}")
     handles, _ = ax.get_legend_handles_labels()

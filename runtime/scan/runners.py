@@ -132,6 +132,9 @@ def split(tasks: Sequence[tuple], n_chunks: int) -> list[list[tuple]]:
     return [list(tasks[c::n]) for c in range(n)] if tasks else []
 
 
+LOG_EVERY = 10.0     # s: off a terminal, a scan's count and ETA at most this often (runtime/ui/progress.py)
+
+
 def run_serial(common: Common, chunks: Sequence[list], quiet: bool = False, fn=None,
                what: str = "scan") -> list[dict]:
     """The chunks one after the other in this process (progress: runtime/ui/progress.py, points).
@@ -139,7 +142,8 @@ def run_serial(common: Common, chunks: Sequence[list], quiet: bool = False, fn=N
     launch Monte Carlo, runtime/scan/launch_odds.py, brings its own); `common` needs .scene and .overrides."""
     fn = fn or run_chunk
     out = []
-    with progress.task(what, total=sum(map(len, chunks)), quiet=quiet) as tick:
+    with progress.task(what, total=sum(map(len, chunks)), quiet=quiet,
+                       log_every=LOG_EVERY) as tick:
         for chunk in chunks:
             out.append(fn(common, chunk))
             tick(len(chunk))
@@ -175,7 +179,8 @@ def run_processes(common: Common, chunks: Sequence[list], workers: int,
     pending = dict(enumerate(chunks))
     done: dict[int, dict] = {}
     restarts = 0
-    with progress.task(f"{what} ({workers} processes)", total=sum(map(len, chunks)), quiet=quiet) as tick:
+    with progress.task(f"{what} ({workers} processes)", total=sum(map(len, chunks)), quiet=quiet,
+                       log_every=LOG_EVERY) as tick:
         while pending:
             try:
                 with ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
@@ -254,7 +259,8 @@ def run_dask(common: Common, chunks: Sequence[list], client, quiet: bool = False
     from dask.distributed import as_completed
     fn = fn or run_chunk
     out = []
-    with progress.task(f"{what} (dask)", total=sum(map(len, chunks)), quiet=quiet) as tick:
+    with progress.task(f"{what} (dask)", total=sum(map(len, chunks)), quiet=quiet,
+                       log_every=LOG_EVERY) as tick:
         futures = client.map(_run_chunk_packed, [(fn, common, c) for c in chunks], pure=False)
         for fut in as_completed(futures):
             out.append(fut.result())

@@ -5,15 +5,23 @@
             ...
             tick()            # one step done (tick(k) for k steps)
 
+    with progress.stages("deriving", ["the plate", "Hamilton's equations", ...]) as stage:
+        stage(0)          # "deriving: the plate 1/7", with an ETA from the stages' weights
+        ...
+
 It shows nothing when progress is off: `progress.disable()` (the CLI calls it for --json and
 --quiet), LEVITRON_PROGRESS=0, or stderr not a terminal (a log file, a pipe, a test). The setting is
 per process: worker processes never draw (their stderr is the parent's, and only the parent ticks).
+Stages are the exception to "not a terminal": a slow step of named stages (a derivation, a
+compilation, the figures) writes one line per stage on stderr there, so a log is not silent for a
+minute; on a terminal they are the bar's description.
 """
 from __future__ import annotations
 
 import contextlib
 import os
 import sys
+import time
 
 _state = {"enabled": True}
 
@@ -63,12 +71,35 @@ def _noop(n: int = 1) -> None:
     return None
 
 
+def _timed_lines(description: str, total: int, every: float):
+    """tick(n) that, off a terminal, writes "levitron: scan: 120/1000 (0:10 elapsed, eta 1:20)"
+    on stderr at most once per `every` seconds, the first after `every` seconds: a long step is
+    not silent in a log, a short one writes nothing."""
+    start = time.monotonic()
+    state = {"done": 0, "last": start}
+
+    def tick(n: int = 1) -> None:
+        state["done"] += n
+        now = time.monotonic()
+        if now - state["last"] >= every and state["done"] < total:
+            state["last"] = now
+            done, elapsed = state["done"], now - start
+            print(f"levitron: {description}: {done}/{total} ({_hms(elapsed)} elapsed, eta "
+                  f"{_hms(elapsed / done * (total - done))})", file=sys.stderr, flush=True)
+    return tick
+
+
 @contextlib.contextmanager
-def task(description: str, total: int | None = None, quiet: bool = False):
+def task(description: str, total: int | None = None, quiet: bool = False,
+         log_every: float | None = None):
     """A progress bar for `total` steps (None: a spinner with elapsed time); yields tick(n=1).
-    Tasks opened inside another share its display (one line each). quiet: none at all."""
+    Tasks opened inside another share its display (one line each). quiet: none at all.
+    log_every (seconds): off a terminal, a line of the count and the ETA at most that often."""
     if quiet or not active():
-        yield _noop
+        if not quiet and total and log_every and lines_allowed():
+            yield _timed_lines(description, total, log_every)
+        else:
+            yield _noop
         return
     outer = _state.get("bar")
     if outer is not None:
@@ -90,10 +121,72 @@ def task(description: str, total: int | None = None, quiet: bool = False):
             _state["bar"] = None
 
 
-def track(items, description: str):
-    """Iterate over a sized sequence with a progress bar (task() around a for loop)."""
+def _hms(t: float) -> str:
+    t = int(t)
+    return f"{t // 60}:{t % 60:02d}" if t < 3600 else f"{t // 3600}:{t // 60 % 60:02d}:{t % 60:02d}"
+
+
+def lines_allowed() -> bool:
+    """Stage lines off a terminal: progress enabled and LEVITRON_PROGRESS not 0."""
+    return _state["enabled"] and os.environ.get("LEVITRON_PROGRESS", "1") != "0"
+
+
+@contextlib.contextmanager
+def stages(description: str, names, weights=None, quiet: bool = False):
+    """A slow step in named stages; yields stage(i) (or stage(name)) to call as stage i begins.
+    weights: the stages' expected shares of the time (default equal), for the ETA. On a terminal
+    a bar ("deriving: Hamilton's equations 3/7 ... eta"); off one, when progress is on, one line per
+    stage on stderr, a note like the CLI's others: "levitron: deriving: Hamilton's equations 3/7 (0:12
+    elapsed, eta 0:30)"."""
+    names = list(names)
+    w = [float(x) for x in (weights or [1.0] * len(names))]
+    total, start = sum(w), time.monotonic()
+    n = len(names)
+    if quiet or not lines_allowed():
+        yield lambda i: None
+        return
+
+    def label(i: int) -> str:
+        return f"{description}: {names[i]} {i + 1}/{n}"
+
+    def index(i) -> int:
+        return names.index(i) if isinstance(i, str) else int(i)
+
+    if active():
+        with task(label(0), total=total) as tick:
+            bar = _state.get("bar")
+            seen = {"i": -1}
+
+            def stage(i) -> None:
+                i = index(i)
+                if seen["i"] >= 0:
+                    tick(sum(w[seen["i"]:i]))
+                seen["i"] = i
+                if bar is not None and bar.tasks:
+                    bar.update(bar.tasks[-1].id, description=label(i))
+            yield stage
+        return
+
+    def stage(i) -> None:
+        i = index(i)
+        elapsed = time.monotonic() - start
+        done = sum(w[:i])
+        eta = f", eta {_hms(elapsed / done * (total - done))}" if done >= 0.1 * total else ""
+        print(f"levitron: {label(i)} ({_hms(elapsed)} elapsed{eta})", file=sys.stderr, flush=True)
+    yield stage
+
+
+def track(items, description: str, stage=None):
+    """Iterate over a sized sequence with a progress bar (task() around a for loop). stage(item):
+    a name for each item; the items are then stages (a line each off a terminal, see stages)."""
     items = list(items)
-    with task(description, total=len(items)) as tick:
-        for item in items:
+    if stage is None:
+        with task(description, total=len(items)) as tick:
+            for item in items:
+                yield item
+                tick()
+        return
+    with stages(description, [stage(it) for it in items]) as begin:
+        for k, item in enumerate(items):
+            begin(k)
             yield item
-            tick()

@@ -36,15 +36,7 @@ def run(args) -> dict:
     rep = eqm.equilibria_of(model, bands=True)
     wall = time.perf_counter() - t0
     band = rep.stable_band
-    reasons = [rep.no_hover_reason(m)] if not rep.stable else []
-    if band is None:
-        reasons.append("no height admits a spin rate that stabilises the top (no stable band)")
-    else:
-        zs = [e.z for e in rep.equilibria if e.vertically_stable]
-        if zs and not any(band.z[0] <= z <= band.z[1] for z in zs):
-            reasons.append(f"this top hovers at z = {zs[0]:.6g} m, outside the stable band "
-                           f"[{band.z[0]:.6g}, {band.z[1]:.6g}] m: no spin stabilises it there; a top of "
-                           f"mass in [{band.mass[0]:.6g}, {band.mass[1]:.6g}] kg would hover inside it")
+    reasons = eqm.hover_reasons(rep, m)
     out = {
         "scene": model.scene.name,
         "mass": m,
@@ -69,6 +61,25 @@ def run(args) -> dict:
         from runtime.report.figures import figure_3_5
         out["plot"] = str(figure_3_5(model, Path(args.plot)))
     return out
+
+
+def _stiffness(equilibria, u: Units) -> str:
+    """The vertical stiffness U'' = mu Phi_3 (thesis 3.3.3) at each vertically stable equilibrium:
+    what `optimize --constrain stiffness>=K` speaks of."""
+    stable = [e for e in equilibria if e["vertically_stable"]]
+    if not stable:
+        return ""
+    return ("vertical stiffness U'' = mu Phi_3 (thesis 3.3.3): " +
+            ", ".join(f"{u.value(e['stiffness'], 'N/m')} at {u.length(e['z'])}" for e in stable))
+
+
+def _z_c_role(r: dict) -> str:
+    """What z_c is to this plate: where the stable band starts (the thesis's plate), or only the
+    height of the heaviest top that hovers, where the band starts higher up."""
+    band = r.get("stable_band")
+    if band and abs(band["z"][0] - r["z_c"]) <= 1e-6 * r["z_c"]:
+        return "where the band starts"
+    return "the heaviest top's height" + (", below the band" if band else "")
 
 
 def human(r: dict, scene=None) -> str:
@@ -97,7 +108,8 @@ def human(r: dict, scene=None) -> str:
         band_line,
         f"singular (not equilibria): {', '.join(poles)}" if poles else "",
         f"reason: {restate(r['reason'], u)}" if r.get("reason") else "",
-        f"top {u.mass(r['mass'])}; z_c {u.length(r['z_c'])} (where the band starts); the heaviest top "
+        _stiffness(r["equilibria"], u),
+        f"top {u.mass(r['mass'])}; z_c {u.length(r['z_c'])} ({_z_c_role(r)}); the heaviest top "
         f"that hovers: {u.mass(r['max_mass'])}" if r.get("z_c") is not None else "",
         u.note,
         f"plot: {r['plot']}" if r.get("plot") else "")

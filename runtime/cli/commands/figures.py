@@ -1,11 +1,15 @@
-"""`levitron figures SCENE [--out DIR]`: the thesis's figures, redrawn.
+"""`levitron figures SCENE [--out DIR]`: the thesis's figures of chapter 3, redrawn.
 
-Figures 3.5-3.7 (equilibrium condition, forces at larger z, critical spins against g21) come from
-runtime/report/figures.py; figures 3.2-3.3 (Euler against RK4 on the circle, thesis 3.1.3) from
-runtime/bench/solver_compare.py.
+Figures 3.4-3.8 depend on the scene (phase portrait, equilibrium condition, forces at larger z,
+critical spins against g21, the stability map over spin and tilt) and come from
+runtime/report/figures.py, one file each named after the scene. Figures 3.2-3.3 (Euler against RK4
+on a point held on a circle, thesis 3.1.3) do not depend on the scene: runtime/bench/solver_compare.py
+writes them once per folder, without a scene's name, and a later run into the same folder keeps
+them (--solvers draws them again).
 """
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 from runtime.report import figures as figures_stability
@@ -15,23 +19,53 @@ from runtime.ui.human import lines
 from runtime.cli.commands.common import model_of
 
 NAME = "figures"
-HELP = "redraw the thesis's figures (3.2, 3.3, 3.5, 3.6, 3.7) as PNG files"
+HELP = ("redraw the thesis's chapter 3 figures as PNG files: 3.4-3.8 for the scene, 3.2-3.3 "
+        "(scene-independent) once per folder")
 EXAMPLE = 'levitron figures thesis --out out/figures'
 
 
 def add_arguments(parser) -> None:
     parser.add_argument("--out", default="out/figures", help="folder for the PNG files")
-    parser.add_argument("--quick", action="store_true", help="fewer turns and steps in 3.2/3.3")
+    parser.add_argument("--quick", action="store_true",
+                        help="fewer turns and steps in 3.2/3.3, a coarser map in 3.8")
+    parser.add_argument("--solvers", action="store_true",
+                        help="draw the scene-independent 3.2/3.3 again even if the folder has them")
+
+
+def _solver_figures_current(outdir: Path, quick: bool) -> list[str] | None:
+    """The folder's 3.2/3.3 files when present and drawn with the same --quick; else None."""
+    try:
+        data = json.loads((outdir / "solver_compare.json").read_text())
+    except (OSError, ValueError):
+        return None
+    files = [outdir / "solver_compare_fig3_2.png", outdir / "solver_compare_fig3_3.png",
+             outdir / "solver_compare.json"]
+    if data.get("quick") is not quick or not all(f.is_file() for f in files):
+        return None
+    return [str(f) for f in files]
 
 
 def run(args) -> dict:
     outdir = Path(args.out)
     outdir.mkdir(parents=True, exist_ok=True)
     model = model_of(args)
-    files = [f for f in solver_compare.run(outdir, quick=args.quick)["files"] if f.endswith(".png")]
-    files += [str(p) for p in figures_stability.make_figures(outdir, model)]
-    return {"scene": model.scene.name, "files": files}
+    kept = None if args.solvers else _solver_figures_current(outdir, args.quick)
+    written = []
+    if kept is None:
+        written += solver_compare.run(outdir, quick=args.quick)["files"]
+    drawn, not_drawn = figures_stability.make_figures(outdir, model, args.scene, args.set, args.quick)
+    scene_files = [str(p) for p in drawn]
+    return {"scene": model.scene.name, "files": written + scene_files, "scene_files": scene_files,
+            "solver_files": written or kept, "solver_files_kept": kept is not None,
+            "not_drawn": not_drawn}
 
 
 def human(r: dict, scene=None) -> str:
-    return lines(f"figures of {r['scene']}: {len(r['files'])} files", *r["files"])
+    solver = r["solver_files"]
+    solver_line = ("figs. 3.2, 3.3 (Euler against RK4 on a circle, thesis 3.1.3) do not depend on the "
+                   + ("scene: kept from this folder (--solvers draws them again): " if r["solver_files_kept"]
+                      else "scene: written once for this folder: ") + ", ".join(solver))
+    return lines(f"figures of {r['scene']}: {len(r['files'])} files written",
+                 *r["scene_files"],
+                 *[f"fig. {n} not drawn: {why}" for n, why in r["not_drawn"].items()],
+                 solver_line)

@@ -1,8 +1,8 @@
 """`levitron optimize SCENE`: CasADi-based design and fitting (docs/contract.md `optimize`).
 
-    --maximize spin-range|spin-ratio --vary KEY=LO:HI [...] [--constrain EXPR] [--write-scene FILE]
+    --maximize spin-range|spin-ratio|mass-window --vary KEY=LO:HI [...] [--constrain EXPR] [--write-scene FILE]
     --fit DATA.csv --vary KEY=LO:HI [...]
-    --fit-height Z [--param NAME]
+    --fit-height Z [--param KEY]   (a scene key, e.g. plate.murho, or a parameter name, e.g. mu)
 
 Design: runtime/design/optimize.py (IPOPT, verified by a grid and the float routes); fitting:
 runtime/design/fit.py (Gauss-Newton, exact Jacobians); --fit-height: runtime/design/fit_height.py.
@@ -39,7 +39,10 @@ def add_arguments(parser) -> None:
                         help="fit the --vary keys to measurements (CSV: quantity,value,sigma[,overrides])")
     parser.add_argument("--fit-height", type=float, default=None, metavar="Z",
                         help="the equilibrium height to fit (m)")
-    parser.add_argument("--param", default="mu", help="with --fit-height: the parameter to solve for")
+    parser.add_argument("--param", default="mu", metavar="KEY",
+                        help="with --fit-height: the scene key to solve for, as --vary takes it "
+                             "(e.g. plate.murho, top.moment, plate.remanence, top.mass; default: "
+                             "the top's moment mu, which fits the product mu x strength)")
 
 
 def run(args) -> dict:
@@ -118,7 +121,9 @@ def human(r: dict, scene=None) -> str:
         if r.get("scene_objective") is not None else "",
         f"verified: float route at the optimum, best of {ver['grid_points']} grid points "
         f"{sig(ver['grid_best'], 6) if ver.get('grid_best') is not None else 'none feasible'} {unit}".rstrip(),
-        status, *_warnings(r, scene), u.note)
+        status, *_warnings(r, scene),
+        f"scene written: {r['written']} (check it: levitron stability {r['written']})"
+        if r.get("written") else "", u.note)
 
 
 def _warnings(r: dict, scene=None) -> list[str]:

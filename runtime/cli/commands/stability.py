@@ -40,6 +40,9 @@ def run(args) -> dict:
                            and "p_zeta" in model.part("full").states
                            else "transverse_matrix (8-D)")
     out["wall_s"] = wall
+    # the vertical stiffness U'' = mu Phi_3(z_s) (thesis 3.3.3), N/m: what --constrain stiffness>=K
+    # of `optimize` speaks of; it does not depend on the mass
+    out["stiffness"] = (model.param("mu") * float(model.onaxis(res.z_s)[3]) if res.z_s else None)
     return out
 
 
@@ -72,6 +75,10 @@ def _approximations(ap: dict, u: Units) -> str:
     mass m(z_c) at z_c), for comparison; shown only beside an interval."""
     if ap.get("sigma1") is None:
         return ""
+    if ap["sigma1"] >= ap["sigma2"]:    # small-g21 estimates beyond their range: no interval at all
+        return (f"for comparison: the thesis's approximations (eqs. 3.3.22/3.3.23) do not apply to "
+                f"{u.top(ap['mass_at_z_c'])} at z_c = {u.length(ap['z_c'])}: they give sigma_1 = "
+                f"{u.rate(ap['sigma1'])} above sigma_2 = {u.rate(ap['sigma2'])}")
     return (f"for comparison, not this top's interval: the thesis's approximations (eqs. 3.3.22/3.3.23) "
             f"for {u.top(ap['mass_at_z_c'])} at z_c = {u.length(ap['z_c'])}: "
             f"{u.rate_span(ap['sigma1'], ap['sigma2'])}")
@@ -88,6 +95,8 @@ def human(r: dict, scene=None) -> str:
     return lines(
         head,
         _where(r, u),
+        f"vertical stiffness there: U'' = mu Phi_3 = {u.value(r['stiffness'], 'N/m')} (thesis 3.3.3)"
+        if r.get("stiffness") is not None else "",
         "further intervals: " + ", ".join(_interval(ivl, u) for ivl in more) if more else "",
         f"reason: {restate(r['reason'], u)}" if r.get("reason") else "",
         approx, u.note)

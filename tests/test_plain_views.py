@@ -1,0 +1,105 @@
+"""What the plain views say beside their answer: the vertical stiffness (which `optimize
+--constrain stiffness>=K` speaks of) in `equilibrium` and `stability`; `--fit-height --param` takes
+scene keys as --vary does; `--write-scene` says where it wrote; `optimize --help` lists every
+objective."""
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from runtime.cli import main as cli
+from runtime.design.optimize import OBJECTIVES
+
+
+def _out(capsys, *argv) -> str:
+    assert cli.main(list(argv)) == 0
+    return capsys.readouterr().out
+
+
+def _json(capsys, *argv) -> dict:
+    return json.loads(_out(capsys, *argv, "--json"))
+
+
+def test_stiffness_in_the_plain_views(capsys):
+    st = _json(capsys, "stability", "thesis_stable")
+    out = _out(capsys, "stability", "thesis_stable")
+    assert f"vertical stiffness there: U'' = mu Phi_3 = {st['stiffness']:.4g} N/m (thesis 3.3.3)" in out
+    eq = _json(capsys, "equilibrium", "thesis_stable")
+    stable = [e for e in eq["equilibria"] if e["vertically_stable"]][0]
+    assert stable["stiffness"] == pytest.approx(st["stiffness"], rel=1e-9)
+    out = _out(capsys, "equilibrium", "thesis_stable")
+    assert f"vertical stiffness U'' = mu Phi_3 (thesis 3.3.3): {stable['stiffness']:.4g} N/m at 10.65 cm" in out
+
+
+def test_fit_height_takes_scene_keys(capsys):
+    """--param plate.murho solves for the scene key itself and agrees with the moment route's
+    product; ring_magnet's remanence is fitted in T as the scene writes it."""
+    by_key = _json(capsys, "optimize", "thesis", "--fit-height", "0.09", "--param", "plate.murho")
+    by_mu = _json(capsys, "optimize", "thesis", "--fit-height", "0.09")
+    assert by_key["optimum"]["plate.murho"] == pytest.approx(by_mu["optimum"]["murho"], rel=1e-10)
+    ring = _json(capsys, "optimize", "ring_magnet", "--fit-height", "0.07", "--param", "plate.remanence")
+    assert 0.3 < ring["optimum"]["plate.remanence"] < 0.5
+    z = [e["z"] for e in ring["equilibria"] if e["vertically_stable"]]
+    assert z == [pytest.approx(0.07, rel=1e-8)]
+
+
+def test_fit_height_unknown_param_names_both_kinds(capsys):
+    assert cli.main(["optimize", "thesis", "--fit-height", "0.09", "--param", "bogus"]) == 2
+    err = capsys.readouterr().err
+    assert "scene key" in err and "plate_rho" in err
+
+
+def test_write_scene_says_where(tmp_path, capsys):
+    target = tmp_path / "best.toml"
+    out = _out(capsys, "optimize", "thesis_stable", "--maximize", "spin-range", "--vary",
+               "top.mass=0.0505:0.0524", "--constrain", "stiffness>=0.5", "--write-scene", str(target))
+    assert target.is_file() and f"scene written: {target}" in out
+
+
+def test_optimize_help_lists_every_objective(capsys):
+    with pytest.raises(SystemExit):
+        cli.main(["optimize", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    for name in OBJECTIVES:
+        assert name in text
+
+
+UNIT_RING = """name = "unit_ring"
+g = 1.0
+units = "dimensionless"
+[top]
+mass = 0.02015
+A = 0.01
+C = 0.006
+moment = -1.0
+[plate]
+kind = "ring_magnet"
+r_out = 1.0
+r_in = 0.5
+thickness = 0.3
+remanence = 1.0
+[field]
+order = 4
+[model]
+needs = ["reduced", "full", "linear"]
+"""
+
+
+def test_a_band_above_z_c_and_approximations_out_of_range_say_so(tmp_path, capsys):
+    """A ring in its own units whose stable band (1.231-1.237) starts above z_c = 1.099: z_c is
+    not called "where the band starts"; the thesis's small-g21 estimates there give sigma_1 above
+    sigma_2, which is said, not printed as an interval."""
+    path = tmp_path / "unit_ring.toml"
+    path.write_text(UNIT_RING)
+    eq = _json(capsys, "equilibrium", str(path))
+    assert eq["stable_band"]["z"][0] > 1.1 * eq["z_c"]
+    out = _out(capsys, "equilibrium", str(path))
+    assert "where the band starts" not in out and "(the heaviest top's height, below the band)" in out
+    assert "(where the band starts)" in _out(capsys, "equilibrium", "thesis")
+    st = _json(capsys, "stability", str(path))
+    ap = st["approximations"]
+    assert ap["sigma1"] > ap["sigma2"]
+    out = _out(capsys, "stability", str(path))
+    assert "the thesis's approximations (eqs. 3.3.22/3.3.23) do not apply" in out
+    assert f"{ap['sigma1']:.4g}-{ap['sigma2']:.4g}" not in out
