@@ -171,7 +171,10 @@ class Study:
         number (default: the scene's [launch] table, else the scene-scaled defaults); options:
         success_time (s), t_end (s), integrator, tol, workers, scheduler. The same seed gives the
         same verdicts serially, with processes and on dask."""
-        from runtime.scan.launch_odds import monte_carlo
+        from runtime.scan.launch_odds import LAUNCH_OPTIONS, monte_carlo
+        unknown = sorted(set(options) - set(LAUNCH_OPTIONS))
+        if unknown:
+            raise UserError(f"launch: unknown option {unknown[0]!r}: use {', '.join(LAUNCH_OPTIONS)}")
         table = dict(self.scene.data.get("launch", {}))
         given = {k: v for k, v in table.items() if k not in ("n", "seed", "success_time", "t_end")}
         given.update(inputs or {})

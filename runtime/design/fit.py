@@ -91,12 +91,20 @@ def check_rows(rows, where: str = "--fit") -> list[Row]:
     return [check_row(r, f"{where} row {i + 1}") for i, r in enumerate(rows)]
 
 
+def _number(text: str) -> float:
+    """float() of a CSV cell, but not Python's extensions of the number syntax: a '_' between
+    digits ("0.1_065" would be read as 0.1065) or non-ASCII digits; ValueError for those."""
+    if "_" in text or not text.isascii():
+        raise ValueError(text)
+    return float(text)
+
+
 def read_rows(path: str | Path) -> list[Row]:
     """The rows of a CSV file with header quantity,value,sigma[,overrides]; overrides are
     `key=value` pairs separated by ';'. UserError naming the line on any problem: an unknown or
     repeated column, a line with more fields than the header, a key overridden twice."""
     try:
-        text = Path(path).read_text(encoding="utf-8")
+        text = Path(path).read_text(encoding="utf-8-sig")     # a spreadsheet's byte-order mark
     except (OSError, UnicodeDecodeError) as exc:
         raise UserError(f"--fit {path}: cannot be read ({exc}): give a CSV file") from None
     lines = [(n, line) for n, line in enumerate(text.splitlines(), start=1)
@@ -122,7 +130,7 @@ def read_rows(path: str | Path) -> list[Row]:
                             "remove the extra ones (a ',' inside overrides? separate them by ';')")
         rec = dict(zip(header, (f.strip() for f in fields)))
         try:
-            value, sigma = float(rec.get("value", "")), float(rec.get("sigma", ""))
+            value, sigma = _number(rec.get("value", "")), _number(rec.get("sigma", ""))
         except ValueError:
             raise UserError(f"--fit {path} line {n}: value and sigma must be numbers") from None
         over = []
@@ -131,7 +139,7 @@ def read_rows(path: str | Path) -> list[Row]:
             try:
                 if not eq:
                     raise ValueError(item)
-                over.append((key.strip(), float(v)))
+                over.append((key.strip(), _number(v)))
             except ValueError:
                 raise UserError(f"--fit {path} line {n}: override {item!r}: write key=number") from None
         rows.append(check_row(Row(rec.get("quantity", ""), value, sigma, tuple(over)),

@@ -40,6 +40,7 @@ import numpy as np
 from runtime.errors import UserError
 from runtime.physics.friction import has_friction
 from runtime.integrate.methods import DEFAULT, lookup, resolve
+from runtime.ui.validate import count, real
 
 INPUTS = ("spin", "tilt", "tilt_azimuth", "offset", "velocity", "mass", "strength", "temperature")
 Z95 = 1.959963984540054          # the 97.5 % point of the standard normal
@@ -82,6 +83,8 @@ def parse_dist(name: str, spec) -> Dist:
         if not math.isfinite(value):
             raise UserError(f"launch {name} = {spec} is not finite: {how}")
         return Dist("fixed", value)
+    if not isinstance(spec, str):         # a TOML array or table, or an API object
+        raise UserError(f"launch {name} = {spec!r} is not a distribution: {how}")
     text = str(spec).strip()
     kind, sep, args = text.partition(":")
     if not sep:
@@ -234,6 +237,10 @@ def effects(S: Mapping[str, np.ndarray], ok: np.ndarray, dists: Mapping[str, Dis
     return sorted(out, key=lambda e: -e["effect"])
 
 
+# the keyword options of monte_carlo beyond the inputs (the API's launch(**options) takes these)
+LAUNCH_OPTIONS = ("success_time", "t_end", "integrator", "tol", "workers", "scheduler")
+
+
 def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n: int = 1000,
                 seed: int = 0, success_time: float | None = None, t_end: float | None = None,
                 integrator: str = DEFAULT, tol: float = 1e-8, workers: int = 1,
@@ -270,6 +277,15 @@ def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n
         lo = d.a - 8 * d.b if d.kind == "normal" else d.a
         if lo < -273.15:
             raise UserError(f"--temperature {d.text()} reaches below absolute zero: give degC above -273.15")
+    # the given times by their own names, before one is derived from the other
+    success_time = None if success_time is None else real(success_time, "--success-time",
+                                                          positive=True, unit="s", what="time")
+    t_end = None if t_end is None else real(t_end, "--t-end", positive=True, unit="s", what="time")
+    tol = real(tol, "--tol", positive=True, what="tolerance")
+    workers = count(workers, "--workers", low=1)
+    if scheduler is not None and not isinstance(scheduler, str):
+        raise UserError(f"--scheduler {scheduler!r}: give the scheduler's address as text, e.g. "
+                        "tcp://127.0.0.1:8786")
     air = has_friction(model) and model.pvals()["k_spin"] > 0
     tau = 1 / model.pvals()["k_spin"] if air else None
     if success_time is None:
