@@ -112,17 +112,16 @@ def test_losing_every_dask_worker_mid_scan_is_one_line(model):
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
                                   host="127.0.0.1", protocol="tcp",
                                   dashboard_address=None) as cluster:
-        spins = np.linspace(300.0, 3200.0, 12)
+        spins = np.linspace(300.0, 3200.0, 24)
 
-        def leave():                # once the chunks are on the scheduler
-            while not cluster.scheduler.tasks:
-                time.sleep(0.05)
-            time.sleep(0.5)
+        def leave():                # once the first chunk is done, the others still to run
+            while not any(t.state == "memory" for t in list(cluster.scheduler.tasks.values())):
+                time.sleep(0.02)
             cluster.scale(0)
         threading.Thread(target=leave, daemon=True).start()
         t0 = time.monotonic()
         with pytest.raises(UserError, match="lost every worker") as exc:
-            within(60, lambda: sc.scan(model, "thesis", SET, spins, "tilt", TILTS, t_end=20.0,
+            within(60, lambda: sc.scan(model, "thesis", SET, spins, "tilt", TILTS, t_end=50.0,
                                        quiet=True, scheduler=cluster.scheduler_address,
                                        scheduler_timeout=2))
         assert "\n" not in str(exc.value) and time.monotonic() - t0 < 30
