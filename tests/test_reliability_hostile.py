@@ -14,6 +14,7 @@ CLI refused it already; the property test's in-process path did not count the re
 """
 from __future__ import annotations
 
+import json
 import math
 import re
 
@@ -250,3 +251,19 @@ def test_hostile_api_call_is_one_line_user_error(case, tmp_path, air_study, stab
     assert not any(tmp_path.glob("*.csv")) and not any(tmp_path.glob("*.txt"))
 
 
+
+
+def test_the_api_launch_reads_the_tables_n_and_seed_like_the_cli(tmp_path, capsys):
+    """The [launch] table's n and seed (fixed: the API ran 1000 launches with seed 0 whatever the
+    table said, the CLI the table's); an argument still overrides the table."""
+    import levitron_api as lv
+    from runtime.cli.main import main
+    scene = tmp_path / "thesis_air.toml"
+    scene.write_text(launch_table("n = 3\nseed = 5\nt_end = 0.05"))
+    study = lv.load(scene)
+    odds = study.launch()
+    assert (odds.n, odds.details["seed"]) == (3, 5)
+    assert main(["launch", str(scene), "--json"]) == 0
+    cli = json.loads(capsys.readouterr().out)
+    assert (cli["n"], cli["seed"], cli["probability"]) == (3, 5, odds.probability)
+    assert study.launch(n=2, seed=1).n == 2

@@ -237,6 +237,19 @@ def effects(S: Mapping[str, np.ndarray], ok: np.ndarray, dists: Mapping[str, Dis
     return sorted(out, key=lambda e: -e["effect"])
 
 
+def table_settings(table: Mapping) -> tuple[dict, dict]:
+    """The scene's [launch] table as (inputs, settings): the inputs' distribution specs as given
+    (parse_dist checks them), and n, seed, success_time, t_end checked here under their own names
+    ("[launch] n = 'many' must be a whole number"), for the CLI and the API alike; a flag or an
+    argument given by the caller takes precedence over either."""
+    inputs = {k: table[k] for k in INPUTS if k in table}
+    checks = {"n": lambda v, label: count(v, label, low=1, high=MAX_N),
+              "seed": lambda v, label: count(v, label, low=0),
+              "success_time": lambda v, label: real(v, label, positive=True, unit="s", what="time"),
+              "t_end": lambda v, label: real(v, label, positive=True, unit="s", what="time")}
+    return inputs, {k: check(table[k], f"[launch] {k}") for k, check in checks.items() if k in table}
+
+
 # the keyword options of monte_carlo beyond the inputs (the API's launch(**options) takes these)
 LAUNCH_OPTIONS = ("success_time", "t_end", "integrator", "tol", "workers", "scheduler")
 

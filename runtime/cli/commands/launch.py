@@ -8,7 +8,6 @@ from runtime.scan import launch_odds as mc
 from runtime.errors import UserError
 from runtime.ui.human import Units, lines, sig
 from runtime.ui.plotting import check_plot_path
-from runtime.ui.validate import count, real
 from runtime.cli.commands.common import model_of, scene_of
 
 NAME = "launch"
@@ -46,26 +45,15 @@ def run(args) -> dict:
     if args.out is not None:
         check_plot_path(args.out, "--out")
     scene = scene_of(args)
-    table = dict(scene.data.get("launch", {}))
-    given = {k: table[k] for k in mc.INPUTS if k in table}
+    given, table = mc.table_settings(scene.data.get("launch", {}))
     given.update({k: getattr(args, f"dist_{k}") for k in mc.INPUTS if getattr(args, f"dist_{k}") is not None})
-
-    def pick(flag, key, default, check):
-        """The flag, else the [launch] table's value checked under its own name, else default."""
-        if flag is not None:
-            return flag
-        return check(table[key], f"[launch] {key}") if key in table else default
-
-    def time(v, label):
-        return real(v, label, positive=True, unit="s", what="time")
-    n = pick(args.n, "n", 1000, lambda v, label: count(v, label, low=1, high=mc.MAX_N))
-    seed = pick(args.seed, "seed", 0, lambda v, label: count(v, label, low=0))
-    success_time = pick(args.success_time, "success_time", None, time)
-    t_end = pick(args.t_end, "t_end", None, time)
+    pick = lambda flag, key, default: flag if flag is not None else table.get(key, default)  # noqa: E731
     model = model_of(args)
     ref = str(Path(scene.path).resolve()) if scene.path is not None else args.scene
-    out = mc.monte_carlo(model, ref, args.set, given, n=n, seed=seed,
-                         success_time=success_time, t_end=t_end, integrator=args.integrator,
+    out = mc.monte_carlo(model, ref, args.set, given, n=pick(args.n, "n", 1000),
+                         seed=pick(args.seed, "seed", 0),
+                         success_time=pick(args.success_time, "success_time", None),
+                         t_end=pick(args.t_end, "t_end", None), integrator=args.integrator,
                          tol=args.tol, workers=args.workers, scheduler=args.scheduler, quiet=args.quiet)
     out["scene"] = scene.name
     out["out"] = str(mc.draw(out, args.out, Units.of_scene(scene), scene.name)) if args.out else None
