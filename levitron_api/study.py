@@ -189,20 +189,25 @@ class Study:
                            {k: out[k] for k in ("t_end", "integrator", "integrator_requested", "tol",
                                                 "step", "lanes")})
 
-    def launch(self, n: int = 1000, seed: int = 0, inputs: Mapping[str, object] | None = None,
-               **options) -> LaunchOdds:
+    def launch(self, n: int | None = None, seed: int | None = None,
+               inputs: Mapping[str, object] | None = None, **options) -> LaunchOdds:
         """Launch odds by Monte Carlo (runtime/scan/launch_odds.py): inputs maps spin, tilt, tilt_azimuth,
         offset, velocity, mass, strength, temperature to "normal:MEAN,SD", "uniform:LO,HI" or a
-        number (default: the scene's [launch] table, else the scene-scaled defaults); options:
-        success_time (s), t_end (s), integrator, tol, workers, scheduler. The same seed gives the
-        same verdicts serially, with processes and on dask."""
-        from runtime.scan.launch_odds import monte_carlo
-        table = dict(self.scene.data.get("launch", {}))
-        given = {k: v for k, v in table.items() if k not in ("n", "seed", "success_time", "t_end")}
+        number (default: the scene's [launch] table, else the scene-scaled defaults); n, seed and
+        the options success_time (s), t_end (s) default to the table's too, as on the command line
+        (else 1000 launches, seed 0); options also integrator, tol, workers, scheduler. The same
+        seed gives the same verdicts serially, with processes and on dask."""
+        from runtime.scan.launch_odds import LAUNCH_OPTIONS, monte_carlo, table_settings
+        unknown = sorted(set(options) - set(LAUNCH_OPTIONS))
+        if unknown:
+            raise UserError(f"launch: unknown option {unknown[0]!r}: use {', '.join(LAUNCH_OPTIONS)}")
+        given, table = table_settings(self.scene.data.get("launch", {}))
         given.update(inputs or {})
         for key in ("success_time", "t_end"):
             if key in table:
                 options.setdefault(key, table[key])
+        n = table.get("n", 1000) if n is None else n
+        seed = table.get("seed", 0) if seed is None else seed
         ref = str(Path(self.scene.path).resolve()) if self.scene.path else self.scene.name
         out = monte_carlo(self.model, ref, self.overrides, given, n=n, seed=seed, quiet=True, **options)
         return LaunchOdds(out["probability"], tuple(out["probability_ci95"]), out["n"],

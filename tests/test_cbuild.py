@@ -186,3 +186,28 @@ def test_locked_excludes_a_second_holder_until_released(tmp_path):
         assert not got.wait(0.5)          # held: the second holder is still waiting
     assert got.wait(30)                   # released: it gets the lock
     t.join()
+
+
+def test_another_models_stamped_library_is_rebuilt_not_blamed_on_the_folder(tmp_path, monkeypatch,
+                                                                            capfd):
+    """Another model's library with its own valid stamp copied onto this model's cache name: the
+    table check refused it with "delete derived/<folder>", which could not help (the folder
+    derives the same model.c, whose hash names the same wrong library). Now the library is
+    rebuilt, once, with a note, and the model runs."""
+    import shutil
+
+    from derive.scene import load_scene
+    from runtime.model.load import load_model
+    monkeypatch.setenv("LEVITRON_CACHE", str(tmp_path / "cache"))
+    thesis = load_model(load_scene("thesis"))
+    ours = thesis.library_path
+    theirs = load_model(load_scene("square")).library_path
+    assert ours != theirs and is_intact(ours) and is_intact(theirs)
+    shutil.copyfile(theirs, ours)
+    shutil.copyfile(f"{theirs}.sha256", f"{ours}.sha256")
+    assert is_intact(ours)
+    fresh = load_model(load_scene("thesis"))
+    assert fresh.library_path == ours
+    assert fresh.lib is not None
+    assert "is not the one of" in capfd.readouterr().err
+    assert is_intact(ours) and ours.read_bytes() != theirs.read_bytes()    # its table agreed

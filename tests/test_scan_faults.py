@@ -102,3 +102,26 @@ def test_workers_are_capped_at_the_usable_cores(model, capfd):
     res = sc.scan(model, "thesis", SET, SPINS, "tilt", TILTS[:2], t_end=0.5, quiet=True, workers=many)
     assert res.runner["workers"] == min(usable_cores(), SPINS.size * 2)
     assert f"--workers {many} capped" in capfd.readouterr().err
+
+
+def test_losing_every_dask_worker_mid_scan_is_one_line(model):
+    """Every worker of the cluster leaves while the scan's chunks run: the scheduler holds the
+    tasks for a worker that never comes, and the scan waited for ever. Now it gives up once the
+    cluster has had no worker for --scheduler-timeout seconds, in one line that says so."""
+    distributed = pytest.importorskip("dask.distributed")
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  host="127.0.0.1", protocol="tcp",
+                                  dashboard_address=None) as cluster:
+        spins = np.linspace(300.0, 3200.0, 24)
+
+        def leave():                # once the first chunk is done, the others still to run
+            while not any(t.state == "memory" for t in list(cluster.scheduler.tasks.values())):
+                time.sleep(0.02)
+            cluster.scale(0)
+        threading.Thread(target=leave, daemon=True).start()
+        t0 = time.monotonic()
+        with pytest.raises(UserError, match="lost every worker") as exc:
+            within(60, lambda: sc.scan(model, "thesis", SET, spins, "tilt", TILTS, t_end=50.0,
+                                       quiet=True, scheduler=cluster.scheduler_address,
+                                       scheduler_timeout=2))
+        assert "\n" not in str(exc.value) and time.monotonic() - t0 < 30

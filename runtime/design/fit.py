@@ -26,6 +26,7 @@ import numpy as np
 from runtime.physics import stability_casadi as sc
 from runtime.errors import UserError
 from runtime.design.scene_keys import KeyMap, Vary, key_value, with_values
+from runtime.ui import progress
 from runtime.ui.validate import real
 
 QUANTITIES = {"z_s": "m", "stiffness": "N/m", "sigma_lo": "rad/s", "sigma_hi": "rad/s",
@@ -90,12 +91,20 @@ def check_rows(rows, where: str = "--fit") -> list[Row]:
     return [check_row(r, f"{where} row {i + 1}") for i, r in enumerate(rows)]
 
 
+def _number(text: str) -> float:
+    """float() of a CSV cell, but not Python's extensions of the number syntax: a '_' between
+    digits ("0.1_065" would be read as 0.1065) or non-ASCII digits; ValueError for those."""
+    if "_" in text or not text.isascii():
+        raise ValueError(text)
+    return float(text)
+
+
 def read_rows(path: str | Path) -> list[Row]:
     """The rows of a CSV file with header quantity,value,sigma[,overrides]; overrides are
     `key=value` pairs separated by ';'. UserError naming the line on any problem: an unknown or
     repeated column, a line with more fields than the header, a key overridden twice."""
     try:
-        text = Path(path).read_text(encoding="utf-8")
+        text = Path(path).read_text(encoding="utf-8-sig")     # a spreadsheet's byte-order mark
     except (OSError, UnicodeDecodeError) as exc:
         raise UserError(f"--fit {path}: cannot be read ({exc}): give a CSV file") from None
     lines = [(n, line) for n, line in enumerate(text.splitlines(), start=1)
@@ -121,7 +130,7 @@ def read_rows(path: str | Path) -> list[Row]:
                             "remove the extra ones (a ',' inside overrides? separate them by ';')")
         rec = dict(zip(header, (f.strip() for f in fields)))
         try:
-            value, sigma = float(rec.get("value", "")), float(rec.get("sigma", ""))
+            value, sigma = _number(rec.get("value", "")), _number(rec.get("sigma", ""))
         except ValueError:
             raise UserError(f"--fit {path} line {n}: value and sigma must be numbers") from None
         over = []
@@ -130,7 +139,7 @@ def read_rows(path: str | Path) -> list[Row]:
             try:
                 if not eq:
                     raise ValueError(item)
-                over.append((key.strip(), float(v)))
+                over.append((key.strip(), _number(v)))
             except ValueError:
                 raise UserError(f"--fit {path} line {n}: override {item!r}: write key=number") from None
         rows.append(check_row(Row(rec.get("quantity", ""), value, sigma, tuple(over)),
@@ -201,8 +210,26 @@ class FitResult:
                                          "float routes at the optimum (each row's start)"}}
 
 
+# the CasADi Function (runtime/physics/stability_casadi.py FUNCTIONS) that gives each quantity
+FUNCTION_OF = {"z_s": "z_s", "stiffness": "z_s", "z_c": "z_c", "max_mass": "z_c",
+               "sigma_lo": "spin", "sigma_hi": "spin"}
+WARM_RESIDUAL = 1e-10   # a warm Newton is accepted when its normalised residual is below this
+WARM_RTOL = 1e-9        # ... and the warm fit when the cold routes agree with it at the optimum
+PREDICTED = 0.1         # ... and lands within this fraction of its predicted change of the prediction
+PROGRESS_SITES = 20     # float-route starts for more sites than this show a progress bar
+
+
 class _Problem:
-    """Residuals and Jacobian of the rows at x (module docstring)."""
+    """Residuals and Jacobian of the rows at x (module docstring).
+
+    Rows with the same overrides share one site: one parameter vector, whose quantities come from
+    one column of a mapped CasADi Function (`CasadiStability.batch`: every site in one call). The
+    rootfinders start from the exact float routes (cold) at the first evaluation, and then from
+    the roots at the last accepted x moved to first order (warm, `accept`), which costs a Newton
+    step instead of a float-route survey. A warm root whose residual or sign is off, or that lands
+    farther from the prediction than PREDICTED of the predicted change (another branch: a critical
+    spin that jumped to the cubic's third root), is restarted cold; `fit` checks the warm optimum
+    against a cold evaluation (`evaluate(x, cold=True)`)."""
 
     def __init__(self, model, rows: Sequence[Row], varies: Sequence[Vary]):
         self.model, self.rows, self.varies = model, list(rows), list(varies)
@@ -216,31 +243,122 @@ class _Problem:
             if r.overrides not in self.maps:
                 scene = with_values(model.scene, dict(r.overrides))
                 self.maps[r.overrides] = KeyMap(scene, model.param_names, varies)
+        self.sites = list(self.maps)
+        index = {s: j for j, s in enumerate(self.sites)}
+        self.site_of = [index[r.overrides] for r in self.rows]
+        self.needs: dict[str, list[int]] = {}
+        for r, j in zip(self.rows, self.site_of):
+            self.needs.setdefault(FUNCTION_OF[r.quantity], set()).add(j)
+        if "spin" in self.needs:            # the spins' starts come from the hover height
+            self.needs.setdefault("z_s", set()).update(self.needs["spin"])
+        self.needs = {name: sorted(js) for name, js in self.needs.items()}
+        self.use_warm = True
+        self.warm: dict = {}          # (function, site) -> roots at the last accepted x
+        self._pending: dict = {}
 
-    def evaluate(self, x) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(model values, weighted residuals, weighted Jacobian d r / d log x). Rows with the same
-        overrides share one parameter vector: its starts, values and each quantity's Jacobian are
-        computed once per evaluation (1000 rows at a few masses cost a few rows)."""
+    def accept(self) -> None:
+        """The last evaluation's x is accepted: its roots start the next evaluation."""
+        self.warm.update(self._pending)
+
+    def _run(self, name: str, js: list[int], guesses, P):
+        """(outputs (n_out x len(js)), d outputs / d p (n_out x len(p) x len(js)), residuals) of
+        Function `name` at sites js from the guesses (one list per site), in one CasADi call."""
+        F = self.cs.batch(name, len(js))
+        G = np.array(guesses, float).T
+        out = F(*[G[i:i + 1] for i in range(G.shape[0])], P[:, js])
+        n = self.cs.functions[name].n_out()
+        Y = np.vstack([np.asarray(out[i], float).reshape(1, -1) for i in range(n)])
+        D = np.stack([np.asarray(out[n + i], float) for i in range(n)])
+        return Y, D, np.asarray(out[2 * n], float).reshape(-1)
+
+    def _predict(self, name: str, j: int, p) -> np.ndarray:
+        """The roots at p to first order from those at the last accepted x (their d / d p)."""
+        roots, droots, p_last = self.warm[name, j]
+        return roots + droots @ (p - p_last)
+
+    @staticmethod
+    def _warm_ok(name: str, Y, R) -> np.ndarray:
+        """Per site: the warm Newton converged (finite, residual below WARM_RESIDUAL) to a root of
+        the kind the float routes give: a stable hover (stiffness > 0), 0 < sigma_lo < sigma_hi,
+        z_c > 0."""
+        ok = np.all(np.isfinite(Y), axis=0) & (R <= WARM_RESIDUAL)
+        if name == "z_s":
+            ok &= (Y[0] > 0) & (Y[1] > 0)
+        elif name == "spin":
+            ok &= (Y[0] > 0) & (0 < Y[1]) & (Y[1] < Y[2])
+        else:
+            ok &= Y[0] > 0
+        return ok
+
+    def evaluate(self, x, cold: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(model values, weighted residuals, weighted Jacobian d r / d log x); cold: every
+        rootfinder started from the float routes (as at the first evaluation)."""
+        kms = [self.maps[s] for s in self.sites]
+        P = np.array([km.exact(x)[1] for km in kms]).T          # len(p) x sites
+        starts: dict[int, sc.Starts] = {}
+        results, missing, self._pending = {}, set(), {}
+        hover: dict[int, float] = {}       # site -> z_s from a warm root this evaluation
+        for name in ("z_s", "z_c", "spin"):
+            js = self.needs.get(name)
+            if not js:
+                continue
+            F = self.cs.functions[name]
+            k = F.n_in() - 1
+            Y = np.full((F.n_out(), len(self.sites)), np.nan)
+            D = np.full((F.n_out(), P.shape[0], len(self.sites)), np.nan)
+            warm = [] if cold or not self.use_warm or name == "spin" else \
+                [j for j in js if (name, j) in self.warm]
+            if warm:
+                pred = np.array([self._predict(name, j, P[:, j]) for j in warm]).T
+                Yw, Dw, Rw = self._run(name, warm, list(np.where(pred > 0, pred, np.array(
+                    [self.warm[name, j][0] for j in warm]).T).T), P)
+                ok = self._warm_ok(name, Yw, Rw)
+                last = np.array([self.warm[name, j][0] for j in warm]).T
+                ok &= np.all(np.abs(Yw[:k] - pred) <= PREDICTED * np.abs(pred - last)
+                             + WARM_RTOL * np.abs(pred), axis=0)
+                good = [j for j, o in zip(warm, ok) if o]
+                Y[:, good], D[:, :, good] = Yw[:, ok], Dw[:, :, ok]
+                warm = good
+                if name == "z_s":
+                    hover.update({j: float(Y[0, j]) for j in good})
+            todo = [j for j in js if j not in set(warm)]
+            new = [j for j in todo if j not in starts and not (name == "spin" and j in hover)]
+            with progress.task("fit: float-route starts", total=len(new),
+                               quiet=len(new) <= PROGRESS_SITES) as tick:
+                for j in new:
+                    starts[j] = sc.starts(self.model, P[:, j])
+                    tick()
+            cold_js, guesses = [], []
+            for j in todo:
+                # the critical spins: the float route's first bounded interval at the hover
+                # height, at a warm z_s too (a warm spin root could follow another interval)
+                g = sc.guesses(name, starts[j]) if j in starts else \
+                    sc.spin_guesses(self.model, P[:, j], hover[j])
+                if g is None:
+                    missing.add((name, j))
+                else:
+                    cold_js.append(j)
+                    guesses.append(g)
+            if cold_js:
+                Yc, Dc, _ = self._run(name, cold_js, guesses, P)
+                Y[:, cold_js], D[:, :, cold_js] = Yc, Dc
+            for j in js:
+                if (name, j) not in missing:
+                    self._pending[name, j] = (Y[:k, j].copy(), D[:k, :, j].copy(), P[:, j].copy())
+            results[name] = (F, Y, D)
         vals, res, jac = [], [], []
-        sites: dict = {}          # overrides -> (p, starts, values, {quantity: d q / d p})
-        for i, r in enumerate(self.rows):
-            km = self.maps[r.overrides]
-            if r.overrides not in sites:
-                _, p = km.exact(x)
-                st = sc.starts(self.model, p)
-                sites[r.overrides] = (p, st, self.cs.values(p, st), {})
-            p, st, v, jacs = sites[r.overrides]
-            if r.quantity not in v:
-                raise UserError(f"--fit: at {km.describe(x)} row {i + 1} ({r.quantity}) does not "
-                                "exist (no stable hover or spin interval there): narrow the --vary "
-                                "bounds or check the data")
-            if r.quantity not in jacs:
-                jacs[r.quantity] = self.cs.jacobian(r.quantity, p, st)
-            dqdp = jacs[r.quantity]
-            dpdlogx = p[:, None] * km.E            # d p_j / d log x_k (monomial law)
-            vals.append(v[r.quantity])
-            res.append((v[r.quantity] - r.value) / r.sigma)
-            jac.append(dqdp @ dpdlogx / r.sigma)
+        for i, (r, j) in enumerate(zip(self.rows, self.site_of)):
+            name = FUNCTION_OF[r.quantity]
+            if (name, j) in missing:
+                raise UserError(f"--fit: at {kms[j].describe(x)} row {i + 1} ({r.quantity}) does "
+                                "not exist (no stable hover or spin interval there): narrow the "
+                                "--vary bounds or check the data")
+            F, Y, D = results[name]
+            o = F.index_out(r.quantity)
+            dpdlogx = P[:, j][:, None] * kms[j].E                # d p_j / d log x_k (monomial law)
+            vals.append(Y[o, j])
+            res.append((Y[o, j] - r.value) / r.sigma)
+            jac.append(D[o, :, j] @ dpdlogx / r.sigma)
         return np.array(vals), np.array(res), np.array(jac)
 
 
@@ -265,18 +383,10 @@ def _confounded(J: np.ndarray, keys: list[str]) -> str | None:
             "from heights alone, thesis 2.2); fix one of them or add data that tell them apart")
 
 
-def fit(model, rows: Sequence[Row], varies: Sequence[Vary]) -> FitResult:
-    """Least squares over the varied keys (module docstring), from the scene's values."""
-    if not varies:
-        raise UserError("--fit needs at least one --vary KEY=LO:HI")
-    rows = check_rows(rows)
-    prob = _Problem(model, rows, varies)
-    keys = [v.key for v in varies]
-    lo, hi = np.array([v.lo for v in varies]), np.array([v.hi for v in varies])
-    x = np.array([key_value(model.scene.data, k) for k in keys])
-    x = np.where((x >= lo) & (x <= hi), x, 0.5 * (lo + hi))
-    start = dict(zip(keys, map(float, x)))
+def _gauss_newton(prob: _Problem, x, lo, hi, keys):
+    """Levenberg-Marquardt in log x from x: (x, values, r, J, cost, iterations)."""
     vals, r, J = prob.evaluate(x)
+    prob.accept()
     why = _confounded(J, keys)
     if why is not None:
         raise UserError(f"--fit refused: {why}")
@@ -292,6 +402,7 @@ def fit(model, rows: Sequence[Row], varies: Sequence[Vary]) -> FitResult:
         except UserError:
             c_new = math.inf
         if c_new <= cost:
+            prob.accept()
             done = cost - c_new <= 1e-14 * max(cost, 1e-300) or \
                 np.max(np.abs(np.log(x_new / x))) < 1e-12
             x, vals, r, J, cost = x_new, v_new, r_new, J_new, c_new
@@ -307,6 +418,36 @@ def fit(model, rows: Sequence[Row], varies: Sequence[Vary]) -> FitResult:
     if status != "converged":
         raise UserError(f"--fit: Gauss-Newton {status} after {it} iterations at "
                         f"{', '.join(f'{k} = {v:.6g}' for k, v in zip(keys, x))}")
+    return x, vals, r, J, cost, it
+
+
+def fit(model, rows: Sequence[Row], varies: Sequence[Vary]) -> FitResult:
+    """Least squares over the varied keys (module docstring), from the scene's values. The
+    iterations start their rootfinders warm (`_Problem`); the optimum is checked by a cold
+    evaluation there, and a disagreement beyond WARM_RTOL reruns the fit cold throughout."""
+    if not varies:
+        raise UserError("--fit needs at least one --vary KEY=LO:HI")
+    rows = check_rows(rows)
+    prob = _Problem(model, rows, varies)
+    keys = [v.key for v in varies]
+    lo, hi = np.array([v.lo for v in varies]), np.array([v.hi for v in varies])
+    x = np.array([key_value(model.scene.data, k) for k in keys])
+    x = np.where((x >= lo) & (x <= hi), x, 0.5 * (lo + hi))
+    start = dict(zip(keys, map(float, x)))
+    x0 = x
+    x, vals, r, J, cost, it = _gauss_newton(prob, x0, lo, hi, keys)
+    try:
+        checked = prob.evaluate(x, cold=True)
+    except UserError:
+        checked = None
+    if checked is not None and np.allclose(checked[0], vals, rtol=WARM_RTOL, atol=0) \
+            and np.allclose(checked[2], J, rtol=1e-6, atol=1e-9 * np.max(np.abs(J))):
+        vals, r, J = checked
+        cost = float(r @ r)
+    else:
+        prob.use_warm = False
+        x, vals, r, J, cost, it = _gauss_newton(prob, x0, lo, hi, keys)
+    status = "converged"
     why = _confounded(J, keys)
     if why is not None:
         raise UserError(f"--fit refused at the optimum: {why}")

@@ -144,6 +144,17 @@ def is_intact(library: Path) -> bool:
         return False
 
 
+def discard(library: Path) -> None:
+    """Remove a cached library and its stamp (the next compile_shared builds it again)."""
+    for path in (_stamp_path(library), library):
+        try:
+            path.unlink()
+        except FileNotFoundError:
+            pass
+        except OSError as exc:
+            raise cache_problem(path.parent, exc) from None
+
+
 def compile_shared(sources: list[Path | str], flags: tuple[str, ...] = DEFAULT_FLAGS,
                    include_dirs: tuple[Path | str, ...] = ()) -> Path:
     """Compile `sources` into one shared library and return its cached, verified path.

@@ -31,7 +31,7 @@ from derive.inputs import input_hash
 from derive.paths import GENERATED, ROOT, is_committed_scene
 from derive.scene import Scene
 
-from runtime.model.cbuild import cache_dir, cache_problem, compile_shared, locked
+from runtime.model.cbuild import cache_dir, cache_problem, compile_shared, discard, locked
 from runtime.errors import UserError
 from runtime.model.manifest import ArtefactError, FunctionInfo, Manifest, read_manifest
 from runtime.model.table import disagreement, read_table
@@ -380,16 +380,31 @@ class Model:
     def lib(self) -> ctypes.CDLL:
         """The compiled library (verified by cbuild before dlopen), its own table checked against
         the manifest before any function of it is called."""
-        try:
-            lib = ctypes.CDLL(str(self.library_path))
-        except OSError as exc:
-            raise ArtefactError(f"{self.library_path} cannot be loaded ({exc}); delete it and try "
-                                "again") from None
+        lib = self._dlopen()
         problem = disagreement(read_table(lib), self.manifest)
+        if problem is not None:
+            # the manifest was checked against model.c (sha256): the cached library, whose name is
+            # the hash of this model.c, is another build's (copied or restored there, with its
+            # stamp): deleting the model folder would not help; it is rebuilt, once
+            print(f"levitron: the cached library {self.library_path} is not the one of "
+                  f"{self.folder / 'model.c'} ({problem}): rebuilding it", file=sys.stderr)
+            import _ctypes
+            _ctypes.dlclose(lib._handle)
+            discard(self.library_path)
+            del self.library_path
+            lib = self._dlopen()
+            problem = disagreement(read_table(lib), self.manifest)
         if problem is not None:
             raise ArtefactError(f"{self.folder / 'manifest.json'} does not describe its model.c "
                                 f"({problem}); {self.fix}")
         return lib
+
+    def _dlopen(self) -> ctypes.CDLL:
+        try:
+            return ctypes.CDLL(str(self.library_path))
+        except OSError as exc:
+            raise ArtefactError(f"{self.library_path} cannot be loaded ({exc}); delete it and try "
+                                "again") from None
 
     def c_function(self, name: str):
         fn = self._cfuncs.get(name)

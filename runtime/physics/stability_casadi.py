@@ -204,6 +204,12 @@ def band_function(sy: Symbols, strict: bool = False) -> ca.Function:
                  residual, value_of, sy, strict)
 
 
+# the residuals `_root` solves, as functions of the roots (the first outputs): `batch` checks them
+RESIDUALS = {"z_s": lambda sy, v: [sy.hover(v[0])],
+             "z_c": lambda sy, v: [sy.phi3_normalised(v[0])],
+             "spin": lambda sy, v: [sy.hover(v[0]), sy.q(1 / v[1] ** 2, v[0]),
+                                    sy.q(1 / v[2] ** 2, v[0])]}
+
 FUNCTIONS = {"z_s": z_s_function, "z_c": z_c_function, "spin": spin_function,
              "band": band_function}
 
@@ -226,22 +232,35 @@ class Starts:
 def starts(model, p=None, band: bool = False) -> Starts:
     """The float routes' answers at p (default the scene's) to start the rootfinders from; with
     band=True also the stable band's upper edge (runtime/physics/bands.py, `band_start`)."""
-    import math
-
     from runtime.physics import equilibrium as eqm
-    from runtime.physics.ray_algebra import RayCoefficients, spin_intervals_discriminant
     p = model.p if p is None else p
-    P = model.pvals(p)
     rep = eqm.equilibria_of(model, p, bands=band)
     edge = band_start(model, p, rep.stable_band) if band and rep.stable_band else None
     z_s = rep.stable[0].z if rep.stable else None
     if z_s is None:
         return Starts(None, None, rep.z_c, band=edge)
-    ph = model.onaxis(z_s, p)
-    c = RayCoefficients.from_physics(ph[1], ph[2], ph[3], P["m"], P["A"], P["C"], P["mu"])
-    bounded = tuple(iv for iv in spin_intervals_discriminant(c) if 0 < iv[0] and iv[1] < math.inf)
+    bounded = spin_intervals(model, p, z_s)
     return Starts(z_s, bounded[0] if bounded else None, rep.z_c, rep.stable[0].stiffness, bounded,
                   edge)
+
+
+def spin_intervals(model, p, z_s: float) -> tuple[tuple[float, float], ...]:
+    """Every bounded stable spin interval (rad/s) of the top hovering at z_s (the float route,
+    runtime/physics/ray_algebra.py), lowest first."""
+    import math
+
+    from runtime.physics.ray_algebra import RayCoefficients, spin_intervals_discriminant
+    P = model.pvals(p)
+    ph = model.onaxis(z_s, p)
+    c = RayCoefficients.from_physics(ph[1], ph[2], ph[3], P["m"], P["A"], P["C"], P["mu"])
+    return tuple(iv for iv in spin_intervals_discriminant(c) if 0 < iv[0] and iv[1] < math.inf)
+
+
+def spin_guesses(model, p, z_s: float) -> list[float] | None:
+    """guesses("spin", ...) at a known hover height z_s: [z_s, sigma_lo, sigma_hi] of the first
+    bounded stable interval there, or None."""
+    bounded = spin_intervals(model, p, z_s)
+    return [z_s, *bounded[0]] if bounded else None
 
 
 def band_start(model, p, band) -> tuple[float, float, float] | None:
@@ -287,6 +306,7 @@ class CasadiStability:
         self.model = model
         self.symbols = symbols(model)
         self.functions = {k: f(self.symbols) for k, f in FUNCTIONS.items()}
+        self._batches: dict = {}
 
     def values(self, p=None, st: Starts | None = None) -> dict[str, float]:
         """{output name: value} of every Function whose quantity exists at p (SI units)."""
@@ -318,6 +338,28 @@ class CasadiStability:
                                                                     self.symbols.p)])
                 return np.asarray(J(p), float).reshape(-1)
         raise UserError(f"unknown quantity {output!r}: use one of {', '.join(self.outputs())}")
+
+    def batch(self, name: str, n: int) -> ca.Function:
+        """Function `name` (z_s, z_c or spin) mapped over n parameter vectors in one CasADi call:
+        (guesses (1 x n each), p (len(p) x n)) -> each output (1 x n), then each output's
+        d / d p (len(p) x n, implicit function theorem), then the largest normalised residual at
+        the roots (1 x n: near 0 where Newton converged). Built once per (name, n)."""
+        if (name, n) in self._batches:
+            return self._batches[name, n]
+        if name not in self._batches:
+            F, sy = self.functions[name], self.symbols
+            k = F.n_in() - 1                              # the unknowns: the first k outputs
+            g = [ca.MX.sym(F.name_in(i)) for i in range(k)]
+            p = ca.MX.sym("p", sy.p.numel())
+            y = F(*g, p)
+            y = list(y) if isinstance(y, tuple) else [y]
+            v = ca.SX.sym("v", k)
+            res = ca.Function(f"{name}_check", [v, sy.p],
+                              [ca.mmax(ca.fabs(ca.vertcat(*RESIDUALS[name](sy, v))))])
+            outs = [*y, *[ca.jacobian(yi, p).T for yi in y], res(ca.vertcat(*y[:k]), p)]
+            self._batches[name] = ca.Function(f"{name}_batch", [*g, p], outs)
+        self._batches[name, n] = self._batches[name].map(n)
+        return self._batches[name, n]
 
     def outputs(self) -> list[str]:
         """The names of every quantity the Functions give (z_s, stiffness, sigma_lo, ...)."""

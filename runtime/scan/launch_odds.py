@@ -40,6 +40,7 @@ import numpy as np
 from runtime.errors import UserError
 from runtime.physics.friction import has_friction
 from runtime.integrate.methods import DEFAULT, lookup, resolve
+from runtime.ui.validate import count, real
 
 INPUTS = ("spin", "tilt", "tilt_azimuth", "offset", "velocity", "mass", "strength", "temperature")
 Z95 = 1.959963984540054          # the 97.5 % point of the standard normal
@@ -82,6 +83,8 @@ def parse_dist(name: str, spec) -> Dist:
         if not math.isfinite(value):
             raise UserError(f"launch {name} = {spec} is not finite: {how}")
         return Dist("fixed", value)
+    if not isinstance(spec, str):         # a TOML array or table, or an API object
+        raise UserError(f"launch {name} = {spec!r} is not a distribution: {how}")
     text = str(spec).strip()
     kind, sep, args = text.partition(":")
     if not sep:
@@ -232,6 +235,23 @@ def effects(S: Mapping[str, np.ndarray], ok: np.ndarray, dists: Mapping[str, Dis
     return sorted(out, key=lambda e: -e["effect"])
 
 
+def table_settings(table: Mapping) -> tuple[dict, dict]:
+    """The scene's [launch] table as (inputs, settings): the inputs' distribution specs as given
+    (parse_dist checks them), and n, seed, success_time, t_end checked here under their own names
+    ("[launch] n = 'many' must be a whole number"), for the CLI and the API alike; a flag or an
+    argument given by the caller takes precedence over either."""
+    inputs = {k: table[k] for k in INPUTS if k in table}
+    checks = {"n": lambda v, label: count(v, label, low=1, high=MAX_N),
+              "seed": lambda v, label: count(v, label, low=0),
+              "success_time": lambda v, label: real(v, label, positive=True, unit="s", what="time"),
+              "t_end": lambda v, label: real(v, label, positive=True, unit="s", what="time")}
+    return inputs, {k: check(table[k], f"[launch] {k}") for k, check in checks.items() if k in table}
+
+
+# the keyword options of monte_carlo beyond the inputs (the API's launch(**options) takes these)
+LAUNCH_OPTIONS = ("success_time", "t_end", "integrator", "tol", "workers", "scheduler")
+
+
 def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n: int = 1000,
                 seed: int = 0, success_time: float | None = None, t_end: float | None = None,
                 integrator: str = DEFAULT, tol: float = 1e-8, workers: int = 1,
@@ -268,6 +288,15 @@ def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n
         lo = d.a - 8 * d.b if d.kind == "normal" else d.a
         if lo < -273.15:
             raise UserError(f"--temperature {d.text()} reaches below absolute zero: give degC above -273.15")
+    # the given times by their own names, before one is derived from the other
+    success_time = None if success_time is None else real(success_time, "--success-time",
+                                                          positive=True, unit="s", what="time")
+    t_end = None if t_end is None else real(t_end, "--t-end", positive=True, unit="s", what="time")
+    tol = real(tol, "--tol", positive=True, what="tolerance")
+    workers = count(workers, "--workers", low=1)
+    if scheduler is not None and not isinstance(scheduler, str):
+        raise UserError(f"--scheduler {scheduler!r}: give the scheduler's address as text, e.g. "
+                        "tcp://127.0.0.1:8786")
     air = has_friction(model) and model.pvals()["k_spin"] > 0
     tau = 1 / model.pvals()["k_spin"] if air else None
     if success_time is None:

@@ -30,6 +30,7 @@ from derive.faults import die_at
 from runtime.scan.points import point_run  # noqa: F401 (re-exported)
 
 CONNECT_TIMEOUT_S = 20  # how long to try to reach a dask scheduler (and to wait for a worker)
+DASK_POLL_S = 0.5       # how often a dask scan looks at its cluster's workers
 MAX_POOL_RESTARTS = 3   # new local pools after lost workers, per scan
 
 
@@ -251,18 +252,58 @@ def dask_threads(client) -> int:
 
 
 def run_dask(common: Common, chunks: Sequence[list], client, quiet: bool = False, fn=None,
-             what: str = "scan") -> list[dict]:
+             what: str = "scan", timeout: float | None = None) -> list[dict]:
     """The chunks as tasks of a dask.distributed cluster (`client`, from dask_client). Every worker
     loads the model once (runtime.scan.runners.model_for, per process) and runs its chunks through the
     C chunk driver, which releases the GIL: threads of one worker run in parallel. fn as in
-    run_serial."""
-    from dask.distributed import as_completed
+    run_serial. A cluster that loses every worker keeps the tasks for one that may never come:
+    after `timeout` seconds (default CONNECT_TIMEOUT_S) without a worker, or when the scheduler
+    gives a task up (it killed workers), a one-line UserError says how far the scan got."""
+    from dask.distributed import wait
     fn = fn or run_chunk
-    out = []
-    with progress.task(f"{what} (dask)", total=sum(map(len, chunks)), quiet=quiet,
-                       log_every=LOG_EVERY) as tick:
+    timeout = CONNECT_TIMEOUT_S if timeout is None else float(timeout)
+    address = getattr(client.scheduler, "address", "?")
+    total = sum(map(len, chunks))
+    out: list[dict] = []
+
+    def lost(why: str) -> UserError:
+        done = sum(len(r["points"]) for r in out)
+        return UserError(f"the dask cluster at {address!r} {why} ({done} of {total} points done): "
+                         f"start workers with `dask worker {address}` and run again, or use "
+                         "--workers N")
+
+    with progress.task(f"{what} (dask)", total=total, quiet=quiet, log_every=LOG_EVERY) as tick:
         futures = client.map(_run_chunk_packed, [(fn, common, c) for c in chunks], pure=False)
-        for fut in as_completed(futures):
-            out.append(fut.result())
-            tick(len(out[-1]["points"]))
+        pending, alone_since = set(futures), None
+        try:
+            while pending:
+                try:
+                    done, pending = wait(pending, timeout=DASK_POLL_S, return_when="FIRST_COMPLETED")
+                except TimeoutError:
+                    done = set()
+                for fut in done:
+                    try:
+                        out.append(fut.result())
+                    except Exception as exc:    # noqa: BLE001 (dask's own errors, named below)
+                        if type(exc).__name__ in ("KilledWorker", "CancelledError",
+                                                  "FutureCancelledError"):
+                            raise lost(f"gave a chunk up ({type(exc).__name__}: the workers "
+                                       "running it died)") from None
+                        raise
+                    tick(len(out[-1]["points"]))
+                if not pending:
+                    break
+                try:
+                    workers = len(client.nthreads())
+                except (OSError, TimeoutError) as exc:
+                    raise lost(f"stopped answering ({exc})") from None
+                if workers:
+                    alone_since = None
+                elif alone_since is None:
+                    alone_since = time.monotonic()
+                elif time.monotonic() - alone_since > timeout:
+                    raise lost(f"lost every worker mid-{what} (none for {timeout:g} s)")
+        finally:
+            if pending:
+                client.cancel(list(pending))
     return out

@@ -267,7 +267,7 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
             threads = dask_threads(client)
             chunks = split(tasks, CHUNKS_PER_WORKER * threads)
             runner = {"kind": "dask", "scheduler": scheduler, "threads": threads}
-            chunk_results = run_dask(common, chunks, client, quiet)
+            chunk_results = run_dask(common, chunks, client, quiet, timeout=scheduler_timeout)
         finally:
             client.close()
     elif workers > 1 and len(tasks) > 1:

@@ -7,6 +7,7 @@ vertical, rad). `write` picks the format by the suffix; `read` gives the same ta
 """
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
@@ -14,17 +15,28 @@ import numpy as np
 from runtime.errors import UserError
 
 SUFFIXES = (".csv", ".npz")
+NAME_MAX = 255          # bytes of one file name (Linux, macOS)
 
 
 def check_path(path) -> Path:
-    """The --save path: a .csv or .npz file in an existing folder (one-line UserError otherwise)."""
+    """The --save path: a .csv or .npz file in an existing, writable folder, with a name the file
+    system takes (one-line UserError otherwise, before the run: never a run lost at the end)."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise UserError(f"--save {path!r}: give a file name (text or a path) ending in .csv or .npz")
     p = Path(path)
     if p.suffix.lower() not in SUFFIXES:
         raise UserError(f"--save {path}: give a file ending in {' or '.join(SUFFIXES)} (CSV or numpy's .npz)")
+    if len(os.fsencode(p.name)) > NAME_MAX:
+        raise UserError(f"--save {path}: the file name is {len(os.fsencode(p.name))} bytes long, "
+                        f"more than the {NAME_MAX} a file system takes: give a shorter name")
     if p.is_dir():
         raise UserError(f"--save {path} is a folder: give a file name ending in .csv or .npz")
     if not p.parent.exists():
         raise UserError(f"--save {path}: the folder {p.parent} does not exist: create it first")
+    if not p.parent.is_dir():
+        raise UserError(f"--save {path}: {p.parent} is a file, not a folder: save into a folder")
+    if not os.access(p.parent, os.W_OK):
+        raise UserError(f"--save {path}: the folder {p.parent} is not writable: save elsewhere")
     return p
 
 

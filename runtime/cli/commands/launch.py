@@ -45,8 +45,7 @@ def run(args) -> dict:
     if args.out is not None:
         check_plot_path(args.out, "--out")
     scene = scene_of(args)
-    table = dict(scene.data.get("launch", {}))
-    given = {k: table[k] for k in mc.INPUTS if k in table}
+    given, table = mc.table_settings(scene.data.get("launch", {}))
     given.update({k: getattr(args, f"dist_{k}") for k in mc.INPUTS if getattr(args, f"dist_{k}") is not None})
     pick = lambda flag, key, default: flag if flag is not None else table.get(key, default)  # noqa: E731
     model = model_of(args)
