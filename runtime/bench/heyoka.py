@@ -12,13 +12,32 @@ heyoka's single tolerance is relative-or-absolute per component, so it integrate
 bench's units, X_k = x_k / scale_k (scale: runtime.simulate.run.state_scales), which is what our
 rtol = tol, atol_k = tol * scale_k mean; the final state is scaled back. Its compilation (one per
 tolerance: the Taylor order follows from it) is timed apart (`compile_s`) and not in `wall_s`.
+
+Compiled integrators are kept on disk (heyoka pickles them with their machine code): in the cache
+folder ($LEVITRON_CACHE/heyoka/<key>.pickle), where the key hashes what the compiled code is made
+of: the model's input hash (the one manifest.json carries: scene and derive sources, so the
+expressions), the part, the state scales, the tolerance, and heyoka's version, the machine and its
+CPU flags (a pickle is not portable across either). A second bench loads instead of building the
+expressions (sympy, seconds per part) and compiling; `compile_cached` says which it did. A file is
+written under a temporary name carrying the writer's pid and renamed into place, so a kill leaves
+no half-written pickle, only a temporary that runtime/model/cache_sweep.py removes; a pickle that
+cannot be read is built again.
 """
 from __future__ import annotations
 
+import hashlib
 import importlib.util
+import json
+import os
+import pickle
+import platform
+import secrets
 import time
+from pathlib import Path
 
 import numpy as np
+
+CACHE_SUBDIR = "heyoka"
 
 
 def available() -> bool:
@@ -26,25 +45,103 @@ def available() -> bool:
     return importlib.util.find_spec("heyoka") is not None
 
 
-def run(sys_, x0: np.ndarray, p: np.ndarray, scale: np.ndarray, t_end: float, tol: float,
-        repeats: int, more=lambda k, spent: False) -> dict:
-    """One tolerance: compile (timed apart), then the best of `repeats` runs to t_end (and more
-    while more(k, spent): runtime/bench/work_precision.py's rule, the same for every backend)."""
+def _cpu_identity() -> str:
+    """The CPU's model and flags (compiled code may use any of them), or what platform knows."""
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8", errors="replace") as fh:
+            info = [ln for ln in fh if ln.startswith(("model name", "flags", "Features"))]
+        return "".join(sorted(set(info)))
+    except OSError:
+        return platform.processor()
+
+
+def cache_key(**what) -> str:
+    """The cache key of a compiled integrator: a hash of `what` (module docstring) with heyoka's
+    version, the machine and its CPU."""
     import heyoka as hy
-    X0 = np.asarray(x0, float) / scale
+    ident = {**what, "heyoka": hy.__version__, "machine": platform.machine(),
+             "cpu": hashlib.sha256(_cpu_identity().encode()).hexdigest()}
+    return hashlib.sha256(json.dumps(ident, sort_keys=True).encode()).hexdigest()[:32]
+
+
+def cache_folder() -> Path:
+    from runtime.model.cbuild import cache_dir
+    return cache_dir() / CACHE_SUBDIR
+
+
+def _load(path: Path):
+    try:
+        with open(path, "rb") as fh:
+            return pickle.load(fh)
+    except FileNotFoundError:
+        return None
+    except Exception:     # noqa: BLE001 (a damaged pickle, another heyoka's: build it again)
+        return None
+
+
+def _store(path: Path, obj) -> None:
+    """Write obj's pickle to path atomically (module docstring)."""
+    from derive.faults import die_at
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.stem}-{os.getpid()}-{secrets.token_hex(4)}.tmp")
+    try:
+        with open(tmp, "wb") as fh:
+            pickle.dump(obj, fh, protocol=pickle.HIGHEST_PROTOCOL)
+            fh.flush()
+            os.fsync(fh.fileno())
+        die_at("heyoka_cache.written")
+        os.replace(tmp, path)
+        tmp = None
+    finally:
+        if tmp is not None and os.path.exists(tmp):
+            os.unlink(tmp)
+
+
+def integrator(make_sys, X0: np.ndarray, p: np.ndarray, tol: float, key: str | None = None):
+    """heyoka's taylor_adaptive for tol: from the cache when `key` is given and has one, else
+    compiled from make_sys() (and stored under key). Returns (ta, seconds, from_cache)."""
+    import heyoka as hy
+    path = None if key is None else cache_folder() / f"{key}.pickle"
+    t0 = time.perf_counter()
+    ta = None if path is None else _load(path)
+    if ta is not None and hasattr(ta, "propagate_until"):
+        ta.pars[:] = list(map(float, p))
+        return ta, time.perf_counter() - t0, True
+    sys_ = make_sys()
     t0 = time.perf_counter()
     ta = hy.taylor_adaptive(sys_, X0.copy(), tol=tol, pars=list(map(float, p)))
     compile_s = time.perf_counter() - t0
-    best, steps, outcome, k, spent = np.inf, None, None, 0, 0.0
-    while k < repeats or more(k, spent):
+    if path is not None:
+        _store(path, ta)
+    return ta, compile_s, False
+
+
+def run(make_sys, x0: np.ndarray, p: np.ndarray, scale: np.ndarray, t_end: float, tol: float,
+        repeat: dict, key: str | None = None) -> dict:
+    """One tolerance: compile (timed apart; or load it from the cache under `key`), then the best
+    of adaptive repeats of the run to t_end (runtime/bench/repeat.py's best_of with the options
+    `repeat`: runtime/bench/work_precision.py's, the same for every backend). make_sys() gives the
+    system (module docstring); it is called only when the cache has no integrator."""
+    import heyoka as hy
+
+    from runtime.bench.repeat import best_of
+    X0 = np.asarray(x0, float) / scale
+    ta, compile_s, cached = integrator(make_sys, X0, p, tol, key)
+    best, steps, outcome = np.inf, None, None
+
+    def once() -> float:
+        nonlocal best, steps, outcome
         ta.state[:] = X0
         ta.time = 0.0
         t0 = time.perf_counter()
         res = ta.propagate_until(float(t_end))
         wall = time.perf_counter() - t0
-        k, spent = k + 1, spent + wall
         if wall < best:
             best, steps, outcome = wall, int(res[3]), res[0]
+        return wall
+
+    best_of(once, **repeat)
     ok = outcome == hy.taylor_outcome.time_limit
     return {"x_final": ta.state * scale, "wall_s": best, "steps": steps, "compile_s": compile_s,
-            "order": int(ta.order), "status": "completed" if ok else str(outcome)}
+            "compile_cached": cached, "order": int(ta.order),
+            "status": "completed" if ok else str(outcome)}

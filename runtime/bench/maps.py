@@ -19,6 +19,11 @@ right-hand-side calls take, where rhs_ns is the cost of one call of the generate
 runs (`rhs_ns_before_after`; the mean of the two is used: on a shared machine it drifts).
 `same_map` says whether every run gave the serial run's status and survival time point for point.
 
+The CLI rows run the same map through `levitron scan` in a fresh process (engine "cli": wall_s is
+the whole command, process start, imports, model loading, workers and the JSON output included),
+on 1 and 2 workers; `cli_over_driver` is the CLI's wall time over the in-process driver's on the
+same number of workers (the goal: at most 1.15), and the CLI's map enters `same_map`.
+
 The machine's speed drifts by up to 30% over tens of seconds (a shared virtual machine), and the
 two figures of cpu_over_rhs are taken a minute apart, so the bench also measures it matched:
 `matched` runs a sub-grid (every MATCHED_STRIDE-th spin and tilt) serially, MATCHED_SPINS spins
@@ -115,6 +120,35 @@ def one_run(model, scene_ref: str, overrides, spins, tilts, t_end, workers: int,
     return row, res
 
 
+def cli_run(scene_ref: str, overrides, spins, tilts, t_end: float, workers: int) -> tuple[dict, object]:
+    """The same map through `levitron scan` in a fresh process (module docstring): its row, and
+    its map (status, t_survived) for the point-for-point check."""
+    import subprocess
+    import sys
+    import time
+    from types import SimpleNamespace
+    script = Path(sys.executable).with_name("levitron")
+    cmd = [str(script)] if script.exists() else [sys.executable, "-m", "runtime"]
+    rng = lambda a: f"{float(a[0])!r}:{float(a[-1])!r}:{a.size}"    # repr: the same doubles back
+    cmd += ["scan", scene_ref, "--spin", rng(spins), "--tilt", rng(tilts), "--t-end", repr(float(t_end)),
+            "--workers", str(workers), "--json", "--quiet"]
+    for kv in overrides:
+        cmd += ["--set", kv]
+    t0 = time.perf_counter()
+    res = subprocess.run(cmd, check=False, capture_output=True, text=True)
+    wall = time.perf_counter() - t0
+    if res.returncode != 0:
+        raise UserError(f"bench maps: `levitron scan` failed: {res.stderr.strip()[-500:]}")
+    out = json.loads(res.stdout)
+    m = SimpleNamespace(status=out["status"], t_survived=np.array(out["t_survived"], float))
+    lev = np.array(out["levitating"], bool)
+    row = {"engine": "cli", "workers": workers, "grid": [int(spins.size), int(tilts.size)],
+           "points": int(lev.size), "t_end": out["t_end"], "wall_s": wall,
+           "points_per_s": lev.size / wall, "scan_wall_s": out["wall_s"], "cpu_s": out["cpu_s"],
+           "rhs_evals": out["rhs_evals"], "fraction_levitating": float(lev.mean())}
+    return row, m
+
+
 def _same(a, b, rows=None, cols=None) -> bool:
     """Status and survival time of b equal a's on the points of b (a sub-grid of a by index)."""
     rows = range(len(b.status)) if rows is None else rows
@@ -139,17 +173,21 @@ def run(model, scene_ref: str, overrides=(), n: int | None = None, t_end: float 
     rows, maps = [], []
     for w in WORKERS:
         maps.append(one_run(model, scene_ref, overrides, spins, tilts, t_end, w, "c"))
+    clis = [cli_run(scene_ref, overrides, spins, tilts, maps[0][1].t_end, w) for w in WORKERS]
     idx = np.unique(np.linspace(0, n - 1, python_n).round().astype(int))
     py = one_run(model, scene_ref, overrides, spins[idx], tilts[idx], maps[0][1].t_end, 1, "python")
     ns_after = rhs_ns(model, spins, tilts)
     ns = 0.5 * (ns_before + ns_after)
     match = matched(model, scene_ref, overrides, spins, tilts, maps[0][1].t_end)
-    for row, _ in maps + [py]:
+    for row, _ in maps + [py] + clis:
         row["rhs_ns"] = ns
         row["cpu_over_rhs"] = row["cpu_s"] / (row["rhs_evals"] * ns * 1e-9) if row["rhs_evals"] else None
         rows.append(row)
+    py_row = rows[len(maps)]
+    cli_over = {str(c["workers"]): c["wall_s"] / d["wall_s"] for (c, _), (d, _) in zip(clis, maps)}
     maps, py = [m for _, m in maps], py[1]
-    same = all(_same(maps[0], m) for m in maps[1:]) and _same(maps[0], py, idx, idx)
+    same = (all(_same(maps[0], m) for m in maps[1:]) and _same(maps[0], py, idx, idx)
+            and all(_same(maps[0], m) for _, m in clis))
     return {
         "scene": model.scene.name,
         "map": {"axes": ["spin", "tilt"], "spin": [float(spins[0]), float(spins[-1]), n],
@@ -159,7 +197,8 @@ def run(model, scene_ref: str, overrides=(), n: int | None = None, t_end: float 
         "rows": rows,
         "same_map": bool(same),
         "speedup_2_workers": rows[1]["points_per_s"] / rows[0]["points_per_s"],
-        "cpu_over_rhs": {"c_driver": rows[0]["cpu_over_rhs"], "python_path": rows[-1]["cpu_over_rhs"],
+        "cli_over_driver": cli_over,
+        "cpu_over_rhs": {"c_driver": rows[0]["cpu_over_rhs"], "python_path": py_row["cpu_over_rhs"],
                          "c_driver_matched": match["cpu_over_rhs"]},
         "matched": match,
         "note": __doc__.split("\n\n")[2].replace("\n", " "),
@@ -175,6 +214,8 @@ def bench(model, scene_ref: str, overrides, out: Path, quick: bool) -> dict:
     r0 = res["rows"][0]
     res["headline"] = (f"{res['map']['spin'][2]} x {res['map']['tilt'][2]} map: {r0['points_per_s']:.0f} points/s "
                        f"on 1 worker, {res['rows'][1]['points_per_s']:.0f} on 2; cpu/rhs "
-                       f"{res['cpu_over_rhs']['c_driver']:.2f}; same map on every path: {res['same_map']}")
+                       f"{res['cpu_over_rhs']['c_driver']:.2f}; the CLI's wall over the driver's: "
+                       + ", ".join(f"{v:.2f} on {w}" for w, v in res["cli_over_driver"].items())
+                       + f"; same map on every path: {res['same_map']}")
     res["files"] = [str(path)]
     return res
