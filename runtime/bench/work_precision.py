@@ -187,12 +187,13 @@ def bench_model(model, part_name: str, quick: bool = False, repeats: int | None 
                      "step_or_tol": kind, "status": best.status})
     heyoka = heyoka_rows(model, part_name, x0, su, scale, x_ref, repeat) if not quick else []
     rows += heyoka or []
+    calls = per_call(model, part_name, x0, su, scale, x_ref, heyoka or [], quick)
     return {"rows": rows, "reference_check": ref_check, "setup": su.as_dict(), "z_s": su.z_s,
             "x0": x0.tolist(), "states": list(part.states),
             "heyoka": ("not run in --quick (it compiles for seconds per tolerance)" if quick
                        else "not installed: pip install '.[bench]'" if heyoka is None
                        else "installed"),
-            "cheapest_by_bound": cheapest_by_bound(rows)}
+            "cheapest_by_bound": cheapest_by_bound(rows), "per_call": calls}
 
 
 HEYOKA_TOLS = tuple(10.0 ** (-k / 2) for k in range(8, 31))     # 1e-4 .. 1e-15, half decades
@@ -226,6 +227,59 @@ def heyoka_rows(model, part_name: str, x0, su: Setup, scale, x_ref, repeat: dict
                      "status": r["status"], "steps": r["steps"], "compile_s": r["compile_s"],
                      "compile_cached": r["compile_cached"]})
     return rows
+
+
+PER_CALL_TOL = 1e-9          # the single run of the per-call figures (C dop853)
+PER_CALL_CALLS = 2000         # calls per figure (quick: 50); the minimum is taken
+
+
+def per_call(model, part_name: str, x0, su: Setup, scale, x_ref, heyoka: list, quick: bool) -> dict:
+    """What one run costs a Python caller (the whole call, not only the integrator): C dop853 at
+    PER_CALL_TOL through runtime.integrate.run.integrate (the API's path), through run_c, and its
+    C call alone (Result.wall_s); heyoka's propagate_until called from Python (state and time
+    reset, as a loop would) at the loosest tolerance of its rows whose error is at most ours. The
+    minimum over PER_CALL_CALLS calls each, in seconds."""
+    part = model.part(part_name)
+    rhs = part.c_function("rhs")
+    kw = dict(method="dop853", tol=PER_CALL_TOL, p=su.p, scale=scale, n_out=1)
+    n = 50 if quick else PER_CALL_CALLS
+
+    def best(fn) -> float:
+        b = math.inf
+        for _ in range(n):
+            t0 = time.perf_counter()
+            fn()
+            b = min(b, time.perf_counter() - t0)
+        return b
+
+    r = integrate(part, x0, su.t_end, **kw)
+    err = float(np.max(np.abs(r.x_final - x_ref) / scale))
+    out = {"tol": PER_CALL_TOL, "error": err,
+           "integrate_s": best(lambda: integrate(part, x0, su.t_end, **kw)),
+           "run_c_s": best(lambda: run_c(model.lib, "dop853", rhs, x0, su.p, su.t_end,
+                                         rtol=PER_CALL_TOL, atol=PER_CALL_TOL * scale)),
+           "c_call_s": min(integrate(part, x0, su.t_end, **kw).wall_s for _ in range(n))}
+    ok = [h for h in heyoka if h["status"] == "completed" and h["error"] <= err]
+    if ok:
+        import heyoka as hy
+
+        from derive.emit.heyoka import lowered_rhs, system
+        from runtime.bench import heyoka as bench_heyoka
+        h = max(ok, key=lambda row: row["tol"])
+        key = bench_heyoka.cache_key(input_hash=model.manifest.input_hash, part=part_name,
+                                     scale=[float(v).hex() for v in scale], tol=float(h["tol"]).hex())
+        X0 = np.asarray(x0, float) / scale
+        ta, _, _ = bench_heyoka.integrator(lambda: system(lowered_rhs(model.scene, part_name), scale),
+                                           X0, su.p, h["tol"], key)
+
+        def hrun():
+            ta.state[:] = X0
+            ta.time = 0.0
+            ta.propagate_until(float(su.t_end))
+
+        out.update({"heyoka_tol": h["tol"], "heyoka_error": h["error"],
+                    "heyoka_propagate_until_s": best(hrun), "heyoka_version": hy.__version__})
+    return out
 
 
 def cheapest_by_bound(rows: list[dict]) -> list[dict]:
