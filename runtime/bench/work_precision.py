@@ -230,7 +230,7 @@ def heyoka_rows(model, part_name: str, x0, su: Setup, scale, x_ref, repeat: dict
 
 
 PER_CALL_TOL = 1e-9          # the single run of the per-call figures (C dop853)
-PER_CALL_CALLS = 2000         # calls per figure (quick: 50); the minimum is taken
+PER_CALL_CALLS = 500          # calls per figure (quick: 50); the minimum is taken
 
 
 def per_call(model, part_name: str, x0, su: Setup, scale, x_ref, heyoka: list, quick: bool) -> dict:
