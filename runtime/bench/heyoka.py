@@ -81,15 +81,14 @@ def _load(path: Path):
 
 
 def _store(path: Path, obj) -> None:
-    """Write obj's pickle to path atomically (module docstring)."""
+    """Write obj's pickle to path atomically (module docstring). No fsync: the rename is what a
+    kill cannot split; after a power loss a truncated pickle fails to load and is built again."""
     from derive.faults import die_at
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.stem}-{os.getpid()}-{secrets.token_hex(4)}.tmp")
     try:
         with open(tmp, "wb") as fh:
             pickle.dump(obj, fh, protocol=pickle.HIGHEST_PROTOCOL)
-            fh.flush()
-            os.fsync(fh.fileno())
         die_at("heyoka_cache.written")
         os.replace(tmp, path)
         tmp = None
