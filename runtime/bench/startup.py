@@ -39,6 +39,17 @@ def launcher() -> list[str]:
     return [found] if found else [sys.executable, "-m", "runtime"]
 
 
+def _as_typed(name: str, ref: str) -> str:
+    """The scene as a person types it: its name when it is that file of scenes/ (a path to it
+    would be timed as an out-of-tree scene), else the path."""
+    from derive.scene import SceneError, find_scene_file
+    try:
+        same = find_scene_file(name).resolve() == Path(ref).resolve()
+    except (SceneError, OSError):
+        same = False
+    return name if same else ref
+
+
 def time_command(argv: list[str], quick: bool) -> dict:
     """One command, warm: its best and median wall time over adaptive repeats."""
     def once() -> float:
@@ -59,6 +70,7 @@ def time_command(argv: list[str], quick: bool) -> dict:
 def bench(model, scene_ref: str, overrides, out: Path, quick: bool) -> dict:
     """The bench protocol (runtime/bench/kinds.py)."""
     sets = [a for kv in overrides for a in ("--set", kv)]
+    scene_ref = _as_typed(model.scene.name, scene_ref)
     base = launcher()
     load_before = os.getloadavg()
     rows = []
