@@ -204,3 +204,24 @@ def test_best_of_stops_when_the_minimum_is_stable():
     noisy = iter([5.0, 4.0, 3.0, 2.0, 1.0, 0.5])
     t = best_of(lambda: next(noisy), min_runs=2, patience=2, max_runs=4, budget_s=100)
     assert (t.best, t.runs, t.stable) == (2.0, 4, False)
+
+
+def test_startup_bench_times_commands_in_fresh_processes(tmp_path, monkeypatch):
+    """runtime/bench/startup.py (quick, one command): the table and plot are written, each row has
+    its budget and a positive time, and the scene is passed as its name."""
+    import json
+
+    from runtime.bench import startup
+    from runtime.model.load import load_model
+    monkeypatch.setattr(startup, "COMMANDS", (("--version", ["--version"], 0.2),
+                                              ("info", ["info", "{scene}", "--json"], 5.0)))
+    model = load_model(load_scene("thesis_stable"))
+    res = startup.bench(model, str(model.scene.path.resolve()), [], tmp_path, quick=True)
+    rows = {r["command"]: r for r in res["rows"]}
+    assert rows["--version"]["min_s"] > 0 and rows["--version"]["budget_s"] == 0.2
+    assert rows["info"]["argv"] == "levitron info thesis_stable --json"
+    assert 2 <= rows["info"]["runs"] <= 3
+    data = json.loads((tmp_path / "startup.json").read_text())
+    assert data["rows"][0]["command"] == "--version" and len(data["load_average_1_5_15"]["before"]) == 3
+    assert (tmp_path / "startup.csv").read_text().startswith("command,min_s,")
+    assert (tmp_path / "startup.png").stat().st_size > 1000
