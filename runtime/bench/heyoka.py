@@ -21,7 +21,8 @@ CPU flags (a pickle is not portable across either). A second bench loads instead
 expressions (sympy, seconds per part) and compiling; `compile_cached` says which it did. A file is
 written under a temporary name carrying the writer's pid and renamed into place, so a kill leaves
 no half-written pickle, only a temporary that runtime/model/cache_sweep.py removes; a pickle that
-cannot be read is built again.
+cannot be read is built again. (The kill test's fault point between writing and renaming is
+"heyoka_cache.written", derive/faults.py's die_at.)
 """
 from __future__ import annotations
 
