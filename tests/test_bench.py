@@ -138,3 +138,90 @@ def test_every_bench_kind_is_a_module_with_the_protocol():
         fn = importlib.import_module(kind.module).bench
         assert list(inspect.signature(fn).parameters) == ["model", "scene_ref", "overrides", "out", "quick"]
         assert kind.scenes and all(find_scene_file(s) for s in kind.scenes)
+
+
+_OSCILLATOR_RUN = """
+import sys
+import numpy as np
+import heyoka as hy
+from runtime.bench import heyoka as bh
+
+def make():
+    x, v = hy.make_vars("x", "v")
+    return [(x, v), (v, -hy.par[0] * x)]
+
+r = bh.run(make, np.array([1.0, 0.0]), np.array([4.0]), np.ones(2), 3.0, 1e-10,
+           {"min_runs": 1, "patience": 0, "max_runs": 1}, key=bh.cache_key(what="oscillator", tol=1e-10))
+print(r["compile_cached"], r["x_final"][0].hex(), r["x_final"][1].hex(), r["steps"])
+"""
+
+
+def test_heyoka_compiles_are_cached_on_disk_and_a_kill_leaves_no_half_pickle(tmp_path):
+    """runtime/bench/heyoka.py: the first run compiles and stores the integrator in
+    $LEVITRON_CACHE/heyoka, the second loads it (make_sys is not called) and ends in the same state
+    bit for bit; a process killed between writing and renaming leaves only a temporary, which the
+    next process's sweep removes; a damaged pickle is compiled again."""
+    pytest.importorskip("heyoka")
+    import os
+    import subprocess
+    import sys
+    env = {**os.environ, "LEVITRON_CACHE": str(tmp_path)}
+
+    def once(extra_env=None):
+        return subprocess.run([sys.executable, "-c", _OSCILLATOR_RUN], capture_output=True, text=True,
+                              check=False, env={**env, **(extra_env or {})})
+
+    folder = tmp_path / "heyoka"
+    killed = once({"LEVITRON_FAULT": f"heyoka_cache.written:{tmp_path / 'marker'}"})
+    assert killed.returncode == -9, killed.stderr
+    left = list(folder.iterdir())
+    assert len(left) == 1 and left[0].name.startswith(".") and left[0].suffix == ".tmp"
+    os.utime(left[0], (0, 0))                   # older than the sweep's grace period; owner dead
+    first = once()
+    assert first.returncode == 0, first.stderr
+    assert sorted(p.suffix for p in folder.iterdir()) == [".pickle"]      # swept, then stored
+    second = once()
+    assert second.returncode == 0, second.stderr
+    c1, *state1 = first.stdout.split()
+    c2, *state2 = second.stdout.split()
+    assert (c1, c2) == ("False", "True") and state1 == state2
+    (pickle_file,) = folder.iterdir()
+    pickle_file.write_bytes(pickle_file.read_bytes()[:1000])               # damaged
+    third = once()
+    assert third.returncode == 0, third.stderr
+    c3, *state3 = third.stdout.split()
+    assert c3 == "False" and state3 == state1
+
+
+def test_best_of_stops_when_the_minimum_is_stable():
+    """runtime/bench/repeat.py: a constant time stops after min_runs + patience - 1 runs, a falling
+    one runs until it levels off, and max_runs caps a noisy one."""
+    from runtime.bench.repeat import best_of
+    assert best_of(lambda: 1.0, min_runs=2, patience=2, budget_s=100).runs == 3
+    falling = iter([8.0, 4.0, 2.0, 1.0, 1.0, 1.0, 1.0])
+    t = best_of(lambda: next(falling), min_runs=2, patience=2, budget_s=100)
+    assert (t.best, t.runs, t.stable) == (1.0, 6, True)
+    noisy = iter([5.0, 4.0, 3.0, 2.0, 1.0, 0.5])
+    t = best_of(lambda: next(noisy), min_runs=2, patience=2, max_runs=4, budget_s=100)
+    assert (t.best, t.runs, t.stable) == (2.0, 4, False)
+
+
+def test_startup_bench_times_commands_in_fresh_processes(tmp_path, monkeypatch):
+    """runtime/bench/startup.py (quick, one command): the table and plot are written, each row has
+    its budget and a positive time, and the scene is passed as its name."""
+    import json
+
+    from runtime.bench import startup
+    from runtime.model.load import load_model
+    monkeypatch.setattr(startup, "COMMANDS", (("--version", ["--version"], 0.2),
+                                              ("info", ["info", "{scene}", "--json"], 5.0)))
+    model = load_model(load_scene("thesis_stable"))
+    res = startup.bench(model, str(model.scene.path.resolve()), [], tmp_path, quick=True)
+    rows = {r["command"]: r for r in res["rows"]}
+    assert rows["--version"]["min_s"] > 0 and rows["--version"]["budget_s"] == 0.2
+    assert rows["info"]["argv"] == "levitron info thesis_stable --json"
+    assert 2 <= rows["info"]["runs"] <= 3
+    data = json.loads((tmp_path / "startup.json").read_text())
+    assert data["rows"][0]["command"] == "--version" and len(data["load_average_1_5_15"]["before"]) == 3
+    assert (tmp_path / "startup.csv").read_text().startswith("command,min_s,")
+    assert (tmp_path / "startup.png").stat().st_size > 1000

@@ -99,3 +99,21 @@ def test_chunk_memo_gives_the_same_inputs_bit_for_bit(model):
     # one launch per (parameters, hover height, tilt, height), not one per point
     launches = {k for k in memo if len(k) == 3}
     assert len(launches) == 2 + 2 + 1 + 1 + 1 < len(points)
+
+
+def test_kept_output_grids_and_constants_give_the_same_runs(lib):
+    """integrate's output grid is np.linspace's, kept read-only per (t_end, n_out); run_c keeps the
+    work size and status messages per library: repeated runs end in the same state bit for bit,
+    with their own arrays."""
+    from runtime.integrate.run import output_grid
+    for t_end, n in ((2 * np.pi, 1), (1.2120511047058642, 200), (1e-3, 7)):
+        g = output_grid(t_end, n)
+        np.testing.assert_array_equal(g, np.linspace(0.0, t_end, n + 1))
+        assert g is output_grid(t_end, n) and not g.flags.writeable
+    runs = [_osc(lib, t_out=output_grid(2 * np.pi, 9)) for _ in range(3)]
+    fresh = _osc(lib, t_out=np.linspace(0, 2 * np.pi, 10))
+    for r in runs:
+        np.testing.assert_array_equal(r.x_final, fresh.x_final)
+        np.testing.assert_array_equal(r.X, fresh.X)
+        assert r.message == fresh.message
+    assert not np.shares_memory(runs[0].X, runs[1].X) and not np.shares_memory(runs[1].X, runs[2].X)

@@ -189,3 +189,26 @@ def test_a_one_shot_command_imports_only_its_own_module():
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
     assert res.returncode == 0, res.stderr
     assert "runtime.cli.commands.stability" in res.stderr and "runtime.cli.commands.report" not in res.stderr
+
+
+def test_top_level_help_is_the_full_parsers_without_importing_the_commands(monkeypatch):
+    """`levitron --help` reads each command's help line from its source (runtime.cli.main.
+    command_help): the same text as the parser built from the imported modules, and no command
+    module, numpy or casadi is loaded for it."""
+    import os
+    import subprocess
+    import sys
+
+    from runtime.cli.main import build_parser
+    monkeypatch.setenv("COLUMNS", "100")             # argparse wraps to the terminal's width
+    full = build_parser().format_help()
+    assert build_parser(overview=True).format_help() == full
+    code = ("import sys\nfrom runtime.cli import main as m\ntry:\n    m.main(['--help'])\n"
+            "except SystemExit:\n    pass\n"
+            "print(sorted(k for k in sys.modules if k.startswith(('runtime.cli.commands.', 'numpy', "
+            "'casadi'))), file=sys.stderr)")
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False,
+                         env={**os.environ, "COLUMNS": "100"})
+    assert res.returncode == 0, res.stderr
+    assert res.stdout == full
+    assert res.stderr.strip() == "[]", res.stderr

@@ -108,12 +108,15 @@ def test_fixed_step_map_equals_the_python_path(model):
 
 
 def test_bench_maps_quick(model):
-    """The maps bench (--quick): the C driver at 1 and 2 workers and the Python path, the same map
-    from all three, points per second and the CPU time over the rhs-call time of each."""
+    """The maps bench (--quick): the C driver at 1 and 2 workers, the Python path and `levitron
+    scan` at 1 and 2 workers, the same map from all five, points per second and the CPU time over
+    the rhs-call time of each, and the CLI's wall time over the driver's."""
     from runtime.bench import maps as bench_maps
     out = bench_maps.run(model, "thesis", SET, quick=True)
-    assert [(r["engine"], r["workers"]) for r in out["rows"]] == [("c", 1), ("c", 2), ("python", 1)]
+    assert [(r["engine"], r["workers"]) for r in out["rows"]] == [("c", 1), ("c", 2), ("python", 1),
+                                                                  ("cli", 1), ("cli", 2)]
     assert out["same_map"] is True
+    assert sorted(out["cli_over_driver"]) == ["1", "2"] and all(v > 0 for v in out["cli_over_driver"].values())
     n = bench_maps.QUICK_N
     for r in out["rows"]:
         assert r["points"] == n * n and r["points_per_s"] == pytest.approx(r["points"] / r["wall_s"])

@@ -40,6 +40,9 @@ KINDS = {k.name: k for k in (
          ("thesis_air",), "reports/launch"),
     Kind("functions", "runtime.bench.functions", "ns per call of every generated function",
          ("thesis_stable", "ring_magnet"), "reports/{scene}/functions"),
+    Kind("startup", "runtime.bench.startup", "wall time of warm one-shot commands (--version, --help, "
+         "stability, equilibrium) in fresh processes, against their budgets", ("thesis_stable",),
+         "reports/startup"),
 )}
 DEFAULT = "work-precision"
 QUICK_OUT = "out/bench-quick/{kind}"      # a quick run never overwrites a report

@@ -24,9 +24,11 @@ x_ref  = the fixed-step 8th-order DOP853 formula (C, compensated summation) at h
          compensated summation keeps near 1e-16 of the state: the runs at T_fast / 200 .. 1200
          agree to 1e-16 (thesis_stable) and 3e-14 (ring_magnet). The adaptive DOP853 at
          tol 1e-14, the reference before, is off by 2e-13, which hid every error below it;
-wall_s = the minimum over repeats (at least 3; short runs repeat until MIN_TIMED_S is spent, at
-         most MAX_REPEATS times) of the integrator call alone (model loading, argument conversion
-         and CasADi construction excluded, identically for all backends);
+wall_s = the minimum over adaptive repeats (runtime/bench/repeat.py: at least 2 runs, then until
+         REPEAT["patience"] runs in a row lower the minimum by less than REPEAT["rtol"], at most
+         MAX_REPEATS runs or REPEAT["budget_s"] seconds; one run in --quick and for CasADi's
+         collocation) of the integrator call alone (model loading, argument conversion and CasADi
+         construction excluded, identically for all backends);
 rhs_evals = right-hand-side calls (CasADi's collocation does not expose its count: null).
 
 Backends: "c" (runtime/csrc/integrators.c over the generated C), "casadi" (casadi.integrator over
@@ -60,16 +62,18 @@ from runtime.integrate.methods import lookup
 from runtime.ui.plotting import pyplot, save_figure
 from runtime.simulate.run import initial_state, state_scales
 from runtime.physics.stability import stability_of
+from runtime.bench.repeat import best_of
 
 ROW_KEYS = ("model", "backend", "integrator", "tol", "error", "wall_s", "rhs_evals")
-EXTRA_KEYS = ("step_or_tol", "status", "steps", "compile_s")
+EXTRA_KEYS = ("step_or_tol", "status", "steps", "compile_s", "compile_cached")
 BOUNDS = tuple(10.0 ** -k for k in range(5, 14))      # the error bounds of cheapest_by_bound
 BACKENDS = ("c", "heyoka", "casadi", "scipy")
 DELTA = 0.01            # the perturbation: tilt DELTA rad, offset DELTA z_s, lift 2 DELTA z_s
 SPIN_PERIODS = 32       # the length of a run
 REF_STEPS = 600         # the reference: h = T_fast / REF_STEPS; its check: twice that step
-MIN_TIMED_S = 0.03      # short runs repeat until this much time is spent (at most MAX_REPEATS)
 MAX_REPEATS = 100
+REPEAT = {"min_runs": 2, "patience": 2, "rtol": 0.03, "max_runs": MAX_REPEATS, "budget_s": 1.0}
+ONCE = {"min_runs": 1, "patience": 0, "max_runs": 1}
 
 
 @dataclass(frozen=True)
@@ -159,61 +163,123 @@ def bench_model(model, part_name: str, quick: bool = False, repeats: int | None 
     su = su or setup(model)
     part, x0, scale = start(model, part_name, su)
     x_ref, ref_check = reference(part, x0, su, scale)
-    repeats = repeats or (1 if quick else 3)
+    repeat = ONCE if (quick or repeats == 1) else REPEAT
     rows = []
     runs = [(method, kind, v) for method, kind, values in plan(quick) for v in values]
     for method, kind, v in progress.track(runs, f"bench {model.scene.name} ({part_name})"):
         value = v * su.t_fast if kind == "h" else v
         kw = {"tol": value} if kind == "tol" else {"h": value, "tol": None}
-        best, spent, k = None, 0.0, 0
-        while k < (repeats if not method.startswith("casadi-coll") else 1) or more(k, spent):
+        kept: list = []
+
+        def once(method=method, kw=kw, kept=kept) -> float:
             r = integrate(part, x0, su.t_end, method=method, p=su.p, scale=scale, n_out=1,
                           time_scale=su.t_fast, **kw)
-            k, spent = k + 1, spent + r.wall_s
-            if best is None or r.wall_s < best.wall_s:
-                best = r
+            if not kept or r.wall_s < kept[0].wall_s:
+                kept[:] = [r]
+            return r.wall_s
+
+        best_of(once, **(ONCE if method.startswith("casadi-coll") else repeat))
+        best = kept[0]
         err = (float(np.max(np.abs(best.x_final - x_ref) / scale))
                if best.status == "completed" else math.inf)
         rows.append({"model": part_name, "backend": backend_of(method), "integrator": method,
                      "tol": value, "error": err, "wall_s": best.wall_s, "rhs_evals": best.rhs_evals,
                      "step_or_tol": kind, "status": best.status})
-    heyoka = heyoka_rows(model, part_name, x0, su, scale, x_ref, repeats) if not quick else []
+    heyoka = heyoka_rows(model, part_name, x0, su, scale, x_ref, repeat) if not quick else []
     rows += heyoka or []
+    calls = per_call(model, part_name, x0, su, scale, x_ref, heyoka or [], quick)
     return {"rows": rows, "reference_check": ref_check, "setup": su.as_dict(), "z_s": su.z_s,
             "x0": x0.tolist(), "states": list(part.states),
             "heyoka": ("not run in --quick (it compiles for seconds per tolerance)" if quick
                        else "not installed: pip install '.[bench]'" if heyoka is None
                        else "installed"),
-            "cheapest_by_bound": cheapest_by_bound(rows)}
+            "cheapest_by_bound": cheapest_by_bound(rows), "per_call": calls}
 
 
 HEYOKA_TOLS = tuple(10.0 ** (-k / 2) for k in range(8, 31))     # 1e-4 .. 1e-15, half decades
 
 
-def more(k: int, spent: float) -> bool:
-    """Repeat a short run (the same rule for every backend): on a busy machine the minimum of
-    many short runs is the run's own cost, so runs under MIN_TIMED_S in total repeat up to
-    MAX_REPEATS times."""
-    return spent < MIN_TIMED_S and k < MAX_REPEATS
-
-
-def heyoka_rows(model, part_name: str, x0, su: Setup, scale, x_ref, repeats: int,
+def heyoka_rows(model, part_name: str, x0, su: Setup, scale, x_ref, repeat: dict | int = REPEAT,
                 tols=HEYOKA_TOLS) -> list | None:
-    """heyoka's Taylor integrator on the same problem (runtime/bench/heyoka.py); None when absent."""
+    """heyoka's Taylor integrator on the same problem (runtime/bench/heyoka.py), repeated as every
+    other backend (`repeat`: best_of's options, or 1 for one run); None when heyoka is absent."""
+    repeat = ONCE if repeat == 1 else repeat
     from runtime.bench import heyoka as bench_heyoka
     if not bench_heyoka.available():
         return None
     from derive.emit.heyoka import lowered_rhs, system
-    sys_ = system(lowered_rhs(model.scene, part_name), scale)
+    built: list = []
+
+    def make_sys():             # sympy: seconds; only when the cache lacks a tolerance
+        if not built:
+            built.append(system(lowered_rhs(model.scene, part_name), scale))
+        return built[0]
+
     rows = []
     for tol in tols:
-        r = bench_heyoka.run(sys_, x0, su.p, scale, su.t_end, tol, repeats, more)
+        key = bench_heyoka.cache_key(input_hash=model.manifest.input_hash, part=part_name,
+                                     scale=[float(v).hex() for v in scale], tol=float(tol).hex())
+        r = bench_heyoka.run(make_sys, x0, su.p, scale, su.t_end, tol, repeat, key=key)
         err = (float(np.max(np.abs(r["x_final"] - x_ref) / scale))
                if r["status"] == "completed" else math.inf)
         rows.append({"model": part_name, "backend": "heyoka", "integrator": "taylor", "tol": tol,
                      "error": err, "wall_s": r["wall_s"], "rhs_evals": None, "step_or_tol": "tol",
-                     "status": r["status"], "steps": r["steps"], "compile_s": r["compile_s"]})
+                     "status": r["status"], "steps": r["steps"], "compile_s": r["compile_s"],
+                     "compile_cached": r["compile_cached"]})
     return rows
+
+
+PER_CALL_TOL = 1e-9          # the single run of the per-call figures (C dop853)
+PER_CALL_CALLS = 500          # calls per figure (quick: 50); the minimum is taken
+
+
+def per_call(model, part_name: str, x0, su: Setup, scale, x_ref, heyoka: list, quick: bool) -> dict:
+    """What one run costs a Python caller (the whole call, not only the integrator): C dop853 at
+    PER_CALL_TOL through runtime.integrate.run.integrate (the API's path), through run_c, and its
+    C call alone (Result.wall_s); heyoka's propagate_until called from Python (state and time
+    reset, as a loop would) at the loosest tolerance of its rows whose error is at most ours. The
+    minimum over PER_CALL_CALLS calls each, in seconds."""
+    part = model.part(part_name)
+    rhs = part.c_function("rhs")
+    kw = dict(method="dop853", tol=PER_CALL_TOL, p=su.p, scale=scale, n_out=1)
+    n = 50 if quick else PER_CALL_CALLS
+
+    def best(fn) -> float:
+        b = math.inf
+        for _ in range(n):
+            t0 = time.perf_counter()
+            fn()
+            b = min(b, time.perf_counter() - t0)
+        return b
+
+    r = integrate(part, x0, su.t_end, **kw)
+    err = float(np.max(np.abs(r.x_final - x_ref) / scale))
+    out = {"tol": PER_CALL_TOL, "error": err,
+           "integrate_s": best(lambda: integrate(part, x0, su.t_end, **kw)),
+           "run_c_s": best(lambda: run_c(model.lib, "dop853", rhs, x0, su.p, su.t_end,
+                                         rtol=PER_CALL_TOL, atol=PER_CALL_TOL * scale)),
+           "c_call_s": min(integrate(part, x0, su.t_end, **kw).wall_s for _ in range(n))}
+    ok = [h for h in heyoka if h["status"] == "completed" and h["error"] <= err]
+    if ok:
+        import heyoka as hy
+
+        from derive.emit.heyoka import lowered_rhs, system
+        from runtime.bench import heyoka as bench_heyoka
+        h = max(ok, key=lambda row: row["tol"])
+        key = bench_heyoka.cache_key(input_hash=model.manifest.input_hash, part=part_name,
+                                     scale=[float(v).hex() for v in scale], tol=float(h["tol"]).hex())
+        X0 = np.asarray(x0, float) / scale
+        ta, _, _ = bench_heyoka.integrator(lambda: system(lowered_rhs(model.scene, part_name), scale),
+                                           X0, su.p, h["tol"], key)
+
+        def hrun():
+            ta.state[:] = X0
+            ta.time = 0.0
+            ta.propagate_until(float(su.t_end))
+
+        out.update({"heyoka_tol": h["tol"], "heyoka_error": h["error"],
+                    "heyoka_propagate_until_s": best(hrun), "heyoka_version": hy.__version__})
+    return out
 
 
 def cheapest_by_bound(rows: list[dict]) -> list[dict]:

@@ -19,15 +19,14 @@ import os
 import sys
 import threading
 
-from derive.scene import SceneError
-
 from runtime.ui import progress
 from runtime.ui import provenance
-from runtime.model.cbuild import CompileError, resolve_cache_env
 from runtime.ui.provenance import version
 from runtime.cli.commands import COMMANDS
 from runtime.errors import UserError
-from runtime.model.processes import terminate_as_exit
+
+# derive.scene (SceneError) and runtime.model (the compiler, process control) are imported where
+# they are used: `levitron --version` and `--help` need neither (a tenth of a second of imports)
 
 EXIT_USER = 2        # bad input: the message says what to fix
 EXIT_INTERNAL = 3    # a bug: please report it
@@ -47,12 +46,32 @@ def _modules(names=COMMANDS):
     return [importlib.import_module(f"runtime.cli.commands.{name}") for name in names]
 
 
-def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+def command_help(name: str) -> str:
+    """A command module's HELP, read from its source without importing it (the module loads
+    numpy, casadi ...; `levitron --help` needs only this line of each)."""
+    import ast
+    import importlib.util
+    origin = importlib.util.find_spec(f"runtime.cli.commands.{name}").origin
+    with open(origin, encoding="utf-8") as fh:
+        tree = ast.parse(fh.read(), origin)
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and any(getattr(t, "id", None) == "HELP" for t in node.targets):
+            return ast.literal_eval(node.value)
+    raise LookupError(f"{origin}: no HELP = '...' at the top level")
+
+
+def build_parser(only: str | None = None, overview: bool = False) -> argparse.ArgumentParser:
     """The parser of every command, or with `only` of that one command alone (a one-shot command
-    then imports only its own module: `levitron stability` loads no design, scan or report code)."""
+    then imports only its own module: `levitron stability` loads no design, scan or report code).
+    With `overview` the commands are names and help lines only, their modules not imported: enough
+    for `levitron --help` and for a missing command, and the same text as the full parser's."""
     ap = Parser(prog="levitron", description=__doc__.splitlines()[0])
     ap.add_argument("--version", action="version", version=f"levitron {version()}")
     sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    if overview:
+        for name in COMMANDS:
+            sub.add_parser(name, help=command_help(name))
+        return ap
     for mod in _modules((only,) if only in COMMANDS else COMMANDS):
         example = getattr(mod, "EXAMPLE", None)
         p = sub.add_parser(mod.NAME, help=mod.HELP, description=mod.HELP,
@@ -150,6 +169,8 @@ def os_error_message(exc: OSError) -> str:
 
 def _report(command: str, exc: BaseException) -> int:
     """Print the one-line message of `exc` and return the exit code."""
+    from derive.scene import SceneError
+    from runtime.model.cbuild import CompileError
     prefix = f"levitron {command}"
     if isinstance(exc, (UserError, SceneError)):
         text, code = f"{prefix}: error: {one_line(str(exc))}", EXIT_USER
@@ -216,10 +237,15 @@ def main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv == ["--version"]:       # without the command modules (numpy, casadi): ~0.1 s, not ~1 s
         return _emit(f"levitron {version()}")
+    if not argv or argv[0] in ("-h", "--help"):     # the overview: no command module imported
+        build_parser(overview=True).parse_args(argv)
     args = build_parser(argv[0] if argv else None).parse_args(argv)
     if getattr(args, "temperature", None) is not None:     # one more --set, resolved by the scene
         args.set = [*args.set, f"temperature={args.temperature!r}"]
     args._argv = argv
+    from derive.scene import SceneError
+    from runtime.model.cbuild import resolve_cache_env
+    from runtime.model.processes import terminate_as_exit
     resolve_cache_env()           # a relative LEVITRON_CACHE: from the user's folder, once
     if threading.current_thread() is threading.main_thread():
         terminate_as_exit()       # SIGTERM: the finally blocks remove their temporaries

@@ -32,17 +32,17 @@ CSRC = Path(__file__).resolve().parent.parent / "csrc"
 
 class _System(ctypes.Structure):
     _fields_ = [("n", ctypes.c_int), ("rhs", ctypes.c_void_p), ("jac", ctypes.c_void_p),
-                ("energy", ctypes.c_void_p), ("p", ctypes.POINTER(ctypes.c_double))]
+                ("energy", ctypes.c_void_p), ("p", ctypes.c_void_p)]    # double *: an address
 
 
 class _Options(ctypes.Structure):
     _fields_ = [("t0", ctypes.c_double), ("t_end", ctypes.c_double), ("h", ctypes.c_double),
                 ("rtol", ctypes.c_double), ("atol", ctypes.c_double),
-                ("atol_v", ctypes.POINTER(ctypes.c_double)), ("h_max", ctypes.c_double),
+                ("atol_v", ctypes.c_void_p), ("h_max", ctypes.c_double),
                 ("max_steps", ctypes.c_long), ("box_on", ctypes.c_int), ("ix", ctypes.c_int),
                 ("iy", ctypes.c_int), ("iz", ctypes.c_int), ("z_lo", ctypes.c_double),
                 ("z_hi", ctypes.c_double), ("r_max", ctypes.c_double),
-                ("t_out", ctypes.POINTER(ctypes.c_double)), ("n_out", ctypes.c_long),
+                ("t_out", ctypes.c_void_p), ("n_out", ctypes.c_long),
                 ("every", ctypes.c_long), ("max_samples", ctypes.c_long), ("max_iter", ctypes.c_int),
                 ("energy_limit", ctypes.c_double)]
 
@@ -116,6 +116,24 @@ def _ptr(a: np.ndarray | None):
     return None if a is None else a.ctypes.data_as(_DP)
 
 
+_NO_BOX = Box(-1, -math.inf, math.inf)     # frozen: one instance serves every run without a box
+
+
+def _per_lib(lib: ctypes.CDLL, key: tuple, make):
+    """A constant of the loaded library (a work size, a status message), asked of C once and
+    kept with the library (its attribute dict, as the lane verdicts)."""
+    memo = lib.__dict__.setdefault("_lev_constants", {})
+    if key not in memo:
+        memo[key] = make()
+    return memo[key]
+
+
+def _addr(a: np.ndarray | None) -> int | None:
+    """The address of a float64 array's data (the structs' double * fields are c_void_p: an int
+    is stored as it is, without data_as's ctypes pointer object)."""
+    return None if a is None else a.ctypes.data
+
+
 def _buffers(*sizes: int) -> tuple[list[np.ndarray], list[int]]:
     """Zeroed float64 buffers of the given sizes, carved from one allocation, and their addresses:
     one numpy address lookup (~1.4 us; data_as ~3 us) instead of one per buffer."""
@@ -169,16 +187,16 @@ def run_c(lib: ctypes.CDLL, method: str, rhs: Any, x0, p, t_end: float, *, t0: f
     if np.ndim(atol) > 0:
         atol_v = _f64(atol)
         atol = 0.0
-    n_work = int(lib.lev_work_bytes(code, n)) // 8 + 2
+    n_work = _per_lib(lib, ("work", code, n), lambda: int(lib.lev_work_bytes(code, n)) // 8 + 2)
     (x, out_t, out_x, out_e, _), addr = _buffers(n, max_samples, max_samples * n,
                                                  max_samples if energy is not None else 0, n_work)
     x[:] = x0
     out_x = out_x.reshape(max_samples, n)
-    sysd = _System(n, fn_address(rhs), fn_address(jac), fn_address(energy), _ptr(p))
-    b = box or Box(-1, -math.inf, math.inf)
-    opt = _Options(t0, t0 + t_end, h, rtol, float(atol), _ptr(atol_v), h_max, max_steps,
+    sysd = _System(n, fn_address(rhs), fn_address(jac), fn_address(energy), _addr(p))
+    b = box or _NO_BOX
+    opt = _Options(t0, t0 + t_end, h, rtol, float(atol), _addr(atol_v), h_max, max_steps,
                    1 if box is not None else 0, b.ix, b.iy, b.iz, b.z_lo, b.z_hi, b.r_max,
-                   _ptr(tout), 0 if tout is None else tout.size, every, max_samples, max_iter,
+                   _addr(tout), 0 if tout is None else tout.size, every, max_samples, max_iter,
                    energy_limit)
     st = _Stats()
     # every argument an int address before the clock starts (argtypes c_void_p, see bind): wall_s
@@ -190,7 +208,7 @@ def run_c(lib: ctypes.CDLL, method: str, rhs: Any, x0, p, t_end: float, *, t0: f
     wall = time.perf_counter() - start
     k = st.n_samples
     name = STATUS.get(status, str(status))
-    message = lib.lev_status_message(status).decode()
+    message = _per_lib(lib, ("message", status), lambda: lib.lev_status_message(status).decode())
     if name == "step_budget":
         message = budget_message(max_steps, float(st.t_final))
     res = Result(t=out_t[:k].copy(), X=out_x[:k].copy(), status=name, message=message,

@@ -90,12 +90,12 @@ def _validate(method, x0, n, t_end, tol, h, n_out, scale, time_scale, what, max_
     lookup(method)
     if x0.shape != (n,):
         raise UserError(f"initial state has shape {x0.shape}, the part has {n} states; pass {n} numbers")
-    if not np.all(np.isfinite(x0)):
+    if not np.isfinite(x0).all():
         raise UserError("initial state is not finite; check the initial conditions")
     check_options(method, t_end, tol, h, n_out, time_scale, what, max_steps)
     if scale is not None:
         s = np.asarray(scale, dtype=float)
-        if s.shape != (n,) or not np.all(np.isfinite(s)) or np.any(s <= 0):
+        if s.shape != (n,) or not np.isfinite(s).all() or (s <= 0).any():
             raise UserError(f"scale must be {n} positive numbers (state magnitudes)")
 
 
@@ -138,12 +138,30 @@ def _integrate(part, x0, t_end, method, tol, h, p, box, n_out, scale, monitor_en
     return integrate_scipy(part, method, x0, p, t_end, tol, box, n_out, scale, scipy_rhs, budget)
 
 
+_GRIDS: dict = {}
+_GRIDS_KEPT = 64
+
+
+def output_grid(t_end: float, n_out: int) -> np.ndarray:
+    """np.linspace(0, t_end, n_out + 1), kept (read-only) for the last _GRIDS_KEPT (t_end, n_out):
+    a sweep or an optimisation loop asks for the same grid at every call."""
+    key = (t_end, n_out)
+    grid = _GRIDS.get(key)
+    if grid is None:
+        if len(_GRIDS) >= _GRIDS_KEPT:
+            _GRIDS.pop(next(iter(_GRIDS)))
+        grid = np.linspace(0.0, t_end, n_out + 1)
+        grid.flags.writeable = False
+        _GRIDS[key] = grid
+    return grid
+
+
 def _integrate_c(part, method, x0, p, t_end, tol, h, box, n_out, scale, monitor_energy, max_steps):
     lib = _lib_of(part)
     rhs = part.c_function("rhs")
     energy = part.c_function("energy") if monitor_energy else None
     if not lookup(method).fixed_step:
-        t_out = np.linspace(0.0, t_end, n_out + 1)
+        t_out = output_grid(t_end, n_out)
         return run_c(lib, method, rhs, x0, p, t_end, rtol=tol, atol=tol * scale, energy=energy,
                      box=box, t_out=t_out, max_steps=max_steps)
     n_steps = fixed_steps(t_end, h)

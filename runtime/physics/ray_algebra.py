@@ -25,6 +25,8 @@ from fractions import Fraction
 
 import numpy as np
 
+from runtime.physics.brent import brentq
+
 EPS = np.finfo(float).eps
 
 # G(g1, g2, g3), the discriminant of N(t) (thesis 3.3.12), as [coefficient, e1, e2, e3];
@@ -211,10 +213,9 @@ def positive_roots(ints: Sequence[int]) -> list[float]:
     on each piece) and at a Cauchy bound; a piece holds a root iff the exact signs at its ends differ
     (exact integer arithmetic, so two nearly merged roots near a band edge are neither lost nor
     invented); the root is then found by brentq on a rescaled float copy and its bracket narrowed
-    by exact bisection until it is two ulps wide.
+    by exact bisection until it is two ulps wide. (brentq is runtime/physics/brent.py, scipy's
+    arithmetic without scipy.optimize's half-second import.)
     """
-    from scipy.optimize import brentq
-
     ints = list(ints)
     while ints and ints[-1] == 0:
         ints.pop()
@@ -238,7 +239,15 @@ def positive_roots(ints: Sequence[int]) -> list[float]:
     bound = 1.0 + float(np.max(np.abs(b[:-1] / b[-1])))
     cuts.append(2.0 * bound)
     cuts = sorted(set(cuts))
-    f = lambda u: float(np.polyval(b[::-1], u))
+    high_to_low = [float(v) for v in b[::-1]]
+
+    def f(u: float) -> float:
+        # Horner in Python floats: np.polyval's operations in its order (a multiply, then an
+        # add, never fused), so the same doubles, without numpy's per-call cost on scalars
+        y = 0.0
+        for coef in high_to_low:
+            y = y * u + coef
+        return y
     roots = []
     for lo, hi in itertools.pairwise(cuts):
         s_lo, s_hi = (lo * S if lo > 0 else 0.0), hi * S

@@ -112,7 +112,7 @@ def _approximations(onaxis, z_c, max_mass, g, A, C) -> dict:
 def analyse(onaxis: Callable[[float], Sequence[float]], m: float, g: float, A: float, C: float,
             mu: float, scale: float, full_jac: Callable[[np.ndarray], np.ndarray] | None = None,
             states: Sequence[str] | None = None, z_s: float | None = None,
-            agree_rtol: float = 1e-6) -> StabilityResult:
+            agree_rtol: float = 1e-6, eigen: bool = True) -> StabilityResult:
     """Spin interval of linear stability at the stable height, by both routes (thesis 3.3).
 
     z_s: the lowest vertically stable equilibrium (thesis 3.3.3; runtime/physics/equilibrium.py, the one
@@ -120,6 +120,9 @@ def analyse(onaxis: Callable[[float], Sequence[float]], m: float, g: float, A: f
     "eigenvalues" on the full model); without it the 8-D matrix `transverse_matrix` is used. The
     reported spin_interval is the exact route's ("discriminant"); routes_agree says whether the
     eigenvalue route matches it to agree_rtol. Approximations: thesis 3.3.22/3.3.23 at z_c.
+    eigen=False skips the eigenvalue route (eigenvalues and routes_agree None; the interval, z_s
+    and reason are the same): for callers that need the interval only, such as a map's linear
+    picture, which then need not load scipy.linalg.
     """
     timings = {}
     t0 = time.perf_counter()
@@ -137,6 +140,16 @@ def analyse(onaxis: Callable[[float], Sequence[float]], m: float, g: float, A: f
     disc = spin_intervals_discriminant(c)
     timings["discriminant"] = time.perf_counter() - t0
 
+    if not eigen:
+        eig = None
+    else:
+        eig = _eigen_route(ph, m, A, C, mu, z_s, disc, full_jac, states, timings)
+    return _verdict(z_s, ph, mu, disc, eig, approximations, timings, agree_rtol)
+
+
+def _eigen_route(ph, m: float, A: float, C: float, mu: float, z_s: float, disc, full_jac, states,
+                 timings: dict):
+    """The spin intervals of route "eigenvalues" (see `analyse`), probed inside the exact ones."""
     t0 = time.perf_counter()
     if full_jac is not None:
         st = list(states)
@@ -151,10 +164,15 @@ def analyse(onaxis: Callable[[float], Sequence[float]], m: float, g: float, A: f
     probes = [math.sqrt(a * b) for a, b in disc if 0 < a and b < math.inf]
     eig = spin_intervals_eigen(jac, sigma_scale, probes)
     timings["eigenvalues"] = time.perf_counter() - t0
+    return eig
 
+
+def _verdict(z_s: float, ph, mu: float, disc, eig, approximations, timings: dict,
+             agree_rtol: float) -> StabilityResult:
+    """The StabilityResult of `analyse` from the routes' intervals (eig None: not run)."""
     vertical = mu * ph[3] > 0
     bounded = [iv for iv in disc if iv[1] < math.inf and iv[0] > 0]
-    agree = relative_gap(disc, eig) <= agree_rtol
+    agree = None if eig is None else relative_gap(disc, eig) <= agree_rtol
     reason = None
     interval = None
     if not vertical:
@@ -171,7 +189,8 @@ def analyse(onaxis: Callable[[float], Sequence[float]], m: float, g: float, A: f
 
 
 def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
-                 z_s: float | None = None, height: float | None = None) -> StabilityResult:
+                 z_s: float | None = None, height: float | None = None,
+                 eigen: bool = True) -> StabilityResult:
     """The StabilityResult of a loaded model's top (another mass if given; parameters p, default the
     scene's), with the eigenvalue route on the generated full Jacobian when the model has one.
 
@@ -188,7 +207,7 @@ def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
             raise UserError(f"no top hovers at z = {height:.6g} m: the field there holds no mass "
                             f"(m(z) = -mu Phi_2(z)/g = {m_z:.3g} kg <= 0, thesis 3.3.2); pick a height "
                             "inside the stable band (`levitron equilibrium` gives it)")
-        return stability_of(model, mass=m_z, p=p, z_s=float(height))
+        return stability_of(model, mass=m_z, p=p, z_s=float(height), eigen=eigen)
     p = without_friction(model, model.with_params({} if mass is None else {"m": float(mass)}, p))
     P = eqm.params_of(model, p)
     full_jac = states = None
@@ -198,6 +217,6 @@ def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
         onaxis = eqm.model_onaxis(model, p)
     with eqm.naming_the_formula(model):
         res = analyse(onaxis, P["m"], P["g"], P["A"], P["C"], P["mu"], eqm.scale_of(model, p),
-                      full_jac, states, z_s=z_s)
+                      full_jac, states, z_s=z_s, eigen=eigen)
     res.mass = P["m"]
     return res

@@ -16,9 +16,10 @@ from runtime.physics.stability import stability_of
 
 def linear_interval(model, mass: float | None = None) -> dict:
     """The linear spin interval (thesis 3.3, exact discriminant route) and z_s, for the scene's top
-    or one of another mass."""
+    or one of another mass (the eigenvalue route, a cross-check, is not run: the map reports the
+    exact route's interval only)."""
     m = model.param("m") if mass is None else float(mass)
-    res = stability_of(model, m)
+    res = stability_of(model, m, eigen=False)
     iv = res.spin_interval
     return {"mass": m, "z_s": res.z_s, "spin_interval": None if iv is None else [float(iv[0]), float(iv[1])],
             "reason": res.reason}

@@ -191,7 +191,37 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
     """Run the map (module docstring). scene_ref/overrides let the workers load the same model.
     engine "c": chunks of points through the C chunk driver (runtime/scan/chunk_c.py) when the integrator
     is a C one; "python": one runtime.simulate.run-style run per point (the reference path)."""
-    from runtime.physics.equilibrium import hover_height
+    spins, others, workers, t_end, base_tilt = _checked(axis, spins, others, workers, scheduler,
+                                                        t_end, engine, base_tilt)
+    t_wall = time.perf_counter()
+    lin, hover, scene_lin, status_pre = _hover_and_linear(model, axis, others)
+    if t_end is None:
+        t_end, basis = _default_t_end(model, axis, spins, lin, status_pre)
+    else:
+        basis = {"given": True}
+    from runtime.integrate.methods import resolve
+    requested, integrator = integrator, resolve(integrator, tol, h)    # "auto": the method it picks
+    check_run_options(model, axis, spins, others, hover, float(t_end), integrator, tol, h)
+    common = Common(scene_ref, tuple(overrides), axis, float(t_end), integrator, tol,
+                    float(base_tilt), tuple(hover), h, engine)
+    tasks = [(i, j, float(s), float(o)) for i, s in enumerate(spins) for j, o in enumerate(others)
+             if j not in status_pre]
+    chunk_results, runner = _run_tasks(model, common, tasks, workers, scheduler, scheduler_timeout,
+                                       quiet)
+    lev, ts, status, rhs = _assemble(spins, others, status_pre,
+                                     [r for c in chunk_results for r in c["points"]])
+    return ScanResult(axis, spins, others, lev, ts, status, lin, float(t_end), basis,
+                      time.perf_counter() - t_wall, runner, rhs,
+                      sum(c["cpu_s"] for c in chunk_results),
+                      extra={"scene_linear": scene_lin,
+                             "public": {"integrator": integrator, "integrator_requested": requested,
+                                        "tol": tol,
+                                        "base_tilt": base_tilt if axis != "tilt" else None}})
+
+
+def _checked(axis: str, spins, others, workers, scheduler, t_end, engine: str, base_tilt):
+    """The scan's inputs checked (one-line UserErrors) and normalised: (spins, others, workers,
+    t_end, base_tilt)."""
     if axis not in AXES:
         raise UserError(f"unknown axis {axis!r}; scan over one of --tilt, --mass, --height")
     spins = axis_values(spins, "spin", MAX_POINTS)
@@ -212,55 +242,51 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
         raise UserError("--base-tilt 0 launches every point on the invariant set (thesis 3.2.1), "
                         f"where the ideal top stays at any spin: the map would test nothing; give a "
                         f"small tilt, e.g. --base-tilt {BASE_TILT}")
-    t_wall = time.perf_counter()
+    return spins, others, workers, t_end, base_tilt
 
-    # the hover heights (runtime.physics.equilibrium.hover_height, thesis 3.3.2-3.3.3) and the linear picture
+
+def _hover_and_linear(model, axis: str, others: np.ndarray):
+    """The hover heights (runtime.physics.equilibrium.hover_height, thesis 3.3.2-3.3.3) and the
+    linear picture per value of the other axis: (linear, hover, the scene's linear, the statuses
+    of the columns that are not run: {j: "no_hover_height"})."""
+    from runtime.physics.equilibrium import hover_height
     status_pre: dict[int, str] = {}
-    if axis == "mass":
-        lin, hover = [], []
-        for j, m in enumerate(others):
-            p = model.with_params({"m": m})
-            try:
-                hover.append(hover_height(model, p))
-            except UserError:
-                hover.append(None)
-                status_pre[j] = "no_hover_height"
-            lin.append(linear_interval(model, m))
-        scene_lin = linear_interval(model)
-    else:
-        lin = [linear_interval(model)] * len(others)
-        hover = [hover_height(model)] * len(others)
-        scene_lin = lin[0]
+    if axis != "mass":
+        lin = linear_interval(model)
+        return [lin] * len(others), [hover_height(model)] * len(others), lin, status_pre
+    lin, hover = [], []
+    for j, m in enumerate(others):
+        p = model.with_params({"m": m})
+        try:
+            hover.append(hover_height(model, p))
+        except UserError:
+            hover.append(None)
+            status_pre[j] = "no_hover_height"
+        lin.append(linear_interval(model, m))
+    return lin, hover, linear_interval(model), status_pre
 
-    # the default run length: PERIODS slow periods of the scene's top (mass scan: the median over
-    # the masses that some spin stabilises, else over those that hover)
-    if t_end is None:
-        cands = [li for j, li in enumerate(lin) if j not in status_pre and li["z_s"] is not None]
-        good = [li for li in cands if li["spin_interval"] is not None]
-        if axis != "mass":
-            pool = cands
-        else:
-            pool = good or cands
-        if not pool:
-            raise UserError("no value of the scan has a stable hover height to set a run length "
-                            "from; pass --t-end T or change the --mass range (see `levitron equilibrium`)")
-        rows = sorted((slow_period(model, li["mass"], li["z_s"], reference_spin(li["spin_interval"], spins)),
-                       reference_spin(li["spin_interval"], spins), li["mass"]) for li in pool)
-        T, ref, m_ref = rows[(len(rows) - 1) // 2]
-        t_end = PERIODS * T
-        basis = {"periods": PERIODS, "slow_period_s": T, "reference_spin": ref, "mass": m_ref,
-                 "note": "default: periods of the slowest motion at the relative equilibrium "
-                         "(transverse modes, thesis 3.3.5, or the vertical bounce, 3.3.3)"}
-    else:
-        basis = {"given": True}
 
-    from runtime.integrate.methods import resolve
-    requested, integrator = integrator, resolve(integrator, tol, h)    # "auto": the method it picks
-    check_run_options(model, axis, spins, others, hover, float(t_end), integrator, tol, h)
-    common = Common(scene_ref, tuple(overrides), axis, float(t_end), integrator, tol,
-                    float(base_tilt), tuple(hover), h, engine)
-    tasks = [(i, j, float(s), float(o)) for i, s in enumerate(spins) for j, o in enumerate(others)
-             if j not in status_pre]
+def _default_t_end(model, axis: str, spins: np.ndarray, lin: list, status_pre: dict):
+    """The default run length and its basis: PERIODS slow periods of the scene's top (mass scan:
+    the median over the masses that some spin stabilises, else over those that hover)."""
+    cands = [li for j, li in enumerate(lin) if j not in status_pre and li["z_s"] is not None]
+    good = [li for li in cands if li["spin_interval"] is not None]
+    pool = cands if axis != "mass" else (good or cands)
+    if not pool:
+        raise UserError("no value of the scan has a stable hover height to set a run length "
+                        "from; pass --t-end T or change the --mass range (see `levitron equilibrium`)")
+    rows = sorted((slow_period(model, li["mass"], li["z_s"], reference_spin(li["spin_interval"], spins)),
+                   reference_spin(li["spin_interval"], spins), li["mass"]) for li in pool)
+    T, ref, m_ref = rows[(len(rows) - 1) // 2]
+    return PERIODS * T, {"periods": PERIODS, "slow_period_s": T, "reference_spin": ref, "mass": m_ref,
+                         "note": "default: periods of the slowest motion at the relative equilibrium "
+                                 "(transverse modes, thesis 3.3.5, or the vertical bounce, 3.3.3)"}
+
+
+def _run_tasks(model, common: Common, tasks: list, workers: int, scheduler: str | None,
+               scheduler_timeout: float | None, quiet: bool) -> tuple[list[dict], dict]:
+    """The tasks dealt into chunks and run on dask, local processes or serially here: (the chunks'
+    results, the runner's description)."""
     if scheduler is not None:
         client = dask_client(scheduler, scheduler_timeout)
         try:
@@ -285,8 +311,11 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
         chunk_results = run_serial(common, chunks, quiet)
     runner["chunks"] = len(chunks)
     runner["engine"] = "+".join(sorted({c["engine"] for c in chunk_results})) or None
-    results = [r for c in chunk_results for r in c["points"]]
+    return chunk_results, runner
 
+
+def _assemble(spins: np.ndarray, others: np.ndarray, status_pre: dict, results: list[dict]):
+    """The points' results as the map's arrays: (levitating, t_survived, status, rhs_evals)."""
     shape = (spins.size, others.size)
     lev = np.zeros(shape, bool)
     ts = np.zeros(shape)
@@ -295,15 +324,9 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
         for j, why in status_pre.items():
             status[i][j] = why
     rhs = 0
-    cpu = sum(c["cpu_s"] for c in chunk_results)
     for r in results:
         lev[r["i"], r["j"]] = r["levitating"]
         ts[r["i"], r["j"]] = r["t_survived"]
         status[r["i"]][r["j"]] = r["status"]
         rhs += int(r["rhs_evals"] or 0)
-    return ScanResult(axis, spins, others, lev, ts, status, lin, float(t_end), basis,
-                      time.perf_counter() - t_wall, runner, rhs, cpu,
-                      extra={"scene_linear": scene_lin,
-                             "public": {"integrator": integrator, "integrator_requested": requested,
-                                        "tol": tol,
-                                        "base_tilt": base_tilt if axis != "tilt" else None}})
+    return lev, ts, status, rhs

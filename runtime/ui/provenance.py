@@ -12,13 +12,16 @@ scene_hash says whether the scene (with its overrides) is still the one the answ
 from __future__ import annotations
 
 import datetime
+import functools
 import platform
 import shlex
 from pathlib import Path
 
 
+@functools.lru_cache(maxsize=1)
 def version() -> str:
-    """The installed package's version, else the one in this source tree's pyproject.toml."""
+    """The installed package's version, else the one in this source tree's pyproject.toml (read
+    once per process: the parser and the provenance block both ask)."""
     from importlib import metadata
     try:
         return metadata.version("levitron")
