@@ -107,8 +107,9 @@ def test_warm_started_fit_gives_the_cold_fits_numbers(monkeypatch):
     after the first evaluation the rootfinders start from the last accepted roots, not from the
     float routes (a float-route survey per site at the start, at the optimum and where a warm
     root fails its checks; here a third of the cold path's at most). The fit
-    is the one of the cold path (every evaluation from the float routes, as before batching) to
-    1e-12 (15 rows at 15 masses, chi2 11.6 with 13 degrees of freedom)."""
+    is the one of the cold path (every evaluation from the float routes, as before batching): its
+    values to 1e-12, its model values to the rootfinders' tolerance (15 rows at 15 masses, chi2 11.6
+    with 13 degrees of freedom)."""
     model = load_model(load_scene("thesis_stable"))
     rows = _rows_at_masses(model, np.linspace(0.0506, 0.0522, 100)[:30:2], 0)
     varies = [Vary.parse("plate.murho=-0.003:-0.0023"), Vary.parse("top.C=1.1e-6:1.5e-6")]
@@ -127,8 +128,10 @@ def test_warm_started_fit_gives_the_cold_fits_numbers(monkeypatch):
             assert warm.parameters[key][what] == pytest.approx(cold.parameters[key][what],
                                                                rel=1e-12 if what == "value" else 1e-10)
     assert warm.chi2 == pytest.approx(cold.chi2, rel=1e-10)
+    # the model values are roots the rootfinders stop at a residual of 1e-12 (NEWTON_STRICT): a root
+    # is defined to about 1e-11 relative, and sigma_hi from the two paths' starts differs by 3e-11
     np.testing.assert_allclose([r["model"] for r in warm.residuals],
-                               [r["model"] for r in cold.residuals], rtol=1e-12)
+                               [r["model"] for r in cold.residuals], rtol=1e-10)
 
 
 def test_a_warm_optimum_the_cold_routes_disagree_with_is_refitted_cold(monkeypatch):

@@ -120,7 +120,10 @@ def test_bench_maps_quick(model):
     n = bench_maps.QUICK_N
     for r in out["rows"]:
         assert r["points"] == n * n and r["points_per_s"] == pytest.approx(r["points"] / r["wall_s"])
-        assert r["rhs_evals"] > 0 and 0.5 < r["cpu_over_rhs"] < 100
+        # a ratio of two timings taken at different moments: on a loaded machine the rhs timing can
+        # be the slower one (0.40-0.43 seen at load 5-7), so only its sign and scale are checked here;
+        # its value is the bench's report, not a test
+        assert r["rhs_evals"] > 0 and 0 < r["cpu_over_rhs"] < 100
         assert r["rhs_ns"] == out["rhs_ns"] > 0
     # no dense output and no energy monitor in the driver: fewer calls than the Python path
     assert out["rows"][0]["rhs_evals"] < out["rows"][2]["rhs_evals"]
