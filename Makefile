@@ -19,11 +19,11 @@ demo: setup derive
 
 # Regenerate generated/<scene>/ for every scene in scenes/ (unchanged scenes are skipped by hash).
 derive: setup
-	$(PY) -m derive
+	$(PY) -m levitron.derive
 
 # Regenerate everything even where the hash matches (the golden files' update command).
 golden: setup
-	$(PY) -m derive --force
+	$(PY) -m levitron.derive --force
 
 lint: setup
 	$(PY) -m ruff check .
@@ -43,7 +43,7 @@ fuzz: setup
 # maps, design, launches; reports in reports/.
 bench: setup
 	.venv/bin/pip install --quiet -e '.[bench]'
-	$(PY) -m runtime.bench.kinds
+	$(PY) -m levitron.runtime.bench.kinds
 
 clean-cache:
 	rm -rf $${LEVITRON_CACHE:-$$HOME/.cache/levitron}

@@ -1,4 +1,4 @@
-"""python -m derive [SCENE ...] [--out DIR] [--force] [--json]: regenerate models (make derive).
+"""python -m levitron.derive [SCENE ...] [--out DIR] [--force] [--json]: regenerate models (make derive).
 
 Without --out (or with --out generated) it writes the committed models, generated/<name>/, and
 only for scenes of scenes/ without --set: a variant or an out-of-tree scene is refused there (give
@@ -82,7 +82,7 @@ def stage_lines(enabled: bool):
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m derive", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog="python -m levitron.derive", description=__doc__.splitlines()[0])
     ap.add_argument("scenes", nargs="*", help="scene names or .toml paths (default: all in scenes/)")
     ap.add_argument("--set", action="append", default=[], metavar="K=V", help="override a scene key")
     ap.add_argument("--out", type=Path, default=None,

@@ -1,6 +1,6 @@
 """Where things live in the repository, defined once (pure Python: the runtime imports it too).
 
-Committed models: generated/<name>/ is written only by `make derive` (python -m derive without
+Committed models: generated/<name>/ is written only by `make derive` (python -m levitron.derive without
 --out), and only for a scene of scenes/ whose file is scenes/<name>.toml, without --set overrides.
 """
 from __future__ import annotations

@@ -38,7 +38,7 @@ T_REF = 20.0            # degC: the reference temperature of the temperature coe
 ABSOLUTE_ZERO = -273.15
 
 # The keys of every section but [plate] (whose keys are the plate kinds', derive/plates/); the
-# contract docs/scenes.md is generated from these and the registry (`python -m derive.plates.docs`).
+# contract docs/scenes.md is generated from these and the registry (`python -m levitron.derive.plates.docs`).
 SCENE_KEYS = (
     Key("name", "", "the scene's name (letters, digits, '-', '_'; default: the file's stem)"),
     Key("description", "", "free text"),

@@ -6,7 +6,7 @@ kept >= 0.5 N/m; the answer is verified by a 20-point grid and the exact float r
 """
 import sys
 
-import levitron_api as lev
+import levitron as lev
 
 scene = sys.argv[1] if len(sys.argv) > 1 else "thesis_stable"
 study = lev.load(scene)

@@ -5,7 +5,7 @@ Run: python examples/sensitivities.py [SCENE]
 """
 import sys
 
-import levitron_api as lev
+import levitron as lev
 
 scene = sys.argv[1] if len(sys.argv) > 1 else "thesis_stable"
 study = lev.load(scene)

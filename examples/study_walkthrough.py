@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-import levitron_api as lev
+import levitron as lev
 
 HERE = Path(__file__).resolve().parent
 scene = sys.argv[1] if len(sys.argv) > 1 else str(HERE / "scenes" / "small_ring.toml")

@@ -1,6 +1,6 @@
-"""`python -m runtime ...`: the `levitron` command (runtime/cli/main.py)."""
+"""`python -m levitron.runtime ...`: the `levitron` command (runtime/cli/main.py)."""
 import sys
 
-from runtime.cli.main import main
+from levitron.runtime.cli.main import main
 
 sys.exit(main())

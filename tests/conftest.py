@@ -10,7 +10,7 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from derive.scene import load_scene  # noqa: E402
+from levitron.derive.scene import load_scene  # noqa: E402
 
 
 @pytest.fixture(scope="session")
@@ -20,15 +20,15 @@ def thesis_scene():
 
 @pytest.fixture(scope="session")
 def thesis_model(thesis_scene):
-    from runtime.model.load import load_model
+    from levitron.runtime.model.load import load_model
     return load_model(thesis_scene)
 
 
 @pytest.fixture(scope="session")
 def derived_model(tmp_path_factory):
     """derived_model(scene_name, *overrides) -> a Model derived into a temporary folder."""
-    from derive.build import derive_scene
-    from runtime.model.load import Model
+    from levitron.derive.build import derive_scene
+    from levitron.runtime.model.load import Model
     cache = {}
 
     def make(name, *overrides):
@@ -46,8 +46,8 @@ def derived_model(tmp_path_factory):
 def csrc_objects():
     """The objects of runtime/csrc/*.c that every model's library links (runtime/model/cbuild.py), built
     once into the shared cache ($LEVITRON_CACHE; under xdist one worker builds, the others wait)."""
-    from runtime.model.cbuild import DEFAULT_FLAGS, compile_object
-    from runtime.model.load import CSRC
+    from levitron.runtime.model.cbuild import DEFAULT_FLAGS, compile_object
+    from levitron.runtime.model.load import CSRC
     return [compile_object(src, DEFAULT_FLAGS, include_dirs=(CSRC,)) for src in sorted(CSRC.glob("*.c"))]
 
 

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from runtime.cli import main as cli
+from levitron.runtime.cli import main as cli
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -99,7 +99,7 @@ def test_design_optimum_at_a_bound_says_so(capsys):
     assert "at the bound: widen --vary" in r["message"]
     out = plain(capsys, *argv)
     assert "warning: top.mass = 0.051 is at the lower bound of --vary" in out
-    import levitron_api as lev
+    import levitron as lev
     res = lev.load("thesis_stable").optimize("spin-range", {"top.mass": (0.0510, 0.0520)})
     assert res.at_bound == {"top.mass": "lower"} and res.success and "widen --vary" in res.message
 
@@ -159,9 +159,9 @@ def test_unconstrained_spin_range_is_solved(capsys):
 def test_optimum_at_vanishing_stiffness_is_reported_with_a_warning(capsys):
     """A box 2e-6 to 4e-6 (relative) below the largest mass that hovers (52.492 g): the top hovers
     just above z_c, the stiffness is 0.7% of m g / z_s, the interval stays bounded (478.7-2533)."""
-    from runtime.physics import equilibrium as eqm
-    from runtime.cli.commands.common import load
-    from runtime.model.load import load_model
+    from levitron.runtime.physics import equilibrium as eqm
+    from levitron.runtime.cli.commands.common import load
+    from levitron.runtime.model.load import load_model
     top = eqm.equilibria_of(load_model(load("thesis_stable"))).max_mass
     box = f"top.mass={top * (1 - 4e-6)!r}:{top * (1 - 2e-6)!r}"
     r = as_json(capsys, "optimize", "thesis_stable", "--maximize", "spin-range", "--vary", box)
@@ -178,10 +178,10 @@ def test_unbounded_edge_is_refused_and_says_where(thesis_model, monkeypatch):
     Phi_3 = +4.7e-13 whatever the rounding."""
     import dataclasses
 
-    from derive.scene import load_scene
-    from runtime.design import edge as design_edge
-    from runtime.errors import UserError
-    from runtime.model.load import load_model
+    from levitron.derive.scene import load_scene
+    from levitron.runtime.design import edge as design_edge
+    from levitron.runtime.errors import UserError
+    from levitron.runtime.model.load import load_model
     model = load_model(load_scene("thesis_stable"))
     found = design_edge.eqm.equilibria_of
 
@@ -209,8 +209,8 @@ def _scan_result(levitating, status=None, axis="tilt"):
 
 def test_scan_row_with_a_gap_prints_both_runs():
     """A column inside the range fell: the row reads two runs, never 9.5-12.5."""
-    from runtime.cli.commands.scan import human
-    from runtime.ui.human import Units
+    from levitron.runtime.cli.commands.scan import human
+    from levitron.runtime.ui.human import Units
     row = human(_scan_result([True, False, True, True])).splitlines()[1]
     u = Units(si=True)
     assert f"stays up for spin {u.rate(9.5)} and {u.rate_span(11.5, 12.5)} (3 of 4)" in row, row
@@ -218,7 +218,7 @@ def test_scan_row_with_a_gap_prints_both_runs():
 
 
 def test_scan_row_with_one_stable_spin_is_no_range():
-    from runtime.cli.commands.scan import human
+    from levitron.runtime.cli.commands.scan import human
     row = human(_scan_result([False, True, False, False])).splitlines()[1]
     assert "10.5-10.5" not in row and "stays up for spin 10.5 rad/s (" in row, row
 
@@ -259,6 +259,6 @@ def test_stability_at_a_vertically_unstable_height_says_so(capsys):
 
 
 def test_an_unbounded_interval_reads_above():
-    from runtime.cli.commands.stability import _interval
-    from runtime.ui.human import Units
+    from levitron.runtime.cli.commands.stability import _interval
+    from levitron.runtime.ui.human import Units
     assert _interval([1.2e26, None], Units(si=True)).startswith("above 1.2e26 rad/s")

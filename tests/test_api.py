@@ -1,4 +1,4 @@
-"""The public Python API (levitron_api) and the examples/ scripts that use it."""
+"""The public Python API (levitron) and the examples/ scripts that use it."""
 from __future__ import annotations
 
 import dataclasses
@@ -7,10 +7,10 @@ import sys
 
 import pytest
 
-import levitron_api as lev
-from derive.paths import ROOT
-from runtime.physics import equilibrium as eqm
-from runtime.physics.stability import stability_of
+import levitron as lev
+from levitron.derive.paths import ROOT
+from levitron.runtime.physics import equilibrium as eqm
+from levitron.runtime.physics.stability import stability_of
 
 EXAMPLES = sorted((ROOT / "examples").glob("*.py"))
 

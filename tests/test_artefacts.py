@@ -17,12 +17,12 @@ from pathlib import Path
 
 import pytest
 
-from derive.build import derive_scene
-from derive.digest import SELF_KEY, manifest_digest
-from derive.paths import ROOT
-from derive.scene import load_scene
-from runtime.model.cbuild import compile_shared
-from runtime.model.manifest import ArtefactError
+from levitron.derive.build import derive_scene
+from levitron.derive.digest import SELF_KEY, manifest_digest
+from levitron.derive.paths import ROOT
+from levitron.derive.scene import load_scene
+from levitron.runtime.model.cbuild import compile_shared
+from levitron.runtime.model.manifest import ArtefactError
 
 SCENE = "reduced_only"
 PY = sys.executable
@@ -70,7 +70,7 @@ def one_line(exc) -> str:
 
 
 def model(scene, folder):
-    from runtime.model.load import Model
+    from levitron.runtime.model.load import Model
     return Model(scene, folder)
 
 
@@ -94,7 +94,7 @@ def test_edited_model_c_is_refused(fresh, copy):
 
 def test_edited_generated_model_is_an_error_not_silently_used(fresh, copy, tmp_path, monkeypatch):
     """load_model: a current generated/<scene> whose model.c was edited is refused, never used."""
-    import runtime.model.load as rm
+    import levitron.runtime.model.load as rm
     monkeypatch.setattr(rm, "GENERATED", copy.parent)
     monkeypatch.setenv("LEVITRON_CACHE", str(tmp_path / "cache"))
     text = (copy / "model.c").read_text()
@@ -163,7 +163,7 @@ def test_truncated_casadi_file_is_refused(fresh, copy):
 
 
 def test_truncated_casadi_file_with_forged_digests_is_one_line(fresh, copy):
-    from derive.digest import sha256_hex
+    from levitron.derive.digest import sha256_hex
     data = (copy / "onaxis.casadi").read_bytes()[:3000]
     (copy / "onaxis.casadi").write_bytes(data)
     edit_manifest(copy, lambda d: d["files"].__setitem__("onaxis.casadi", sha256_hex(data)))
@@ -220,7 +220,7 @@ def test_make_derive_repairs_an_edited_file(fresh, copy):
 # ------------------------------------------------------------------ the cache
 
 def test_edited_cached_model_is_derived_again_once(fresh, tmp_path, monkeypatch, capsys):
-    import runtime.model.load as rm
+    import levitron.runtime.model.load as rm
     monkeypatch.setattr(rm, "GENERATED", tmp_path / "no-generated")    # force the cache route
     monkeypatch.setenv("LEVITRON_CACHE", str(tmp_path / "cache"))
     scene = fresh[0]
@@ -242,7 +242,7 @@ def test_edited_cached_model_is_derived_again_once(fresh, tmp_path, monkeypatch,
 def test_truncated_cached_library_is_rebuilt(fresh, copy, tmp_path, monkeypatch, seed_cache):
     """A truncated lev_*.so (e.g. a full disk) used to give "Bus error" on every later run: it is
     found by its size and sha256 before any dlopen, and rebuilt once."""
-    from runtime.model.cbuild import is_intact
+    from levitron.runtime.model.cbuild import is_intact
     cache = seed_cache(tmp_path / "cache")          # the runtime/csrc objects, model.c compiles here
     monkeypatch.setenv("LEVITRON_CACHE", str(cache))
     csrc = ROOT / "runtime" / "csrc"
@@ -251,7 +251,7 @@ def test_truncated_cached_library_is_rebuilt(fresh, copy, tmp_path, monkeypatch,
     lib.write_bytes(data[: len(data) // 3])
     assert not is_intact(lib)
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    script = ("from derive.scene import load_scene; from runtime.model.load import Model; "
+    script = ("from levitron.derive.scene import load_scene; from levitron.runtime.model.load import Model; "
               f"print(Model(load_scene({SCENE!r}), {str(copy)!r}).onaxis(0.1)[0])")
     for attempt in range(2):
         res = subprocess.run([PY, "-c", script], env=env, capture_output=True, text=True,
@@ -269,7 +269,7 @@ def test_truncated_cached_library_is_rebuilt(fresh, copy, tmp_path, monkeypatch,
 
 def _cli(args, cwd, cache, root=ROOT, drop_write=False):
     env = dict(os.environ, LEVITRON_CACHE=str(cache), PYTHONPATH=str(root))
-    cmd = [PY, "-m", "runtime.cli.main", *args]
+    cmd = [PY, "-m", "levitron.runtime.cli.main", *args]
     if drop_write and os.geteuid() == 0:
         setpriv = shutil.which("setpriv")
         if setpriv is None:
@@ -366,10 +366,10 @@ def test_derive_with_set_or_foreign_scene_leaves_generated_alone(repo_copy, tmp_
     # a number is a runtime parameter: generated/ serves it if current, else the cache does
     assert folders[0] in (gen, cache / "derived" / folders[0].name)
     assert all(f.parent == cache / "derived" for f in folders[1:])
-    # python -m derive without --out (make derive) refuses what is not a scene of scenes/
+    # python -m levitron.derive without --out (make derive) refuses what is not a scene of scenes/
     env = dict(os.environ, LEVITRON_CACHE=str(cache), PYTHONPATH=str(repo_copy))
     for args in ([SCENE, "--set", "top.mass=0.03"], [str(foreign)]):
-        res = subprocess.run([PY, "-m", "derive", *args], cwd=repo_copy, env=env,
+        res = subprocess.run([PY, "-m", "levitron.derive", *args], cwd=repo_copy, env=env,
                              capture_output=True, text=True, check=False)
         assert res.returncode == 2, res.stderr
         assert len(res.stderr.strip().splitlines()) == 1 and "--out" in res.stderr, res.stderr

@@ -8,11 +8,11 @@ import json
 import numpy as np
 import pytest
 
-from derive.scene import load_scene
-from runtime.scan import stability_map as sc
-from runtime.errors import UserError
-from runtime.integrate.run import csrc_library, integrate
-from runtime.integrate.methods import (
+from levitron.derive.scene import load_scene
+from levitron.runtime.scan import stability_map as sc
+from levitron.runtime.errors import UserError
+from levitron.runtime.integrate.run import csrc_library, integrate
+from levitron.runtime.integrate.methods import (
     AUTO,
     AUTO_VERN9_BELOW_TOL,
     METHODS,
@@ -20,8 +20,8 @@ from runtime.integrate.methods import (
     lookup,
     resolve,
 )
-from runtime.model.load import load_model
-from runtime.simulate.run import simulate
+from levitron.runtime.model.load import load_model
+from levitron.runtime.simulate.run import simulate
 
 SET = ["top.mass=0.0515"]
 OSC = dict(x0=[1.0, 0.0, 0.0, 1.0], scale=[1.0, 1.0, 1.0, 1.0])   # the unit oscillator of circle.c
@@ -34,7 +34,7 @@ def model():
 
 @pytest.fixture(scope="module")
 def osc():
-    from runtime.integrate.c_backend import CSystem
+    from levitron.runtime.integrate.c_backend import CSystem
     return CSystem(csrc_library(), "lev_oscillator", ["x", "y", "vx", "vy"], [1.0])
 
 
@@ -65,7 +65,7 @@ def test_integrate_auto_is_the_chosen_method_bit_for_bit(osc, tol, method):
 
 
 def test_run_c_takes_auto_too(osc):
-    from runtime.integrate.c_backend import run_c
+    from levitron.runtime.integrate.c_backend import run_c
     for tol, method in ((1e-6, "dop853"), (1e-12, "vern9")):
         a, b = (run_c(osc.lib, m, osc.c_function("rhs"), OSC["x0"], osc.p, 5.0, rtol=tol, atol=tol)
                 for m in (AUTO, method))
@@ -102,8 +102,8 @@ def test_scan_auto_equals_the_chosen_method(model):
         assert got.rhs_evals == ref.rhs_evals          # dop853's differ: the same method ran
         assert got.rhs_evals != sc.scan(model, "thesis", SET, integrator="dop853", engine=engine,
                                         **grid).rhs_evals
-    from runtime.physics.equilibrium import hover_height
-    from runtime.scan.runners import Common, run_chunk
+    from levitron.runtime.physics.equilibrium import hover_height
+    from levitron.runtime.scan.runners import Common, run_chunk
     common = Common("thesis", tuple(SET), "tilt", 0.2, AUTO, 1e-6, 0.0, (hover_height(model),))
     assert run_chunk(common, [(0, 0, 600.0, 0.02)])["method"] == "dop853"
 
@@ -124,7 +124,7 @@ def test_bad_combinations_are_one_line(osc, kwargs, words):
 
 
 def _cli(argv, capsys):
-    from runtime.cli.main import main
+    from levitron.runtime.cli.main import main
     try:
         code = main(argv)
     except SystemExit as exc:

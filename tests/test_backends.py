@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from derive.geometry import build_plate
-from derive.scene import load_scene
-from derive.spec import build_spec
-from derive.symbols import B_FUNCS, Phi, X, Y, Z
-from runtime.model.load import load_model
+from levitron.derive.geometry import build_plate
+from levitron.derive.scene import load_scene
+from levitron.derive.spec import build_spec
+from levitron.derive.symbols import B_FUNCS, Phi, X, Y, Z
+from levitron.runtime.model.load import load_model
 
 N = 1000
 

@@ -1,4 +1,4 @@
-"""Many launches in one call (runtime/scan/batch.py, levitron_api Study.simulate_many): each run is
+"""Many launches in one call (runtime/scan/batch.py, levitron Study.simulate_many): each run is
 the one Study.simulate makes with the same options, bit for bit (status, survival time, final
 state), through one call of the C chunk driver on the lane variant of the rhs."""
 from __future__ import annotations
@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import levitron_api as lev
+import levitron as lev
 
 SPINS = [300.0, 900.0, 1500.0, 2500.0, 4000.0, 1200.0, 700.0, 2000.0, 1800.0]
 TILTS = [0.0, 0.05, 0.1, 0.02, 0.2, 0.15, 0.01, 0.3, 0.005]
@@ -101,8 +101,8 @@ def test_other_scenes_and_the_reduced_model_equal_simulate(scene, options):
 def test_launch_states_are_launch_state_for_each_spin(study):
     """The batch's initial states come from one batched solve per launch position
     (runtime/simulate/start.py launch_states): the states launch_state gives one spin at a time."""
-    from runtime.physics.equilibrium import hover_height
-    from runtime.simulate.start import launch, launch_state, launch_states
+    from levitron.runtime.physics.equilibrium import hover_height
+    from levitron.runtime.simulate.start import launch, launch_state, launch_states
     pt = study.model.part("full")
     la = launch(pt, hover_height(study.model), 0.07, 0.001, study.model.p, 0.4)
     spins = np.linspace(-3000.0, 3000.0, 41)

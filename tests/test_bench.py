@@ -10,18 +10,18 @@ import math
 
 import pytest
 
-from derive.scene import SCENES_DIR, load_scene
-from runtime.physics import equilibrium as eqm
-from runtime.bench.work_precision import ROW_KEYS
-from runtime.physics.stability import stability_of
+from levitron.derive.scene import SCENES_DIR, load_scene
+from levitron.runtime.physics import equilibrium as eqm
+from levitron.runtime.bench.work_precision import ROW_KEYS
+from levitron.runtime.physics.stability import stability_of
 
 SCENES = [p.stem for p in sorted(SCENES_DIR.glob("*.toml"))]
 
 
 @pytest.mark.parametrize("name", SCENES)
 def test_bench_quick_on_every_scene(name, tmp_path, capsys):
-    from runtime.cli.main import main
-    from runtime.model.load import load_model
+    from levitron.runtime.cli.main import main
+    from levitron.runtime.model.load import load_model
     model = load_model(load_scene(name))
     lin = stability_of(model)
     rc = main(["bench", name, "--quick", "--out", str(tmp_path), "--json"])
@@ -68,7 +68,7 @@ def test_bench_quick_on_every_scene(name, tmp_path, capsys):
 
 def test_every_kind_of_scene_is_benched():
     """Not vacuous: most scenes have a stable interval and are benched, one is reduced-only."""
-    from runtime.model.load import load_model
+    from levitron.runtime.model.load import load_model
     ran = []
     for name in SCENES:
         model = load_model(load_scene(name))
@@ -80,8 +80,8 @@ def test_every_kind_of_scene_is_benched():
 def test_bench_errors_shrink_with_tolerance():
     """A sanity check of the error measure on the quick rows: tighter tolerance or smaller step
     gives a smaller error for DOP853 and RK4 (the reference is not one of the rows)."""
-    from runtime.bench.work_precision import bench_model
-    from runtime.model.load import load_model
+    from levitron.runtime.bench.work_precision import bench_model
+    from levitron.runtime.model.load import load_model
     res = bench_model(load_model(load_scene("thesis_stable")), "full", quick=True)
     by = {}
     for r in res["rows"]:
@@ -92,7 +92,7 @@ def test_bench_errors_shrink_with_tolerance():
 
 
 def test_cheapest_by_bound_picks_the_fastest_run_within_each_bound():
-    from runtime.bench.work_precision import BOUNDS, cheapest_by_bound
+    from levitron.runtime.bench.work_precision import BOUNDS, cheapest_by_bound
     rows = [{"backend": "c", "integrator": "dop853", "tol": 1e-6, "error": 3e-6, "wall_s": 1.0},
             {"backend": "c", "integrator": "dop853", "tol": 1e-9, "error": 2e-9, "wall_s": 2.0},
             {"backend": "c", "integrator": "rk4", "tol": None, "error": 5e-8, "wall_s": 1.5},
@@ -113,8 +113,8 @@ def test_heyoka_backend_integrates_the_same_problem():
     """heyoka (optional extra `bench`) on the same lowered equations, parameters, initial state and
     error measure as the C rows: its error against the C reference follows its tolerance."""
     pytest.importorskip("heyoka")
-    from runtime.bench import work_precision as bench
-    from runtime.model.load import load_model
+    from levitron.runtime.bench import work_precision as bench
+    from levitron.runtime.model.load import load_model
     model = load_model(load_scene("thesis_stable"))
     su = bench.setup(model)
     part, x0, scale = bench.start(model, "reduced", su)
@@ -132,8 +132,8 @@ def test_every_bench_kind_is_a_module_with_the_protocol():
     import importlib
     import inspect
 
-    from derive.scene import find_scene_file
-    from runtime.bench.kinds import KINDS
+    from levitron.derive.scene import find_scene_file
+    from levitron.runtime.bench.kinds import KINDS
     for kind in KINDS.values():
         fn = importlib.import_module(kind.module).bench
         assert list(inspect.signature(fn).parameters) == ["model", "scene_ref", "overrides", "out", "quick"]
@@ -144,7 +144,7 @@ _OSCILLATOR_RUN = """
 import sys
 import numpy as np
 import heyoka as hy
-from runtime.bench import heyoka as bh
+from levitron.runtime.bench import heyoka as bh
 
 def make():
     x, v = hy.make_vars("x", "v")
@@ -196,7 +196,7 @@ def test_heyoka_compiles_are_cached_on_disk_and_a_kill_leaves_no_half_pickle(tmp
 def test_best_of_stops_when_the_minimum_is_stable():
     """runtime/bench/repeat.py: a constant time stops after min_runs + patience - 1 runs, a falling
     one runs until it levels off, and max_runs caps a noisy one."""
-    from runtime.bench.repeat import best_of
+    from levitron.runtime.bench.repeat import best_of
     assert best_of(lambda: 1.0, min_runs=2, patience=2, budget_s=100).runs == 3
     falling = iter([8.0, 4.0, 2.0, 1.0, 1.0, 1.0, 1.0])
     t = best_of(lambda: next(falling), min_runs=2, patience=2, budget_s=100)
@@ -211,8 +211,8 @@ def test_startup_bench_times_commands_in_fresh_processes(tmp_path, monkeypatch):
     its budget and a positive time, and the scene is passed as its name."""
     import json
 
-    from runtime.bench import startup
-    from runtime.model.load import load_model
+    from levitron.runtime.bench import startup
+    from levitron.runtime.model.load import load_model
     monkeypatch.setattr(startup, "COMMANDS", (("--version", ["--version"], 0.2),
                                               ("info", ["info", "{scene}", "--json"], 5.0)))
     model = load_model(load_scene("thesis_stable"))

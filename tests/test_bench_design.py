@@ -7,11 +7,11 @@ import json
 import subprocess
 import sys
 
-from derive.paths import ROOT
+from levitron.derive.paths import ROOT
 
 
 def test_quick_bench_writes_json_and_csv(tmp_path):
-    res = subprocess.run([sys.executable, "-m", "runtime", "bench", "thesis_stable", "--kind", "design",
+    res = subprocess.run([sys.executable, "-m", "levitron.runtime", "bench", "thesis_stable", "--kind", "design",
                           "--quick", "--out", str(tmp_path)], capture_output=True, text=True, cwd=ROOT,
                          check=False)
     assert res.returncode == 0, res.stderr

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq as scipy_brentq
 
-from runtime.physics.brent import RTOL_MIN, brentq
+from levitron.runtime.physics.brent import RTOL_MIN, brentq
 
 
 def _cases():

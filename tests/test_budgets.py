@@ -8,11 +8,11 @@ import math
 import numpy as np
 import pytest
 
-from runtime.integrate import c_backend as ci
-from runtime.integrate import run as ig
-from runtime.errors import UserError
-from runtime.integrate.methods import BY_NAME, METHODS, TABLE
-from runtime.integrate.budget import MAX_STEPS_CAP, check_options, default_budget, step_cap
+from levitron.runtime.integrate import c_backend as ci
+from levitron.runtime.integrate import run as ig
+from levitron.runtime.errors import UserError
+from levitron.runtime.integrate.methods import BY_NAME, METHODS, TABLE
+from levitron.runtime.integrate.budget import MAX_STEPS_CAP, check_options, default_budget, step_cap
 
 T_END = 1000.0     # 160 periods of the unit oscillator: far more than a budget of 3 steps covers
 

@@ -13,10 +13,10 @@ import math
 import pytest
 import sympy as sp
 
-from derive.build import render
-from derive.doubles import DoubleRangeError, as_double
-from derive.emit.c.printer import LevitronCPrinter
-from derive.scene import SceneError, validate
+from levitron.derive.build import render
+from levitron.derive.doubles import DoubleRangeError, as_double
+from levitron.derive.emit.c.printer import LevitronCPrinter
+from levitron.derive.scene import SceneError, validate
 
 x = sp.Symbol("x", real=True)
 

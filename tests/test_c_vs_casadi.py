@@ -23,8 +23,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from derive.paths import SCENES_DIR
-from derive.scene import load_scene
+from levitron.derive.paths import SCENES_DIR
+from levitron.derive.scene import load_scene
 from formula_grammar import formula_plates
 from termsize import assert_agree, values_and_sizes
 
@@ -62,7 +62,7 @@ def input_names(model, name: str) -> list[str]:
 
 @pytest.mark.parametrize("scene", SCENES)
 def test_every_function_of_every_scene_agrees(scene):
-    from runtime.model.load import load_model
+    from levitron.runtime.model.load import load_model
     model = load_model(load_scene(scene))
     rng = np.random.default_rng(SEED)
     scale = model.scene.length_scale
@@ -81,16 +81,16 @@ def test_every_function_of_every_scene_agrees(scene):
 
 def _lower_plate(table: dict):
     """The lowered onaxis and field functions of one formula plate (derive's own path)."""
-    from derive.emit.lower import lower
-    from derive.geometry import build_plate
-    from derive.spec import build_spec
+    from levitron.derive.emit.lower import lower
+    from levitron.derive.geometry import build_plate
+    from levitron.derive.spec import build_spec
     spec = build_spec("f", build_plate(table), 2, "tait-bryan", [])
     return [str(s) for s in spec.params], [lower(f, spec) for f in spec.functions]
 
 
 def _c_function(name: str, low, printer) -> str:
     """One function in the template's form (derive/emit/c/templates/model.c.j2)."""
-    from derive.emit.c.emitter import body_lines
+    from levitron.derive.emit.c.emitter import body_lines
     lines = [f"void {name}(const double *in, const double *p, double *out)", "{",
              "    (void)in; (void)p;"]
     lines += [f"    const double {v} = in[{i}];" for i, v in low.inputs]
@@ -105,9 +105,9 @@ CHUNKS = 4        # the 200 plates in 4 tests, which pytest-xdist spreads over t
 def formula_library(chunk: int, folder: str):
     """Plates chunk, chunk + CHUNKS, ... of the 200 lowered, printed into one C file, compiled,
     and their CasADi Functions."""
-    from derive.emit.c.printer import FMA_PRELUDE, LevitronCPrinter
-    from derive.emit.casadi.builder import build_function
-    from runtime.model.cbuild import DEFAULT_FLAGS, compile_shared
+    from levitron.derive.emit.c.printer import FMA_PRELUDE, LevitronCPrinter
+    from levitron.derive.emit.casadi.builder import build_function
+    from levitron.runtime.model.cbuild import DEFAULT_FLAGS, compile_shared
     plates = formula_plates(N_FORMULAS, SEED)[chunk::CHUNKS]
     lowered = [_lower_plate(t) for t in plates]
     printer = LevitronCPrinter()

@@ -9,11 +9,11 @@ import time
 import numpy as np
 import pytest
 
-from derive.scene import load_scene
-from runtime.integrate import c_backend as ci
-from runtime.model.load import load_model
-from runtime.scan.points import point_setup
-from runtime.integrate.trajectory import Box
+from levitron.derive.scene import load_scene
+from levitron.runtime.integrate import c_backend as ci
+from levitron.runtime.model.load import load_model
+from levitron.runtime.scan.points import point_setup
+from levitron.runtime.integrate.trajectory import Box
 
 SET = ["top.mass=0.0515"]
 
@@ -80,7 +80,7 @@ def test_wall_time_contains_the_c_run(lib):
 
 def test_chunk_memo_gives_the_same_inputs_bit_for_bit(model):
     """point_setup with a chunk's memo equals point_setup alone, for every kind of map axis."""
-    from runtime.physics.equilibrium import hover_height
+    from levitron.runtime.physics.equilibrium import hover_height
     z_s = hover_height(model)
     lighter = model.with_params({"m": 0.0505})
     z_light = hover_height(model, lighter)
@@ -105,7 +105,7 @@ def test_kept_output_grids_and_constants_give_the_same_runs(lib):
     """integrate's output grid is np.linspace's, kept read-only per (t_end, n_out); run_c keeps the
     work size and status messages per library: repeated runs end in the same state bit for bit,
     with their own arrays."""
-    from runtime.integrate.run import output_grid
+    from levitron.runtime.integrate.run import output_grid
     for t_end, n in ((2 * np.pi, 1), (1.2120511047058642, 200), (1e-3, 7)):
         g = output_grid(t_end, n)
         np.testing.assert_array_equal(g, np.linspace(0.0, t_end, n + 1))

@@ -2,7 +2,7 @@
 library is rebuilt before it is ever loaded, an unusable cache is one line."""
 import pytest
 
-from runtime.model.cbuild import (
+from levitron.runtime.model.cbuild import (
     CacheError,
     CompileError,
     cache_dir,
@@ -115,7 +115,7 @@ def test_a_source_shared_by_two_libraries_is_compiled_once(tmp_path, monkeypatch
 def test_linked_library_is_the_one_step_build_byte_for_byte(tmp_path, monkeypatch):
     import subprocess
 
-    from runtime.model.cbuild import DEFAULT_FLAGS, compiler
+    from levitron.runtime.model.cbuild import DEFAULT_FLAGS, compiler
     monkeypatch.setenv("LEVITRON_CACHE", str(tmp_path / "cache"))
     lib_a, _ = _sources(tmp_path, "2.0")
     one = tmp_path / "one.so"
@@ -158,7 +158,7 @@ def test_a_cache_removed_mid_compile_is_named_not_ld(tmp_path, monkeypatch):
 
 def test_a_folder_where_the_library_belongs_is_named(tmp_path, monkeypatch):
     """Issue 17: "cache not writable" where the .so path is a folder."""
-    from runtime.model.cbuild import DEFAULT_FLAGS, source_hash
+    from levitron.runtime.model.cbuild import DEFAULT_FLAGS, source_hash
     monkeypatch.setenv("LEVITRON_CACHE", str(tmp_path / "cache"))
     src = tmp_path / "ok.c"
     src.write_text("double twice(double x) { return 2.0 * x; }\n")
@@ -173,7 +173,7 @@ def test_locked_excludes_a_second_holder_until_released(tmp_path):
     first to let go."""
     import threading
 
-    from runtime.model.cbuild import locked
+    from levitron.runtime.model.cbuild import locked
     got = threading.Event()
 
     def second():
@@ -196,8 +196,8 @@ def test_another_models_stamped_library_is_rebuilt_not_blamed_on_the_folder(tmp_
     rebuilt, once, with a note, and the model runs."""
     import shutil
 
-    from derive.scene import load_scene
-    from runtime.model.load import load_model
+    from levitron.derive.scene import load_scene
+    from levitron.runtime.model.load import load_model
     monkeypatch.setenv("LEVITRON_CACHE", str(tmp_path / "cache"))
     thesis = load_model(load_scene("thesis"))
     ours = thesis.library_path

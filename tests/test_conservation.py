@@ -10,8 +10,8 @@ import sympy as sp
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from derive.mechanics import hamiltonian_system
-from derive.symbols import A, C, m
+from levitron.derive.mechanics import hamiltonian_system
+from levitron.derive.symbols import A, C, m
 
 RTOL = 1e-12
 

@@ -10,13 +10,13 @@ import sys
 import numpy as np
 import pytest
 
-from derive.paths import ROOT
-from derive.scene import load_scene
-from runtime.design import optimize as design
-from runtime.design.constraints import Constraint
-from runtime.errors import UserError
-from runtime.model.load import load_model
-from runtime.design.scene_keys import KeyMap, Vary, pvector
+from levitron.derive.paths import ROOT
+from levitron.derive.scene import load_scene
+from levitron.runtime.design import optimize as design
+from levitron.runtime.design.constraints import Constraint
+from levitron.runtime.errors import UserError
+from levitron.runtime.model.load import load_model
+from levitron.runtime.design.scene_keys import KeyMap, Vary, pvector
 
 
 @pytest.mark.parametrize("scene, box", [("thesis_stable", "top.mass=0.0505:0.0524"),
@@ -109,7 +109,7 @@ def test_mass_window_optimum_is_verified():
 
 def test_command_writes_a_scene_that_reads_back(tmp_path):
     out = tmp_path / "best.toml"
-    res = subprocess.run([sys.executable, "-m", "runtime.cli.main", "optimize", "loop", "--maximize",
+    res = subprocess.run([sys.executable, "-m", "levitron.runtime.cli.main", "optimize", "loop", "--maximize",
                           "spin-ratio", "--vary", "top.mass=0.0197:0.0209", "--constrain",
                           "stiffness>=0.5", "--write-scene", str(out), "--json"],
                          capture_output=True, text=True, cwd=ROOT, check=False)
@@ -130,7 +130,7 @@ def test_command_refuses_bad_input(tmp_path):
                        (["--maximize", "spin-range", "--vary", "top.mass=0.0197:0.0209",
                          "--constrain", "stiffness>=1", "--write-scene", str(tmp_path / "no/x.toml")],
                         "write-scene")):
-        res = subprocess.run([sys.executable, "-m", "runtime.cli.main", "optimize", "loop", *args],
+        res = subprocess.run([sys.executable, "-m", "levitron.runtime.cli.main", "optimize", "loop", *args],
                              capture_output=True, text=True, cwd=ROOT, check=False)
         assert res.returncode == 2 and word in res.stderr, (args, res.stderr)
         assert len(res.stderr.strip().splitlines()) == 1
@@ -139,7 +139,7 @@ def test_command_refuses_bad_input(tmp_path):
 def test_an_answer_is_verified_or_a_one_line_failure():
     """square's spin ratio over the block thickness has a cliff next to the grid's best cell
     (a critical spin enters the interval): either a verified optimum or IPOPT's status, one line."""
-    res = subprocess.run([sys.executable, "-m", "runtime.cli.main", "optimize", "square", "--maximize",
+    res = subprocess.run([sys.executable, "-m", "levitron.runtime.cli.main", "optimize", "square", "--maximize",
                           "spin-ratio", "--vary", "plate.thickness=0.01:0.03", "--constrain",
                           "stiffness>=0.2", "--json"], capture_output=True, text=True, cwd=ROOT,
                          check=False)

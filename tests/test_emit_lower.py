@@ -8,10 +8,10 @@ from types import SimpleNamespace
 
 import sympy as sp
 
-from derive.emit.c.emitter import body_lines
-from derive.emit.c.printer import LevitronCPrinter
-from derive.emit.lower import lower
-from derive.spec import Function
+from levitron.derive.emit.c.emitter import body_lines
+from levitron.derive.emit.c.printer import LevitronCPrinter
+from levitron.derive.emit.lower import lower
+from levitron.derive.spec import Function
 
 z, x, a = sp.symbols("z x a", real=True)
 

@@ -10,10 +10,10 @@ import math
 import numpy as np
 import pytest
 
-from runtime.physics import bands
+from levitron.runtime.physics import bands
 
-from runtime.physics import ray_algebra
-from runtime.physics import equilibrium as eqm
+from levitron.runtime.physics import ray_algebra
+from levitron.runtime.physics import equilibrium as eqm
 
 A_TOP, C_TOP, M_TOP, G = 2.2e-6, 1.32e-6, 0.0284, 9.81
 A_PLATE, W_PLATE = 0.10, 0.03
@@ -170,8 +170,8 @@ def test_adiabatic_band_edges(thesis_report):
 
 def test_generated_model_onaxis_matches_closed_form():
     """The generated model's onaxis (thesis scene) equals the closed form (relative 1e-12)."""
-    from derive.scene import load_scene
-    from runtime.model.load import load_model
+    from levitron.derive.scene import load_scene
+    from levitron.runtime.model.load import load_model
     model = load_model(load_scene("thesis"))
     P = model.pvals()
     on = annulus(P["plate_a"], P["plate_w"], P["plate_rho"])
@@ -187,8 +187,8 @@ def test_equilibrium_command_thesis_scene(tmp_path):
     import argparse
     import json
 
-    from runtime.cli.main import _clean
-    from runtime.cli.commands import equilibrium as cmd
+    from levitron.runtime.cli.main import _clean
+    from levitron.runtime.cli.commands import equilibrium as cmd
     args = argparse.Namespace(scene="thesis", set=[], json=True, plot=str(tmp_path / "eq.png"))
     out = json.loads(json.dumps(_clean(cmd.run(args)), allow_nan=False))
     assert [e["vertically_stable"] for e in out["equilibria"]] == [False, True]
@@ -206,8 +206,8 @@ def test_band_predicate_float_filter_equals_the_exact_route(scene_name):
     float roots where their margins are wide and by the exact route elsewhere
     (ray_algebra.has_bounded_spin_interval). Same verdict as the exact route (thesis 3.3.11-3.3.16)
     at 400 heights spanning the scene's hovering range, the band edges included."""
-    from derive.scene import load_scene
-    from runtime.model.load import load_model
+    from levitron.derive.scene import load_scene
+    from levitron.runtime.model.load import load_model
     model = load_model(load_scene(scene_name))
     P = eqm.params_of(model, model.p)
     rep = eqm.equilibria_of(model, model.p, bands=True)

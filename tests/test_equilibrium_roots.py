@@ -21,14 +21,14 @@ import math
 import numpy as np
 import pytest
 
-from runtime.bench import work_precision as bench
+from levitron.runtime.bench import work_precision as bench
 
-from runtime.design import fit_height as optimize
-from runtime.scan.stability_map import scan
-from runtime.simulate.run import simulate
-from runtime.physics import equilibrium as eqm
-from runtime.cli.main import _clean
-from runtime.errors import UserError
+from levitron.runtime.design import fit_height as optimize
+from levitron.runtime.scan.stability_map import scan
+from levitron.runtime.simulate.run import simulate
+from levitron.runtime.physics import equilibrium as eqm
+from levitron.runtime.cli.main import _clean
+from levitron.runtime.errors import UserError
 from tests.test_equilibrium import A_PLATE, W_PLATE, G, annulus, fitted_murho
 
 EPS = np.finfo(float).eps
@@ -94,8 +94,8 @@ def _write(tmp_path_factory, name: str, text: str) -> str:
 
 
 def _load(path: str):
-    from derive.scene import load_scene
-    from runtime.model.load import load_model
+    from levitron.derive.scene import load_scene
+    from levitron.runtime.model.load import load_model
     return load_model(load_scene(path))
 
 
@@ -112,7 +112,7 @@ def scenes(unit_scene, thesis_model):
 
 def _run(command: str, scene: str, *sets: str, **kw) -> dict:
     import importlib
-    cmd = importlib.import_module(f"runtime.cli.commands.{command}")
+    cmd = importlib.import_module(f"levitron.runtime.cli.commands.{command}")
     args = argparse.Namespace(scene=scene, set=list(sets), json=True, **kw)
     return json.loads(json.dumps(_clean(cmd.run(args)), allow_nan=False))
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from scipy import integrate, special
 
-from runtime.physics import exact_field as ef
+from levitron.runtime.physics import exact_field as ef
 
 MU0 = ef.MU0
 RNG = np.random.default_rng(20240505)

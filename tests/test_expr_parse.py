@@ -12,7 +12,7 @@ import time
 import pytest
 import sympy as sp
 
-from derive.expr_parse import ExpressionError, check_name, parse_expression
+from levitron.derive.expr_parse import ExpressionError, check_name, parse_expression
 
 NAMES = ["z", "a", "w", "rho", "t"]
 
@@ -133,9 +133,9 @@ def _builtin_formulas():
     """Phi0, bz = -Phi1, Phi2 and Phi3 of every built-in kind (what an expression plate could say
     about them: the formulas a scene could give, Phi0 and bz, must all parse), and the thesis's
     textbook forms (thesis eqs. 2.2.11-2.2.12)."""
-    from derive import onaxis
-    from derive.plates.symbolic import build_plate, plate_symbol
-    from derive.symbols import Z
+    from levitron.derive import onaxis
+    from levitron.derive.plates.symbolic import build_plate, plate_symbol
+    from levitron.derive.symbols import Z
     tables = {
         "annulus": {"kind": "annulus"},
         "disk": {"kind": "disk"},
@@ -174,7 +174,7 @@ def test_roundtrip_builtin_geometries():
     rng = random.Random(5)
     formulas = _builtin_formulas()
     assert len(formulas) >= 8
-    from derive.expr_parse import MAX_LENGTH
+    from levitron.derive.expr_parse import MAX_LENGTH
     tried = 0
     for label, expr in formulas:
         if len(str(expr)) > MAX_LENGTH:
@@ -188,8 +188,8 @@ def test_roundtrip_builtin_geometries():
 
 def test_scene_validation_reserves_the_parser_names():
     """derive/plates/expression.py (pure Python) refuses the same parameter names as the parser."""
-    from derive.expr_parse import RESERVED
-    from derive.plates.expression import RESERVED_NAMES
+    from levitron.derive.expr_parse import RESERVED
+    from levitron.derive.plates.expression import RESERVED_NAMES
     assert RESERVED_NAMES == RESERVED | {"z"}
 
 
@@ -213,7 +213,7 @@ def test_nested_calls_refused_before_sympy():
 
 
 def test_too_many_nodes_refused():
-    from derive.expr_parse import MAX_LENGTH, MAX_NODES
+    from levitron.derive.expr_parse import MAX_LENGTH, MAX_NODES
     text = "+".join(["z"] * 999)          # 1997 characters, 1997 tree nodes
     assert len(text) <= MAX_LENGTH
     with pytest.raises(ExpressionError) as info:
@@ -230,8 +230,8 @@ def test_abs_is_a_one_line_error_with_the_reason(text):
 
 
 def test_abs_through_the_plate_builder_is_one_scene_error_line():
-    from derive.checks import SceneError
-    from derive.plates.symbolic import build_plate
+    from levitron.derive.checks import SceneError
+    from levitron.derive.plates.symbolic import build_plate
     with pytest.raises(SceneError) as info:
         build_plate({"kind": "expression", "phi0": "b*abs(z)/sqrt(z**2 + 1)", "params": {"b": 1.0}})
     assert _one_line(info.value).startswith("plate.phi0: ")
@@ -256,9 +256,9 @@ def test_malformed_formulas_are_one_line(text, fragment):
 def test_derivative_size_budget(monkeypatch):
     """A formula within the parser's limits whose derivatives still grow too fast is refused at the
     first Phi_k above the operation budget, with one line naming it."""
-    from derive.checks import SceneError
-    from derive.plates.symbolic import build_plate
-    from derive.plates.symbolic import expression as ex
+    from levitron.derive.checks import SceneError
+    from levitron.derive.plates.symbolic import build_plate
+    from levitron.derive.plates.symbolic import expression as ex
     monkeypatch.setattr(ex, "MAX_DERIVATIVE_OPS", 500)
     plate = build_plate({"kind": "expression", "phi0": "sin(sin(sin(sin(sin(sin(z))))))"})
     assert plate.phi(2) is not None
@@ -270,8 +270,8 @@ def test_derivative_size_budget(monkeypatch):
 def test_time_budget_interrupts_symbolic_work():
     import time
 
-    from derive.checks import SceneError
-    from derive.plates.symbolic.budget import time_budget
+    from levitron.derive.checks import SceneError
+    from levitron.derive.plates.symbolic.budget import time_budget
     z = sp.Symbol("z", real=True)
     t0 = time.perf_counter()
     with pytest.raises(SceneError) as info, time_budget(0.2, "plate.phi0"):

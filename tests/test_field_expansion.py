@@ -1,9 +1,9 @@
 """Thesis 2.2.2-2.2.14: the Laplace expansion off the axis and the annulus potential."""
 import sympy as sp
 
-from derive import field as F
-from derive.geometry import annulus_phi0, build_plate
-from derive.symbols import Phi, X, Y, Z
+from levitron.derive import field as F
+from levitron.derive.geometry import annulus_phi0, build_plate
+from levitron.derive.symbols import Phi, X, Y, Z
 
 r, n = sp.symbols("r n", positive=True)
 

@@ -9,7 +9,7 @@ import os
 import numpy as np
 import pytest
 
-from runtime.cli import main as cli
+from levitron.runtime.cli import main as cli
 
 
 def _run(capsys, *argv) -> tuple[int, dict]:
@@ -55,8 +55,8 @@ def test_scene_independent_figures_are_not_rewritten_for_another_scene(folder, c
 def test_figure_3_6_shows_the_crossings_of_a_new_scene(ring_magnet_model):
     """The range of fig. 3.6 starts below the lowest equilibrium (ring_magnet's 6.09 cm lies below the
     plate scale where the range used to begin)."""
-    from runtime.physics import equilibrium as eqm
-    from runtime.report.figures import _range_36
+    from levitron.runtime.physics import equilibrium as eqm
+    from levitron.runtime.report.figures import _range_36
     lo, hi = _range_36(ring_magnet_model, eqm.scale_of(ring_magnet_model))
     zs = [e.z for e in eqm.equilibria_of(ring_magnet_model).equilibria]
     assert len(zs) == 2 and lo < min(zs) and max(zs) < hi
@@ -65,10 +65,10 @@ def test_figure_3_6_shows_the_crossings_of_a_new_scene(ring_magnet_model):
 def test_figure_3_4_orbits_keep_the_reduced_energy(ring_magnet_model, tmp_path, monkeypatch):
     """Every orbit of the phase portrait is closed around z_s and stays on its energy (thesis
     3.2.12): the curves are level sets of the reduced Hamiltonian, integrated, not sketched."""
-    import runtime.integrate
-    from runtime.integrate.run import integrate
-    from runtime.physics import equilibrium as eqm
-    from runtime.report.figures import figure_3_4
+    import levitron.runtime.integrate
+    from levitron.runtime.integrate.run import integrate
+    from levitron.runtime.physics import equilibrium as eqm
+    from levitron.runtime.report.figures import figure_3_4
     runs = []
 
     def spy(*a, **k):
@@ -88,8 +88,8 @@ def test_figure_3_4_orbits_keep_the_reduced_energy(ring_magnet_model, tmp_path, 
 
 @pytest.fixture(scope="module")
 def ring_magnet_model():
-    from derive.scene import load_scene
-    from runtime.model.load import load_model
+    from levitron.derive.scene import load_scene
+    from levitron.runtime.model.load import load_model
     return load_model(load_scene("ring_magnet"))
 
 
@@ -98,9 +98,9 @@ def test_equilibrium_plot_zooms_where_the_crossings_sit_close(ring_magnet_model,
     shows them; the thesis plate's (7.62-15.74 cm of 0-20 cm) needs none."""
     import matplotlib.figure
 
-    from derive.scene import load_scene
-    from runtime.model.load import load_model
-    from runtime.report.figures import figure_3_5
+    from levitron.derive.scene import load_scene
+    from levitron.runtime.model.load import load_model
+    from levitron.runtime.report.figures import figure_3_5
     seen = []
     save = matplotlib.figure.Figure.savefig
 
@@ -118,7 +118,7 @@ def test_equilibrium_plot_zooms_where_the_crossings_sit_close(ring_magnet_model,
 def test_map_spins_resolve_a_narrow_interval():
     """The sketch maps (report, fig. 3.8) run 0.5 lo to 1.25 hi; an interval narrower than three of
     those steps (a dimensionless ring's 4.09-4.093) gets a grid around it instead, with points inside."""
-    from runtime.scan.physics import spins_around
+    from levitron.runtime.scan.physics import spins_around
     wide = spins_around((459.6, 2740.0), 8)
     assert wide[0] == pytest.approx(229.8) and wide[-1] == pytest.approx(3425.0)
     narrow = spins_around((4.09, 4.093), 8)

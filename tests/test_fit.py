@@ -5,12 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from derive.scene import load_scene
-from runtime.design import fit
-from runtime.errors import UserError
-from runtime.model.load import load_model
-from runtime.design.scene_keys import Vary, pvector, with_values
-from runtime.physics.stability_casadi import CasadiStability
+from levitron.derive.scene import load_scene
+from levitron.runtime.design import fit
+from levitron.runtime.errors import UserError
+from levitron.runtime.model.load import load_model
+from levitron.runtime.design.scene_keys import Vary, pvector, with_values
+from levitron.runtime.physics.stability_casadi import CasadiStability
 
 
 def _data(model, truth, plan, rng):
@@ -90,7 +90,7 @@ def test_rows_that_share_their_overrides_share_their_work(monkeypatch):
 
 def _rows_at_masses(model, masses, seed):
     """z_s at most masses, a critical spin at every third (thesis_stable, plate.murho -0.00263)."""
-    from runtime.physics import stability_casadi as sc
+    from levitron.runtime.physics import stability_casadi as sc
     cs, rng, rows = CasadiStability(model), np.random.default_rng(seed), []
     for i, m in enumerate(masses):
         p = pvector(model.param_names, with_values(model.scene, {"plate.murho": -0.00263,

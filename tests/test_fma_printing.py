@@ -10,7 +10,7 @@ import ctypes
 import pytest
 import sympy as sp
 
-from derive.emit.c.printer import FMA_PRELUDE, LevitronCPrinter
+from levitron.derive.emit.c.printer import FMA_PRELUDE, LevitronCPrinter
 
 x, y, z, w = sp.symbols("x y z w", real=True)
 
@@ -30,7 +30,7 @@ def test_a_product_in_a_sum_is_printed_as_one_fma(expr, text):
 
 
 def _library(tmp_path):
-    from runtime.model.cbuild import DEFAULT_FLAGS, compile_shared
+    from levitron.runtime.model.cbuild import DEFAULT_FLAGS, compile_shared
     src = tmp_path / "fma.c"
     src.write_text(FMA_PRELUDE + """
 double plain(double a, double b, double c) { return a * b + c; }

@@ -12,12 +12,12 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from derive.scene import SceneError, load_scene
-from runtime.scan import launch_odds as mc
-from runtime.simulate import run as sim
-from runtime.cli.main import main
-from runtime.errors import UserError
-from runtime.model.load import load_model
+from levitron.derive.scene import SceneError, load_scene
+from levitron.runtime.scan import launch_odds as mc
+from levitron.runtime.simulate import run as sim
+from levitron.runtime.cli.main import main
+from levitron.runtime.errors import UserError
+from levitron.runtime.model.load import load_model
 
 RATES = {"k_spin": 1 / 150.0, "k_tilt": 1 / 20.0, "k_trans": 1 / 30.0}
 
@@ -112,7 +112,7 @@ def test_a_scene_without_friction_gets_the_conservative_model():
     """No decay time: no friction parameters, no full_dissipation, and the structure hashed for
     derive is that of a scene that never heard of friction (generated/ byte-identity itself is
     tests/test_artefacts.py's)."""
-    from derive.inputs import structure
+    from levitron.derive.inputs import structure
     still = load_model(load_scene("thesis_stable"))
     assert not any(r in still.param_names for r in RATES)
     assert not still.has_function("full_dissipation")
@@ -161,7 +161,7 @@ def test_unperturbed_launch_is_never_a_plain_levitating(capsys, thesis_model):
 
 
 def test_api_simulation_does_not_turn_untested_into_false():
-    import levitron_api as lev
+    import levitron as lev
     s = lev.load("thesis_stable").simulate(spin=1500.0, tilt=0.0, t_end=0.05)
     assert s.levitating is None
     assert lev.load("thesis_stable").simulate(spin=100.0, t_end=1.0).levitating is False
@@ -252,7 +252,7 @@ def test_launch_without_spin_interval_needs_a_spin():
 
 
 def test_api_launch_matches_the_command():
-    import levitron_api as lev
+    import levitron as lev
     odds = lev.load("thesis_air").launch(n=6, seed=1, t_end=2.0)
     r = mc.monte_carlo(load_model(load_scene("thesis_air")), "thesis_air", [], {}, n=6, seed=1,
                        t_end=2.0, quiet=True)

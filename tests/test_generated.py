@@ -6,10 +6,10 @@ import sys
 
 import pytest
 
-from derive.build import render
-from derive.paths import GENERATED, ROOT, SCENES_DIR
-from derive.scene import load_scene
-from runtime.model.cbuild import compiler
+from levitron.derive.build import render
+from levitron.derive.paths import GENERATED, ROOT, SCENES_DIR
+from levitron.derive.scene import load_scene
+from levitron.runtime.model.cbuild import compiler
 
 SCENES = sorted(p.stem for p in SCENES_DIR.glob("*.toml"))
 
@@ -22,7 +22,7 @@ def rendered(name: str) -> dict[str, bytes]:
 
 @pytest.mark.parametrize("name", SCENES)
 def test_committed_generated_is_what_derive_writes(name):
-    """Golden files: compare in memory; on failure, run `make golden` (python -m derive --force)."""
+    """Golden files: compare in memory; on failure, run `make golden` (python -m levitron.derive --force)."""
     files = rendered(name)
     folder = GENERATED / name
     assert folder.is_dir(), f"generated/{name} is missing: run `make derive`"
@@ -40,12 +40,12 @@ def test_committed_generated_is_what_derive_writes(name):
 
 
 def test_derive_is_byte_reproducible_across_hash_seeds(tmp_path):
-    """`python -m derive` under another hash seed writes, byte for byte, what render() gives in
+    """`python -m levitron.derive` under another hash seed writes, byte for byte, what render() gives in
     this process (whose files the golden test above compares with generated/)."""
     ours = os.environ.get("PYTHONHASHSEED")      # `make test`: 0; unset: a random one
     seed = "12345" if ours != "12345" else "54321"
     env = dict(os.environ, PYTHONHASHSEED=seed)
-    res = subprocess.run([sys.executable, "-m", "derive", "thesis", "square", "--force", "--out",
+    res = subprocess.run([sys.executable, "-m", "levitron.derive", "thesis", "square", "--force", "--out",
                           str(tmp_path)], cwd=ROOT, env=env, capture_output=True, text=True, check=False)
     assert res.returncode == 0, res.stderr
     for scene in ("thesis", "square"):     # an axisymmetric plate and the exact 3-D field
@@ -55,7 +55,7 @@ def test_derive_is_byte_reproducible_across_hash_seeds(tmp_path):
             assert (tmp_path / scene / fname).read_bytes() == data, f"{scene}/{fname}: seed {seed} vs {ours}"
     # a second run with nothing changed is skipped by the input hash and leaves the bytes alone
     before = {p.name: p.read_bytes() for p in (tmp_path / "thesis").iterdir()}
-    res = subprocess.run([sys.executable, "-m", "derive", "thesis", "--out", str(tmp_path)],
+    res = subprocess.run([sys.executable, "-m", "levitron.derive", "thesis", "--out", str(tmp_path)],
                          cwd=ROOT, capture_output=True, text=True, check=False)
     assert res.returncode == 0 and "unchanged" in res.stderr
     assert before == {p.name: p.read_bytes() for p in (tmp_path / "thesis").iterdir()}
@@ -92,7 +92,7 @@ def test_unused_part_is_not_emitted(derived_model):
 
 def test_runtime_never_writes_into_generated(tmp_path, monkeypatch, seed_cache):
     """A stale generated/<scene> is left alone: the runtime derives into the cache and says so."""
-    import runtime.model.load as rm
+    import levitron.runtime.model.load as rm
     fake = tmp_path / "generated"
     (fake / "thesis").mkdir(parents=True)
     stale = '{"input_hash": "stale"}'

@@ -13,13 +13,13 @@ import pytest
 import sympy as sp
 from scipy import integrate
 
-from derive import field_order as fo
-from derive.plates import length_scale
-from derive.plates.symbolic import build_plate
-from derive.scene import MU0, SceneError, load_scene, validate
-from derive.symbols import Z
-from runtime.physics import exact_field as ef
-from runtime.physics.plates import plate_field
+from levitron.derive import field_order as fo
+from levitron.derive.plates import length_scale
+from levitron.derive.plates.symbolic import build_plate
+from levitron.derive.scene import MU0, SceneError, load_scene, validate
+from levitron.derive.symbols import Z
+from levitron.runtime.physics import exact_field as ef
+from levitron.runtime.physics.plates import plate_field
 
 RNG = np.random.default_rng(7)
 ZS = np.array([0.004, 0.02, 0.05, 0.1, 0.3, 2.0])
@@ -338,7 +338,7 @@ def test_bad_plate_keys_are_one_line_errors(plate, message):
 
 
 def test_field_command_json(tmp_path, monkeypatch, capsys, seed_cache):
-    from runtime.cli.main import main
+    from levitron.runtime.cli.main import main
     monkeypatch.setenv("LEVITRON_CACHE", str(seed_cache(tmp_path / "cache")))
     scene = tmp_path / "loopx.toml"
     shutil.copy(load_scene("loop").path, scene)
@@ -360,8 +360,8 @@ def _stability_summary(table, vals, g, A, C, mu, scale, frac=1.1):
     interval (runtime/physics/equilibrium.py, runtime/physics/stability.py: exact linear analysis, thesis 3.3). On the
     axis a 4-fold symmetric plate's field equals an axisymmetric one's to second order in x, y, so
     the on-axis Phi_k decide equilibria and linear stability exactly."""
-    from runtime.physics import equilibrium as eqm
-    from runtime.physics import stability
+    from levitron.runtime.physics import equilibrium as eqm
+    from levitron.runtime.physics import stability
     _, ph = numeric(table, vals, 5)
     onaxis = lambda z: np.array([f(z) for f in ph])
     rep = eqm.analyse(onaxis, 0.01, g, A, C, mu, scale)

@@ -7,10 +7,10 @@ import re
 
 import pytest
 
-from runtime.cli import main as cli
+from levitron.runtime.cli import main as cli
 
-from runtime.ui import progress
-from runtime.ui.human import Units, restate, sig
+from levitron.runtime.ui import progress
+from levitron.runtime.ui.human import Units, restate, sig
 
 # a number as printed: not part of a word, a path or a hash
 NUMBER = re.compile(r"(?<![\w/.])(\d+(?:\.\d+)?)(?:e[-+]?\d+)?(?![\w/]|\.\d)")
@@ -130,7 +130,7 @@ def test_version(capsys):
 
 
 def test_every_command_has_an_example(capsys):
-    from runtime.cli.commands import COMMANDS as NAMES
+    from levitron.runtime.cli.commands import COMMANDS as NAMES
     for name in NAMES:
         with pytest.raises(SystemExit):
             cli.main([name, "--help"])
@@ -144,10 +144,10 @@ def test_tilt_azimuth_turns_the_axis_only():
 
     import numpy as np
 
-    from derive.scene import load_scene
-    from runtime.physics.equilibrium import hover_height
-    from runtime.model.load import load_model
-    from runtime.simulate.run import (
+    from levitron.derive.scene import load_scene
+    from levitron.runtime.physics.equilibrium import hover_height
+    from levitron.runtime.model.load import load_model
+    from levitron.runtime.simulate.run import (
         ANGLES,
         angular_momentum_z,
         coordinates_of,
@@ -172,7 +172,7 @@ def test_tilt_azimuth_turns_the_axis_only():
 
 def test_top_level_help_lists_every_command(capsys):
     """`levitron --help` builds every command's parser (a '%' in a help text broke it once)."""
-    from runtime.cli.commands import COMMANDS as NAMES
+    from levitron.runtime.cli.commands import COMMANDS as NAMES
     with pytest.raises(SystemExit) as exc:
         cli.main(["--help"])
     assert exc.value.code == 0
@@ -184,11 +184,11 @@ def test_a_one_shot_command_imports_only_its_own_module():
     """`levitron stability` parses with its own command module only (no design, scan or report)."""
     import subprocess
     import sys
-    code = ("import sys; from runtime.cli import main as m; m.main(['stability', 'thesis_stable', '--json']); "
-            "print(sorted(k for k in sys.modules if k.startswith('runtime.cli.commands.')), file=sys.stderr)")
+    code = ("import sys; from levitron.runtime.cli import main as m; m.main(['stability', 'thesis_stable', '--json']); "
+            "print(sorted(k for k in sys.modules if k.startswith('levitron.runtime.cli.commands.')), file=sys.stderr)")
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
     assert res.returncode == 0, res.stderr
-    assert "runtime.cli.commands.stability" in res.stderr and "runtime.cli.commands.report" not in res.stderr
+    assert "levitron.runtime.cli.commands.stability" in res.stderr and "levitron.runtime.cli.commands.report" not in res.stderr
 
 
 def test_top_level_help_is_the_full_parsers_without_importing_the_commands(monkeypatch):
@@ -199,13 +199,13 @@ def test_top_level_help_is_the_full_parsers_without_importing_the_commands(monke
     import subprocess
     import sys
 
-    from runtime.cli.main import build_parser
+    from levitron.runtime.cli.main import build_parser
     monkeypatch.setenv("COLUMNS", "100")             # argparse wraps to the terminal's width
     full = build_parser().format_help()
     assert build_parser(overview=True).format_help() == full
     code = ("import sys\nfrom runtime.cli import main as m\ntry:\n    m.main(['--help'])\n"
             "except SystemExit:\n    pass\n"
-            "print(sorted(k for k in sys.modules if k.startswith(('runtime.cli.commands.', 'numpy', "
+            "print(sorted(k for k in sys.modules if k.startswith(('levitron.runtime.cli.commands.', 'numpy', "
             "'casadi'))), file=sys.stderr)")
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False,
                          env={**os.environ, "COLUMNS": "100"})

@@ -14,15 +14,15 @@ import time
 
 import pytest
 
-import levitron_api
-from derive.scene import SceneError, load_scene, override_text, parse_override
-from runtime.design import fit
-from runtime.cli.main import main
-from runtime.errors import UserError
-from runtime.scan.stability_map import scan
-from runtime.scan.grid import parse_range
-from runtime.design.scene_keys import Vary
-from runtime.simulate.run import simulate
+import levitron
+from levitron.derive.scene import SceneError, load_scene, override_text, parse_override
+from levitron.runtime.design import fit
+from levitron.runtime.cli.main import main
+from levitron.runtime.errors import UserError
+from levitron.runtime.scan.stability_map import scan
+from levitron.runtime.scan.grid import parse_range
+from levitron.runtime.design.scene_keys import Vary
+from levitron.runtime.simulate.run import simulate
 
 HOSTILE = ['x"\nv2 = "y', "a\\b", "line1\nline2", 'quote " and \' both', "tab\there", "#not a comment",
            "]", "\"\"\"", "é ü ∞"]
@@ -56,7 +56,7 @@ def test_an_unbalanced_quote_is_not_taken_as_a_bare_word():
 def test_the_api_writes_overrides_with_a_toml_writer(value):
     """The text the API hands to the scene reader gives back exactly the value (before: 'x"\\nv2 = "y'
     became 'x', the rest a new key)."""
-    (text,) = levitron_api.study.override_texts({"reference.source": value})
+    (text,) = levitron.study.override_texts({"reference.source": value})
     assert "\n" not in text
     assert parse_override(text) == (["reference", "source"], value)
     scene = load_scene("thesis", [text])
@@ -107,7 +107,7 @@ def test_fit_csv_problems_are_one_line(tmp_path, text, message):
     ("z_s,0.1,1e-4", "CSV path or a list"),
 ])
 def test_the_api_fit_checks_rows_as_the_csv_reader_does(rows, message):
-    """runtime.design.fit.fit (what levitron_api's Study.fit calls) checks before any model work."""
+    """levitron.runtime.design.fit.fit (what levitron's Study.fit calls) checks before any model work."""
     with pytest.raises(UserError, match=message):
         fit.fit(None, rows, [Vary("plate.murho", -0.003, -0.002)])
 
@@ -130,7 +130,7 @@ def test_the_api_vary_is_checked_as_the_cli_vary():
     ([["a"]], [0.01], "number"),
 ])
 def test_the_api_scan_checks_the_grid_as_the_cli_does(spins, others, message):
-    """runtime.scan.stability_map.scan (Study.scan and the CLI) refuses before touching the model."""
+    """levitron.runtime.scan.stability_map.scan (Study.scan and the CLI) refuses before touching the model."""
     with pytest.raises(UserError, match=message):
         scan(None, "thesis_stable", [], spins, "tilt", others)
 
@@ -162,19 +162,19 @@ def test_a_huge_product_grid_is_refused_before_it_is_built(capsys):
 
 
 def test_the_api_exports_its_error_types():
-    assert levitron_api.UserError is UserError and levitron_api.SceneError is SceneError
+    assert levitron.UserError is UserError and levitron.SceneError is SceneError
     for bad in (123, None, 1.5):
-        with pytest.raises(levitron_api.UserError, match="scene must be"):
-            levitron_api.load(bad)
-    with pytest.raises(levitron_api.UserError, match="mapping"):
-        levitron_api.load("thesis", [("top.mass", 0.05)])
+        with pytest.raises(levitron.UserError, match="scene must be"):
+            levitron.load(bad)
+    with pytest.raises(levitron.UserError, match="mapping"):
+        levitron.load("thesis", [("top.mass", 0.05)])
 
 
 # ---------------------------------------------------------------- the API raises its own errors
 
 @pytest.fixture(scope="module")
 def study():
-    return levitron_api.load("thesis_stable")
+    return levitron.load("thesis_stable")
 
 
 VARY = {"plate.murho": (-0.003, -0.002)}
@@ -198,13 +198,13 @@ API_CALLS = {
     "fit-vary-not-numbers": lambda s: s.fit([fit.Row("z_s", 0.1, 1e-4)], {"plate.murho": (1, "x")}),
     "fit-vary-empty": lambda s: s.fit([fit.Row("z_s", 0.1, 1e-4)], {}),
     "optimize-unknown-objective": lambda s: s.optimize("bogus", {"top.mass": (0.05, 0.052)}),
-    "load-override-a-table": lambda s: levitron_api.load("thesis", {"top": {"mass": 1}}),
+    "load-override-a-table": lambda s: levitron.load("thesis", {"top": {"mass": 1}}),
 }
 
 
 @pytest.mark.parametrize("name", sorted(API_CALLS))
 def test_the_api_raises_its_own_one_line_errors(name, study):
     """Before: TypeError, KeyError, IndexError, ZeroDivisionError, "math domain error"."""
-    with pytest.raises(levitron_api.UserError) as err:
+    with pytest.raises(levitron.UserError) as err:
         API_CALLS[name](study)
     assert "\n" not in str(err.value) and str(err.value)

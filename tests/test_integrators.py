@@ -10,8 +10,8 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 import pytest
 
-from runtime.errors import UserError
-from runtime.integrate.run import Box, CSystem, csrc_library, integrate, run_c
+from levitron.runtime.errors import UserError
+from levitron.runtime.integrate.run import Box, CSystem, csrc_library, integrate, run_c
 
 TWO_PI = 2.0 * math.pi
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from runtime.simulate import run as sim
+from levitron.runtime.simulate import run as sim
 
 
 @pytest.fixture(scope="module")
@@ -38,7 +38,7 @@ def test_the_summary_uses_the_generated_invariants(thesis_model, monkeypatch):
     """The summary's invariants come from one C call over the samples (Model.rows), not from the
     per-sample numpy route, and give the same deviations."""
     r = sim.simulate(thesis_model, spin=1000.0, tilt=0.01, t_end=0.05)
-    from runtime.simulate import invariants as inv
+    from levitron.runtime.simulate import invariants as inv
     monkeypatch.setattr(inv, "angular_momentum_z", lambda *a: (_ for _ in ()).throw(AssertionError))
     again = sim.simulate(thesis_model, spin=1000.0, tilt=0.01, t_end=0.05)
     assert again["conserved_max_deviation"] == r["conserved_max_deviation"]

@@ -17,8 +17,8 @@ from pathlib import Path
 
 import pytest
 
-from derive.atomic_dir import recover
-from derive.build import write_atomic
+from levitron.derive.atomic_dir import recover
+from levitron.derive.build import write_atomic
 
 ROOT = Path(__file__).resolve().parent.parent
 OLD = {"manifest.json": b"old", "a": b"old a"}
@@ -39,7 +39,7 @@ def _contents(folder: Path) -> dict:
 def _write_killed(target: Path, point: str, exchange: bool, tmp_path: Path) -> None:
     """write_atomic(target, NEW) in a child that SIGKILLs itself at `point`."""
     marker = tmp_path / f"marker-{point}"
-    code = ("import sys; from pathlib import Path; from derive.build import write_atomic; "
+    code = ("import sys; from pathlib import Path; from levitron.derive.build import write_atomic; "
             f"write_atomic(Path(sys.argv[1]), {NEW!r}, exchange={exchange})")
     env = dict(os.environ, LEVITRON_FAULT=f"{point}:{marker}", PYTHONPATH=str(ROOT))
     res = subprocess.run([sys.executable, "-c", code, str(target)], env=env, capture_output=True,
@@ -98,7 +98,7 @@ def _scene(folder: Path, name: str) -> Path:
 def _cli(args, cwd: Path, env: dict, timeout: float = 300) -> subprocess.CompletedProcess:
     full = dict(os.environ, PYTHONPATH=str(ROOT), **env)
     full.pop("LEVITRON_DEBUG", None)
-    return subprocess.run([sys.executable, "-m", "runtime.cli.main", *args], cwd=cwd, env=full,
+    return subprocess.run([sys.executable, "-m", "levitron.runtime.cli.main", *args], cwd=cwd, env=full,
                           capture_output=True, text=True, timeout=timeout, check=False)
 
 
@@ -179,9 +179,9 @@ def test_a_scene_edited_during_its_derivation_is_filed_under_what_was_read(tmp_p
     """Before: the derive child read the file again, so an edit in between filed the new formula's
     model under the old scene's hash (or failed with a wrong reason). Now the child derives a
     snapshot of what this process read and hashed."""
-    from derive.inputs import input_hash
-    from derive.scene import load_scene
-    from runtime.model.load import load_model
+    from levitron.derive.inputs import input_hash
+    from levitron.derive.scene import load_scene
+    from levitron.runtime.model.load import load_model
     monkeypatch.setenv("LEVITRON_CACHE", str(tmp_path / "cache"))
     path = _scene(tmp_path, "edited")
     scene = load_scene(path)

@@ -1,8 +1,8 @@
 """Thesis 2.1 and 3.2.2-3.2.10: rotations, angular velocity, kinetic energy (derived, not typed in)."""
 import sympy as sp
 
-from derive.kinematics import R1, R2, R3, Rx, Ry, Rz, euler_zxz, kinetic_energy, tait_bryan, vee
-from derive.symbols import A, C, m
+from levitron.derive.kinematics import R1, R2, R3, Rx, Ry, Rz, euler_zxz, kinetic_energy, tait_bryan, vee
+from levitron.derive.symbols import A, C, m
 
 c, s = sp.cos, sp.sin
 

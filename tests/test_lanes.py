@@ -7,9 +7,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from derive.scene import SCENES_DIR, load_scene
-from runtime.model.load import load_model
-from runtime.scan.chunk_c import LANES, drive, lanes_call, lanes_of, lib_verdicts, verified_lanes
+from levitron.derive.scene import SCENES_DIR, load_scene
+from levitron.runtime.model.load import load_model
+from levitron.runtime.scan.chunk_c import LANES, drive, lanes_call, lanes_of, lib_verdicts, verified_lanes
 
 SCENES = [p.stem for p in sorted(SCENES_DIR.glob("*.toml"))]
 
@@ -18,8 +18,8 @@ def test_one_lane_count_on_every_side():
     """LEV_LANES of integrators.h, the emitter's LANES and runtime/scan/chunk_c.py's are one number."""
     import re
 
-    from derive.emit.c import emitter
-    from derive.paths import ROOT
+    from levitron.derive.emit.c import emitter
+    from levitron.derive.paths import ROOT
     header = (ROOT / "runtime" / "csrc" / "integrators.h").read_text()
     assert int(re.search(r"#define LEV_LANES (\d+)", header).group(1)) == emitter.LANES == LANES
 
@@ -27,7 +27,7 @@ def test_one_lane_count_on_every_side():
 def _states(model, part, rng, n: int) -> np.ndarray:
     """n states around the scene's hovering point: heights of 0.5..2 plate lengths, angles up to
     +-1.2 rad, momenta of either sign."""
-    from runtime.physics.equilibrium import scale_of
+    from levitron.runtime.physics.equilibrium import scale_of
     L = scale_of(model)
     X = rng.normal(size=(n, part.nx)) * 1e-3
     for k, name in enumerate(part.states):
@@ -92,7 +92,7 @@ def test_lanes_driver_equals_one_run_at_a_time(method):
     repeating another) against lev_integrate one point at a time: the same status, end time, rhs
     count, steps and final state for every point, falling ones included (7 points: not a
     multiple of the lanes)."""
-    from runtime.scan.points import point_setup
+    from levitron.runtime.scan.points import point_setup
     model = load_model(load_scene("thesis_stable"))
     pt = model.part("full")
     tol = 1e-9

@@ -1,6 +1,6 @@
 """The house's rooms: runtime/ in subpackages by idea, imports only down the layers, no import
 cycles (function-level imports counted too), no private name across packages, and a public API
-(levitron_api) that stands on the runtime, not on the command line."""
+(levitron) that stands on the runtime, not on the command line."""
 from __future__ import annotations
 
 import ast
@@ -26,7 +26,7 @@ def module_name(path: Path) -> str:
 
 def imports(path: Path):
     """(imported module, imported names) of every import in the file, nested ones included; a
-    runtime module imports by absolute path only (levitron_api's own modules relatively)."""
+    runtime module imports by absolute path only (levitron's own modules relatively)."""
     tree = ast.parse(path.read_text(), str(path))
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
@@ -51,7 +51,7 @@ def layer(module: str) -> str | None:
 
 
 def resolve(module: str, names, known: set[str]) -> list[str]:
-    """The runtime modules an import statement loads: `from runtime.a import b` may name module b."""
+    """The runtime modules an import statement loads: `from levitron.runtime.a import b` may name module b."""
     out = [module] if module in known else []
     out += [f"{module}.{n}" for n in names if f"{module}.{n}" in known]
     return out
@@ -124,7 +124,7 @@ def test_no_import_cycles():
 
 def test_no_private_name_crosses_a_package():
     bad = []
-    for p in runtime_files() + sorted((ROOT / "levitron_api").glob("*.py")):
+    for p in runtime_files() + sorted((ROOT / "levitron").glob("*.py")):
         src_pkg = module_name(p).split(".")[:2]
         for mod, names in imports(p):
             if not mod.startswith("runtime"):
@@ -136,15 +136,15 @@ def test_no_private_name_crosses_a_package():
 
 
 def test_the_api_does_not_stand_on_the_command_line():
-    for p in sorted((ROOT / "levitron_api").glob("*.py")):
+    for p in sorted((ROOT / "levitron").glob("*.py")):
         for mod, _ in imports(p):
-            assert not mod.startswith("runtime.cli"), f"{p.name} imports {mod}"
+            assert not mod.startswith("levitron.runtime.cli"), f"{p.name} imports {mod}"
 
 
 def test_the_input_hash_covers_what_shapes_generated_only():
     """derive's scene reader and checks, paths, docs and fault injection are not hashed: a fix to an
     error message leaves every generated model current; the code that shapes models is hashed."""
-    from derive.inputs import DERIVE_DIR, NOT_SHAPING, hashed_sources
+    from levitron.derive.inputs import DERIVE_DIR, NOT_SHAPING, hashed_sources
     names = {p.relative_to(DERIVE_DIR).as_posix() for p in hashed_sources()}
     assert all((DERIVE_DIR / n).exists() for n in NOT_SHAPING)
     assert not names & NOT_SHAPING

@@ -11,12 +11,12 @@ import mpmath as mp
 import numpy as np
 import pytest
 
-from runtime.physics import eigen_route
+from levitron.runtime.physics import eigen_route
 
-from runtime.physics import ray_algebra
+from levitron.runtime.physics import ray_algebra
 
-from runtime.physics import stability
-from runtime.physics import equilibrium as eqm
+from levitron.runtime.physics import stability
+from levitron.runtime.physics import equilibrium as eqm
 from tests.test_equilibrium import (
     A_PLATE,
     A_TOP,
@@ -215,8 +215,8 @@ def test_on_imaginary_axis_tolerance_is_a_real_bound():
 
 @pytest.fixture(scope="module")
 def thesis_model():
-    from derive.scene import load_scene
-    from runtime.model.load import load_model
+    from levitron.derive.scene import load_scene
+    from levitron.runtime.model.load import load_model
     return load_model(load_scene("thesis"))
 
 
@@ -243,7 +243,7 @@ def test_full_model_jacobian_routes_agree(thesis_model):
 
 
 def _simulate(model, p, states, x0, t_end, tol, box, n_out):
-    from runtime.integrate import run as integrate
+    from levitron.runtime.integrate import run as integrate
     return integrate.integrate(model.part("full"), x0, t_end, "dop853", tol=tol, p=p, box=box,
                                n_out=n_out)
 
@@ -252,7 +252,7 @@ def test_nonlinear_top_stays_up_inside_the_interval(thesis_model):
     """Started 5 % inside the interval (both ends) with a tilt of 1e-3 rad and an offset of 1e-3 z_s,
     the full nonlinear model keeps the top up for 20 s (no exit from the box |z - z_s| < z_s/2,
     r < z_s/2) and the offset stays small (< 5 % of z_s)."""
-    from runtime.integrate import run as integrate
+    from levitron.runtime.integrate import run as integrate
     p, P = _with_mass(thesis_model, 0.0515)
     on, jac, states = stability.model_callables(thesis_model, p)
     res = stability.analyse(on, P["m"], P["g"], P["A"], P["C"], P["mu"], A_PLATE, jac, states)
@@ -273,7 +273,7 @@ def test_nonlinear_growth_rate_outside_the_interval(thesis_model):
     """Outside the interval (10 % below and above) an offset of 1e-9 z_s grows at the rate of the
     largest real part of the Jacobian's eigenvalues, within 20 % (fit of log r(t) while r grows
     from 1e2 to 1e5 times its start; measured within 0.2 %)."""
-    from runtime.integrate import run as integrate
+    from levitron.runtime.integrate import run as integrate
     p, P = _with_mass(thesis_model, 0.0515)
     on, jac, states = stability.model_callables(thesis_model, p)
     res = stability.analyse(on, P["m"], P["g"], P["A"], P["C"], P["mu"], A_PLATE, jac, states)
@@ -303,8 +303,8 @@ def _run_stability(sets):
     import argparse
     import json
 
-    from runtime.cli.main import _clean
-    from runtime.cli.commands import stability as cmd
+    from levitron.runtime.cli.main import _clean
+    from levitron.runtime.cli.commands import stability as cmd
     args = argparse.Namespace(scene="thesis", set=sets, json=True, height=None)
     out = _clean(cmd.run(args))
     text = json.dumps(out, allow_nan=False)      # never NaN or inf in the JSON

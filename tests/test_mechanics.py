@@ -1,9 +1,9 @@
 """Thesis 2.2.15 and 2.3: potential energy, Lagrangian, Legendre transform, Hamilton's equations."""
 import sympy as sp
 
-from derive import field as F
-from derive.mechanics import hamiltonian_system, potential_energy
-from derive.symbols import A, C, Phi, X, Y, Z, g, m, mu
+from levitron.derive import field as F
+from levitron.derive.mechanics import hamiltonian_system, potential_energy
+from levitron.derive.symbols import A, C, Phi, X, Y, Z, g, m, mu
 
 c, s = sp.cos, sp.sin
 

@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import pytest
 
-from derive.build import render
-from derive.scene import SceneError, validate
-from runtime.cli.main import main
+from levitron.derive.build import render
+from levitron.derive.scene import SceneError, validate
+from levitron.runtime.cli.main import main
 
 
 def _data(formula: str) -> dict:

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from derive import onaxis
+from levitron.derive import onaxis
 
 z, a, w, rho = sp.symbols("z a w rho", real=True)
 RATIOS = [0.0, 1e-3, 0.3, 0.999]

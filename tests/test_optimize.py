@@ -5,9 +5,9 @@ import sys
 
 import pytest
 
-from derive.paths import ROOT
-from runtime.errors import UserError
-from runtime.design.fit_height import fit_equilibrium_height
+from levitron.derive.paths import ROOT
+from levitron.runtime.errors import UserError
+from levitron.runtime.design.fit_height import fit_equilibrium_height
 
 
 def test_thesis_murho_is_the_fit_to_7_62_cm(thesis_model):
@@ -39,7 +39,7 @@ def test_fit_bad_input(thesis_model):
 
 
 def test_optimize_command_json():
-    res = subprocess.run([sys.executable, "-m", "runtime.cli.main", "optimize", "thesis", "--fit-height",
+    res = subprocess.run([sys.executable, "-m", "levitron.runtime.cli.main", "optimize", "thesis", "--fit-height",
                           "0.0762", "--json"], cwd=ROOT, capture_output=True, text=True)
     assert res.returncode == 0, res.stderr
     out = json.loads(res.stdout)
@@ -47,7 +47,7 @@ def test_optimize_command_json():
 
 
 def _one_line_error(capsys, *argv) -> str:
-    from runtime.cli.main import main
+    from levitron.runtime.cli.main import main
     rc = main(list(argv))
     out, err = capsys.readouterr()
     assert rc == 2 and out == "", (rc, out, err)
@@ -58,7 +58,7 @@ def _one_line_error(capsys, *argv) -> str:
 def test_fit_refuses_a_negative_mass(capsys, thesis_model):
     """At 2.62 cm the thesis plate pushes the top down (-mu Phi_2 < 0): the only m with
     m g + mu Phi_2 = 0 is negative. Newton "converges" to it; the fit must refuse, not report it."""
-    from runtime.errors import UserError
+    from levitron.runtime.errors import UserError
     with pytest.raises(UserError, match=r"no physical m .* m = -1\.07"):
         fit_equilibrium_height(thesis_model, 0.0262, "m")
     err = _one_line_error(capsys, "optimize", "thesis", "--fit-height", "0.0262", "--param", "m")
@@ -66,7 +66,7 @@ def test_fit_refuses_a_negative_mass(capsys, thesis_model):
 
 
 def test_physical_checks_of_each_kind():
-    from runtime.design.fit_height import physical_problem
+    from levitron.runtime.design.fit_height import physical_problem
     names = ["m", "g", "A", "C", "mu", "plate_a", "plate_w", "plate_rho"]
     ok = [0.03, 9.81, 2.2e-6, 1.32e-6, -1.0, 0.1, 0.03, 0.0026]
     plate = {"kind": "annulus", "radius": 0.1, "hole": 0.03, "murho": -0.0026}

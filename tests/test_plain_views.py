@@ -8,8 +8,8 @@ import json
 
 import pytest
 
-from runtime.cli import main as cli
-from runtime.design.optimize import OBJECTIVES
+from levitron.runtime.cli import main as cli
+from levitron.runtime.design.optimize import OBJECTIVES
 
 
 def _out(capsys, *argv) -> str:

@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 import tomllib
 
-from derive import plates
-from derive.inputs import input_hash, structure
-from derive.paths import ROOT
-from derive.plates import docs
-from derive.scene import load_scene, validate
+from levitron.derive import plates
+from levitron.derive.inputs import input_hash, structure
+from levitron.derive.paths import ROOT
+from levitron.derive.plates import docs
+from levitron.derive.scene import load_scene, validate
 
 
 def _example(kind: str) -> dict:
@@ -23,8 +23,8 @@ def _example(kind: str) -> dict:
 
 
 def test_the_three_registries_have_the_same_kinds():
-    from derive.plates.symbolic import BUILDERS
-    from runtime.physics.plates import FIELDS
+    from levitron.derive.plates.symbolic import BUILDERS
+    from levitron.runtime.physics.plates import FIELDS
     kinds = set(plates.KINDS)
     assert kinds == {"annulus", "disk", "loop", "ring_magnet", "rectangle", "compound", "expression"}
     assert set(BUILDERS) == kinds
@@ -37,7 +37,7 @@ def test_the_three_registries_have_the_same_kinds():
 
 def test_no_sympy_on_import_of_the_scene_side():
     code = ("import sys, derive.scene, derive.inputs, derive.plates, derive.plates.docs, "
-            "runtime.physics.plates; s = derive.scene.load_scene('ring_magnet'); derive.inputs.input_hash(s.data); "
+            "levitron.runtime.physics.plates; s = derive.scene.load_scene('ring_magnet'); derive.inputs.input_hash(s.data); "
             "print('sympy' in sys.modules)")
     res = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True,
                          check=True)
@@ -48,7 +48,7 @@ def test_no_sympy_on_import_of_the_scene_side():
 def test_example_validates_and_both_sides_name_the_same_parameters(kind):
     """Each kind's documented example is a valid scene, and its sympy builder's symbols are exactly
     the parameters its resolver gives (scene side and derive side agree on names)."""
-    from derive.plates.symbolic import build_plate
+    from levitron.derive.plates.symbolic import build_plate
     scene = validate(_example(kind))
     resolved = {k for k in scene.params if k.startswith("plate_")}
     assert {s.name for s in build_plate(scene.data["plate"]).symbols} == resolved
@@ -59,7 +59,7 @@ def test_example_validates_and_both_sides_name_the_same_parameters(kind):
     {"kind": "rectangle", "side": 0.1, "murho": -0.002},
 ])
 def test_the_other_branch_names_the_same_parameters(table):
-    from derive.plates.symbolic import build_plate
+    from levitron.derive.plates.symbolic import build_plate
     data = _example("annulus")
     data["plate"] = table
     scene = validate(data)
@@ -113,14 +113,14 @@ def test_length_scale_of_the_scenes():
 
 @pytest.mark.parametrize("kind", sorted(set(plates.KINDS) - {"expression"}))
 def test_every_kind_but_expression_has_a_finite_exact_field(kind):
-    from runtime.physics.plates import plate_field
+    from levitron.runtime.physics.plates import plate_field
     scene = validate(_example(kind))
     B = plate_field(scene.data["plate"], scene.params, [[0.01, 0.005, 0.08]])
     assert B.shape == (1, 3) and np.all(np.isfinite(B)) and np.linalg.norm(B) > 0
 
 
 def test_docs_scenes_md_is_current():
-    """docs/scenes.md is what `python -m derive.plates.docs` writes from the registry."""
+    """docs/scenes.md is what `python -m levitron.derive.plates.docs` writes from the registry."""
     assert (ROOT / "docs" / "scenes.md").read_text(encoding="utf-8") == docs.render()
 
 

@@ -7,9 +7,9 @@ import re
 import subprocess
 import sys
 
-from derive.paths import ROOT
-from runtime.cli import main as cli
-from runtime.ui import progress
+from levitron.derive.paths import ROOT
+from levitron.runtime.cli import main as cli
+from levitron.runtime.ui import progress
 
 
 def test_stage_lines_off_a_terminal(monkeypatch, capsys):
@@ -41,9 +41,9 @@ def test_no_stage_lines_when_progress_is_off(monkeypatch, capsys):
 
 
 def test_derive_child_names_its_stages(tmp_path):
-    """python -m derive --stages: one "stage k/7 NAME" line as each stage begins (a reduced-only
+    """python -m levitron.derive --stages: one "stage k/7 NAME" line as each stage begins (a reduced-only
     scene skips the full model's stages)."""
-    run = subprocess.run([sys.executable, "-m", "derive", "reduced_only", "--out", str(tmp_path),
+    run = subprocess.run([sys.executable, "-m", "levitron.derive", "reduced_only", "--out", str(tmp_path),
                           "--force", "--stages"], cwd=ROOT, capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stderr
     stages = re.findall(r"^stage (\d)/7 (.+)$", run.stderr, re.M)

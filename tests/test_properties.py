@@ -37,12 +37,12 @@ import pytest
 from hypothesis import HealthCheck, assume, event, given, settings
 from hypothesis import strategies as st
 
-from derive.build import render  # noqa: F401  (imports the derive side once, outside the timing)
-from derive.doubles import DoubleRangeError
-from derive.expr_parse import ExpressionError
-from derive.scene import SceneError, load_scene, override_text, parse_override, validate
-from runtime.design import fit
-from runtime.errors import UserError
+from levitron.derive.build import render  # noqa: F401  (imports the derive side once, outside the timing)
+from levitron.derive.doubles import DoubleRangeError
+from levitron.derive.expr_parse import ExpressionError
+from levitron.derive.scene import SceneError, load_scene, override_text, parse_override, validate
+from levitron.runtime.design import fit
+from levitron.runtime.errors import UserError
 from termsize import assert_agree, values_and_sizes
 
 FUZZ = os.environ.get("HYPOTHESIS_PROFILE") == "fuzz"
@@ -130,7 +130,7 @@ THESIS = load_scene("thesis").data
 
 @pytest.fixture(scope="module")
 def thesis_model():
-    from runtime.model.load import load_model
+    from levitron.runtime.model.load import load_model
     return load_model(load_scene("thesis"))
 
 
@@ -197,13 +197,13 @@ MAX_PRINTED = 80
 @given(formula=FORMULAS, key=st.sampled_from(["phi0", "phi0", "phi0", "bz"]))
 @each_confined
 def test_formula_plates_refuse_in_one_line_or_print(formula, key):
-    from derive.emit.c.emitter import body_lines
-    from derive.emit.c.printer import LevitronCPrinter
-    from derive.emit.casadi.builder import build_function
-    from derive.emit.lower import lower
-    from derive.geometry import build_plate
-    from derive.spec import build_spec
-    from derive.plates.symbolic import expression as symbolic
+    from levitron.derive.emit.c.emitter import body_lines
+    from levitron.derive.emit.c.printer import LevitronCPrinter
+    from levitron.derive.emit.casadi.builder import build_function
+    from levitron.derive.emit.lower import lower
+    from levitron.derive.geometry import build_plate
+    from levitron.derive.spec import build_spec
+    from levitron.derive.plates.symbolic import expression as symbolic
     table = {"kind": "expression", key: formula, "params": {"b": 1.3, "c": 0.7}}
     budget_s, symbolic.TIME_BUDGET_S = symbolic.TIME_BUDGET_S, 5.0   # a slow formula: its refusal
     try:
@@ -230,10 +230,10 @@ def test_formula_plates_refuse_in_one_line_or_print(formula, key):
 
 def test_printed_formula_plates_compute_the_same_in_c_and_casadi(tmp_path):
     """The plates the grammar test printed, compiled together: C equals CasADi where it is finite."""
-    from derive.emit.c.emitter import body_lines
-    from derive.emit.c.printer import FMA_PRELUDE, LevitronCPrinter
-    from derive.emit.casadi.builder import build_function
-    from runtime.model.cbuild import DEFAULT_FLAGS, compile_shared
+    from levitron.derive.emit.c.emitter import body_lines
+    from levitron.derive.emit.c.printer import FMA_PRELUDE, LevitronCPrinter
+    from levitron.derive.emit.casadi.builder import build_function
+    from levitron.runtime.model.cbuild import DEFAULT_FLAGS, compile_shared
     if not PRINTED:
         pytest.skip("run with test_formula_plates_refuse_in_one_line_or_print (it fills PRINTED)")
     assert len(PRINTED) >= 10, f"only {len(PRINTED)} formulas printed: the grammar is too hostile"

@@ -11,9 +11,9 @@ import shlex
 
 import pytest
 
-from derive.scene import load_scene
-from runtime.cli import main as cli
-from runtime.ui.provenance import version
+from levitron.derive.scene import load_scene
+from levitron.runtime.cli import main as cli
+from levitron.runtime.ui.provenance import version
 
 KEYS = {"package", "version", "command", "time", "python", "scene", "scene_path", "overrides",
         "scene_hash", "input_hash"}

@@ -14,8 +14,8 @@ import shlex
 
 import pytest
 
-from derive.paths import ROOT
-from runtime.cli import main as cli
+from levitron.derive.paths import ROOT
+from levitron.runtime.cli import main as cli
 
 README = ROOT / "README.md"
 

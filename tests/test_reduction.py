@@ -1,9 +1,9 @@
 """Thesis 3.2.1 and 3.2.12: the invariant set and the reduced 4-D model."""
 import sympy as sp
 
-from derive.mechanics import hamiltonian_system
-from derive.reduction import reduced_system
-from derive.symbols import C, Phi, Z, g, m, mu
+from levitron.derive.mechanics import hamiltonian_system
+from levitron.derive.reduction import reduced_system
+from levitron.derive.symbols import C, Phi, Z, g, m, mu
 
 
 def test_eq_3_2_1_invariant_set_is_invariant():

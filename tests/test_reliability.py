@@ -1,7 +1,7 @@
 """A battery of bad and hostile inputs (issue 8): every failure is one line on stderr and exit 2.
 
 Each case of BATTERY runs the real entry point, `runtime.cli.main.main(argv)`, in-process (fast), or a
-`python -m runtime.cli.main` subprocess where the work could be unbounded (a time limit) or a crash
+`python -m levitron.runtime.cli.main` subprocess where the work could be unbounded (a time limit) or a crash
 would take pytest down. Each asserts:
   * exit code 2 (3 is the CLI's "internal error": a bug, not a message for bad input);
   * exactly one error line on stderr, mentioning what the case names (a regular expression).
@@ -14,7 +14,7 @@ would take pytest down. Each asserts:
 BOUNDED cases (unbounded work in issue 8) must return within a time limit: either refused (the
 checks above) or run to a "step_budget" status (exit 0, the --json result says so).
 The few cases that must WORK (exit 0) are separate tests below, as are the closed pipe, --version,
-`python -m runtime`, the internal-error line and "no sympy in the runtime".
+`python -m levitron.runtime`, the internal-error line and "no sympy in the runtime".
 """
 from __future__ import annotations
 
@@ -416,7 +416,7 @@ def _env(tmp_path: Path, warm: Path) -> dict:
 
 
 def _run_inprocess(argv: list[str], capsys) -> tuple[int, str, str]:
-    from runtime.cli.main import main
+    from levitron.runtime.cli.main import main
     try:
         code = main(argv)
     except SystemExit as exc:
@@ -428,7 +428,7 @@ def _run_inprocess(argv: list[str], capsys) -> tuple[int, str, str]:
 def _run_subprocess(argv: list[str], env: dict, cwd: Path, timeout: float) -> tuple[int, str, str]:
     full_env = dict(os.environ, PYTHONPATH=str(ROOT), **env)
     full_env.pop("LEVITRON_DEBUG", None)
-    proc = subprocess.Popen([sys.executable, "-m", "runtime.cli.main", *argv], cwd=cwd, env=full_env,
+    proc = subprocess.Popen([sys.executable, "-m", "levitron.runtime.cli.main", *argv], cwd=cwd, env=full_env,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             start_new_session=True)
     try:
@@ -529,7 +529,7 @@ def test_closed_stdout_is_quiet(tmp_path):
     """A reader that went away (`levitron ... | head -1`) ends the command quietly, exit 0: here
     the pipe is closed before the command writes, so the write must fail."""
     env = dict(os.environ, PYTHONPATH=str(ROOT), LEVITRON_CACHE=str(tmp_path / "cache"))
-    proc = subprocess.Popen([sys.executable, "-m", "runtime.cli.main", "info", "thesis"], cwd=tmp_path,
+    proc = subprocess.Popen([sys.executable, "-m", "levitron.runtime.cli.main", "info", "thesis"], cwd=tmp_path,
                             env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     proc.stdout.close()
     err = proc.stderr.read().decode()
@@ -564,10 +564,10 @@ def test_version(capsys):
 
 def test_python_m_runtime(tmp_path):
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    res = subprocess.run([sys.executable, "-m", "runtime", "--version"], check=False, cwd=tmp_path, env=env,
+    res = subprocess.run([sys.executable, "-m", "levitron.runtime", "--version"], check=False, cwd=tmp_path, env=env,
                          capture_output=True, text=True, timeout=60)
     assert res.returncode == 0 and res.stdout.startswith("levitron "), res.stderr
-    res = subprocess.run([sys.executable, "-m", "runtime", "info", "nosuchscene"], check=False, cwd=tmp_path,
+    res = subprocess.run([sys.executable, "-m", "levitron.runtime", "info", "nosuchscene"], check=False, cwd=tmp_path,
                          env=env, capture_output=True, text=True, timeout=60)
     assert res.returncode == 2 and res.stderr.count("\n") == 1, res.stderr
 
@@ -575,7 +575,7 @@ def test_python_m_runtime(tmp_path):
 def test_internal_error_is_one_line_exit_3(capsys, monkeypatch):
     """A bug (any unexpected exception) is one line with its type, exit 3; LEVITRON_DEBUG=1 gives
     the traceback."""
-    from runtime.cli.commands import info
+    from levitron.runtime.cli.commands import info
 
     def broken(args):
         raise ZeroDivisionError("boom")
@@ -586,14 +586,14 @@ def test_internal_error_is_one_line_exit_3(capsys, monkeypatch):
     assert err.splitlines() == [("levitron info: internal error: ZeroDivisionError: boom (set "
                                  "LEVITRON_DEBUG=1 for the traceback; please report it)")]
     monkeypatch.setenv("LEVITRON_DEBUG", "1")
-    from runtime.cli.main import main
+    from levitron.runtime.cli.main import main
     with pytest.raises(ZeroDivisionError):
         main(["info", "thesis"])
 
 
 def test_multi_line_message_is_cut_to_one_line(capsys, monkeypatch):
-    from runtime.cli.commands import info
-    from runtime.errors import UserError
+    from levitron.runtime.cli.commands import info
+    from levitron.runtime.errors import UserError
 
     def wordy(args):
         raise UserError("first line\nsecond line\nthird line")
@@ -606,8 +606,8 @@ def test_multi_line_message_is_cut_to_one_line(capsys, monkeypatch):
 
 
 def test_plot_path_is_checked_before_the_work(tmp_path):
-    from runtime.errors import UserError
-    from runtime.ui.plotting import check_plot_path
+    from levitron.runtime.errors import UserError
+    from levitron.runtime.ui.plotting import check_plot_path
     for ok in ("a.png", "sub/dir/b.PDF", "c.svg"):
         assert check_plot_path(tmp_path / ok) == tmp_path / ok
     assert not (tmp_path / "sub").exists()           # checking creates nothing
@@ -618,7 +618,7 @@ def test_plot_path_is_checked_before_the_work(tmp_path):
 
 
 def test_save_figure_makes_the_folder_and_leaves_no_temporary(tmp_path):
-    from runtime.ui.plotting import pyplot, save_figure
+    from levitron.runtime.ui.plotting import pyplot, save_figure
     fig = pyplot().figure()
     path = save_figure(fig, tmp_path / "new" / "fig.svg")
     assert path.read_text().lstrip().startswith("<?xml")
@@ -628,7 +628,7 @@ def test_save_figure_makes_the_folder_and_leaves_no_temporary(tmp_path):
 def test_the_cli_does_not_import_sympy(tmp_path, seed_cache):
     """The runtime never imports sympy: importing the CLI and running a command leaves it out."""
     code = ("import sys, io, contextlib\n"
-            "from runtime.cli.main import main\n"
+            "from levitron.runtime.cli.main import main\n"
             "with contextlib.redirect_stdout(io.StringIO()):\n"
             "    rc = main(['equilibrium', 'thesis', '--json'])\n"
             "assert rc == 0, rc\n"
@@ -643,8 +643,8 @@ def test_the_cli_does_not_import_sympy(tmp_path, seed_cache):
 def test_compile_error_is_one_line_exit_2(capsys, monkeypatch):
     """A compiler failure is one line with the compiler's first error (the whole output with
     LEVITRON_DEBUG=1), not the compiler's command line."""
-    from runtime.model.cbuild import CompileError
-    from runtime.cli.commands import info
+    from levitron.runtime.model.cbuild import CompileError
+    from levitron.runtime.cli.commands import info
 
     def fails(args):
         raise CompileError("C compilation failed (cc -Werror -o x.so model.c):\n"

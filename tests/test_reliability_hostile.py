@@ -2,7 +2,7 @@
 --save paths, friction keys and fit CSVs, through the real entry point with the checks of
 tests/test_reliability.py (exit 2, one error line naming the cause, no traceback, generated/
 unchanged, nothing half-written in a fresh cache), then the same classes through the Python API
-(`levitron_api`: the package's UserError with one line, never a raw Python error).
+(`levitron`: the package's UserError with one line, never a raw Python error).
 
 Cases marked "fixed" failed before this battery: a message that named an option the user never
 gave (--success-time for --t-end 0, --n for the [launch] table's n), a garbled message (an
@@ -172,7 +172,7 @@ def test_hostile_input_is_one_line_and_exit_2(case, tmp_path, warm_cache, capsys
 def test_a_csv_with_a_byte_order_mark_is_read_like_one_without(tmp_path, newline):
     """A spreadsheet's "CSV UTF-8" starts with a byte-order mark (fixed: it was refused as a CSV
     without a header); with CRLF line ends too, the rows are those of the plain file."""
-    from runtime.design.fit import read_rows
+    from levitron.runtime.design.fit import read_rows
     plain, marked = tmp_path / "plain.csv", tmp_path / "marked.csv"
     text = "quantity,value,sigma,overrides" + newline + "z_s,0.1065,1e-4,top.mass=0.0515" + newline
     plain.write_bytes(text.replace(newline, "\n").encode())
@@ -184,13 +184,13 @@ def test_a_csv_with_a_byte_order_mark_is_read_like_one_without(tmp_path, newline
 
 @pytest.fixture(scope="module")
 def air_study():
-    import levitron_api as lv
+    import levitron as lv
     return lv.load("thesis_air")
 
 
 @pytest.fixture(scope="module")
 def stable_study():
-    import levitron_api as lv
+    import levitron as lv
     return lv.load("thesis_stable")
 
 
@@ -216,7 +216,7 @@ API = [
 
 
 def _load_case(overrides):
-    import levitron_api as lv
+    import levitron as lv
     return lambda s: lv.load("thesis_air", overrides)
 
 
@@ -230,7 +230,7 @@ API += [
 
 @pytest.mark.parametrize("case", API, ids=[c[0] for c in API])
 def test_hostile_api_call_is_one_line_user_error(case, tmp_path, air_study, stable_study, monkeypatch):
-    from runtime.errors import UserError
+    from levitron.runtime.errors import UserError
     _, which, call, mention = case
     (tmp_path / "afile").write_text("a file\n")
     study = air_study if which == "air" else stable_study
@@ -256,8 +256,8 @@ def test_hostile_api_call_is_one_line_user_error(case, tmp_path, air_study, stab
 def test_the_api_launch_reads_the_tables_n_and_seed_like_the_cli(tmp_path, capsys):
     """The [launch] table's n and seed (fixed: the API ran 1000 launches with seed 0 whatever the
     table said, the CLI the table's); an argument still overrides the table."""
-    import levitron_api as lv
-    from runtime.cli.main import main
+    import levitron as lv
+    from levitron.runtime.cli.main import main
     scene = tmp_path / "thesis_air.toml"
     scene.write_text(launch_table("n = 3\nseed = 5\nt_end = 0.05"))
     study = lv.load(scene)

@@ -16,8 +16,8 @@ from pathlib import Path
 
 import pytest
 
-from runtime.cli import main as cli
-from runtime.ui.human import Units, span
+from levitron.runtime.cli import main as cli
+from levitron.runtime.ui.human import Units, span
 
 
 class Page(HTMLParser):

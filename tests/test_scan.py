@@ -13,19 +13,19 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from derive.scene import load_scene
-from runtime.scan import stability_map as sc
-from runtime.physics.eigen_route import full_equilibrium_state
-from runtime.errors import UserError
-from runtime.model.load import load_model
-from runtime.scan.grid import parse_range
-from runtime.scan.physics import linear_interval
-from runtime.scan.points import N_OUT, point_run
-from runtime.physics.stability import model_callables
+from levitron.derive.scene import load_scene
+from levitron.runtime.scan import stability_map as sc
+from levitron.runtime.physics.eigen_route import full_equilibrium_state
+from levitron.runtime.errors import UserError
+from levitron.runtime.model.load import load_model
+from levitron.runtime.scan.grid import parse_range
+from levitron.runtime.scan.physics import linear_interval
+from levitron.runtime.scan.points import N_OUT, point_run
+from levitron.runtime.physics.stability import model_callables
 
 ROOT = Path(__file__).resolve().parent.parent
 SET = ["top.mass=0.0515"]
-BASE = [sys.executable, "-m", "runtime.cli.main", "scan", "thesis", "--set", SET[0]]
+BASE = [sys.executable, "-m", "levitron.runtime.cli.main", "scan", "thesis", "--set", SET[0]]
 
 
 @pytest.fixture(scope="module")
@@ -133,7 +133,7 @@ def test_height_axis_is_a_fraction_of_z_s(model):
 
 def test_point_run_is_simulate(model):
     """The scan's runner, at height 0 with z_s given, is runtime.simulate.run.simulate number for number."""
-    from runtime.simulate.run import hover_height, simulate
+    from levitron.runtime.simulate.run import hover_height, simulate
     z_s = hover_height(model)
     for spin, tilt in ((1000.0, 0.03), (3000.0, 0.01)):
         a = simulate(model, spin, tilt=tilt, t_end=3.0, n_out=N_OUT)

@@ -6,11 +6,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from derive.scene import load_scene
-from runtime.scan import stability_map as sc
-from runtime.scan import runners as scan_runners
-from runtime.errors import UserError
-from runtime.model.load import load_model
+from levitron.derive.scene import load_scene
+from levitron.runtime.scan import stability_map as sc
+from levitron.runtime.scan import runners as scan_runners
+from levitron.runtime.errors import UserError
+from levitron.runtime.model.load import load_model
 
 distributed = pytest.importorskip("dask.distributed", reason="the test extra installs dask[distributed]")
 

@@ -9,13 +9,13 @@ import math
 import numpy as np
 import pytest
 
-from derive.scene import load_scene
-from runtime.scan import stability_map as sc
-from runtime.integrate.c_backend import run_c
-from runtime.errors import UserError
-from runtime.integrate.run import Box, csrc_library
-from runtime.model.load import load_model
-from runtime.scan.chunk_c import drive
+from levitron.derive.scene import load_scene
+from levitron.runtime.scan import stability_map as sc
+from levitron.runtime.integrate.c_backend import run_c
+from levitron.runtime.errors import UserError
+from levitron.runtime.integrate.run import Box, csrc_library
+from levitron.runtime.model.load import load_model
+from levitron.runtime.scan.chunk_c import drive
 
 SET = ["top.mass=0.0515"]
 
@@ -111,7 +111,7 @@ def test_bench_maps_quick(model):
     """The maps bench (--quick): the C driver at 1 and 2 workers, the Python path and `levitron
     scan` at 1 and 2 workers, the same map from all five, points per second and the CPU time over
     the rhs-call time of each, and the CLI's wall time over the driver's."""
-    from runtime.bench import maps as bench_maps
+    from levitron.runtime.bench import maps as bench_maps
     out = bench_maps.run(model, "thesis", SET, quick=True)
     assert [(r["engine"], r["workers"]) for r in out["rows"]] == [("c", 1), ("c", 2), ("python", 1),
                                                                   ("cli", 1), ("cli", 2)]

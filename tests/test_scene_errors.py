@@ -7,8 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from derive.build import GENERATED
-from derive.paths import ROOT
+from levitron.derive.build import GENERATED
+from levitron.derive.paths import ROOT
 
 GOOD = (ROOT / "scenes" / "thesis.toml").read_text()
 
@@ -39,7 +39,7 @@ def test_bad_scene_is_refused_cleanly(tmp_path, label, text, message):
     cache = tmp_path / "cache"
     before = _snapshot(GENERATED)
     env = dict(os.environ, LEVITRON_CACHE=str(cache))
-    for cmd in (["-m", "runtime.cli.main", "info", str(scene)], ["-m", "derive", str(scene)]):
+    for cmd in (["-m", "levitron.runtime.cli.main", "info", str(scene)], ["-m", "levitron.derive", str(scene)]):
         res = subprocess.run([sys.executable, *cmd], cwd=ROOT, env=env, capture_output=True, text=True, check=False)
         assert res.returncode == 2, (cmd, res.stdout, res.stderr)
         lines = res.stderr.strip().splitlines()
@@ -52,13 +52,13 @@ def test_bad_scene_is_refused_cleanly(tmp_path, label, text, message):
 
 
 def test_bad_override_is_refused():
-    res = subprocess.run([sys.executable, "-m", "runtime.cli.main", "info", "thesis", "--set", "top.mass"],
+    res = subprocess.run([sys.executable, "-m", "levitron.runtime.cli.main", "info", "thesis", "--set", "top.mass"],
                          cwd=ROOT, capture_output=True, text=True, check=False)
     assert res.returncode == 2 and "has no '='" in res.stderr
 
 
 def test_unknown_scene_names_the_known_ones():
-    res = subprocess.run([sys.executable, "-m", "runtime.cli.main", "info", "nosuchscene"],
+    res = subprocess.run([sys.executable, "-m", "levitron.runtime.cli.main", "info", "nosuchscene"],
                          cwd=ROOT, capture_output=True, text=True, check=False)
     assert res.returncode == 2 and "thesis" in res.stderr
 
@@ -83,7 +83,7 @@ def test_unknown_scene_names_the_known_ones():
     ("name=caf\u00e9", "name = 'caf\u00e9'"),
 ])
 def test_absurd_numbers_are_one_line_scene_errors(override, message):
-    from derive.scene import SceneError, load_scene
+    from levitron.derive.scene import SceneError, load_scene
     with pytest.raises(SceneError) as info:
         load_scene("thesis", [override])
     text = str(info.value)
@@ -91,7 +91,7 @@ def test_absurd_numbers_are_one_line_scene_errors(override, message):
 
 
 def test_ring_magnet_absurd_magnetization():
-    from derive.scene import SceneError, load_scene
+    from levitron.derive.scene import SceneError, load_scene
     with pytest.raises(SceneError, match="plate.remanence = 1e\\+13 is outside"):
         load_scene("ring_magnet", ["plate.remanence=1e13"])
 
@@ -103,7 +103,7 @@ def test_ring_magnet_absurd_magnetization():
 ])
 def test_absurd_input_through_the_command_line(tmp_path, args):
     env = dict(os.environ, LEVITRON_CACHE=str(tmp_path / "cache"))
-    res = subprocess.run([sys.executable, "-m", "runtime.cli.main", *args], cwd=ROOT, env=env,
+    res = subprocess.run([sys.executable, "-m", "levitron.runtime.cli.main", *args], cwd=ROOT, env=env,
                          capture_output=True, text=True, check=False)
     assert res.returncode == 2, (res.stdout, res.stderr)
     lines = res.stderr.strip().splitlines()
@@ -111,7 +111,7 @@ def test_absurd_input_through_the_command_line(tmp_path, args):
 
 
 def test_binary_scene_file_is_refused(tmp_path):
-    from derive.scene import SceneError, load_scene
+    from levitron.derive.scene import SceneError, load_scene
     bad = tmp_path / "bin.toml"
     bad.write_bytes(b"\xff\xfe\x00name")
     with pytest.raises(SceneError, match="not a text file"):
@@ -120,7 +120,7 @@ def test_binary_scene_file_is_refused(tmp_path):
 
 @pytest.mark.parametrize("name", ["a\0b", "x" * 5000, "x" * 300 + ".toml"])
 def test_unusable_scene_names_are_one_line_errors(name):
-    from derive.scene import SceneError, load_scene
+    from levitron.derive.scene import SceneError, load_scene
     with pytest.raises(SceneError) as info:
         load_scene(name)
     assert "\n" not in str(info.value) and len(str(info.value)) < 400
@@ -149,7 +149,7 @@ murho = 0.001
 def test_override_reaches_a_compound_plates_parts(tmp_path):
     """--set enters a list of tables by its index (plate.parts.0.radius); the parameter it sets is
     the part's (plate_p0_a), the other part keeps its own."""
-    from derive.scene import load_scene
+    from levitron.derive.scene import load_scene
     path = tmp_path / "two_rings.toml"
     path.write_text(COMPOUND)
     base = load_scene(path)
@@ -167,16 +167,16 @@ def test_override_reaches_a_compound_plates_parts(tmp_path):
 def test_bad_compound_override_is_one_line(tmp_path, override, message):
     path = tmp_path / "two_rings.toml"
     path.write_text(COMPOUND)
-    r = subprocess.run([sys.executable, "-m", "runtime.cli.main", "info", str(path), "--set", override],
+    r = subprocess.run([sys.executable, "-m", "levitron.runtime.cli.main", "info", str(path), "--set", override],
                        capture_output=True, text=True, cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)})
     assert r.returncode == 2 and message in r.stderr and len(r.stderr.strip().splitlines()) == 1, r.stderr
 
 
 def test_design_keys_reach_a_compound_plates_parts(tmp_path):
     """optimize --vary and the API name a part's key the same way (runtime/design/scene_keys.py)."""
-    from derive.scene import load_scene
-    from runtime.errors import UserError
-    from runtime.design.scene_keys import key_value, with_values
+    from levitron.derive.scene import load_scene
+    from levitron.runtime.errors import UserError
+    from levitron.runtime.design.scene_keys import key_value, with_values
     path = tmp_path / "two_rings.toml"
     path.write_text(COMPOUND)
     sc = load_scene(path)

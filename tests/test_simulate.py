@@ -10,12 +10,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from derive.scene import load_scene
-from runtime.errors import UserError
-from runtime.physics.equilibrium import hover_height
-from runtime.integrate.run import integrate
-from runtime.model.load import load_model
-from runtime.simulate.run import (
+from levitron.derive.scene import load_scene
+from levitron.runtime.errors import UserError
+from levitron.runtime.physics.equilibrium import hover_height
+from levitron.runtime.integrate.run import integrate
+from levitron.runtime.model.load import load_model
+from levitron.runtime.simulate.run import (
     ANGLES,
     angular_momentum_z,
     coordinates_of,
@@ -232,7 +232,7 @@ def test_bad_options(model, kwargs, words):
 
 
 def test_cli_simulate_json(capsys):
-    from runtime.cli.main import main
+    from levitron.runtime.cli.main import main
     rc = main(["simulate", "thesis", "--spin", "200", "--tilt", "0.01", "--t-end", "0.02", "--json"])
     assert rc == 0
     out = json.loads(capsys.readouterr().out)
@@ -253,7 +253,7 @@ def test_cli_simulate_json(capsys):
 ])
 def test_cli_refuses_unbounded_work_in_one_line(capsys, args, words):
     """Issue 8: each of these ran without end, or raised MemoryError, or (--tol 1) flipped a verdict."""
-    from runtime.cli.main import main
+    from levitron.runtime.cli.main import main
     rc = main(["simulate", "thesis", "--spin", "200", "--tilt", "0.01", *args])
     err = capsys.readouterr().err
     assert rc == 2 and words in err and len(err.strip().splitlines()) == 1

@@ -8,7 +8,7 @@ import json
 import numpy as np
 import pytest
 
-from runtime.bench.solver_compare import PERIOD, circle_system, error_per_turn, run, steps_to_energy_drift
+from levitron.runtime.bench.solver_compare import PERIOD, circle_system, error_per_turn, run, steps_to_energy_drift
 
 
 @pytest.fixture(scope="module")

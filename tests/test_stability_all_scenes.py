@@ -9,8 +9,8 @@ from functools import lru_cache
 
 import pytest
 
-from derive.paths import ROOT
-from derive.scene import SCENES_DIR, load_scene
+from levitron.derive.paths import ROOT
+from levitron.derive.scene import SCENES_DIR, load_scene
 
 FULL_SCENES = [p.stem for p in sorted(SCENES_DIR.glob("*.toml"))
                if {"full", "linear"} <= set(load_scene(p.stem).needs)]
@@ -18,7 +18,7 @@ FULL_SCENES = [p.stem for p in sorted(SCENES_DIR.glob("*.toml"))
 
 @lru_cache(maxsize=None)
 def stability(name: str) -> dict:
-    res = subprocess.run([sys.executable, "-m", "runtime.cli.main", "stability", name, "--json"],
+    res = subprocess.run([sys.executable, "-m", "levitron.runtime.cli.main", "stability", name, "--json"],
                          cwd=ROOT, capture_output=True, text=True)
     assert res.returncode == 0, res.stderr
     return json.loads(res.stdout)

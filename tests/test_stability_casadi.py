@@ -5,12 +5,12 @@ from __future__ import annotations
 
 import pytest
 
-from derive.paths import SCENES_DIR
-from derive.scene import load_scene
-from runtime.physics import equilibrium as eqm
-from runtime.physics import stability_casadi as sc
-from runtime.model.load import load_model
-from runtime.physics.stability import stability_of
+from levitron.derive.paths import SCENES_DIR
+from levitron.derive.scene import load_scene
+from levitron.runtime.physics import equilibrium as eqm
+from levitron.runtime.physics import stability_casadi as sc
+from levitron.runtime.model.load import load_model
+from levitron.runtime.physics.stability import stability_of
 
 SCENES = sorted(p.stem for p in SCENES_DIR.glob("*.toml"))
 

@@ -10,10 +10,10 @@ import random
 import numpy as np
 import sympy as sp
 
-from derive import stability as st
-from derive.symbols import A, C, Phi, g, m, mu
-from runtime.physics import eigen_route
-from runtime.physics import ray_algebra
+from levitron.derive import stability as st
+from levitron.derive.symbols import A, C, Phi, g, m, mu
+from levitron.runtime.physics import eigen_route
+from levitron.runtime.physics import ray_algebra
 
 P1, P2, P3 = st.P1, st.P2, st.P3
 lam, t, l, sigma = st.lam, st.t, st.l, st.sigma
@@ -248,7 +248,7 @@ def test_runtime_transverse_matrix_matches_derivation():
 def test_field_strength_near_axis():
     """|B|^2 = Phi1^2 + r^2 (Phi2^2/4 - Phi1 Phi3/2) + O(r^4) from B = -grad(phi) (2.2.6, 2.2.7),
     the basis of the adiabatic (Berry-Simon) band in runtime/physics/equilibrium.py."""
-    from derive import field
+    from levitron.derive import field
     r = sp.Symbol("r", positive=True)
     x, y, z = sp.symbols("x y z", real=True)
     B = field.field(4, x, y, z)

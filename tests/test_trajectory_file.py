@@ -7,9 +7,9 @@ import json
 import numpy as np
 import pytest
 
-import levitron_api as lev
-from runtime.simulate import trajectory_file
-from runtime.cli.main import main
+import levitron as lev
+from levitron.runtime.simulate import trajectory_file
+from levitron.runtime.cli.main import main
 
 
 @pytest.fixture(scope="module")

@@ -10,7 +10,7 @@ import matplotlib.figure
 import matplotlib.text
 import pytest
 
-from runtime.cli import main as cli
+from levitron.runtime.cli import main as cli
 
 SCENE = """name = "unit_annulus"
 g = 1.0

@@ -11,10 +11,10 @@ import numpy as np
 
 def lowered_rhs(scene, part_name: str):
     """The lowered `<part>_rhs` of the scene (derive's spec -> derive/emit/lower.py)."""
-    from derive.build import field_order
-    from derive.emit.lower import lower
-    from derive.geometry import build_plate
-    from derive.spec import build_spec
+    from levitron.derive.build import field_order
+    from levitron.derive.emit.lower import lower
+    from levitron.derive.geometry import build_plate
+    from levitron.derive.spec import build_spec
     order, _ = field_order(scene)
     spec = build_spec(scene.name, build_plate(scene.data["plate"]), order, scene.coordinates,
                       scene.needs, scene.friction)

@@ -3,7 +3,7 @@
 A kind is one module of derive/plates/ defining `KIND = PlateKind(...)`:
 
 - `keys`: the scene keys it allows, each with its unit and a one-line doc (docs/scenes.md is
-  generated from them: `python -m derive.plates.docs`);
+  generated from them: `python -m levitron.derive.plates.docs`);
 - `resolve(table, ctx) -> {name: SI value}`: validation and the parameters by the names of the
   plate's symbols (Scene.params holds them as `plate_<name>`, compound part i as `plate_p<i>_<name>`);
   it may add "mu" (the plate fixes the moment, `murho`) and "moment_nominal";

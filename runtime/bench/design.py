@@ -21,7 +21,7 @@ import json
 import time
 from pathlib import Path
 
-from runtime.errors import UserError
+from levitron.runtime.errors import UserError
 
 GOAL_S = 2.0                        # the goal: one design optimisation, verification included
 STIFFNESS_FLOOR = "stiffness>=0.5"  # N/m: the spin objectives need one (runtime/design/optimize.py)
@@ -32,7 +32,7 @@ COLUMNS = ("case", "objective", "keys", "value", "solver_status", "iterations", 
 
 
 def _box(scene, key: str, span: tuple[float, float]) -> str:
-    from runtime.design.scene_keys import key_value
+    from levitron.runtime.design.scene_keys import key_value
     v = key_value(scene.data, key)
     lo, hi = sorted((span[0] * v, span[1] * v))
     return f"{key}={lo:.6g}:{hi:.6g}"
@@ -63,11 +63,11 @@ def cases(scene, quick: bool) -> list[tuple[str, str, list[str], list[str]]]:
 
 
 def run(scene_ref: str = "thesis_stable", quick: bool = False) -> dict:
-    from derive.scene import load_scene
-    from runtime.design import optimize as design
-    from runtime.design.constraints import Constraint
-    from runtime.model.load import load_model
-    from runtime.design.scene_keys import Vary
+    from levitron.derive.scene import load_scene
+    from levitron.runtime.design import optimize as design
+    from levitron.runtime.design.constraints import Constraint
+    from levitron.runtime.model.load import load_model
+    from levitron.runtime.design.scene_keys import Vary
     t0 = time.perf_counter()
     model = load_model(load_scene(scene_ref))
     load_s = time.perf_counter() - t0

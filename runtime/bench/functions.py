@@ -9,8 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
-from runtime.integrate.c_backend import time_fn_ns
-from runtime.ui.plotting import pyplot, save_figure, style
+from levitron.runtime.integrate.c_backend import time_fn_ns
+from levitron.runtime.ui.plotting import pyplot, save_figure, style
 
 REPEATS = 3
 

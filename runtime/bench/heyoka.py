@@ -67,7 +67,7 @@ def cache_key(**what) -> str:
 
 
 def cache_folder() -> Path:
-    from runtime.model.cbuild import cache_dir
+    from levitron.runtime.model.cbuild import cache_dir
     return cache_dir() / CACHE_SUBDIR
 
 
@@ -84,7 +84,7 @@ def _load(path: Path):
 def _store(path: Path, obj) -> None:
     """Write obj's pickle to path atomically (module docstring). No fsync: the rename is what a
     kill cannot split; after a power loss a truncated pickle fails to load and is built again."""
-    from derive.faults import die_at
+    from levitron.derive.faults import die_at
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.stem}-{os.getpid()}-{secrets.token_hex(4)}.tmp")
     try:
@@ -125,7 +125,7 @@ def run(make_sys, x0: np.ndarray, p: np.ndarray, scale: np.ndarray, t_end: float
     system (module docstring); it is called only when the cache has no integrator."""
     import heyoka as hy
 
-    from runtime.bench.repeat import best_of
+    from levitron.runtime.bench.repeat import best_of
     X0 = np.asarray(x0, float) / scale
     ta, compile_s, cached = integrator(make_sys, X0, p, tol, key)
     best, steps, outcome = np.inf, None, None

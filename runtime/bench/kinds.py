@@ -7,7 +7,7 @@ A benchmark is a module with one function,
 that measures, writes its report files into `out` (a table and a plot) and returns a JSON-able
 dict with "files" (the paths written) and "headline" (one line for a person); plus one entry in
 KINDS below, with the scenes `make bench` runs it on and its report folder. So a new benchmark
-takes two files: its module and this registry. `python -m runtime.bench.kinds` runs every kind on
+takes two files: its module and this registry. `python -m levitron.runtime.bench.kinds` runs every kind on
 its scenes: the Makefile's `bench` target.
 """
 from __future__ import annotations
@@ -29,18 +29,18 @@ class Kind:
 
 
 KINDS = {k.name: k for k in (
-    Kind("work-precision", "runtime.bench.work_precision", "speed against error of every backend and integrator "
+    Kind("work-precision", "levitron.runtime.bench.work_precision", "speed against error of every backend and integrator "
          "(heyoka beside ours when the [bench] extra is installed)",
          ("thesis_stable", "ring_magnet", "square", "loop", "reduced_only"), "reports/{scene}"),
-    Kind("maps", "runtime.bench.maps", "points per second of a stability map on 1 and 2 workers, the "
+    Kind("maps", "levitron.runtime.bench.maps", "points per second of a stability map on 1 and 2 workers, the "
          "C driver against the Python path", ("thesis_stable",), "reports/maps"),
-    Kind("design", "runtime.bench.design", "wall time of verified IPOPT designs", ("thesis_stable",),
+    Kind("design", "levitron.runtime.bench.design", "wall time of verified IPOPT designs", ("thesis_stable",),
          "reports/design"),
-    Kind("launch", "runtime.bench.launch", "a long flight in air and a launch Monte Carlo",
+    Kind("launch", "levitron.runtime.bench.launch", "a long flight in air and a launch Monte Carlo",
          ("thesis_air",), "reports/launch"),
-    Kind("functions", "runtime.bench.functions", "ns per call of every generated function",
+    Kind("functions", "levitron.runtime.bench.functions", "ns per call of every generated function",
          ("thesis_stable", "ring_magnet"), "reports/{scene}/functions"),
-    Kind("startup", "runtime.bench.startup", "wall time of warm one-shot commands (--version, --help, "
+    Kind("startup", "levitron.runtime.bench.startup", "wall time of warm one-shot commands (--version, --help, "
          "stability, equilibrium) in fresh processes, against their budgets", ("thesis_stable",),
          "reports/startup"),
 )}
@@ -64,7 +64,7 @@ def main() -> int:
     """Every kind on its scenes, each through the `levitron bench` command (the Makefile's bench)."""
     for kind in KINDS.values():
         for scene in kind.scenes:
-            cmd = [sys.executable, "-m", "runtime", "bench", scene, "--kind", kind.name]
+            cmd = [sys.executable, "-m", "levitron.runtime", "bench", scene, "--kind", kind.name]
             print("$ levitron " + " ".join(cmd[3:]), flush=True)
             if subprocess.run(cmd, check=False).returncode != 0:
                 return 1

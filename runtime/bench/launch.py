@@ -13,18 +13,18 @@ import json
 import time
 from pathlib import Path
 
-from derive.scene import load_scene
+from levitron.derive.scene import load_scene
 
-from runtime.scan import launch_odds as mc
-from runtime.ui.human import Units
-from runtime.model.load import load_model
-from runtime.simulate.run import simulate
+from levitron.runtime.scan import launch_odds as mc
+from levitron.runtime.ui.human import Units
+from levitron.runtime.model.load import load_model
+from levitron.runtime.simulate.run import simulate
 
 
 def measure(scene: str, flight: float, n: int, t_end: float, workers: int, repeats: int) -> dict:
     model = load_model(load_scene(scene))
     ref = str(model.scene.path.resolve())
-    from runtime.physics.stability import stability_of
+    from levitron.runtime.physics.stability import stability_of
     lo, hi = stability_of(model).spin_interval
     spin = (lo * hi) ** 0.5
     simulate(model, spin=spin, t_end=1.0)                       # warm: compile, load, verify

@@ -52,7 +52,7 @@ from pathlib import Path
 
 import numpy as np
 
-from runtime.errors import UserError
+from levitron.runtime.errors import UserError
 
 SPIN_BELOW, SPIN_ABOVE = 0.5, 1.25   # the spin range around the linear interval [lo, hi]
 MAX_TILT = 0.2                       # rad
@@ -68,7 +68,7 @@ HEYOKA_TOLS = (1e-9, 1e-10, 1e-11, 1e-12, 1e-13)
 def map_axes(model, n: int) -> tuple[np.ndarray, np.ndarray, dict]:
     """The spin and tilt values of the bench's map (module docstring) and the linear interval
     (runtime.scan.physics.linear_interval)."""
-    from runtime.scan.physics import linear_interval
+    from levitron.runtime.scan.physics import linear_interval
     lin = linear_interval(model)
     iv = lin["spin_interval"]
     if iv is None:
@@ -83,8 +83,8 @@ def map_axes(model, n: int) -> tuple[np.ndarray, np.ndarray, dict]:
 def rhs_ns(model, spins: np.ndarray, tilts: np.ndarray, repeats: int = RHS_REPEATS) -> float:
     """ns per call of the full rhs (lev_time_fn in C) at the start of a mid-map point: the median
     of `repeats` loops of RHS_REPS calls."""
-    from runtime.integrate.run import time_fn_ns
-    from runtime.scan.points import point_setup
+    from levitron.runtime.integrate.run import time_fn_ns
+    from levitron.runtime.scan.points import point_setup
     su = point_setup(model, float(np.median(spins)), float(np.median(tilts)))
     fn = su.part.c_function("rhs")
     return statistics.median(time_fn_ns(model.lib, fn, su.x0, su.p, su.x0.size, RHS_REPS)
@@ -93,7 +93,7 @@ def rhs_ns(model, spins: np.ndarray, tilts: np.ndarray, repeats: int = RHS_REPEA
 
 def matched(model, scene_ref: str, overrides, spins, tilts, t_end) -> dict:
     """cpu_over_rhs with the rhs timed next to every scan call (module docstring)."""
-    from runtime.scan import stability_map as sc
+    from levitron.runtime.scan import stability_map as sc
     spins, tilts = spins[::MATCHED_STRIDE], tilts[::MATCHED_STRIDE]
     cpu = rhs_cost = 0.0
     evals = 0
@@ -118,7 +118,7 @@ def _cpu_total() -> float:
 def one_run(model, scene_ref: str, overrides, spins, tilts, t_end, workers: int,
             engine: str) -> tuple[dict, object]:
     """One scan and its row (module docstring; rhs_ns and cpu_over_rhs are added by `run`)."""
-    from runtime.scan import stability_map as sc
+    from levitron.runtime.scan import stability_map as sc
     cpu0 = _cpu_total()
     res = sc.scan(model, scene_ref, overrides, spins, "tilt", tilts, t_end=t_end, workers=workers,
                   quiet=True, engine=engine)
@@ -139,7 +139,7 @@ def cli_run(scene_ref: str, overrides, spins, tilts, t_end: float, workers: int)
     import time
     from types import SimpleNamespace
     script = Path(sys.executable).with_name("levitron")
-    cmd = [str(script)] if script.exists() else [sys.executable, "-m", "runtime"]
+    cmd = [str(script)] if script.exists() else [sys.executable, "-m", "levitron.runtime"]
     rng = lambda a: f"{float(a[0])!r}:{float(a[-1])!r}:{a.size}"    # repr: the same doubles back
     cmd += ["scan", scene_ref, "--spin", rng(spins), "--tilt", rng(tilts), "--t-end", repr(float(t_end)),
             "--workers", str(workers), "--json", "--quiet"]
@@ -163,14 +163,14 @@ def cli_run(scene_ref: str, overrides, spins, tilts, t_end: float, workers: int)
 def heyoka_batch(model, scene_ref: str, overrides, spins, tilts, t_end: float, quick: bool) -> dict:
     """heyoka's batch mode on a sub-grid beside the C driver on it (module docstring); a note
     instead when heyoka is not installed."""
-    from runtime.bench import heyoka as bench_heyoka
+    from levitron.runtime.bench import heyoka as bench_heyoka
     if not bench_heyoka.available():
         return {"note": "heyoka not installed: pip install '.[bench]'"}
     import time
 
-    from runtime.physics.equilibrium import hover_height
-    from runtime.scan import stability_map as sc
-    from runtime.scan.points import point_setup
+    from levitron.runtime.physics.equilibrium import hover_height
+    from levitron.runtime.scan import stability_map as sc
+    from levitron.runtime.scan.points import point_setup
     k = spins.size if quick else min(HEYOKA_N, spins.size)
     idx = np.unique(np.linspace(0, spins.size - 1, k).round().astype(int))
     sp, tl = spins[idx], tilts[np.unique(np.linspace(0, tilts.size - 1, k).round().astype(int))]
@@ -183,7 +183,7 @@ def heyoka_batch(model, scene_ref: str, overrides, spins, tilts, t_end: float, q
     scale, box = mid.scale, setups[0].box
     X0 = np.array([su.x0 for su in setups])
     P = np.array([su.p for su in setups])
-    from derive.emit.heyoka import lowered_rhs, system
+    from levitron.derive.emit.heyoka import lowered_rhs, system
     built: list = []
 
     def make_sys():
@@ -225,7 +225,7 @@ def run(model, scene_ref: str, overrides=(), n: int | None = None, t_end: float 
         quick: bool = False, python_n: int | None = None) -> dict:
     """The bench's rows (module docstring): the C driver at 1 and 2 workers on the n x n map, and the
     Python path serially on a python_n x python_n sub-grid of it (every k-th spin and tilt)."""
-    from runtime.scan.physics import reference_spin, slow_period
+    from levitron.runtime.scan.physics import reference_spin, slow_period
     n = n or (QUICK_N if quick else FULL_N)
     python_n = min(n, python_n or (QUICK_N if quick else PYTHON_N))
     if n < 2:

@@ -9,7 +9,7 @@ its starting point after every turn, T = 2 pi r0 / v0.
 - Figure 3.3: against the time step, the number of steps before the (kinetic) energy |v|^2/2 has
   drifted by 1 % of its initial value (the C integrator stops at that moment: energy_limit).
 
-Run: python -m runtime.bench.solver_compare [OUT_DIR] [--quick]; writes solver_compare.json and the two
+Run: python -m levitron.runtime.bench.solver_compare [OUT_DIR] [--quick]; writes solver_compare.json and the two
 PNGs (matplotlib, Agg).
 """
 from __future__ import annotations
@@ -22,9 +22,9 @@ from pathlib import Path
 
 import numpy as np
 
-from runtime.integrate.c_backend import CSystem, csrc_library, run_c
+from levitron.runtime.integrate.c_backend import CSystem, csrc_library, run_c
 
-from runtime.ui.plotting import pyplot, save_figure
+from levitron.runtime.ui.plotting import pyplot, save_figure
 
 R0, V0 = 1.0, 1.0
 PERIOD = 2 * math.pi * R0 / V0

@@ -18,8 +18,8 @@ import sys
 import time
 from pathlib import Path
 
-from runtime.bench.repeat import best_of
-from runtime.ui.plotting import pyplot, save_figure, style
+from levitron.runtime.bench.repeat import best_of
+from levitron.runtime.ui.plotting import pyplot, save_figure, style
 
 # (label, arguments after `levitron`, budget in s); "{scene}" is the scene
 COMMANDS = (
@@ -36,13 +36,13 @@ def launcher() -> list[str]:
     if script.exists():
         return [str(script)]
     found = shutil.which("levitron")
-    return [found] if found else [sys.executable, "-m", "runtime"]
+    return [found] if found else [sys.executable, "-m", "levitron.runtime"]
 
 
 def _as_typed(name: str, ref: str) -> str:
     """The scene as a person types it: its name when it is that file of scenes/ (a path to it
     would be timed as an out-of-tree scene), else the path."""
-    from derive.scene import SceneError, find_scene_file
+    from levitron.derive.scene import SceneError, find_scene_file
     try:
         same = find_scene_file(name).resolve() == Path(ref).resolve()
     except (SceneError, OSError):

@@ -52,17 +52,17 @@ from pathlib import Path
 
 import numpy as np
 
-from runtime.physics import equilibrium as eqm
-from runtime.ui import progress
-from runtime.physics.eigen_route import transverse_matrix
-from runtime.errors import UserError
-from runtime.ui.human import Units
-from runtime.integrate.run import backend_of, integrate, run_c, time_fn_ns
-from runtime.integrate.methods import lookup
-from runtime.ui.plotting import pyplot, save_figure
-from runtime.simulate.run import initial_state, state_scales
-from runtime.physics.stability import stability_of
-from runtime.bench.repeat import best_of
+from levitron.runtime.physics import equilibrium as eqm
+from levitron.runtime.ui import progress
+from levitron.runtime.physics.eigen_route import transverse_matrix
+from levitron.runtime.errors import UserError
+from levitron.runtime.ui.human import Units
+from levitron.runtime.integrate.run import backend_of, integrate, run_c, time_fn_ns
+from levitron.runtime.integrate.methods import lookup
+from levitron.runtime.ui.plotting import pyplot, save_figure
+from levitron.runtime.simulate.run import initial_state, state_scales
+from levitron.runtime.physics.stability import stability_of
+from levitron.runtime.bench.repeat import best_of
 
 ROW_KEYS = ("model", "backend", "integrator", "tol", "error", "wall_s", "rhs_evals")
 EXTRA_KEYS = ("step_or_tol", "status", "steps", "compile_s", "compile_cached")
@@ -141,7 +141,7 @@ def plan(quick: bool) -> list[tuple[str, str, list[float]]]:
     """(integrator, "tol" or "h", values) from coarse to fine, read from the integrator table
     (runtime/integrate/methods.py: each entry's sweep and quick_sweep); "h" values are fractions of
     T_fast. The quick plan runs C integrators first, as the full one does."""
-    from runtime.integrate.methods import TABLE
+    from levitron.runtime.integrate.methods import TABLE
     rows = [(m.name, "h" if m.fixed_step else "tol", list(m.quick_sweep if quick else m.sweep))
             for m in TABLE]
     return [r for r in rows if r[2]]
@@ -204,10 +204,10 @@ def heyoka_rows(model, part_name: str, x0, su: Setup, scale, x_ref, repeat: dict
     """heyoka's Taylor integrator on the same problem (runtime/bench/heyoka.py), repeated as every
     other backend (`repeat`: best_of's options, or 1 for one run); None when heyoka is absent."""
     repeat = ONCE if repeat == 1 else repeat
-    from runtime.bench import heyoka as bench_heyoka
+    from levitron.runtime.bench import heyoka as bench_heyoka
     if not bench_heyoka.available():
         return None
-    from derive.emit.heyoka import lowered_rhs, system
+    from levitron.derive.emit.heyoka import lowered_rhs, system
     built: list = []
 
     def make_sys():             # sympy: seconds; only when the cache lacks a tolerance
@@ -263,8 +263,8 @@ def per_call(model, part_name: str, x0, su: Setup, scale, x_ref, heyoka: list, q
     if ok:
         import heyoka as hy
 
-        from derive.emit.heyoka import lowered_rhs, system
-        from runtime.bench import heyoka as bench_heyoka
+        from levitron.derive.emit.heyoka import lowered_rhs, system
+        from levitron.runtime.bench import heyoka as bench_heyoka
         h = max(ok, key=lambda row: row["tol"])
         key = bench_heyoka.cache_key(input_hash=model.manifest.input_hash, part=part_name,
                                      scale=[float(v).hex() for v in scale], tol=float(h["tol"]).hex())

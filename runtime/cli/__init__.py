@@ -4,7 +4,7 @@ Public surface: main. Names load lazily (PEP 562), so importing the package cost
 """
 from __future__ import annotations
 
-from runtime import lazy_surface
+from levitron.runtime import lazy_surface
 
 _EXPORTS = {
     "main": "main",

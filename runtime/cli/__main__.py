@@ -1,6 +1,6 @@
-"""`python -m runtime.cli ...`: the `levitron` command."""
+"""`python -m levitron.runtime.cli ...`: the `levitron` command."""
 import sys
 
-from runtime.cli.main import main
+from levitron.runtime.cli.main import main
 
 sys.exit(main())

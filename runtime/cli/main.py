@@ -19,11 +19,11 @@ import os
 import sys
 import threading
 
-from runtime.ui import progress
-from runtime.ui import provenance
-from runtime.ui.provenance import version
-from runtime.cli.commands import COMMANDS
-from runtime.errors import UserError
+from levitron.runtime.ui import progress
+from levitron.runtime.ui import provenance
+from levitron.runtime.ui.provenance import version
+from levitron.runtime.cli.commands import COMMANDS
+from levitron.runtime.errors import UserError
 
 # derive.scene (SceneError) and runtime.model (the compiler, process control) are imported where
 # they are used: `levitron --version` and `--help` need neither (a tenth of a second of imports)
@@ -43,7 +43,7 @@ class Parser(argparse.ArgumentParser):
 
 
 def _modules(names=COMMANDS):
-    return [importlib.import_module(f"runtime.cli.commands.{name}") for name in names]
+    return [importlib.import_module(f"levitron.runtime.cli.commands.{name}") for name in names]
 
 
 def command_help(name: str) -> str:
@@ -51,7 +51,7 @@ def command_help(name: str) -> str:
     numpy, casadi ...; `levitron --help` needs only this line of each)."""
     import ast
     import importlib.util
-    origin = importlib.util.find_spec(f"runtime.cli.commands.{name}").origin
+    origin = importlib.util.find_spec(f"levitron.runtime.cli.commands.{name}").origin
     with open(origin, encoding="utf-8") as fh:
         tree = ast.parse(fh.read(), origin)
     for node in tree.body:
@@ -128,7 +128,7 @@ def _scene_or_none(args):
     """The scene of a one-scene command (its units and stated values), or None."""
     if not hasattr(args, "scene"):
         return None
-    from runtime.cli.commands.common import scene_of
+    from levitron.runtime.cli.commands.common import scene_of
     try:
         return scene_of(args)
     except UserError:
@@ -169,8 +169,8 @@ def os_error_message(exc: OSError) -> str:
 
 def _report(command: str, exc: BaseException) -> int:
     """Print the one-line message of `exc` and return the exit code."""
-    from derive.scene import SceneError
-    from runtime.model.cbuild import CompileError
+    from levitron.derive.scene import SceneError
+    from levitron.runtime.model.cbuild import CompileError
     prefix = f"levitron {command}"
     if isinstance(exc, (UserError, SceneError)):
         text, code = f"{prefix}: error: {one_line(str(exc))}", EXIT_USER
@@ -243,9 +243,9 @@ def main(argv=None) -> int:
     if getattr(args, "temperature", None) is not None:     # one more --set, resolved by the scene
         args.set = [*args.set, f"temperature={args.temperature!r}"]
     args._argv = argv
-    from derive.scene import SceneError
-    from runtime.model.cbuild import resolve_cache_env
-    from runtime.model.processes import terminate_as_exit
+    from levitron.derive.scene import SceneError
+    from levitron.runtime.model.cbuild import resolve_cache_env
+    from levitron.runtime.model.processes import terminate_as_exit
     resolve_cache_env()           # a relative LEVITRON_CACHE: from the user's folder, once
     if threading.current_thread() is threading.main_thread():
         terminate_as_exit()       # SIGTERM: the finally blocks remove their temporaries

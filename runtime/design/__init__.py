@@ -6,7 +6,7 @@ Public surface: Constraint, DesignResult, FitResult, Vary, fit, optimize. Names 
 """
 from __future__ import annotations
 
-from runtime import lazy_surface
+from levitron.runtime import lazy_surface
 
 _EXPORTS = {
     "Constraint": "constraints",

@@ -6,7 +6,7 @@ import math
 import re
 from dataclasses import dataclass
 
-from runtime.errors import UserError
+from levitron.runtime.errors import UserError
 
 QUANTITIES = {
     "z_s": "hover height (m), thesis 3.3.2",

@@ -17,8 +17,8 @@ from __future__ import annotations
 
 import math
 
-from runtime.physics import equilibrium as eqm
-from runtime.errors import UserError
+from levitron.runtime.physics import equilibrium as eqm
+from levitron.runtime.errors import UserError
 
 VANISHING = 1e-2     # k z_s / (m g) below this: the stiffness is vanishing (1% of the hover's scale m g / z_s)
 UNBOUNDED = 1e6      # an interval end at z_c this many times the optimum's sigma_hi: no upper bound
@@ -44,7 +44,7 @@ def warning(stiffness: float, mass: float, g: float, z_s: float, max_mass: float
 def check_bounded(model, p, interval: tuple[float, float], where: str) -> None:
     """UserError when the spin interval, continued from `interval` to the top of mass m(z_c) at z_c
     (parameters p), is unbounded above: the objective then grows without bound towards z_c."""
-    from runtime.physics.stability import stability_of
+    from levitron.runtime.physics.stability import stability_of
     P = eqm.params_of(model, p)
     rep = eqm.equilibria_of(model, p)
     if rep.z_c is None or rep.max_mass is None:

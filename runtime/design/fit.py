@@ -23,11 +23,11 @@ from pathlib import Path
 
 import numpy as np
 
-from runtime.physics import stability_casadi as sc
-from runtime.errors import UserError
-from runtime.design.scene_keys import KeyMap, Vary, key_value, with_values
-from runtime.ui import progress
-from runtime.ui.validate import real
+from levitron.runtime.physics import stability_casadi as sc
+from levitron.runtime.errors import UserError
+from levitron.runtime.design.scene_keys import KeyMap, Vary, key_value, with_values
+from levitron.runtime.ui import progress
+from levitron.runtime.ui.validate import real
 
 QUANTITIES = {"z_s": "m", "stiffness": "N/m", "sigma_lo": "rad/s", "sigma_hi": "rad/s",
               "z_c": "m", "max_mass": "kg"}

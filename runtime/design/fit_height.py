@@ -15,10 +15,10 @@ import math
 import casadi as ca
 import numpy as np
 
-from derive import plates
+from levitron.derive import plates
 
-from runtime.physics import equilibrium as eqm
-from runtime.errors import UserError
+from levitron.runtime.physics import equilibrium as eqm
+from levitron.runtime.errors import UserError
 
 # parameters that must be positive
 POSITIVE = ("m", "g", "A", "C")
@@ -48,7 +48,7 @@ def _key_route(model, key: str):
     """(x0, p(x) as CasADi, p(value) re-resolved) for a scene key (`plate.murho`, `top.moment`,
     `top.mass`): the one scene-key mapping of runtime/design/scene_keys.py (the resolver's own,
     as --vary uses it), on a box of +-0.1 % around the scene's value to measure its powers."""
-    from runtime.design.scene_keys import KeyMap, Vary, key_value
+    from levitron.runtime.design.scene_keys import KeyMap, Vary, key_value
     x0 = key_value(model.scene.data, key)
     if x0 == 0:
         raise UserError(f"--param {key} = 0 in the scene: fit a key the scene sets to a nonzero number")

@@ -47,14 +47,14 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
-from derive.scene import Scene
+from levitron.derive.scene import Scene
 
-from runtime.design import edge as design_edge
-from runtime.physics import stability_casadi as sc
-from runtime.design.constraints import Constraint
-from runtime.errors import UserError
-from runtime.physics.ray_algebra import RayCoefficients, ray_cubic
-from runtime.design.scene_keys import KeyMap, Vary, key_value
+from levitron.runtime.design import edge as design_edge
+from levitron.runtime.physics import stability_casadi as sc
+from levitron.runtime.design.constraints import Constraint
+from levitron.runtime.errors import UserError
+from levitron.runtime.physics.ray_algebra import RayCoefficients, ray_cubic
+from levitron.runtime.design.scene_keys import KeyMap, Vary, key_value
 
 OBJECTIVES = {"spin-range": ("sigma_hi - sigma_lo", "rad/s"),
               "spin-ratio": ("sigma_hi / sigma_lo", "1"),
@@ -131,7 +131,7 @@ def evaluate_band(model, keymap: KeyMap, x, constraints: Sequence[Constraint],
     """mass-window by the exact float route (runtime/physics/bands.py): the widest stable band, or the one
     containing the middle of the heights `near`; the constraints on the scene's top (z_s,
     stiffness, thesis 3.3.2-3.3.3)."""
-    from runtime.physics import equilibrium as eqm
+    from levitron.runtime.physics import equilibrium as eqm
     _, p = keymap.exact(x)
     x = tuple(float(v) for v in x)
     rep = eqm.equilibria_of(model, p, bands=True)
@@ -372,7 +372,7 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
     if not band and check.stiffness is not None:
         p_opt = keymap.exact(x)[1]
         P = model.pvals(p_opt)
-        from runtime.physics import equilibrium as eqm
+        from levitron.runtime.physics import equilibrium as eqm
         edge = design_edge.warning(check.stiffness, P["m"], P["g"], check.z_s,
                                    eqm.equilibria_of(model, p_opt).max_mass)
         if edge is not None:

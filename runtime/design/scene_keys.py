@@ -27,10 +27,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from derive import plates
-from derive.scene import Scene, SceneError, validate
+from levitron.derive import plates
+from levitron.derive.scene import Scene, SceneError, validate
 
-from runtime.errors import UserError
+from levitron.runtime.errors import UserError
 
 RTOL = 1e-12
 

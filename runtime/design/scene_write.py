@@ -9,9 +9,9 @@ import re
 import tempfile
 from pathlib import Path
 
-from derive.scene import Scene, SceneError, load_scene
+from levitron.derive.scene import Scene, SceneError, load_scene
 
-from runtime.errors import UserError
+from levitron.runtime.errors import UserError
 
 
 def _value(v) -> str:

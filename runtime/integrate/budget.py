@@ -24,8 +24,8 @@ from __future__ import annotations
 import math
 import sys
 
-from runtime.errors import UserError
-from runtime.integrate.methods import lookup
+from levitron.runtime.errors import UserError
+from levitron.runtime.integrate.methods import lookup
 
 MAX_STEPS_CAP = 10**7      # absolute cap on the steps of one run, whatever the options ...
 SCIPY_STEPS_CAP = 10**5    # ... and for scipy, whose steps cost ~0.1-1 ms (a Python call per stage)

@@ -17,11 +17,11 @@ from typing import Any
 
 import numpy as np
 
-from runtime.model.cbuild import DEFAULT_FLAGS, compile_shared
-from runtime.errors import UserError
-from runtime.integrate.methods import choice_details, lookup, resolve
-from runtime.integrate.budget import MAX_STEPS_CAP, budget_message, default_budget
-from runtime.integrate.trajectory import Box, Result
+from levitron.runtime.model.cbuild import DEFAULT_FLAGS, compile_shared
+from levitron.runtime.errors import UserError
+from levitron.runtime.integrate.methods import choice_details, lookup, resolve
+from levitron.runtime.integrate.budget import MAX_STEPS_CAP, budget_message, default_budget
+from levitron.runtime.integrate.trajectory import Box, Result
 
 STATUS = {0: "completed", 1: "left_box", 2: "nonfinite", 3: "step_underflow", 4: "step_budget",
           5: "no_convergence", 6: "bad_input", 7: "energy_limit"}
@@ -239,7 +239,7 @@ class CSystem:
         return getattr(self.lib, f"{self.prefix}_{name}")
 
     def _call(self, name: str, x, p, n_out: int) -> np.ndarray:
-        from runtime.model.load import CFunction
+        from levitron.runtime.model.load import CFunction
         return CFunction(self.c_function(name), len(self.states), n_out,
                          self.p if p is None else _f64(p))(x)
 

@@ -10,9 +10,9 @@ from typing import Any
 
 import numpy as np
 
-from runtime.integrate.methods import lookup
-from runtime.integrate.budget import budget_message, fixed_steps
-from runtime.integrate.trajectory import Box, Result
+from levitron.runtime.integrate.methods import lookup
+from levitron.runtime.integrate.budget import budget_message, fixed_steps
+from levitron.runtime.integrate.trajectory import Box, Result
 
 
 def _truncate_at_box(t, X, box: Box | None):

@@ -91,7 +91,7 @@ def lookup(name: str) -> Integrator:
     """The table entry of `name`; an unknown name is a one-line UserError listing the choices."""
     entry = BY_NAME.get(name)
     if entry is None:
-        from runtime.errors import UserError
+        from levitron.runtime.errors import UserError
         raise UserError(f"unknown integrator {name!r}; choose one of: {', '.join(METHODS)}")
     return entry
 
@@ -103,7 +103,7 @@ def resolve(name: str, tol: float | None = None, h: float | None = None) -> str:
     lookup(name)
     if name != AUTO:
         return name
-    from runtime.errors import UserError
+    from levitron.runtime.errors import UserError
     if h is not None:
         fixed = ", ".join(i.name for i in TABLE if i.fixed_step)
         raise UserError(f"integrator auto picks an adaptive method from the tolerance and takes no "

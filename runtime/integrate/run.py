@@ -43,13 +43,13 @@ import math
 
 import numpy as np
 
-from runtime.integrate.c_backend import CSystem, bind, _f64, csrc_library, run_c, time_fn_ns
-from runtime.errors import UserError
-from runtime.integrate.casadi_backend import integrate_casadi
-from runtime.integrate.scipy_backend import integrate_scipy
-from runtime.integrate.methods import DEFAULT, choice_details, lookup, resolve
-from runtime.integrate.budget import check_options, default_budget, fixed_steps
-from runtime.integrate.trajectory import Box, Result
+from levitron.runtime.integrate.c_backend import CSystem, bind, _f64, csrc_library, run_c, time_fn_ns
+from levitron.runtime.errors import UserError
+from levitron.runtime.integrate.casadi_backend import integrate_casadi
+from levitron.runtime.integrate.scipy_backend import integrate_scipy
+from levitron.runtime.integrate.methods import DEFAULT, choice_details, lookup, resolve
+from levitron.runtime.integrate.budget import check_options, default_budget, fixed_steps
+from levitron.runtime.integrate.trajectory import Box, Result
 
 # the names callers import from here (the pieces live in the modules above)
 __all__ = ["Box", "CSystem", "Result", "backend_of", "csrc_library", "default_scale", "integrate",

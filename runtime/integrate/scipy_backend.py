@@ -8,10 +8,10 @@ from collections.abc import Callable
 
 import numpy as np
 
-from runtime.errors import UserError
-from runtime.integrate.methods import lookup
-from runtime.integrate.budget import budget_message
-from runtime.integrate.trajectory import Result
+from levitron.runtime.errors import UserError
+from levitron.runtime.integrate.methods import lookup
+from levitron.runtime.integrate.budget import budget_message
+from levitron.runtime.integrate.trajectory import Result
 
 
 def numpy_rhs(part, p: np.ndarray, kind: str = "auto") -> tuple[Callable, str]:

@@ -16,7 +16,7 @@ import shutil
 import time
 from pathlib import Path
 
-from derive.atomic_dir import owner_alive
+from levitron.derive.atomic_dir import owner_alive
 
 STALE_AFTER_S = 60.0
 _DERIVED_TMP = re.compile(r"\.[A-Za-z0-9_-]+?-(\d+)-[A-Za-z0-9_]+\Z")

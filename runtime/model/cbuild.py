@@ -30,8 +30,8 @@ from contextlib import contextmanager
 from functools import cache
 from pathlib import Path
 
-from runtime.errors import UserError
-from runtime.model.processes import die_with_parent
+from levitron.runtime.errors import UserError
+from levitron.runtime.model.processes import die_with_parent
 
 # no errno from sqrt: the lane variants of model.c vectorise; no contraction of a * b + c into an
 # fma but where the C says so (LEV_FMA in model.c, LEV_MADD in integrators.c), so a function and its
@@ -89,7 +89,7 @@ def cache_dir() -> Path:
         raise cache_problem(path, exc) from None
     if path not in _SWEPT:
         _SWEPT.add(path)
-        from runtime.model.cache_sweep import sweep_cache
+        from levitron.runtime.model.cache_sweep import sweep_cache
         sweep_cache(path)
     return path
 
@@ -175,7 +175,7 @@ def compile_shared(sources: list[Path | str], flags: tuple[str, ...] = DEFAULT_F
         print(f"levitron: the cached library {target} is damaged (size or sha256 differs from "
               f"{_stamp_path(target).name}): rebuilding it", file=sys.stderr)
     cc = compiler()
-    from runtime.ui import progress
+    from levitron.runtime.ui import progress
     what = (f"{len(sources)} C sources" if len(sources) > 1 else sources[0].name)
     with progress.stages("compiling", [what, "linking"], [0.9, 0.1]) as stage:
         stage(0)

@@ -26,17 +26,17 @@ from typing import NamedTuple
 import numpy as np
 import tomli_w
 
-from derive.faults import die_at
-from derive.inputs import input_hash
-from derive.paths import GENERATED, ROOT, is_committed_scene
-from derive.scene import Scene
+from levitron.derive.faults import die_at
+from levitron.derive.inputs import input_hash
+from levitron.derive.paths import GENERATED, ROOT, is_committed_scene
+from levitron.derive.scene import Scene
 
-from runtime.model.cbuild import cache_dir, cache_problem, compile_shared, discard, locked
-from runtime.errors import UserError
-from runtime.model.manifest import ArtefactError, FunctionInfo, Manifest, read_manifest
-from runtime.model.table import disagreement, read_table
-from runtime.model.processes import die_with_parent
-from runtime.ui import progress
+from levitron.runtime.model.cbuild import cache_dir, cache_problem, compile_shared, discard, locked
+from levitron.runtime.errors import UserError
+from levitron.runtime.model.manifest import ArtefactError, FunctionInfo, Manifest, read_manifest
+from levitron.runtime.model.table import disagreement, read_table
+from levitron.runtime.model.processes import die_with_parent
+from levitron.runtime.ui import progress
 
 CSRC = Path(__file__).resolve().parent.parent / "csrc"
 
@@ -124,7 +124,7 @@ def make_derive_fix(name: str) -> str:
 def locate(scene: Scene, overrides=(), force: bool = False) -> Located:
     """The scene's verified model folder: generated/<name>/ when it is current for the scene (a scene
     of scenes/, also with --set overrides of numbers, which are runtime parameters), else a folder
-    in the cache keyed by the input hash, derived first (python -m derive, in a subprocess: the
+    in the cache keyed by the input hash, derived first (python -m levitron.derive, in a subprocess: the
     runtime does not import sympy) when missing, damaged (derived again, once) or `force`d.
 
     The runtime never writes into generated/ (only `make derive` does): a damaged current
@@ -169,7 +169,7 @@ def _derive_into(scene: Scene, overrides, out: Path, ihash: str, note: str | Non
         # child derives exactly what is hashed here, even if the file is edited meanwhile
         snapshot = tmp / f"{scene.name}.toml"
         snapshot.write_text(tomli_w.dumps(scene.data), encoding="utf-8")
-        cmd = [sys.executable, "-m", "derive", str(snapshot), "--out", str(tmp), "--force", "--stages"]
+        cmd = [sys.executable, "-m", "levitron.derive", str(snapshot), "--out", str(tmp), "--force", "--stages"]
         child = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
                                  cwd=ROOT, preexec_fn=die_with_parent)
         try:
@@ -190,7 +190,7 @@ def _derive_into(scene: Scene, overrides, out: Path, ihash: str, note: str | Non
         shutil.rmtree(tmp, ignore_errors=True)
 
 
-# the stages of python -m derive --stages (derive/__main__.py's STAGES) and their shares of a
+# the stages of python -m levitron.derive --stages (derive/__main__.py's STAGES) and their shares of a
 # derivation's time (measured: thesis and ring_magnet at field orders 4 and 6), for the ETA
 DERIVE_STAGES = ("the plate's on-axis potential", "the field's order", "the reduced model",
                  "Hamilton's equations", "the full model's Jacobian and energy",

@@ -16,9 +16,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from types import MappingProxyType
 
-from derive.digest import SELF_KEY, first_changed_file, manifest_digest
+from levitron.derive.digest import SELF_KEY, first_changed_file, manifest_digest
 
-from runtime.errors import UserError
+from levitron.runtime.errors import UserError
 
 
 class ArtefactError(UserError):

@@ -2,10 +2,10 @@
 UserError, the one way the command line and the public API load a scene."""
 from __future__ import annotations
 
-from derive.scene import Scene, SceneError
-from derive.scene import load_scene as _load
+from levitron.derive.scene import Scene, SceneError
+from levitron.derive.scene import load_scene as _load
 
-from runtime.errors import UserError
+from levitron.runtime.errors import UserError
 
 
 def load_scene(name_or_path, overrides=()) -> Scene:

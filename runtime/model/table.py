@@ -10,7 +10,7 @@ from __future__ import annotations
 import ctypes
 import json
 
-from runtime.model.manifest import Manifest
+from levitron.runtime.model.manifest import Manifest
 
 TABLE_SYMBOL = "lev_model_table"
 MAX_PIECES = 100_000

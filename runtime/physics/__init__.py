@@ -6,7 +6,7 @@ Public surface: equilibria_of, hover_height, stability_of, without_friction. Nam
 """
 from __future__ import annotations
 
-from runtime import lazy_surface
+from levitron.runtime import lazy_surface
 
 _EXPORTS = {
     "equilibria_of": "equilibrium",

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from runtime.physics import ray_algebra
+from levitron.runtime.physics import ray_algebra
 
 OnAxis = Callable[[float], Sequence[float]]
 

@@ -36,11 +36,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from derive import plates
-from derive.plates.expression import formulas
+from levitron.derive import plates
+from levitron.derive.plates.expression import formulas
 
-from runtime.physics import bands as _bands
-from runtime.errors import UserError
+from levitron.runtime.physics import bands as _bands
+from levitron.runtime.errors import UserError
 
 OnAxis = Callable[[float], Sequence[float]]  # z -> [Phi_0, Phi_1, ..., Phi_K], K >= 3
 

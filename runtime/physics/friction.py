@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from derive.scene import FRICTION_KEYS
+from levitron.derive.scene import FRICTION_KEYS
 
 RATES = tuple(FRICTION_KEYS.values())   # k_spin, k_tilt, k_trans: parameter names of a model in air
 

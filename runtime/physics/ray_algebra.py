@@ -25,7 +25,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from runtime.physics.brent import brentq
+from levitron.runtime.physics.brent import brentq
 
 EPS = np.finfo(float).eps
 

@@ -17,16 +17,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from runtime.physics import equilibrium as eqm
-from runtime.errors import UserError
-from runtime.physics.friction import without_friction
-from runtime.physics.eigen_route import (
+from levitron.runtime.physics import equilibrium as eqm
+from levitron.runtime.errors import UserError
+from levitron.runtime.physics.friction import without_friction
+from levitron.runtime.physics.eigen_route import (
     full_equilibrium_state,
     spin_intervals_eigen,
     transverse_block,
     transverse_matrix,
 )
-from runtime.physics.ray_algebra import (
+from levitron.runtime.physics.ray_algebra import (
     RayCoefficients,
     spin_intervals_discriminant,
     thesis_approximations,

@@ -32,8 +32,8 @@ from dataclasses import dataclass
 
 import casadi as ca
 
-from runtime.errors import UserError
-from runtime.physics.ray_algebra import _g_poly_by_degree
+from levitron.runtime.errors import UserError
+from levitron.runtime.physics.ray_algebra import _g_poly_by_degree
 
 NEWTON = {"abstol": 1e-15, "abstolStep": 1e-15, "max_iter": 40, "error_on_fail": False}
 # inside an NLP: tolerances every well-conditioned root reaches, a failure is an evaluation error
@@ -232,7 +232,7 @@ class Starts:
 def starts(model, p=None, band: bool = False) -> Starts:
     """The float routes' answers at p (default the scene's) to start the rootfinders from; with
     band=True also the stable band's upper edge (runtime/physics/bands.py, `band_start`)."""
-    from runtime.physics import equilibrium as eqm
+    from levitron.runtime.physics import equilibrium as eqm
     p = model.p if p is None else p
     rep = eqm.equilibria_of(model, p, bands=band)
     edge = band_start(model, p, rep.stable_band) if band and rep.stable_band else None
@@ -249,7 +249,7 @@ def spin_intervals(model, p, z_s: float) -> tuple[tuple[float, float], ...]:
     runtime/physics/ray_algebra.py), lowest first."""
     import math
 
-    from runtime.physics.ray_algebra import RayCoefficients, spin_intervals_discriminant
+    from levitron.runtime.physics.ray_algebra import RayCoefficients, spin_intervals_discriminant
     P = model.pvals(p)
     ph = model.onaxis(z_s, p)
     c = RayCoefficients.from_physics(ph[1], ph[2], ph[3], P["m"], P["A"], P["C"], P["mu"])
@@ -269,7 +269,7 @@ def band_start(model, p, band) -> tuple[float, float, float] | None:
     the mean of the three clustered roots of N(t) there (thesis 3.3.11)."""
     import numpy as np
 
-    from runtime.physics.ray_algebra import RayCoefficients, spin_intervals_discriminant
+    from levitron.runtime.physics.ray_algebra import RayCoefficients, spin_intervals_discriminant
     P = model.pvals(p)
     lo, hi = band.z
     for frac in (1e-6, 1e-4, 1e-2):

@@ -25,12 +25,12 @@ from pathlib import Path
 
 import numpy as np
 
-from runtime.errors import UserError
-from runtime.physics import equilibrium as eqm
-from runtime.ui import progress
-from runtime.ui.human import Units, restate, sig, span
-from runtime.ui.plotting import band, pyplot, save_figure, style
-from runtime.physics.ray_algebra import l_cubic
+from levitron.runtime.errors import UserError
+from levitron.runtime.physics import equilibrium as eqm
+from levitron.runtime.ui import progress
+from levitron.runtime.ui.human import Units, restate, sig, span
+from levitron.runtime.ui.plotting import band, pyplot, save_figure, style
+from levitron.runtime.physics.ray_algebra import l_cubic
 
 
 class NotDrawn(Exception):
@@ -192,7 +192,7 @@ def figure_3_4(model, path: Path, orbits: int = 7) -> Path:
     alone: p_z = +-sqrt(2 m (E - U(z))). Each orbit starts at z_s with p_z > 0 and is integrated
     over one period and a half with the generated reduced Hamilton equations (DOP853, tol 1e-10);
     the spin (p_psi) does not enter z's motion and is 0."""
-    from runtime.integrate import integrate
+    from levitron.runtime.integrate import integrate
     plt = pyplot()
     style()
     P = eqm.params_of(model)
@@ -306,10 +306,10 @@ def figure_3_8(model, path: Path, scene_ref: str, overrides=(), quick: bool = Fa
     the lower to 1.25 x the upper end of its linear interval (thesis 3.3), or, where it has none,
     of the interval of the top that hovers in the middle of the stable band (the map then shows
     the scene's top falling there). NotDrawn without a full model or a stable band."""
-    from runtime.physics.stability import stability_of
-    from runtime.scan import stability_map as sc
-    from runtime.scan.physics import slow_period, spins_around
-    from runtime.scan.plot import draw as draw_map
+    from levitron.runtime.physics.stability import stability_of
+    from levitron.runtime.scan import stability_map as sc
+    from levitron.runtime.scan.physics import slow_period, spins_around
+    from levitron.runtime.scan.plot import draw as draw_map
     u = Units.of_scene(model.scene)
     m = model.param("m")
     if "full" not in model.parts:

@@ -19,12 +19,12 @@ from pathlib import Path
 
 import numpy as np
 
-from derive import plates
+from levitron.derive import plates
 
-from runtime.physics import equilibrium as eqm
-from runtime.ui import progress
-from runtime.ui.human import SI_SYMBOLS, Units, restate, sig, span
-from runtime.physics.stability import stability_of
+from levitron.runtime.physics import equilibrium as eqm
+from levitron.runtime.ui import progress
+from levitron.runtime.ui.human import SI_SYMBOLS, Units, restate, sig, span
+from levitron.runtime.physics.stability import stability_of
 
 MAP_SPINS, MAP_TILTS = 8, 6
 LAUNCH_TILT = 0.01            # rad
@@ -55,11 +55,11 @@ def _p(text: str, cls: str = "") -> str:
 def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -> tuple[str, dict]:
     """The page and the facts it shows (SI numbers, for --json); provenance: the block of
     runtime/ui/provenance.py, shown at the foot of the page (its command rebuilds the page)."""
-    from runtime.scan import stability_map as sc
-    from runtime.report.figures import figure_3_5
-    from runtime.scan.physics import slow_period, spins_around
-    from runtime.scan.plot import draw as draw_map
-    from runtime.simulate.run import simulate
+    from levitron.runtime.scan import stability_map as sc
+    from levitron.runtime.report.figures import figure_3_5
+    from levitron.runtime.scan.physics import slow_period, spins_around
+    from levitron.runtime.scan.plot import draw as draw_map
+    from levitron.runtime.simulate.run import simulate
 
     scene = model.scene
     u = Units.of_scene(scene)
@@ -171,7 +171,7 @@ def _shown(v, unit: str, u: Units) -> str:
 
 def _key_units(section: str, table: dict) -> dict[str, str]:
     """key -> SI unit of a scene section (derive/scene.py's key tables, the plate kinds' own)."""
-    from derive.scene import FIELD_KEYS, TOP_KEYS
+    from levitron.derive.scene import FIELD_KEYS, TOP_KEYS
     if section == "plate":
         kind = plates.KINDS.get(table.get("kind"))
         return {k.name: k.unit for k in kind.keys} if kind is not None else {}
@@ -182,7 +182,7 @@ def scene_rows(scene, overrides, u: Units, P: dict) -> list[tuple[str, str]]:
     """The scene as its author wrote it: one row per key (`plate.radius`, with its unit; the keys
     --set changed marked), the scene file, and the top's magnetic moment (thesis 2.2.11 needs only
     the product mu rho where the scene gives murho)."""
-    from derive.scene import SCENE_KEYS
+    from levitron.derive.scene import SCENE_KEYS
     changed = {o.split("=", 1)[0].strip() for o in overrides}
     top_units = {k.name: k.unit for k in SCENE_KEYS}
     rows = [("file", f"{scene.path}" + (f" with --set {', '.join(overrides)}" if overrides else ""))]

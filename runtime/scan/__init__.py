@@ -6,7 +6,7 @@ so importing the package costs nothing.
 """
 from __future__ import annotations
 
-from runtime import lazy_surface
+from levitron.runtime import lazy_surface
 
 _EXPORTS = {
     "ScanResult": "stability_map",

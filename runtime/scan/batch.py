@@ -23,10 +23,10 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from runtime.errors import UserError
-from runtime.integrate.budget import check_options, default_budget
-from runtime.integrate.methods import DEFAULT, default_step, lookup, resolve
-from runtime.ui.validate import real
+from levitron.runtime.errors import UserError
+from levitron.runtime.integrate.budget import check_options, default_budget
+from levitron.runtime.integrate.methods import DEFAULT, default_step, lookup, resolve
+from levitron.runtime.ui.validate import real
 
 MAX_LAUNCHES = 10**6
 CHECK_N_OUT = 2            # check_options' sample count: the driver keeps no samples
@@ -77,9 +77,9 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
     of length k: levitating, untested (a launch on the invariant set, simulate()'s levitating
     None), status, t_survived, rhs_evals, steps, z_s, final_state (k, n); plus states, inputs,
     t_end, integrator, integrator_requested, tol, step, lanes and wall_s."""
-    from runtime.physics.equilibrium import hover_height
-    from runtime.scan.chunk_c import drive_runs
-    from runtime.simulate import run as sim
+    from levitron.runtime.physics.equilibrium import hover_height
+    from levitron.runtime.scan.chunk_c import drive_runs
+    from levitron.runtime.simulate import run as sim
     t_wall = time.perf_counter()
     t_end = None if t_end is None else real(t_end, "t_end (run length)", unit="s")
     tol = None if tol is None else real(tol, "tol (tolerance)")

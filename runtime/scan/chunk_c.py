@@ -1,6 +1,6 @@
 """A chunk of a stability map in one C call (runtime/csrc/scan_driver.c; thesis 3.1-3.2, fig. 3.8).
 
-The Python side builds, once per chunk, the inputs of every point from runtime.simulate.run's pieces
+The Python side builds, once per chunk, the inputs of every point from levitron.runtime.simulate.run's pieces
 (runtime.scan.points.point_setup: the initial state through the Legendre map of the generated
 rhs, thesis eq. 2.3.8; the box; the fastest time scale; the state scales), and the step budget of
 runtime/integrate/budget.py exactly as runtime.integrate.run gives it; then `lev_scan_chunk` integrates all
@@ -16,10 +16,10 @@ from dataclasses import replace
 
 import numpy as np
 
-from runtime.integrate.c_backend import STATUS, bind, fn_address
-from runtime.errors import UserError
-from runtime.integrate.methods import lookup, resolve
-from runtime.integrate.budget import check_options, default_budget
+from levitron.runtime.integrate.c_backend import STATUS, bind, fn_address
+from levitron.runtime.errors import UserError
+from levitron.runtime.integrate.methods import lookup, resolve
+from levitron.runtime.integrate.budget import check_options, default_budget
 
 _DP = ctypes.POINTER(ctypes.c_double)
 _LP = ctypes.POINTER(ctypes.c_long)
@@ -146,7 +146,7 @@ def drive_runs(model, part, method: str, t_end: float, tol: float | None, x0: np
     needs it; the lane variant of the rhs where it verifies (verified_lanes). What the stability
     maps, the launch odds and the batched simulations share. Returns drive's arrays and `lanes`
     (whether the lane variant ran)."""
-    from runtime.simulate.start import default_box
+    from levitron.runtime.simulate.start import default_box
     entry = lookup(method)
     jac = part.c_function("jac") if entry.needs_jacobian and part.has("jac") else None
     bx = default_box(part, 1.0)                # the state indices of x, y and z
@@ -164,7 +164,7 @@ def run_chunk_c(model, common, points: Sequence[tuple]) -> list[dict]:
     """The grid points [(task, point_setup keywords)] of one chunk through lev_scan_chunk, with the
     options runtime.integrate.run would give each run (atol = tol * scale, rtol = tol; the default step
     budget at the point's fastest time scale; the same option checks)."""
-    from runtime.scan.points import N_OUT, point_setup
+    from levitron.runtime.scan.points import N_OUT, point_setup
     common = replace(common, integrator=resolve(common.integrator, common.tol, common.h))
     entry = lookup(common.integrator)
     tol = None if entry.fixed_step else common.tol

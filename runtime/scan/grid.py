@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from runtime.errors import UserError
+from levitron.runtime.errors import UserError
 
 AXES = ("tilt", "mass", "height")
 UNITS = {"spin": "rad/s", "tilt": "rad", "mass": "kg", "height": "fraction of z_s"}

@@ -37,10 +37,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from runtime.errors import UserError
-from runtime.physics.friction import has_friction
-from runtime.integrate.methods import DEFAULT, lookup, resolve
-from runtime.ui.validate import count, real
+from levitron.runtime.errors import UserError
+from levitron.runtime.physics.friction import has_friction
+from levitron.runtime.integrate.methods import DEFAULT, lookup, resolve
+from levitron.runtime.ui.validate import count, real
 
 INPUTS = ("spin", "tilt", "tilt_azimuth", "offset", "velocity", "mass", "strength", "temperature")
 Z95 = 1.959963984540054          # the 97.5 % point of the standard normal
@@ -155,7 +155,7 @@ def samples(plan: Plan) -> dict[str, np.ndarray]:
 def temperature_factor(model, T: float) -> float:
     """The factor on mu at temperature T relative to the scene's own (derive/scene.py's linear
     model of both magnets' remanence)."""
-    from derive.scene import T_REF
+    from levitron.derive.scene import T_REF
     data = model.scene.data
     ap = float(data["plate"].get("temperature_coefficient", 0.0))
     at = float(data["top"].get("temperature_coefficient", 0.0))
@@ -166,11 +166,11 @@ def temperature_factor(model, T: float) -> float:
 
 def run_chunk(plan: Plan, indices) -> dict:
     """The samples `indices` through the C chunk driver: {"points": [{i, t, status}], ...}."""
-    from runtime.simulate import run as sim
-    from runtime.physics.equilibrium import hover_height
-    from runtime.scan.chunk_c import drive_runs
-    from runtime.scan.runners import model_for
-    from runtime.integrate.budget import check_options, default_budget
+    from levitron.runtime.simulate import run as sim
+    from levitron.runtime.physics.equilibrium import hover_height
+    from levitron.runtime.scan.chunk_c import drive_runs
+    from levitron.runtime.scan.runners import model_for
+    from levitron.runtime.integrate.budget import check_options, default_budget
     model = model_for(plan.scene, plan.overrides)
     S = samples(plan)
     pt = model.part("full")
@@ -258,9 +258,9 @@ def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n
                 scheduler: str | None = None, quiet: bool = False) -> dict:
     """The launch odds of the module docstring. given: input name -> a distribution spec (flags or
     the scene's [launch] table, flags first); others take `defaults`."""
-    from runtime.scan import runners
-    from runtime.physics.equilibrium import hover_height
-    from runtime.physics.stability import stability_of
+    from levitron.runtime.scan import runners
+    from levitron.runtime.physics.equilibrium import hover_height
+    from levitron.runtime.physics.stability import stability_of
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= MAX_N:
         raise UserError(f"--n {n} must be a whole number of launches from 1 to {MAX_N}")
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
@@ -302,8 +302,8 @@ def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n
     if success_time is None:
         success_time = t_end if t_end is not None else (0.5 * tau if air else None)
     if success_time is None:          # no friction: a map's run length (runtime/scan/stability_map.py)
-        from runtime.scan.stability_map import PERIODS
-        from runtime.scan.physics import slow_period
+        from levitron.runtime.scan.stability_map import PERIODS
+        from levitron.runtime.scan.physics import slow_period
         success_time = PERIODS * slow_period(model, model.param("m"), z_s, float(dists["spin"].a))
     if t_end is None:
         t_end = success_time
@@ -361,7 +361,7 @@ def summarize(plan: Plan, results, success_time: float, interval, z_s: float, ta
 
 def draw(result: dict, path, units, scene: str = ""):
     """The flight-time histogram with the success time drawn in."""
-    from runtime.ui.plotting import pyplot, save_figure, style
+    from levitron.runtime.ui.plotting import pyplot, save_figure, style
     plt = pyplot()
     style()
     tu = "s" if units.si else "time units"

@@ -9,9 +9,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from runtime.physics.eigen_route import transverse_matrix
-from runtime.errors import UserError
-from runtime.physics.stability import stability_of
+from levitron.runtime.physics.eigen_route import transverse_matrix
+from levitron.runtime.errors import UserError
+from levitron.runtime.physics.stability import stability_of
 
 
 def linear_interval(model, mass: float | None = None) -> dict:

@@ -5,9 +5,9 @@ from pathlib import Path
 
 import numpy as np
 
-from runtime.ui.human import Units
-from runtime.ui.plotting import pyplot, save_figure, style
-from runtime.scan.grid import UNITS
+from levitron.runtime.ui.human import Units
+from levitron.runtime.ui.plotting import pyplot, save_figure, style
+from levitron.runtime.scan.grid import UNITS
 
 
 NO_HOVER = "no_hover_height"     # the scan's status of a point with no equilibrium

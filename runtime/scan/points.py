@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from runtime.integrate.methods import DEFAULT, default_step
+from levitron.runtime.integrate.methods import DEFAULT, default_step
 
 N_OUT = 100            # dense-output samples per run: only the survival matters here
 
@@ -35,8 +35,8 @@ def point_setup(model, spin: float, tilt: float = 0.0, height: float = 0.0,
     integrate the same problem. memo: a dict shared by the points of a chunk, which keeps the
     spin-free inputs (hover height, vertical stiffness, box, the simulate.Launch with its Legendre
     map) per parameters, hover height, tilt and height: the same numbers, computed once."""
-    from runtime.simulate import run as sim
-    from runtime.integrate.methods import lookup
+    from levitron.runtime.simulate import run as sim
+    from levitron.runtime.integrate.methods import lookup
     p = model.p if p is None else p
     memo = {} if memo is None else memo
     site_key = (np.asarray(p).tobytes(), z_s)
@@ -44,7 +44,7 @@ def point_setup(model, spin: float, tilt: float = 0.0, height: float = 0.0,
     if site is None:
         pt, pvals = model.part("full"), model.pvals(p)
         if z_s is None:
-            from runtime.physics.equilibrium import hover_height
+            from levitron.runtime.physics.equilibrium import hover_height
             z_s = hover_height(model, p)
         site = memo[site_key] = (pt, pvals, z_s, sim.vertical_stiffness(model, p, z_s, pvals),
                                  sim.default_box(pt, z_s))
@@ -63,14 +63,14 @@ def point_setup(model, spin: float, tilt: float = 0.0, height: float = 0.0,
 def point_run(model, spin: float, tilt: float = 0.0, height: float = 0.0, t_end: float = 1.0,
               integrator: str = DEFAULT, tol: float | None = 1e-9, h: float | None = None,
               p: np.ndarray | None = None, z_s: float | None = None, n_out: int = N_OUT) -> dict:
-    """runtime.simulate.run.simulate from the same pieces (initial state, box, scales, integrator,
+    """levitron.runtime.simulate.run.simulate from the same pieces (initial state, box, scales, integrator,
     summary), with two differences: the hover height z_s may be given (a scan finds it once per
     mass, not once per point: it costs more than a short run), and the top may start displaced to
     z_0 = z_s (1 + height), at rest vertically; box and checks stay centred on z_s (thesis 3.3.2).
     With height = 0 the result is simulate()'s, number for number (tests/test_scan.py)."""
-    from runtime.simulate import run as sim
-    from runtime.integrate.run import integrate
-    from runtime.integrate.methods import lookup, resolve
+    from levitron.runtime.simulate import run as sim
+    from levitron.runtime.integrate.run import integrate
+    from levitron.runtime.integrate.methods import lookup, resolve
     integrator = resolve(integrator, tol, h)     # "auto": the method simulate() would run
     entry = lookup(integrator)
     su = point_setup(model, spin, tilt, height, integrator, h, p, z_s)

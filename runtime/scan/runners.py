@@ -1,6 +1,6 @@
 """The grid points of a stability map and the runners that share the grid out (runtime/scan/stability_map.py).
 
-Every grid point is one nonlinear run of the full model from runtime.simulate.run's pieces
+Every grid point is one nonlinear run of the full model from levitron.runtime.simulate.run's pieces
 (`point_setup`: initial state, box, time scale, scales; thesis 3.1-3.3). The grid is dealt into
 chunks (`split`); a chunk runs in one thread (`run_chunk`): for the C integrators through the C
 chunk driver (runtime/scan/chunk_c.py: one C call per chunk, no Python per run, no output samples, no
@@ -24,10 +24,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
 
-from runtime.ui import progress
-from runtime.errors import UserError
-from derive.faults import die_at
-from runtime.scan.points import point_run  # noqa: F401 (re-exported)
+from levitron.runtime.ui import progress
+from levitron.runtime.errors import UserError
+from levitron.derive.faults import die_at
+from levitron.runtime.scan.points import point_run  # noqa: F401 (re-exported)
 
 CONNECT_TIMEOUT_S = 20  # how long to try to reach a dask scheduler (and to wait for a worker)
 DASK_POLL_S = 0.5       # how often a dask scan looks at its cluster's workers
@@ -59,8 +59,8 @@ def model_for(scene: str, overrides: Sequence[str]):
     with _LOCK:
         model = _MODELS.get(key)
         if model is None:
-            from derive.scene import SceneError, load_scene
-            from runtime.model.load import load_model
+            from levitron.derive.scene import SceneError, load_scene
+            from levitron.runtime.model.load import load_model
             try:
                 sc = load_scene(scene, list(overrides))
             except SceneError as exc:
@@ -79,7 +79,7 @@ def remember(common: Common, model) -> None:
 
 def _init_worker(scene: str, overrides: tuple[str, ...]) -> None:
     model_for(scene, overrides)
-    import runtime.scan.chunk_c  # noqa: F401  (import once here, not inside the first timed chunk)
+    import levitron.runtime.scan.chunk_c  # noqa: F401  (import once here, not inside the first timed chunk)
 
 
 def task_point(common: Common, task: tuple[int, int, float, float]) -> dict:
@@ -106,12 +106,12 @@ def run_chunk(common: Common, tasks: Sequence[tuple]) -> dict:
     call, no Python per run) for the C integrators unless common.engine is "python", else one
     `run_point` per point. Returns the points, the chunk's CPU time (this thread's) and the method
     that ran (common.integrator, or for "auto" the one runtime.integrate.methods.resolve picks)."""
-    from runtime.integrate.methods import lookup, resolve
+    from levitron.runtime.integrate.methods import lookup, resolve
     common = replace(common, integrator=resolve(common.integrator, common.tol, common.h))
     model = model_for(common.scene, common.overrides)
     cpu0 = time.thread_time()
     if common.engine == "c" and lookup(common.integrator).backend == "c":
-        from runtime.scan.chunk_c import run_chunk_c
+        from levitron.runtime.scan.chunk_c import run_chunk_c
         points = run_chunk_c(model, common, [(t, task_point(common, t)) for t in tasks])
         engine = "c"
     else:

@@ -56,12 +56,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from runtime.errors import UserError
-from runtime.integrate.methods import DEFAULT, default_step
-from runtime.scan.grid import AXES, MAX_POINTS, UNITS, check_axis
-from runtime.scan.physics import linear_interval, reference_spin, slow_period
-from runtime.scan.points import N_OUT
-from runtime.scan.runners import (
+from levitron.runtime.errors import UserError
+from levitron.runtime.integrate.methods import DEFAULT, default_step
+from levitron.runtime.scan.grid import AXES, MAX_POINTS, UNITS, check_axis
+from levitron.runtime.scan.physics import linear_interval, reference_spin, slow_period
+from levitron.runtime.scan.points import N_OUT
+from levitron.runtime.scan.runners import (
     Common,
     dask_client,
     dask_threads,
@@ -72,7 +72,7 @@ from runtime.scan.runners import (
     split,
     usable_cores,
 )
-from runtime.ui.validate import axis_values, count, real
+from levitron.runtime.ui.validate import axis_values, count, real
 
 PERIODS = 3            # default run length in slow periods (see the module docstring)
 BASE_TILT = 0.01       # rad, the seed tilt of mass and height scans
@@ -164,9 +164,9 @@ def check_run_options(model, axis: str, spins: np.ndarray, others: np.ndarray, h
     """Refuse, before any run, options that no run of the grid can honour
     (runtime.integrate.budget.check_options at the fastest time scale of the grid: the largest |spin|,
     each hover height; fixed-step runs without --step take 1/100 of their own fastest period)."""
-    from runtime.integrate.methods import lookup
-    from runtime.simulate.run import time_scale
-    from runtime.integrate.budget import check_options
+    from levitron.runtime.integrate.methods import lookup
+    from levitron.runtime.simulate.run import time_scale
+    from levitron.runtime.integrate.budget import check_options
     spin = float(np.abs(spins).max())
     fastest = None
     for j, z_s in enumerate(hover):
@@ -199,7 +199,7 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
         t_end, basis = _default_t_end(model, axis, spins, lin, status_pre)
     else:
         basis = {"given": True}
-    from runtime.integrate.methods import resolve
+    from levitron.runtime.integrate.methods import resolve
     requested, integrator = integrator, resolve(integrator, tol, h)    # "auto": the method it picks
     check_run_options(model, axis, spins, others, hover, float(t_end), integrator, tol, h)
     common = Common(scene_ref, tuple(overrides), axis, float(t_end), integrator, tol,
@@ -249,7 +249,7 @@ def _hover_and_linear(model, axis: str, others: np.ndarray):
     """The hover heights (runtime.physics.equilibrium.hover_height, thesis 3.3.2-3.3.3) and the
     linear picture per value of the other axis: (linear, hover, the scene's linear, the statuses
     of the columns that are not run: {j: "no_hover_height"})."""
-    from runtime.physics.equilibrium import hover_height
+    from levitron.runtime.physics.equilibrium import hover_height
     status_pre: dict[int, str] = {}
     if axis != "mass":
         lin = linear_interval(model)

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from runtime.simulate.rotations import ANGLES, angle_generator_z, coordinates_of, rotation_bs
+from levitron.runtime.simulate.rotations import ANGLES, angle_generator_z, coordinates_of, rotation_bs
 
 
 def tilt_of(part, X: np.ndarray) -> np.ndarray:

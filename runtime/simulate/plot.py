@@ -7,8 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
-from runtime.ui.human import Units, sig
-from runtime.ui.plotting import pyplot, save_figure, style
+from levitron.runtime.ui.human import Units, sig
+from levitron.runtime.ui.plotting import pyplot, save_figure, style
 
 
 def draw(t, dz, r, tilt, path, info, u: Units, scene: str = "") -> Path:

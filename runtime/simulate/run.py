@@ -1,7 +1,7 @@
 """One trajectory of the top from its stable hover height (docs/contract.md `simulate`; thesis 3.1-3.3).
 
 The initial state: the centre of mass at (offset, 0, z_s), where z_s is the vertically stable root
-of m g + mu Phi_2(z) = 0 (thesis eqs. 3.3.2-3.3.3, from runtime.physics.equilibrium); the symmetry axis
+of m g + mu Phi_2(z) = 0 (thesis eqs. 3.3.2-3.3.3, from levitron.runtime.physics.equilibrium); the symmetry axis
 n tilted by `tilt` rad towards the azimuth `azimuth` (rad from +x towards +y; default pi/2, i.e.
 towards +y), n = (sin tilt cos az, sin tilt sin az, cos tilt) (Tait-Bryan angles of thesis 3.2.2:
 vartheta = asin(sin tilt cos az), phi = atan2(sin tilt sin az, cos tilt); z-x-z Euler angles of
@@ -38,23 +38,23 @@ from pathlib import Path
 
 import numpy as np
 
-from runtime.physics.equilibrium import hover_height
-from runtime.errors import UserError
-from runtime.ui.validate import count, real
-from runtime.integrate.run import Box, Result, integrate
-from runtime.integrate.methods import AUTO, DEFAULT, auto_note, default_step, lookup, resolve
+from levitron.runtime.physics.equilibrium import hover_height
+from levitron.runtime.errors import UserError
+from levitron.runtime.ui.validate import count, real
+from levitron.runtime.integrate.run import Box, Result, integrate
+from levitron.runtime.integrate.methods import AUTO, DEFAULT, auto_note, default_step, lookup, resolve
 
-from runtime.physics import friction as flight
-from runtime.simulate import trajectory_file
-from runtime.ui.human import Units
-from runtime.physics.stability import stability_of
-from runtime.simulate.invariants import (  # noqa: F401 (the run's pieces, by name: sim.X)
+from levitron.runtime.physics import friction as flight
+from levitron.runtime.simulate import trajectory_file
+from levitron.runtime.ui.human import Units
+from levitron.runtime.physics.stability import stability_of
+from levitron.runtime.simulate.invariants import (  # noqa: F401 (the run's pieces, by name: sim.X)
     angular_momentum_z, deviations, invariants, largest_deviation, rows_of, spin_momentum, spin_rate, tilt_of)
-from runtime.simulate.plot import draw, draw_flight
-from runtime.simulate.rotations import (  # noqa: F401
+from levitron.runtime.simulate.plot import draw, draw_flight
+from levitron.runtime.simulate.rotations import (  # noqa: F401
     ANGLES, DEFAULT_AZIMUTH, SPIN_ANGLE, TILT_ANGLE, angle_generator_z, coordinates_of, rotation_bs,
     rotation_bs_derivatives, tilt_angles)
-from runtime.simulate.start import (  # noqa: F401
+from levitron.runtime.simulate.start import (  # noqa: F401
     DEFAULT_TILT, UNTESTED, Launch, coordinate_names, default_box, fastest_period,
     initial_state, launch, launch_state, launch_states, legendre_map, on_invariant_set, state_scales,
     time_scale, vertical_stiffness)

@@ -10,9 +10,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from runtime.errors import UserError
-from runtime.integrate.run import Box
-from runtime.simulate.rotations import (ANGLES, DEFAULT_AZIMUTH, SPIN_ANGLE, coordinates_of,
+from levitron.runtime.errors import UserError
+from levitron.runtime.integrate.run import Box
+from levitron.runtime.simulate.rotations import (ANGLES, DEFAULT_AZIMUTH, SPIN_ANGLE, coordinates_of,
                                         rotation_bs, rotation_bs_derivatives, tilt_angles)
 
 

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from runtime.errors import UserError
+from levitron.runtime.errors import UserError
 
 SUFFIXES = (".csv", ".npz")
 NAME_MAX = 255          # bytes of one file name (Linux, macOS)

@@ -11,7 +11,7 @@ import os
 import secrets
 from pathlib import Path
 
-from runtime.errors import UserError
+from levitron.runtime.errors import UserError
 
 PLOT_SUFFIXES = (".png", ".pdf", ".svg")
 

@@ -44,7 +44,7 @@ def block(argv, scene=None, overrides=(), call: str | None = None) -> dict:
            "time": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
            "python": platform.python_version()}
     if scene is not None:
-        from derive.inputs import input_hash
+        from levitron.derive.inputs import input_hash
         out.update(scene=scene.name,
                    scene_path=None if scene.path is None else str(Path(scene.path).resolve()),
                    overrides=list(overrides), scene_hash=scene.scene_hash(),

@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import math
 
-from derive.paths import SCENES_DIR
-from derive.scene import SceneError, load_scene
+from levitron.derive.paths import SCENES_DIR
+from levitron.derive.scene import SceneError, load_scene
 
 RTOL = 1e-12     # resolved parameters equal to round-off: the same scene
 

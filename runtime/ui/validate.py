@@ -1,6 +1,6 @@
 """Checks of the numbers a user gives, shared by the command line and the Python API.
 
-The CLI parses its options and passes them to the same functions that levitron_api calls
+The CLI parses its options and passes them to the same functions that levitron calls
 (runtime.simulate.run.simulate, runtime.scan.stability_map.scan, runtime.design.fit.fit); those functions check their
 inputs here, so a NaN spin or a negative sigma is refused with the same one-line UserError
 whichever way it came in.
@@ -12,7 +12,7 @@ import numbers
 
 import numpy as np
 
-from runtime.errors import UserError
+from levitron.runtime.errors import UserError
 
 
 def real(value, label: str, *, positive: bool = False, nonnegative: bool = False,

@@ -3,9 +3,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from runtime.bench import kinds as bench_kinds
-from runtime.ui.human import duration, lines, sig
-from runtime.cli.commands.common import model_of, scene_of
+from levitron.runtime.bench import kinds as bench_kinds
+from levitron.runtime.ui.human import duration, lines, sig
+from levitron.runtime.cli.commands.common import model_of, scene_of
 
 NAME = "bench"
 HELP = ("work-precision report: error of the final state against wall time for every backend and "

@@ -1,10 +1,10 @@
 """Helpers shared by the command modules: load the scene and the model from parsed arguments."""
 from __future__ import annotations
 
-from derive.scene import Scene
+from levitron.derive.scene import Scene
 
-from runtime.model.load import Model, load_model
-from runtime.model.scenes import load_scene as load
+from levitron.runtime.model.load import Model, load_model
+from levitron.runtime.model.scenes import load_scene as load
 
 
 def scene_of(args) -> Scene:

@@ -12,13 +12,13 @@ import sys
 import time
 from pathlib import Path
 
-from derive.paths import ROOT, SCENES_DIR
+from levitron.derive.paths import ROOT, SCENES_DIR
 
-from runtime.ui import progress
-from runtime.errors import UserError
-from runtime.ui.human import duration, lines
-from runtime.model.load import committed_folder, locate
-from runtime.cli.commands.common import load
+from levitron.runtime.ui import progress
+from levitron.runtime.errors import UserError
+from levitron.runtime.ui.human import duration, lines
+from levitron.runtime.model.load import committed_folder, locate
+from levitron.runtime.cli.commands.common import load
 
 NAME = "derive"
 HELP = ("regenerate the models of the given scenes (default: all of scenes/); variants (--set) and "
@@ -53,9 +53,9 @@ def run(args) -> dict:
 
 
 def _derive_committed(scenes, force: bool) -> list[dict]:
-    """python -m derive (the runtime never imports sympy) on the scenes' absolute paths: the
+    """python -m levitron.derive (the runtime never imports sympy) on the scenes' absolute paths: the
     subprocess runs in the repository, not in the user's folder."""
-    cmd = [sys.executable, "-m", "derive", *(str(Path(s.path).resolve()) for s in scenes), "--json"]
+    cmd = [sys.executable, "-m", "levitron.derive", *(str(Path(s.path).resolve()) for s in scenes), "--json"]
     if force:
         cmd.append("--force")
     res = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, check=False)

@@ -7,11 +7,11 @@ from __future__ import annotations
 
 import time
 
-from runtime.physics import equilibrium as eqm
-from runtime.ui.human import Units, lines, restate, span
-from runtime.ui.reference import stated
-from runtime.ui.plotting import check_plot_path
-from runtime.cli.commands.common import model_of
+from levitron.runtime.physics import equilibrium as eqm
+from levitron.runtime.ui.human import Units, lines, restate, span
+from levitron.runtime.ui.reference import stated
+from levitron.runtime.ui.plotting import check_plot_path
+from levitron.runtime.cli.commands.common import model_of
 
 NAME = "equilibrium"
 HELP = "vertical equilibria, z_c, the largest mass, and the band where a spin can stabilise the top"
@@ -58,7 +58,7 @@ def run(args) -> dict:
     if args.plot:
         from pathlib import Path
 
-        from runtime.report.figures import figure_3_5
+        from levitron.runtime.report.figures import figure_3_5
         out["plot"] = str(figure_3_5(model, Path(args.plot)))
     return out
 

@@ -12,10 +12,10 @@ import math
 
 import numpy as np
 
-from runtime.errors import UserError
-from runtime.ui.human import Units, lines, restate, sig
-from runtime.physics.plates import plate_field
-from runtime.cli.commands.common import model_of
+from levitron.runtime.errors import UserError
+from levitron.runtime.ui.human import Units, lines, restate, sig
+from levitron.runtime.physics.plates import plate_field
+from levitron.runtime.cli.commands.common import model_of
 
 NAME = "field"
 HELP = "magnetic field at points: the model's expansion and the exact closed form"

@@ -12,11 +12,11 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from runtime.report import figures as figures_stability
+from levitron.runtime.report import figures as figures_stability
 
-from runtime.bench import solver_compare
-from runtime.ui.human import lines
-from runtime.cli.commands.common import model_of
+from levitron.runtime.bench import solver_compare
+from levitron.runtime.ui.human import lines
+from levitron.runtime.cli.commands.common import model_of
 
 NAME = "figures"
 HELP = ("redraw the thesis's chapter 3 figures as PNG files: 3.4-3.8 for the scene, 3.2-3.3 "

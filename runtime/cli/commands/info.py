@@ -3,12 +3,12 @@ from __future__ import annotations
 
 import math
 
-from derive import plates
-from derive.scene import MU0
+from levitron.derive import plates
+from levitron.derive.scene import MU0
 
-from runtime.physics.friction import decay_times, has_friction
-from runtime.ui.human import Units, lines, restate, sig
-from runtime.cli.commands.common import model_of
+from levitron.runtime.physics.friction import decay_times, has_friction
+from levitron.runtime.ui.human import Units, lines, restate, sig
+from levitron.runtime.cli.commands.common import model_of
 
 NAME = "info"
 HELP = "resolved parameters (SI), generated parts and functions, operation counts"

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from runtime.scan import launch_odds as mc
-from runtime.errors import UserError
-from runtime.ui.human import Units, lines, sig
-from runtime.ui.plotting import check_plot_path
-from runtime.cli.commands.common import model_of, scene_of
+from levitron.runtime.scan import launch_odds as mc
+from levitron.runtime.errors import UserError
+from levitron.runtime.ui.human import Units, lines, sig
+from levitron.runtime.ui.plotting import check_plot_path
+from levitron.runtime.cli.commands.common import model_of, scene_of
 
 NAME = "launch"
 HELP = ("launch odds by Monte Carlo: the probability (a 95 percent Wilson interval) that a launch floats at "

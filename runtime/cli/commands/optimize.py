@@ -9,12 +9,12 @@ runtime/design/fit.py (Gauss-Newton, exact Jacobians); --fit-height: runtime/des
 """
 from __future__ import annotations
 
-from runtime.design.constraints import Constraint
-from runtime.errors import UserError
-from runtime.ui.human import Units, lines, restate, sig
-from runtime.design.fit_height import fit_equilibrium_height
-from runtime.design.scene_keys import Vary
-from runtime.cli.commands.common import model_of
+from levitron.runtime.design.constraints import Constraint
+from levitron.runtime.errors import UserError
+from levitron.runtime.ui.human import Units, lines, restate, sig
+from levitron.runtime.design.fit_height import fit_equilibrium_height
+from levitron.runtime.design.scene_keys import Vary
+from levitron.runtime.cli.commands.common import model_of
 
 NAME = "optimize"
 HELP = "design (maximise the spin range over scene keys) or fit scene keys to measurements"
@@ -54,7 +54,7 @@ def run(args) -> dict:
     if args.write_scene is not None:
         if args.maximize is None:
             raise UserError("--write-scene goes with --maximize")
-        from runtime.design.scene_write import check_target
+        from levitron.runtime.design.scene_write import check_target
         check_target(args.write_scene)
     varies = [Vary.parse(v) for v in args.vary]
     constraints = [Constraint.parse(c) for c in args.constrain]
@@ -64,17 +64,17 @@ def run(args) -> dict:
         model = model_of(args)
         out = fit_equilibrium_height(model, args.fit_height, args.param)
     elif args.fit is not None:
-        from runtime.design.fit import fit, read_rows
+        from levitron.runtime.design.fit import fit, read_rows
         rows = read_rows(args.fit)
         model = model_of(args)
         out = fit(model, rows, varies).as_dict()
     else:
-        from runtime.design.optimize import optimize
+        from levitron.runtime.design.optimize import optimize
         model = model_of(args)
         res = optimize(model, varies, args.maximize, constraints, args.grid)
         out = res.as_dict()
         if args.write_scene:
-            from runtime.design.scene_write import write_scene
+            from levitron.runtime.design.scene_write import write_scene
             note = (f"levitron optimize {model.scene.name} --maximize {args.maximize}: "
                     + ", ".join(f"{k} = {v:.6g}" for k, v in res.optimum.items()))
             out["written"] = str(write_scene(res.scene, args.write_scene, note))

@@ -5,10 +5,10 @@ import os
 import secrets
 from pathlib import Path
 
-from runtime.errors import UserError
-from runtime.ui.human import Units, lines, sig
-from runtime.report.page import build
-from runtime.cli.commands.common import model_of, scene_of
+from levitron.runtime.errors import UserError
+from levitron.runtime.ui.human import Units, lines, sig
+from levitron.runtime.report.page import build
+from levitron.runtime.cli.commands.common import model_of, scene_of
 
 NAME = "report"
 HELP = ("one self-contained HTML page: the scene, equilibria and stable band, spin interval, a small "
@@ -45,7 +45,7 @@ def run(args) -> dict:
     scene = scene_of(args)
     model = model_of(args)
     ref = str(Path(scene.path).resolve()) if scene.path is not None else args.scene
-    from runtime.ui.provenance import block
+    from levitron.runtime.ui.provenance import block
     page, facts = build(model, ref, args.set, block(getattr(args, "_argv", ["report", args.scene]),
                                                     scene, args.set))
     _write(out, page)

@@ -6,16 +6,16 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from runtime.scan import stability_map as sc
-from runtime.errors import UserError
-from runtime.ui.human import Units, duration, lines, sig
-from runtime.integrate.methods import DEFAULT, METHODS, lookup
-from runtime.ui.plotting import check_plot_path
-from runtime.scan.grid import check_axis, check_grid_size, parse_range, pick_axis
-from runtime.scan.plot import draw
-from runtime.scan.runners import CONNECT_TIMEOUT_S
-from runtime.ui.validate import real
-from runtime.cli.commands.common import model_of, scene_of
+from levitron.runtime.scan import stability_map as sc
+from levitron.runtime.errors import UserError
+from levitron.runtime.ui.human import Units, duration, lines, sig
+from levitron.runtime.integrate.methods import DEFAULT, METHODS, lookup
+from levitron.runtime.ui.plotting import check_plot_path
+from levitron.runtime.scan.grid import check_axis, check_grid_size, parse_range, pick_axis
+from levitron.runtime.scan.plot import draw
+from levitron.runtime.scan.runners import CONNECT_TIMEOUT_S
+from levitron.runtime.ui.validate import real
+from levitron.runtime.cli.commands.common import model_of, scene_of
 
 NAME = "scan"
 HELP = ("stability map: does the top stay up, over --spin LO:HI:N and one of --tilt, --mass, --height "

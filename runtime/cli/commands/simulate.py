@@ -1,12 +1,12 @@
 """`levitron simulate SCENE`: one trajectory from the stable hover height (docs/contract.md)."""
 from __future__ import annotations
 
-from runtime.errors import UserError
-from runtime.ui.human import Units, duration, lines, sig
-from runtime.integrate.methods import DEFAULT, METHODS, lookup
-from runtime.ui.plotting import check_plot_path
-from runtime.simulate.run import DEFAULT_AZIMUTH, DEFAULT_TILT, simulate
-from runtime.cli.commands.common import model_of
+from levitron.runtime.errors import UserError
+from levitron.runtime.ui.human import Units, duration, lines, sig
+from levitron.runtime.integrate.methods import DEFAULT, METHODS, lookup
+from levitron.runtime.ui.plotting import check_plot_path
+from levitron.runtime.simulate.run import DEFAULT_AZIMUTH, DEFAULT_TILT, simulate
+from levitron.runtime.cli.commands.common import model_of
 
 NAME = "simulate"
 HELP = ("one trajectory from the stable hover height: does the top stay levitating, for how long, "

@@ -9,10 +9,10 @@ from __future__ import annotations
 
 import time
 
-from runtime.ui.human import Units, lines, restate, sig
-from runtime.physics.stability import stability_of
-from runtime.ui.validate import real
-from runtime.cli.commands.common import model_of
+from levitron.runtime.ui.human import Units, lines, restate, sig
+from levitron.runtime.physics.stability import stability_of
+from levitron.runtime.ui.validate import real
+from levitron.runtime.cli.commands.common import model_of
 
 NAME = "stability"
 HELP = "spin interval of linear stability at the stable height (two routes), thesis approximations"

@@ -13,7 +13,7 @@ from collections.abc import Callable, Mapping
 
 import numpy as np
 
-from derive.plates import KINDS
+from levitron.derive.plates import KINDS
 
 
 class Params:

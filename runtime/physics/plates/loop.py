@@ -1,5 +1,5 @@
 """Exact field of a circular current loop (complete elliptic integrals, runtime/physics/exact_field.py)."""
-from runtime.physics.exact_field import loop_field
+from levitron.runtime.physics.exact_field import loop_field
 
 
 def field(table, p, points, part_field):

@@ -1,8 +1,8 @@
 """Exact field of a rectangular block magnet (Furlani 2001) or thin rectangular layer (its rim
 current, Biot-Savart)."""
-from derive.plates.rectangle import block
+from levitron.derive.plates.rectangle import block
 
-from runtime.physics.exact_field import block_field, dipole_density, rect_loop_field
+from levitron.runtime.physics.exact_field import block_field, dipole_density, rect_loop_field
 
 
 def field(table, p, points, part_field):

@@ -6,19 +6,19 @@ from pathlib import Path
 
 import numpy as np
 
-from derive.scene import SceneError, override_text
-from runtime.physics import equilibrium as eqm
-from runtime.physics import stability_casadi as sc
-from runtime.model.scenes import load_scene
-from runtime.design.constraints import Constraint
-from runtime.design.optimize import DesignResult
-from runtime.design.optimize import optimize as _optimize
-from runtime.errors import UserError
-from runtime.design.fit import FitResult, Row, read_rows
-from runtime.design.fit import fit as _fit
-from runtime.model.load import Model, load_model
-from runtime.design.scene_keys import Vary, key_value, pvector, with_values
-from runtime.physics.stability import stability_of
+from levitron.derive.scene import SceneError, override_text
+from levitron.runtime.physics import equilibrium as eqm
+from levitron.runtime.physics import stability_casadi as sc
+from levitron.runtime.model.scenes import load_scene
+from levitron.runtime.design.constraints import Constraint
+from levitron.runtime.design.optimize import DesignResult
+from levitron.runtime.design.optimize import optimize as _optimize
+from levitron.runtime.errors import UserError
+from levitron.runtime.design.fit import FitResult, Row, read_rows
+from levitron.runtime.design.fit import fit as _fit
+from levitron.runtime.model.load import Model, load_model
+from levitron.runtime.design.scene_keys import Vary, key_value, pvector, with_values
+from levitron.runtime.physics.stability import stability_of
 
 from . import arguments as arg
 from .results import Equilibria, Equilibrium, LaunchOdds, Simulation, Simulations, Stability
@@ -48,7 +48,7 @@ def override_texts(overrides: Mapping[str, object] | None) -> list[str]:
 
 def load(scene: str | Path, overrides: Mapping[str, float | str] | None = None) -> Study:
     """A scene by name (scenes/) or path, with overrides by scene key, e.g. {"top.mass": 0.05}
-    (numbers may be NumPy scalars); derives its model when needed. Errors: levitron_api.UserError
+    (numbers may be NumPy scalars); derives its model when needed. Errors: levitron.UserError
     (one line, as on the CLI)."""
     if not isinstance(scene, (str, Path)):
         raise UserError(f"scene must be a scene name or a path to a .toml file, not {scene!r}")
@@ -103,7 +103,7 @@ class Study:
         """d quantity / d key for scene keys (quantity: z_s, stiffness, z_c, max_mass, sigma_lo,
         sigma_hi, z_lo, z_hi, m_lo, m_hi, mass_window; exact, through the rootfinders), at the
         scene's values. keys: a list of scene keys (one string is refused, not spelled out)."""
-        from runtime.design.scene_keys import KeyMap
+        from levitron.runtime.design.scene_keys import KeyMap
         arg.choice(quantity, "quantity", self.quantities())
         keys = arg.names(keys, "keys", self.keys())
         x = np.array([self.value(k) for k in keys])
@@ -148,7 +148,7 @@ class Study:
         in air the run ends when the top falls: details["flight"]), integrator, tol, box (m),
         plot (path), part, h or step (s), n_out, azimuth or tilt_azimuth (rad), as the command
         line's flags)."""
-        from runtime.simulate.run import simulate
+        from levitron.runtime.simulate.run import simulate
         options = _options(options, SIMULATE_OPTIONS, "simulate option",
                            ("tilt", "offset", "t_end", "tol", "box", "h", "azimuth"))
         out = simulate(self.model, arg.number(spin, "spin"), trajectory=True, **options)
@@ -166,7 +166,7 @@ class Study:
         gives each launch its own parameters (re-resolved like p_of, each with its own hover
         height); t_end (s), integrator (a C one), tol, box (m), h or step (s), part: one for all,
         as simulate's."""
-        from runtime.scan.batch import launch_columns, simulate_many
+        from levitron.runtime.scan.batch import launch_columns, simulate_many
         options = _options(options, MANY_OPTIONS, "simulate_many option", ("t_end", "tol", "box", "h"))
         values = options.pop("values", None) or {}
         if not isinstance(values, Mapping):
@@ -197,7 +197,7 @@ class Study:
         the options success_time (s), t_end (s) default to the table's too, as on the command line
         (else 1000 launches, seed 0); options also integrator, tol, workers, scheduler. The same
         seed gives the same verdicts serially, with processes and on dask."""
-        from runtime.scan.launch_odds import LAUNCH_OPTIONS, monte_carlo, table_settings
+        from levitron.runtime.scan.launch_odds import LAUNCH_OPTIONS, monte_carlo, table_settings
         unknown = sorted(set(options) - set(LAUNCH_OPTIONS))
         if unknown:
             raise UserError(f"launch: unknown option {unknown[0]!r}: use {', '.join(LAUNCH_OPTIONS)}")
@@ -224,8 +224,8 @@ class Study:
           scenes may be dimensionless); values outside are refused.
 
         options: t_end (s), integrator, tol, workers, base_tilt (rad), ... (runtime.scan.stability_map.scan)."""
-        from runtime.scan.stability_map import scan
-        from runtime.scan.grid import AXES, check_axis
+        from levitron.runtime.scan.stability_map import scan
+        from levitron.runtime.scan.grid import AXES, check_axis
         arg.choice(axis, "scan axis", AXES)
         spins, values = self._grid(spins, "spins"), self._grid(values, axis)
         check_axis(axis, np.sort(values))

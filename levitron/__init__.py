@@ -1,6 +1,6 @@
-"""levitron_api: the public Python API of the levitron toolchain (docs/api.md).
+"""levitron: the public Python API of the levitron toolchain (docs/api.md).
 
-    import levitron_api as lev
+    import levitron as lev
     study = lev.load("thesis_stable", {"top.mass": 0.051})
     study.equilibria().z_c                     # m
     study.stability().spin_interval            # rad/s
@@ -12,17 +12,17 @@ parameter vector is runtime/design/scene_keys.py. Every method returns a typed d
 carry their units in the docstrings, a short `repr`, and scipy-style `success` and `message`. The
 command line (`levitron ...`) calls the same functions.
 
-Bad input raises `levitron_api.UserError` (runtime.errors.UserError: a one-line message saying what
-is wrong and how to fix it, the line the command line prints); `levitron_api.SceneError` is the
+Bad input raises `levitron.UserError` (runtime.errors.UserError: a one-line message saying what
+is wrong and how to fix it, the line the command line prints); `levitron.SceneError` is the
 scene reader's own (derive.scene), raised by `load_scene`-level helpers. Both are exported here.
 """
 from __future__ import annotations
 
-from derive.scene import SceneError
-from runtime.design.optimize import DesignResult
-from runtime.errors import UserError
-from runtime.design.fit import FitResult
-from runtime.scan.stability_map import ScanResult
+from levitron.derive.scene import SceneError
+from levitron.runtime.design.optimize import DesignResult
+from levitron.runtime.errors import UserError
+from levitron.runtime.design.fit import FitResult
+from levitron.runtime.scan.stability_map import ScanResult
 
 from .results import Equilibria, Equilibrium, LaunchOdds, Simulation, Simulations, Stability
 from .study import Study, load

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from runtime.ui.human import Units, sig
+from levitron.runtime.ui.human import Units, sig
 
 _SI = Units(si=True)
 NORMAL_ENDS = ("completed", "left_box")    # runtime/integrate/c_backend.py STATUS: the run itself succeeded
@@ -130,7 +130,7 @@ class Simulation:
         """Write the trajectory to a .csv or .npz file (runtime/simulate/trajectory_file.py)."""
         import numpy as np
 
-        from runtime.simulate import trajectory_file
+        from levitron.runtime.simulate import trajectory_file
         names = list(self.trajectory)
         return str(trajectory_file.write(path, names, np.column_stack([self.trajectory[n] for n in names])))
 

@@ -6,7 +6,7 @@
 * unknown names: refused with the valid ones listed (a scene's numeric keys, the quantities of
   `Study.gradient`, the options of `Study.simulate`).
 
-Errors are runtime.errors.UserError (exported as levitron_api.UserError), one line, in the API's
+Errors are runtime.errors.UserError (exported as levitron.UserError), one line, in the API's
 words.
 """
 from __future__ import annotations
@@ -16,7 +16,7 @@ from collections.abc import Iterable, Mapping
 
 import numpy as np
 
-from runtime.errors import UserError
+from levitron.runtime.errors import UserError
 
 __all__ = ["UserError", "boxes", "choice", "names", "number", "plain", "scene_keys"]
 
