@@ -8,7 +8,9 @@ export PYTHONHASHSEED := 0
 .venv/.installed: pyproject.toml
 	test -x .venv/bin/python || python3 -m venv .venv
 	.venv/bin/pip install --quiet --upgrade pip
-	.venv/bin/pip install --quiet -e '.[test]'
+	# PYTHONWARNINGS: setuptools warns that generated/<scene>/ and the C templates, data folders of the
+	# mapped packages (pyproject.toml), could be namespace packages; they are data, on purpose
+	PYTHONWARNINGS=ignore .venv/bin/pip install --quiet -e '.[test]'
 	touch $@
 
 setup: .venv/.installed
@@ -42,7 +44,7 @@ fuzz: setup
 # --kind KIND`): work-precision against heyoka (the optional extra `bench`) and the other backends,
 # maps, design, launches; reports in reports/.
 bench: setup
-	.venv/bin/pip install --quiet -e '.[bench]'
+	PYTHONWARNINGS=ignore .venv/bin/pip install --quiet -e '.[bench]'
 	$(PY) -m levitron.runtime.bench.kinds
 
 clean-cache:

@@ -18,14 +18,22 @@ scene reader's own (derive.scene), raised by `load_scene`-level helpers. Both ar
 """
 from __future__ import annotations
 
-from levitron.derive.scene import SceneError
-from levitron.runtime.design.optimize import DesignResult
-from levitron.runtime.errors import UserError
-from levitron.runtime.design.fit import FitResult
-from levitron.runtime.scan.stability_map import ScanResult
+from pathlib import Path as _Path
 
-from .results import Equilibria, Equilibrium, LaunchOdds, Simulation, Simulations, Stability
-from .study import Study, load
+# A source checkout keeps derive/ and runtime/ at its top level, beside this folder; packaging puts
+# them inside it (pyproject.toml, [tool.setuptools.package-dir]). Either way they are
+# levitron.derive and levitron.runtime: the one import name this package installs.
+_CHECKOUT = _Path(__file__).resolve().parent.parent
+if all((_CHECKOUT / d / "__init__.py").is_file() for d in ("derive", "runtime")) \
+        and (_CHECKOUT / "pyproject.toml").is_file():
+    __path__.append(str(_CHECKOUT))
 
-__all__ = ["DesignResult", "Equilibria", "Equilibrium", "FitResult", "LaunchOdds", "ScanResult",
-           "SceneError", "Simulation", "Simulations", "Stability", "Study", "UserError", "load"]
+from levitron.runtime import lazy_surface as _lazy_surface  # noqa: E402  (needs the path above)
+
+# the public names, loaded on first use: `import levitron` (and `python -m levitron.derive`, the
+# command line's start) costs no numpy, casadi or scipy
+__getattr__, __dir__, __all__ = _lazy_surface(__name__, {
+    "DesignResult": "runtime.design.optimize", "Equilibria": "results", "Equilibrium": "results",
+    "FitResult": "runtime.design.fit", "LaunchOdds": "results", "ScanResult": "runtime.scan.stability_map",
+    "SceneError": "derive.scene", "Simulation": "results", "Simulations": "results",
+    "Stability": "results", "Study": "study", "UserError": "runtime.errors", "load": "study"})

@@ -1,4 +1,4 @@
-"""Issue 19, "misleading answers": every summary says what it is (one test per item, each failing
+"""No misleading answers: every summary says what it is (one test per item, each failing
 on the code before its fix)."""
 from __future__ import annotations
 

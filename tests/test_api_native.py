@@ -1,4 +1,4 @@
-"""Issue 19, "the Python API as a scientist uses it": NumPy numbers, unknown names listed, no
+"""The Python API as a scientist uses it: NumPy numbers, unknown names listed, no
 string taken for a list, results with a useful repr, scipy-style success and message, a fit's
 covariance and correlation, Study.scan's axes documented and validated."""
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Verified artefacts: no generated or cached model file is used unchecked (issue 8).
+"""Verified artefacts: no generated or cached model file is used unchecked.
 
 An edited model.c, a manifest with swapped parameters or a wrong output size, a truncated .casadi
 file or library, a missing manifest key: each is refused with one line naming the file (or key)
@@ -342,8 +342,9 @@ def repo_copy(tmp_path):
     """The code, scenes and generated/reduced_only in a temporary repository: a regression here
     can only ever damage the copy."""
     repo = tmp_path / "repo"
-    for name in ("derive", "runtime", "scenes"):
+    for name in ("levitron", "derive", "runtime", "scenes"):
         shutil.copytree(ROOT / name, repo / name, ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copy2(ROOT / "pyproject.toml", repo)      # levitron/__init__ maps a checkout by it
     shutil.copytree(ROOT / "generated" / SCENE, repo / "generated" / SCENE)
     return repo
 

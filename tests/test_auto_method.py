@@ -1,4 +1,4 @@
-"""The integrator name `auto` (issue 10): the C method the bench measured cheapest at the requested
+"""The integrator name `auto`: the C method the bench measured cheapest at the requested
 tolerance (runtime/integrate/methods.py, AUTO_VERN9_BELOW_TOL), usable wherever an integrator is
 named, recorded as the method that ran, and refused in one line with a fixed step."""
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The design bench (runtime/bench/design.py, issue 9) in --quick mode: one verified design
+"""The design bench (runtime/bench/design.py) in --quick mode: one verified design
 optimisation over one key on thesis_stable, reported to JSON and CSV (no timing asserted)."""
 from __future__ import annotations
 

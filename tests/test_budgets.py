@@ -1,5 +1,5 @@
 """Bounded work: one integrator table that the C library agrees with, and no integrator path without
-a step budget (runtime/integrate/methods.py, runtime/integrate/budget.py; issue 8)."""
+a step budget (runtime/integrate/methods.py, runtime/integrate/budget.py)."""
 from __future__ import annotations
 
 import ctypes

@@ -1,4 +1,4 @@
-"""Every number of the generated C is the double it means (issue 17, item 1).
+"""Every number of the generated C is the double it means.
 
 gcc reads a whole-number literal of 2^63 or more as an integer and reduces it modulo 2^64, so an
 expression plate `phi0 = "b*1e20*z/sqrt(z**2 + c**2)"` computed B_z = -1.46e7 in C where the

@@ -1,4 +1,4 @@
-"""Generated C and CasADi compute the same numbers (issue 17, item 1): every generated function of
+"""Generated C and CasADi compute the same numbers: every generated function of
 every scene in scenes/, and 200 random formula plates, at seeded random points.
 
 Relative 1e-12 of the size of the terms (tests/termsize.py: the running error bound of the graph

@@ -1,4 +1,4 @@
-"""The Python around the C calls (issue 10): run_c passes plain addresses carved from one buffer
+"""The Python around the C calls: run_c passes plain addresses carved from one buffer
 (runtime/integrate/c_backend.py), and a map's chunk computes the spin-free inputs of its points once per
 tilt (runtime/scan/runners.py point_setup's memo, runtime.simulate.run.Launch), with the same numbers
 as before, bit for bit. Not timed, except that wall_s must contain the C run."""

@@ -139,7 +139,7 @@ def test_damaged_object_is_rebuilt(tmp_path, monkeypatch, capsys):
 
 
 def test_a_cache_removed_mid_compile_is_named_not_ld(tmp_path, monkeypatch):
-    """Issue 17: "ld returned 1" when the cache was deleted while the compiler ran. A fake
+    """Not "ld returned 1" when the cache was deleted while the compiler ran. A fake
     compiler removes the output's folder, as a concurrent `make clean-cache` would."""
     monkeypatch.setenv("LEVITRON_CACHE", str(tmp_path / "cache"))
     fake = tmp_path / "fakecc"
@@ -157,7 +157,7 @@ def test_a_cache_removed_mid_compile_is_named_not_ld(tmp_path, monkeypatch):
 
 
 def test_a_folder_where_the_library_belongs_is_named(tmp_path, monkeypatch):
-    """Issue 17: "cache not writable" where the .so path is a folder."""
+    """Not "cache not writable" where the .so path is a folder."""
     from levitron.runtime.model.cbuild import DEFAULT_FLAGS, source_hash
     monkeypatch.setenv("LEVITRON_CACHE", str(tmp_path / "cache"))
     src = tmp_path / "ok.c"

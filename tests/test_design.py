@@ -77,7 +77,7 @@ def test_constraint_grammar_is_safe():
 
 
 def test_objectives_and_their_constraints():
-    """The spin objectives need no stiffness floor (issue 19 item 6: tests/test_answers.py); the
+    """The spin objectives need no stiffness floor (tests/test_answers.py); the
     band takes constraints on the scene top's z_s and stiffness only."""
     design.check_objective("spin-range", [])
     design.check_objective("mass-window", [])       # the band needs no stiffness floor

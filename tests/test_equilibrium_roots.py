@@ -1,5 +1,5 @@
 """The one equilibrium finder (runtime/physics/equilibrium.py; thesis 3.3.2-3.3.3) on the cases the old
-per-command z grids got wrong (issue 8), through every command that needs an equilibrium:
+per-command z grids got wrong, through every command that needs an equilibrium:
 
 * two roots a fraction 1e-3, 1e-6, 1e-9 (relative) of the mass below the plate's maximum lie on
   either side of z_c, ~ sqrt(2 delta) z_c apart: `equilibrium`, `stability` (the `analyse` path, which

@@ -1,4 +1,4 @@
-"""The safe formula parser of `plate.kind = "expression"` scenes (derive/expr_parse.py, issue 5).
+"""The safe formula parser of `plate.kind = "expression"` scenes (derive/expr_parse.py).
 
 Hostile input is refused with an ExpressionError that quotes the offending part; the formulas the
 built-in geometries produce (thesis eq. 2.2.11 and the other kinds) are accepted and parse back to
@@ -193,7 +193,7 @@ def test_scene_validation_reserves_the_parser_names():
     assert RESERVED_NAMES == RESERVED | {"z"}
 
 
-# ---------------------------------------------------------------- bounded work, one-line errors (issue 8)
+# ---------------------------------------------------------------- bounded work, one-line errors
 
 def _one_line(exc) -> str:
     text = str(exc)

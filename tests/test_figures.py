@@ -74,7 +74,7 @@ def test_figure_3_4_orbits_keep_the_reduced_energy(ring_magnet_model, tmp_path, 
     def spy(*a, **k):
         runs.append(integrate(*a, **k))
         return runs[-1]
-    monkeypatch.setattr(runtime.integrate, "integrate", spy, raising=False)
+    monkeypatch.setattr(levitron.runtime.integrate, "integrate", spy, raising=False)
     figure_3_4(ring_magnet_model, tmp_path / "p.png")
     assert (tmp_path / "p.png").stat().st_size > 10_000 and len(runs) == 7
     part = ring_magnet_model.part("reduced")

@@ -68,7 +68,7 @@ def test_rows_are_read_and_checked(tmp_path):
 
 
 def test_rows_that_share_their_overrides_share_their_work(monkeypatch):
-    """1000 rows took 117 s at 0.12 s a row. Rows at the same overrides (masses) now
+    """1000 rows once took 117 s at 0.12 s a row. Rows at the same overrides (masses) now
     share the float routes' starts, values and Jacobians within one evaluation: 200 rows at 4
     masses start the routes 4 times an evaluation, not 200, and the fit is the 4-row fit's."""
     model = load_model(load_scene("thesis_stable"))

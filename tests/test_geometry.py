@@ -1,4 +1,4 @@
-"""Base-plate geometries (issue 5): on-axis fields against independent formulas, the expansion's
+"""Base-plate geometries: on-axis fields against independent formulas, the expansion's
 convergence to the exact field, the rectangle's 3-D field, the generated code, scenes and the
 `field` command. Thesis eqs. 2.2.6-2.2.11; exact fields in runtime/physics/exact_field.py."""
 from __future__ import annotations
@@ -353,7 +353,7 @@ def test_field_command_json(tmp_path, monkeypatch, capsys, seed_cache):
     assert main(["field", str(scene), "--at", "0,0", "--json"]) == 2
 
 
-# ---------------------------------------------------------------- square versus disk (issue 5)
+# ---------------------------------------------------------------- square versus disk
 
 def _stability_summary(table, vals, g, A, C, mu, scale, frac=1.1):
     """z_c, largest mass, stable band, and for the top that hovers at frac * z_c its mass and spin

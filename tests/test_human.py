@@ -188,7 +188,8 @@ def test_a_one_shot_command_imports_only_its_own_module():
             "print(sorted(k for k in sys.modules if k.startswith('levitron.runtime.cli.commands.')), file=sys.stderr)")
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
     assert res.returncode == 0, res.stderr
-    assert "levitron.runtime.cli.commands.stability" in res.stderr and "levitron.runtime.cli.commands.report" not in res.stderr
+    commands = "levitron.runtime.cli.commands"
+    assert f"{commands}.stability" in res.stderr and f"{commands}.report" not in res.stderr
 
 
 def test_top_level_help_is_the_full_parsers_without_importing_the_commands(monkeypatch):
@@ -203,7 +204,7 @@ def test_top_level_help_is_the_full_parsers_without_importing_the_commands(monke
     monkeypatch.setenv("COLUMNS", "100")             # argparse wraps to the terminal's width
     full = build_parser().format_help()
     assert build_parser(overview=True).format_help() == full
-    code = ("import sys\nfrom runtime.cli import main as m\ntry:\n    m.main(['--help'])\n"
+    code = ("import sys\nfrom levitron.runtime.cli import main as m\ntry:\n    m.main(['--help'])\n"
             "except SystemExit:\n    pass\n"
             "print(sorted(k for k in sys.modules if k.startswith(('levitron.runtime.cli.commands.', 'numpy', "
             "'casadi'))), file=sys.stderr)")

@@ -1,5 +1,5 @@
 """Input is never dropped or changed without a word, and the CLI and the API check it the same way
-(issue 17, item 4 of "silent wrong answers", and the API's raw Python errors).
+(input dropped or changed without a word, and the API's raw Python errors).
 
 Before: a newline in a --set value dropped the rest; the API wrote its overrides as f'{key}="{value}"'
 (a quote or a newline rewrote the scene); extra CSV columns and a key overridden twice in a row were

@@ -1,5 +1,5 @@
 """Nothing is lost or left behind when a run is killed, and a relative cache stays where the user
-is (issue 17, items 2 and 3 of "silent wrong answers and data loss").
+is (no data loss).
 
 Kills are real (SIGKILL, which no handler sees) at injected points (derive/faults.py,
 LEVITRON_FAULT=POINT:MARKER): between write_atomic's steps, in the derive child, in the runtime while

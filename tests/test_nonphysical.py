@@ -1,4 +1,4 @@
-"""Non-physical models are refused in one line naming the formula (issue 17, item 5 of "silent
+"""Non-physical models are refused in one line naming the formula (not answered as physics: "silent
 wrong answers"), never answered as physics.
 
 Before: a complex constant (asin(2), acos(1.5), (-8)**(1/3)) passed the parser's "real and finite"

@@ -1,5 +1,5 @@
 """Phi_1..Phi_4 of the thin annulus (thesis eq. 2.2.11) in double precision against 50-digit mpmath
-(issue 5): relative error <= 1e-12 for z from 1e-3 a to 1e3 a and w/a in {0, 1e-3, 0.3, 0.999},
+: relative error <= 1e-12 for z from 1e-3 a to 1e3 a and w/a in {0, 1e-3, 0.3, 0.999},
 with the cancellation-free forms of derive/onaxis.py; the textbook forms (thesis eqs. 2.2.12-2.2.14,
 i.e. eq. 2.2.11 differentiated by the product rule) fail the same test.
 

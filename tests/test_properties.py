@@ -1,4 +1,4 @@
-"""Property-based tests (Hypothesis): the suite looks for the cases of issue 17 by itself.
+"""Property-based tests (Hypothesis): the suite looks for bad inputs by itself.
 
 Generated inputs, each through the in-process function the CLI and the API call:
   * scenes whose numbers sit at the edges (0, -0, denormals, 1e308, NaN, inf, huge integers,

@@ -1,4 +1,4 @@
-"""Issue 19, "reproducible output": every JSON object carries a provenance block (version, scene
+"""Reproducible output: every JSON object carries a provenance block (version, scene
 path and hashes, overrides, command line, time); the report shows it, and its command, run again,
 rebuilds the same numbers."""
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""A battery of bad and hostile inputs (issue 8): every failure is one line on stderr and exit 2.
+"""A battery of bad and hostile inputs: every failure is one line on stderr and exit 2.
 
 Each case of BATTERY runs the real entry point, `runtime.cli.main.main(argv)`, in-process (fast), or a
 `python -m levitron.runtime.cli.main` subprocess where the work could be unbounded (a time limit) or a crash
@@ -11,7 +11,7 @@ would take pytest down. Each asserts:
   * generated/ unchanged (names, sizes and mtimes of every entry);
   * nothing half-written in the cache (a fresh LEVITRON_CACHE per case): no temporary names (a
     leading '.', 'tmp'), every derived folder complete (its manifest.json present).
-BOUNDED cases (unbounded work in issue 8) must return within a time limit: either refused (the
+BOUNDED cases (unbounded work once) must return within a time limit: either refused (the
 checks above) or run to a "step_budget" status (exit 0, the --json result says so).
 The few cases that must WORK (exit 0) are separate tests below, as are the closed pipe, --version,
 `python -m levitron.runtime`, the internal-error line and "no sympy in the runtime".
@@ -136,7 +136,7 @@ def _fake_generated(tmp, env, request, damage: Callable[[Path], None]):
     mp = request.getfixturevalue("monkeypatch")
     patched = 0
     for name, mod in list(sys.modules.items()):
-        if name.split(".")[0] in ("runtime", "derive") and getattr(mod, "GENERATED", None) == GENERATED:
+        if name.startswith(("levitron.runtime.", "levitron.derive.")) and getattr(mod, "GENERATED", None) == GENERATED:
             mp.setattr(mod, "GENERATED", fake)
             patched += 1
     assert patched, "no module holds GENERATED: update this test to the new constant"
@@ -497,7 +497,7 @@ def _json_run(argv: list[str], capsys) -> dict:
 
 def test_ring_magnet_solid_cylinder_works_and_is_not_the_ring(tmp_path, warm_cache, capsys, monkeypatch):
     """`--set plate.r_in=0` (a solid cylinder: a structural change) works, and its model is not the
-    ring's (issue 8, item 3: one cache key for both answered for both)."""
+    ring's (once one cache key answered for both)."""
     for k, v in _env(tmp_path, warm_cache).items():
         monkeypatch.setenv(k, v)
     monkeypatch.chdir(tmp_path)
@@ -510,7 +510,7 @@ def test_ring_magnet_solid_cylinder_works_and_is_not_the_ring(tmp_path, warm_cac
 
 
 def test_pole_is_no_equilibrium_and_hides_no_root(tmp_path, warm_cache, capsys, monkeypatch):
-    """phi0 = rho/(z - a) (issue 8, item 5): the pole z = a is no equilibrium; the real one,
+    """phi0 = rho/(z - a): the pole z = a is no equilibrium; the real one,
     m g + mu phi0''(z) = 0, i.e. z = a + (-2 mu rho / (m g))^(1/3), is found."""
     for k, v in _env(tmp_path, warm_cache).items():
         monkeypatch.setenv(k, v)

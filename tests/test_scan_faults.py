@@ -1,4 +1,4 @@
-"""Scans never hang and never lose a map (issue 17, "hangs and unbounded work"):
+"""Scans never hang and never lose a map (no hang, no unbounded work):
 
 * `--scheduler` at something that is not a dask scheduler (an HTTP server on 127.0.0.1) or at a
   scheduler without workers is a one-line UserError within the timeout (before: waited forever);

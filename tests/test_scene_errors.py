@@ -63,7 +63,7 @@ def test_unknown_scene_names_the_known_ones():
     assert res.returncode == 2 and "thesis" in res.stderr
 
 
-# ---------------------------------------------------------------- absurd numbers (issue 8)
+# ---------------------------------------------------------------- absurd numbers
 
 @pytest.mark.parametrize("override,message", [
     ("top.A=1e100", "top.A = 1e+100 is outside"),

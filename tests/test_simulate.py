@@ -1,5 +1,5 @@
 """`simulate` on the generated models: the initial state (thesis 3.2.9, 3.3.2), the hard cases of
-issue 3 (axis within 1e-6 rad of vertical in both coordinate sets, a 100 s run at 200 rad/s with
+the acceptance case (axis within 1e-6 rad of vertical in both coordinate sets, a 100 s run at 200 rad/s with
 its conserved quantities, a top that falls off), the JSON contract and bad options."""
 from __future__ import annotations
 
@@ -191,7 +191,7 @@ def test_hard_case_axis_near_vertical_euler_vs_tait_bryan(model, zxz_model):
 
 
 def test_near_upright_euler_zxz_stops_on_its_default_step_budget(zxz_model):
-    """Reproduces issue 8: near the upright top the z-x-z angles' adaptive step shrinks without end
+    """Near the upright top the z-x-z angles' adaptive step shrinks without end
     (`simulate --set model.coordinates=euler-zxz --tilt 1e-6` never returned). The default budget
     (from t_end and the fastest period) stops it with status "step_budget", reported, no exception."""
     out = simulate(zxz_model, spin=1000.0, tilt=1e-6, t_end=1.0)
@@ -252,7 +252,7 @@ def test_cli_simulate_json(capsys):
     (["--n-out", "1000000000"], "n_out"),
 ])
 def test_cli_refuses_unbounded_work_in_one_line(capsys, args, words):
-    """Issue 8: each of these ran without end, or raised MemoryError, or (--tol 1) flipped a verdict."""
+    """Each of these once ran without end, or raised MemoryError, or (--tol 1) flipped a verdict."""
     from levitron.runtime.cli.main import main
     rc = main(["simulate", "thesis", "--spin", "200", "--tilt", "0.01", *args])
     err = capsys.readouterr().err

@@ -1,4 +1,4 @@
-"""Issue 19, item 3: a dimensionless scene (`units = "dimensionless"`, g = 1) shows no SI unit
+"""A dimensionless scene (`units = "dimensionless"`, g = 1) shows no SI unit
 anywhere: every command's plain text, every plot's text (titles, axis labels, legends, colour
 bars) and the report's page. Wall times stay seconds: they are the computer's, not the scene's."""
 from __future__ import annotations

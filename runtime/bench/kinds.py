@@ -29,8 +29,8 @@ class Kind:
 
 
 KINDS = {k.name: k for k in (
-    Kind("work-precision", "levitron.runtime.bench.work_precision", "speed against error of every backend and integrator "
-         "(heyoka beside ours when the [bench] extra is installed)",
+    Kind("work-precision", "levitron.runtime.bench.work_precision", "speed against error of every backend and "
+         "integrator (heyoka beside ours when the [bench] extra is installed)",
          ("thesis_stable", "ring_magnet", "square", "loop", "reduced_only"), "reports/{scene}"),
     Kind("maps", "levitron.runtime.bench.maps", "points per second of a stability map on 1 and 2 workers, the "
          "C driver against the Python path", ("thesis_stable",), "reports/maps"),

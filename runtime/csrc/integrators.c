@@ -313,7 +313,7 @@ static void rk4_slope(lev_ctx *c, const double *x, double h, double *slope, doub
 /* out = x + h sum_{j < s} a_j K_j over the nonzero a_j (x == NULL: the sum alone).  Inlined with
  * a constant n for the two model sizes (12: full, 4: reduced), and summed in a local array that
  * cannot alias K, so that the sums stay in vector registers: with a run-time n and the sum in
- * `out` the combinations cost a third of a DOP853 step (issue 10, measured with perf). */
+ * `out` the combinations cost a third of a DOP853 step (measured with perf). */
 LEV_FORCE_INLINE void rk_sum_n(int n, const double *x, double h, const double *K, const double *a,
                             int s, double *out)
 {
@@ -834,7 +834,7 @@ static int adaptive_judge(adaptive_run *r)
 
 /* All stages of an attempt.  Inlined with the method and n constant, and the stage loop unrolled,
  * the tableau's entries become constants in the code: the zero entries vanish, and no loop or
- * branch is left between the rhs calls (about 10% of a step of the full model, issue 10). */
+ * branch is left between the rhs calls (about 10% of a step of the full model). */
 LEV_FORCE_INLINE void stages_of(adaptive_run *r, const adaptive_method *m, const int n)
 {
     int s;

@@ -283,7 +283,12 @@ def run_dask(common: Common, chunks: Sequence[list], client, quiet: bool = False
                     done = set()
                 for fut in done:
                     try:
-                        out.append(fut.result())
+                        # bounded: a result can leave with its worker between "done" and the
+                        # gather, and then waits for a recomputation no worker may ever run
+                        out.append(fut.result(timeout=DASK_POLL_S))
+                    except TimeoutError:
+                        pending.add(fut)
+                        continue
                     except Exception as exc:    # noqa: BLE001 (dask's own errors, named below)
                         if type(exc).__name__ in ("KilledWorker", "CancelledError",
                                                   "FutureCancelledError"):

@@ -1,6 +1,6 @@
-"""The second battery of hostile inputs (issue 17): every case is exit 2 with one error line, through
+"""The second battery of hostile inputs: every case is exit 2 with one error line, through
 the real entry point, with the checks of tests/test_reliability.py (no traceback, generated/
-unchanged, nothing half-written in a fresh cache). Every case failed on the main before issue 17
+unchanged, nothing half-written in a fresh cache). Every case failed before its fix
 (exit 0 with a changed or dropped input, exit 3, or a wrong reason) except the eight marked
 "guard": refused before too, they keep the refusal (the two large grids now refused before the
 grid is built, see tests/test_inputs_shared.py for the timing).
