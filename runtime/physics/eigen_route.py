@@ -63,11 +63,48 @@ class EigenCheck:
 
 
 
+SCLFAC, FACTOR = 2.0, 0.95                       # LAPACK dgebal's constants
+SFMIN1 = np.finfo(float).tiny / (np.finfo(float).eps / 2)    # dlamch('S') / dlamch('P')
+SFMAX1, SFMIN2 = 1.0 / SFMIN1, SFMIN1 * SCLFAC
+SFMAX2 = 1.0 / SFMIN2
+
+
 def balancing(J: np.ndarray) -> np.ndarray:
-    """Diagonal scaling d (powers of 2) with D^-1 J D balanced (LAPACK gebal), reusable for nearby J."""
-    import scipy.linalg          # here, not at the top: scipy.linalg is a third of the CLI's start-up
-    _, (d, _perm) = scipy.linalg.matrix_balance(J, permute=False, separate=True)
-    return d
+    """Diagonal scaling d (powers of 2) with D^-1 J D balanced, reusable for nearby J: LAPACK 3.12's
+    dgebal with job 'S' (scale, no permutation), what scipy.linalg.matrix_balance(J, permute=False)
+    calls, written out here because importing scipy.linalg is a third of `levitron stability`'s
+    start-up. tests/test_balance.py checks d against scipy's. Any d keeps on_imaginary_axis's bound
+    valid; this one makes it tight."""
+    A = np.array(J, dtype=float)
+    n = A.shape[0]
+    scale = np.ones(n)
+    noconv = True
+    while noconv:
+        noconv = False
+        for i in range(n):
+            c, r = float(np.sqrt(A[:, i] @ A[:, i])), float(np.sqrt(A[i, :] @ A[i, :]))
+            ca, ra = float(np.max(np.abs(A[:, i]))), float(np.max(np.abs(A[i, :])))
+            if c == 0.0 or r == 0.0:
+                continue
+            if not np.isfinite(c + ca + r + ra):
+                raise ValueError("balancing: the matrix has a NaN or an infinite entry")
+            g, f, s = r / SCLFAC, 1.0, c + r
+            while c < g and max(f, c, ca) < SFMAX2 and min(r, g, ra) > SFMIN2:
+                f, c, ca, r, g, ra = f * SCLFAC, c * SCLFAC, ca * SCLFAC, r / SCLFAC, g / SCLFAC, ra / SCLFAC
+            g = c / SCLFAC
+            while g >= r and max(r, ra) < SFMAX2 and min(f, c, g, ca) > SFMIN2:
+                f, c, g, ca, r, ra = f / SCLFAC, c / SCLFAC, g / SCLFAC, ca / SCLFAC, r * SCLFAC, ra * SCLFAC
+            if c + r >= FACTOR * s:
+                continue
+            if f < 1.0 and scale[i] < 1.0 and f * scale[i] <= SFMIN1:
+                continue
+            if f > 1.0 and scale[i] > 1.0 and scale[i] >= SFMAX1 / f:
+                continue
+            scale[i] *= f
+            noconv = True
+            A[i, :] *= 1.0 / f
+            A[:, i] *= f
+    return scale
 
 
 def on_imaginary_axis(J: np.ndarray, d: np.ndarray | None = None) -> EigenCheck:
