@@ -29,6 +29,7 @@ import dataclasses
 import functools
 import math
 import os
+import shutil
 import tempfile
 from pathlib import Path
 
@@ -59,13 +60,18 @@ ROOT = Path(__file__).resolve().parent.parent
 NOT_TRACKED = {".git", ".venv", "__pycache__", ".pytest_cache", ".hypothesis", ".ruff_cache",
                "levitron.egg-info"}
 CONFINED = {"examples": 0}
+WATCHED = {"root": ROOT}     # the tree `confined()` snapshots (the probe test points it elsewhere)
 
 
 def repo_tree() -> dict[str, tuple]:
-    """Every file and folder under the repository (NOT_TRACKED aside): path -> (size, mtime)."""
+    """Every file and folder under the repository (NOT_TRACKED and the cache aside, which may sit
+    inside it: CI's is .cache-ci): path -> (size, mtime)."""
+    from levitron.runtime.model.cbuild import resolve_cache_env
+    cache = os.path.realpath(resolve_cache_env())
     out = {}
-    for folder, dirs, files in os.walk(ROOT):
-        dirs[:] = [d for d in dirs if d not in NOT_TRACKED]
+    for folder, dirs, files in os.walk(WATCHED["root"]):
+        dirs[:] = [d for d in dirs if d not in NOT_TRACKED
+                   and os.path.realpath(os.path.join(folder, d)) != cache]
         for name in dirs + files:
             st = os.lstat(os.path.join(folder, name))
             out[os.path.join(folder, name)] = (st.st_size, st.st_mtime_ns)
@@ -348,15 +354,19 @@ def test_every_example_ran_confined():
     assert CONFINED["examples"] >= 1
 
 
-def test_confined_sees_a_stray_file_wherever_it_is_written():
-    """`confined()` fails on a file left in the working directory, in TMPDIR or in the repository."""
+def test_confined_sees_a_stray_file_wherever_it_is_written(tmp_path, monkeypatch):
+    """`confined()` fails on a file left in the working directory, in TMPDIR or in the repository
+    (here a copy of its tests/ folder: a stray in the real one would fail the confined examples
+    another xdist worker runs at the same moment)."""
     with pytest.raises(AssertionError, match="working directory"):
         with confined():
             Path("stray.txt").write_text("x")
     with pytest.raises(AssertionError, match="TMPDIR"):
         with confined():
             tempfile.mkstemp()
-    probe = ROOT / "tests" / ".confined-probe"
+    shutil.copytree(ROOT / "tests", tmp_path / "repo" / "tests", ignore=shutil.ignore_patterns("__pycache__"))
+    monkeypatch.setitem(WATCHED, "root", tmp_path / "repo")
+    probe = tmp_path / "repo" / "tests" / ".confined-probe"
     try:
         with pytest.raises(AssertionError, match="repository"):
             with confined():
