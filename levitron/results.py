@@ -2,7 +2,8 @@
 runtime.design.optimize.DesignResult and runtime.design.fit.FitResult; the scan result
 runtime.scan.stability_map.ScanResult.
 
-Every result has a short `repr` with units, and scipy-style `success` (bool) and `message` (one
+Every result has a short `repr` with units (the scene's: a dimensionless scene shows none but
+rad/time and time units; `units`, set by Study), and scipy-style `success` (bool) and `message` (one
 sentence): for Equilibria, whether the top has a vertically stable hover height; for Stability,
 whether a spin rate stabilises it (a stable spin interval exists); for Simulation, whether the run
 ended normally (reached t_end or left the box, like solve_ivp's terminal event) rather than by a
@@ -17,6 +18,12 @@ import numpy as np
 from levitron.runtime.ui.human import Units, sig
 
 _SI = Units(si=True)
+
+
+def _q(units: Units, value: float, si_unit: str, fmt: str = ".6g") -> str:
+    """A number and its unit as the scene shows it: "0.106 m" (SI), "0.106" in a dimensionless
+    scene, where a rate is "rad/time" and a time "time units" (runtime/ui/human.py Units)."""
+    return f"{value:{fmt}} {units.unit(si_unit)}".rstrip()
 NORMAL_ENDS = ("completed", "left_box")    # runtime/integrate/c_backend.py STATUS: the run itself succeeded
 
 
@@ -29,10 +36,13 @@ class Equilibrium:
     vertically_stable: bool
     stiffness: float
     marginal: bool
+    units: Units = field(default=_SI, repr=False, compare=False)   # how repr and message show numbers
 
     def __repr__(self) -> str:
         kind = "marginal" if self.marginal else "stable" if self.vertically_stable else "unstable"
-        return f"Equilibrium(z={self.z:.6g} m, vertically {kind}, stiffness={self.stiffness:.4g} N/m)"
+        u = self.units
+        return (f"Equilibrium(z={_q(u, self.z, 'm')}, vertically {kind}, "
+                f"stiffness={_q(u, self.stiffness, 'N/m', '.4g')})")
 
 
 @dataclass(frozen=True)
@@ -46,6 +56,7 @@ class Equilibria:
     max_mass: float | None
     stable_band_z: tuple[float, float] | None
     stable_band_mass: tuple[float, float] | None
+    units: Units = field(default=_SI, repr=False, compare=False)   # how repr and message show numbers
 
     @property
     def success(self) -> bool:
@@ -55,19 +66,21 @@ class Equilibria:
     @property
     def message(self) -> str:
         stable = [e.z for e in self.equilibria if e.vertically_stable]
-        head = (f"hovers vertically stable at z = {stable[0]:.6g} m" if stable
+        u = self.units
+        head = (f"hovers vertically stable at z = {_q(u, stable[0], 'm')}" if stable
                 else "no vertically stable hover height")
         band = ("no stable band" if self.stable_band_z is None else
-                f"stable band z {self.stable_band_z[0]:.6g}-{self.stable_band_z[1]:.6g} m, mass "
-                f"{self.stable_band_mass[0]:.6g}-{self.stable_band_mass[1]:.6g} kg")
+                f"stable band z {self.stable_band_z[0]:.6g}-{_q(u, self.stable_band_z[1], 'm')}, mass "
+                f"{self.stable_band_mass[0]:.6g}-{_q(u, self.stable_band_mass[1], 'kg')}")
         return f"{head}; {band}"
 
     def __repr__(self) -> str:
-        zs = ", ".join(f"{e.z:.6g} m ({'stable' if e.vertically_stable else 'unstable'})"
+        u = self.units
+        zs = ", ".join(f"{_q(u, e.z, 'm')} ({'stable' if e.vertically_stable else 'unstable'})"
                        for e in self.equilibria) or "none"
         band = "None" if self.stable_band_z is None else \
-            f"z {self.stable_band_z[0]:.6g}-{self.stable_band_z[1]:.6g} m"
-        zc = "None" if self.z_c is None else f"{self.z_c:.6g} m"
+            f"z {self.stable_band_z[0]:.6g}-{_q(u, self.stable_band_z[1], 'm')}"
+        zc = "None" if self.z_c is None else _q(u, self.z_c, "m")
         return f"Equilibria([{zs}], z_c={zc}, stable_band={band}, success={self.success})"
 
 
@@ -84,6 +97,7 @@ class Stability:
     reason: str | None
     routes_agree: bool | None
     mass: float | None = None
+    units: Units = field(default=_SI, repr=False, compare=False)   # how repr and message show numbers
 
     @property
     def success(self) -> bool:
@@ -95,14 +109,16 @@ class Stability:
         if self.spin_interval is None:
             return f"no stable spin interval: {self.reason or 'no stable hover height'}"
         lo, hi = self.spin_interval
-        return f"stable for spin {lo:.6g}-{hi:.6g} rad/s at z_s = {self.z_s:.6g} m" + \
+        u = self.units
+        return f"stable for spin {lo:.6g}-{_q(u, hi, 'rad/s')} at z_s = {_q(u, self.z_s, 'm')}" + \
             (f" ({self.reason})" if self.reason else "")
 
     def __repr__(self) -> str:
+        u = self.units
         iv = "None" if self.spin_interval is None else \
-            f"{sig(self.spin_interval[0], 6)}-{sig(self.spin_interval[1], 6)} rad/s"
-        z = "None" if self.z_s is None else f"{self.z_s:.6g} m"
-        k = "None" if self.stiffness is None else f"{self.stiffness:.4g} N/m"
+            f"{sig(self.spin_interval[0], 6)}-{sig(self.spin_interval[1], 6)} {u.unit('rad/s')}"
+        z = "None" if self.z_s is None else _q(u, self.z_s, "m")
+        k = "None" if self.stiffness is None else _q(u, self.stiffness, "N/m", ".4g")
         return f"Stability(spin_interval={iv}, z_s={z}, stiffness={k}, success={self.success})"
 
 
@@ -125,6 +141,7 @@ class Simulation:
     final_state: dict
     details: dict = field(repr=False, default_factory=dict)
     trajectory: dict = field(repr=False, default_factory=dict)
+    units: Units = field(default=_SI, repr=False, compare=False)   # how repr and message show numbers
 
     def save(self, path) -> str:
         """Write the trajectory to a .csv or .npz file (runtime/simulate/trajectory_file.py)."""
@@ -148,8 +165,9 @@ class Simulation:
         return str(self.details.get("message") or self.status)
 
     def __repr__(self) -> str:
-        return (f"Simulation(levitating={self.levitating}, t_survived={self.t_survived:.6g} s of "
-                f"{self.details.get('t_end', float('nan')):.6g} s, energy_drift={self.energy_drift:.2g}, "
+        u = self.units
+        return (f"Simulation(levitating={self.levitating}, t_survived={self.t_survived:.6g} of "
+                f"{_q(u, self.details.get('t_end', float('nan')), 's')}, energy_drift={self.energy_drift:.2g}, "
                 f"status={self.status!r}, success={self.success})")
 
 @dataclass(frozen=True)
@@ -165,6 +183,7 @@ class LaunchOdds:
     flight_time: dict
     ranking: list
     details: dict = field(repr=False, default_factory=dict)
+    units: Units = field(default=_SI, repr=False, compare=False)   # how repr and message show numbers
 
 
 @dataclass(frozen=True, repr=False)
@@ -190,6 +209,7 @@ class Simulations:
     inputs: dict
     wall_s: float
     details: dict = field(default_factory=dict)
+    units: Units = field(default=_SI, repr=False, compare=False)   # how repr and message show numbers
 
     def __len__(self) -> int:
         return int(self.status.size)
@@ -212,7 +232,8 @@ class Simulations:
             return (f"{bad.size} of {n} runs did not end normally ({kinds}; the first: launch "
                     f"{int(bad[0])})")
         lev = int(np.sum(self.levitating & ~self.untested))
-        text = f"{n} runs ended normally; {lev} stayed up for the whole {self.details.get('t_end', 0):.6g} s"
+        text = (f"{n} runs ended normally; {lev} stayed up for the whole "
+                f"{_q(self.units, self.details.get('t_end', 0), 's')}")
         if np.any(self.untested):
             text += f"; {int(np.sum(self.untested))} launched on the invariant set test nothing"
         return text
@@ -222,5 +243,6 @@ class Simulations:
         lev = int(np.sum(self.levitating & ~self.untested))
         ts = self.t_survived
         return (f"Simulations(n={n}, levitating={lev} of {n - int(np.sum(self.untested))} tested, "
-                f"t_survived={np.min(ts):.6g}-{np.max(ts):.6g} s of {self.details.get('t_end', float('nan')):.6g} s, "
+                f"t_survived={np.min(ts):.6g}-{np.max(ts):.6g} of "
+                f"{_q(self.units, self.details.get('t_end', float('nan')), 's')}, "
                 f"lanes={self.details.get('lanes')}, success={self.success})")

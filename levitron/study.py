@@ -1,6 +1,7 @@
 """`Study`: one scene with its model, and every question the toolchain answers about it."""
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
@@ -19,6 +20,7 @@ from levitron.runtime.design.fit import fit as _fit
 from levitron.runtime.model.load import Model, load_model
 from levitron.runtime.design.scene_keys import Vary, key_value, pvector, with_values
 from levitron.runtime.physics.stability import stability_of
+from levitron.runtime.ui.human import Units, restate
 
 from . import arguments as arg
 from .results import Equilibria, Equilibrium, LaunchOdds, Simulation, Simulations, Stability
@@ -56,6 +58,20 @@ def load(scene: str | Path, overrides: Mapping[str, float | str] | None = None) 
     return Study(load_model(load_scene(scene, sets), sets), sets)
 
 
+
+def _in_scene_units(method):
+    """A Study method whose UserError speaks the scene's units: the runtime's messages speak SI
+    (as the JSON does), and a dimensionless scene's are restated without SI units."""
+    @functools.wraps(method)
+    def wrapper(self, *args, **kwargs):
+        try:
+            return method(self, *args, **kwargs)
+        except UserError as exc:
+            if self.units.si:
+                raise
+            raise UserError(restate(str(exc), self.units)) from None
+    return wrapper
+
 class Study:
     """A scene and its generated model. `model` is runtime.model.load.Model (parameter vector p in the
     order model.param_names); users name numbers by scene keys (`value`, `p_of`)."""
@@ -63,6 +79,12 @@ class Study:
     def __init__(self, model: Model, overrides: Sequence[str] = ()):
         self.model, self.scene, self.overrides = model, model.scene, list(overrides)
         self._cs = None
+
+    @property
+    def units(self) -> Units:
+        """How this scene's numbers are shown (its `units` key, else decided by g): the results'
+        repr and message use it, so a dimensionless scene's show no SI unit."""
+        return Units.of_scene(self.scene)
 
     # ---- parameters by scene key
     def keys(self) -> list[str]:
@@ -121,15 +143,18 @@ class Study:
         return dict(zip(keys, map(float, J @ dpdx)))
 
     # ---- physics
+    @_in_scene_units
     def equilibria(self) -> Equilibria:
         """Vertical equilibria, z_c, the largest mass and the stable band (thesis 3.3.1-3.3.3)."""
         rep = eqm.equilibria_of(self.model, bands=True)
         band = rep.stable_band
-        return Equilibria([Equilibrium(e.z, e.vertically_stable, e.stiffness, e.marginal)
+        u = self.units
+        return Equilibria([Equilibrium(e.z, e.vertically_stable, e.stiffness, e.marginal, u)
                            for e in rep.equilibria], rep.z_c, rep.max_mass,
                           None if band is None else tuple(band.z),
-                          None if band is None else tuple(band.mass))
+                          None if band is None else tuple(band.mass), u)
 
+    @_in_scene_units
     def stability(self, height: float | None = None) -> Stability:
         """The spin interval at the hover height, by the exact route (thesis 3.3.9-3.3.16);
         height (m): instead the top that hovers there, of mass m(z) = -mu Phi_2(z)/g (`mass`)."""
@@ -140,8 +165,9 @@ class Study:
             P = self.model.pvals()
             k = P["mu"] * float(self.model.onaxis(res.z_s)[3])
         return Stability(res.z_s, k, None if res.spin_interval is None else tuple(res.spin_interval),
-                         res.reason, res.routes_agree, res.mass)
+                         res.reason, res.routes_agree, res.mass, self.units)
 
+    @_in_scene_units
     def simulate(self, spin: float, **options) -> Simulation:
         """One trajectory (runtime.simulate.run.simulate; options: tilt (rad, default 0.005: a launch
         with tilt 0 and offset 0 tests nothing and gives levitating None), offset (m), t_end (s;
@@ -156,8 +182,9 @@ class Study:
         return Simulation(out["levitating"], float(out["t_survived"]),
                           float(out["max_excursion"]), float(out["energy_drift"]),
                           int(out["rhs_evals"]), float(out["wall_s"]), dict(out["final_state"]),
-                          out, samples)
+                          out, samples, self.units)
 
+    @_in_scene_units
     def simulate_many(self, spin, **options) -> Simulations:
         """Many launches in one call (runtime/scan/batch.py: one call of the C chunk driver, the
         lane variant of the rhs where it verifies), each the run `simulate` makes with the same
@@ -187,8 +214,9 @@ class Study:
                            out["rhs_evals"], out["steps"], out["z_s"], out["final_state"],
                            out["states"], inputs, out["wall_s"],
                            {k: out[k] for k in ("t_end", "integrator", "integrator_requested", "tol",
-                                                "step", "lanes")})
+                                                "step", "lanes")}, self.units)
 
+    @_in_scene_units
     def launch(self, n: int | None = None, seed: int | None = None,
                inputs: Mapping[str, object] | None = None, **options) -> LaunchOdds:
         """Launch odds by Monte Carlo (runtime/scan/launch_odds.py): inputs maps spin, tilt, tilt_azimuth,
@@ -212,8 +240,9 @@ class Study:
         out = monte_carlo(self.model, ref, self.overrides, given, n=n, seed=seed, quiet=True, **options)
         return LaunchOdds(out["probability"], tuple(out["probability_ci95"]), out["n"],
                           out["success_time"], {k: out["flight_time"][k] for k in ("median", "q1", "q3")},
-                          [(e["input"], e["effect"]) for e in out["ranking"]], out)
+                          [(e["input"], e["effect"]) for e in out["ranking"]], out, self.units)
 
+    @_in_scene_units
     def scan(self, spins: Sequence[float], axis: str, values: Sequence[float], **options):
         """A stability map: runtime.scan.stability_map.ScanResult over spins (rad/s) and one second axis:
 
@@ -246,6 +275,7 @@ class Study:
         return a
 
     # ---- design and fitting
+    @_in_scene_units
     def optimize(self, maximize: str, vary: Mapping[str, tuple[float, float]],
                  constrain: Sequence[str] = (), grid: int = 20) -> DesignResult:
         """Maximise spin-range or spin-ratio over scene keys in boxes {key: (lo, hi)}, with
@@ -254,6 +284,7 @@ class Study:
         return _optimize(self.model, _varies(vary),
                          maximize, [Constraint.parse(c) for c in constrain], grid)
 
+    @_in_scene_units
     def fit(self, data: str | Path | Sequence[Row], vary: Mapping[str, tuple[float, float]]) -> FitResult:
         """Least squares of scene keys to measurements (a CSV path or runtime.design.fit.Row list)."""
         rows = read_rows(data) if isinstance(data, (str, Path)) else data

@@ -109,3 +109,29 @@ def test_no_si_unit_in_a_dimensionless_scene(name, scene, tmp_path, plot_texts, 
         assert plot_texts
     found = [u for t in texts for u in si_units(t)]
     assert found == [], f"`levitron {' '.join(argv)}` shows SI units {found}:\n" + "\n".join(texts)
+
+
+def test_no_si_unit_in_the_apis_results(scene):
+    """The Python API's results (their repr and message) show the scene's units too; the same
+    results of an SI scene keep theirs (the check can fail)."""
+    import levitron as lev
+    with pytest.raises(lev.UserError) as too_heavy:       # a message of the runtime, restated
+        lev.load(scene, {"top.mass": 5.2}).simulate(40.0)
+    assert "too heavy" in str(too_heavy.value) and si_units(str(too_heavy.value)) == []
+    study = lev.load(scene)
+    results = [study.equilibria(), *study.equilibria().equilibria, study.stability(),
+               study.simulate(40.0, t_end=5.0), study.simulate_many([30.0, 40.0], t_end=5.0)]
+    texts = [t for r in results for t in (repr(r), r.message if hasattr(r, "message") else "")]
+    assert all(si_units(t) == [] for t in texts), [(t, si_units(t)) for t in texts if si_units(t)]
+    si = lev.load("thesis_stable")
+    assert si_units(repr(si.stability())) and si_units(repr(si.equilibria()))
+
+
+def test_no_si_unit_in_a_dimensionless_scenes_error_line(scene, capsys):
+    """The runtime's error messages speak SI (as the JSON does); the command line restates them in
+    a dimensionless scene's units. An SI scene's keep theirs."""
+    assert cli.main(["simulate", scene, "--set", "top.mass=5.2", "--spin", "40"]) == 2
+    err = capsys.readouterr().err
+    assert "too heavy" in err and si_units(err) == [], err
+    assert cli.main(["simulate", "thesis_stable", "--set", "top.mass=0.06", "--spin", "40"]) == 2
+    assert si_units(capsys.readouterr().err)

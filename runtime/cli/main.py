@@ -167,13 +167,31 @@ def os_error_message(exc: OSError) -> str:
     return f"{paths}: {why}"
 
 
-def _report(command: str, exc: BaseException) -> int:
-    """Print the one-line message of `exc` and return the exit code."""
+def _scene_units(args):
+    """The Units of the command's scene, or None where it has none or cannot be read."""
+    if not getattr(args, "scene", None):
+        return None
+    from levitron.runtime.cli.commands.common import scene_of
+    from levitron.runtime.ui.human import Units
+    try:
+        return Units.of_scene(scene_of(args))
+    except Exception:           # noqa: BLE001  (the error being reported may be the scene's own)
+        return None
+
+
+def _report(args, exc: BaseException) -> int:
+    """Print the one-line message of `exc` and return the exit code. The messages speak SI (as the
+    JSON does); on a dimensionless scene they are restated in its own units."""
     from levitron.derive.scene import SceneError
     from levitron.runtime.model.cbuild import CompileError
-    prefix = f"levitron {command}"
+    prefix = f"levitron {args.command}"
     if isinstance(exc, (UserError, SceneError)):
-        text, code = f"{prefix}: error: {one_line(str(exc))}", EXIT_USER
+        message = str(exc)
+        units = _scene_units(args) if isinstance(exc, UserError) else None
+        if units is not None and not units.si:
+            from levitron.runtime.ui.human import restate
+            message = restate(message, units)
+        text, code = f"{prefix}: error: {one_line(message)}", EXIT_USER
     elif isinstance(exc, CompileError):
         output = str(exc).splitlines()[1:]          # the first line is the compiler's command
         detail = next((ln for ln in output if "error:" in ln), "")
@@ -266,7 +284,7 @@ def main(argv=None) -> int:
     except Exception as exc:    # every failure is one line; the traceback only on request
         if _debug() and not isinstance(exc, (UserError, SceneError)):
             raise
-        return _report(args.command, exc)
+        return _report(args, exc)
     return _emit(text, styled=not args.json)
 
 
