@@ -19,6 +19,7 @@ from .doubles import DoubleRangeError
 from .emit.c import emitter as c_emitter
 from .emit.casadi import builder as casadi_builder
 from .emit.lower import lower
+from .emit.taylor import PARTS as TAYLOR_PARTS, Unsupported, taylor_tape
 from .faults import die_at
 from .geometry import build_plate
 from .inputs import input_hash, tool_versions
@@ -63,13 +64,14 @@ def _render(scene: Scene) -> dict[str, bytes]:
     order, order_info = field_order(scene)
     spec = build_spec(scene.name, plate, order, scene.coordinates, scene.needs, scene.friction)
     lowered = [lower(f, spec) for f in spec.functions]
+    tapes = taylor_tapes(lowered)
     params = [str(s) for s in spec.params]
     ban = banner(scene, ihash)
     ops_line = ", ".join(f"{f.name} {f.ops}" for f in lowered)
-    table = c_emitter.model_table(scene.name, ihash, params, spec.parts, lowered)
+    table = c_emitter.model_table(scene.name, ihash, params, spec.parts, lowered, tapes)
     header, source = c_emitter.render(ban + f" Operation counts: {ops_line}.",
                                       scene.name.upper().replace("-", "_"), params, spec.parts,
-                                      spec.kmax, lowered, table)
+                                      spec.kmax, lowered, table, tapes)
     files = {"model.h": header.encode(), "model.c": source.encode()}
     casadi_files = {}
     with tempfile.TemporaryDirectory() as tmp:
@@ -95,11 +97,26 @@ def _render(scene: Scene) -> dict[str, bytes]:
         "functions": {f.name: {"doc": f.doc, "n_in": f.n_in, "n_out": f.n_out,
                                "shape": list(f.shape), "ops": f.ops, "casadi": casadi_files[f.name]}
                       for f in lowered},
+        "taylor": table["taylor"],
         "files": file_digests(files),
     }
     manifest[SELF_KEY] = manifest_digest(manifest)
     files["manifest.json"] = (json.dumps(manifest, indent=2, sort_keys=True) + "\n").encode()
     return files
+
+
+def taylor_tapes(lowered) -> dict:
+    """{part: the Taylor tape of its rhs} for the parts of derive/emit/taylor.py's PARTS whose rhs
+    has a recurrence for every operation (a part without one is integrated by the other methods)."""
+    tapes = {}
+    for f in lowered:
+        part = f.name.rsplit("_", 1)[0]
+        if f.name.endswith("_rhs") and part in TAYLOR_PARTS:
+            try:
+                tapes[part] = taylor_tape(f)
+            except Unsupported:
+                continue
+    return tapes
 
 
 def write_atomic(target: Path, files: dict[str, bytes], exchange: bool = True) -> None:

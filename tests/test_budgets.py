@@ -53,7 +53,7 @@ def test_c_method_table_equals_the_python_table(lib):
 
 def test_struct_sizes_equal_the_ctypes_mirrors(lib):
     for fn, struct in (("lev_sizeof_system", ci._System), ("lev_sizeof_options", ci._Options),
-                       ("lev_sizeof_stats", ci._Stats)):
+                       ("lev_sizeof_stats", ci._Stats), ("lev_sizeof_job", ci._Job)):
         f = getattr(lib, fn)
         f.restype = ctypes.c_size_t
         assert f() == ctypes.sizeof(struct), fn

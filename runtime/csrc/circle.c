@@ -5,7 +5,9 @@
  *                   state (x, y, vx, vy), a = -(|v|^2 / |r|^2) r.  On the exact solution |v| and
  *                   |r| are constant; the energy checked is the kinetic energy |v|^2 / 2 (per mass).
  * lev_oscillator_*  the isotropic harmonic oscillator a = -w2 r, p[0] = w2 (a Hamiltonian system
- *                   whose circular orbits coincide with the circle test's): energy and Jacobian.
+ *                   whose circular orbits coincide with the circle test's): energy, Jacobian and
+ *                   Taylor coefficients (for LEV_TAYLOR: x^[n+1] = v^[n] / (n+1),
+ *                   v^[n+1] = -w2 x^[n] / (n+1)).
  * lev_kepler_*      the Kepler problem a = -GM r / |r|^3, p[0] = GM: energy and Jacobian.
  * lev_blowup_rhs    x' = x^2 (one state): x(t) = x0 / (1 - x0 t) blows up in finite time.
  * lev_drift_rhs     x' = p[0] (one state): an angle at a constant rate, like the top's spin angle;
@@ -45,6 +47,20 @@ void lev_oscillator_rhs(const double *in, const double *p, double *out)
 void lev_oscillator_energy(const double *in, const double *p, double *out)
 {
     out[0] = 0.5 * (in[2] * in[2] + in[3] * in[3]) + 0.5 * p[0] * (in[0] * in[0] + in[1] * in[1]);
+}
+
+int lev_oscillator_taylor(const double *in, const double *p, int order, double *out)
+{
+    int k, n;
+    const int m = order + 1;
+    if (order < 1 || order > LEV_TAYLOR_MAX_ORDER) return -1;
+    for (k = 0; k < 4; k++) out[k * m] = in[k];
+    for (n = 0; n < order; n++)
+        for (k = 0; k < 2; k++) {
+            out[k * m + n + 1] = out[(k + 2) * m + n] / (n + 1);
+            out[(k + 2) * m + n + 1] = -p[0] * out[k * m + n] / (n + 1);
+        }
+    return 0;
 }
 
 void lev_oscillator_jac(const double *in, const double *p, double *out)

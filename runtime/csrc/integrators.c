@@ -203,7 +203,7 @@ const char *lev_status_message(int status)
 /* ---- the method table and the struct sizes (checked against runtime/integrate/methods.py) ---- */
 
 static const char *const METHOD_NAMES[] = {"euler", "rk4", "dop853", "gauss4", "midpoint",
-                                           "dop853-fixed", "vern9"};
+                                           "dop853-fixed", "vern9", "taylor"};
 #define LEV_N_METHODS ((int)(sizeof METHOD_NAMES / sizeof METHOD_NAMES[0]))
 
 int lev_method_id(const char *name)
@@ -223,12 +223,13 @@ const char *lev_method_name(int method)
 int lev_method_fixed_step(int method)
 {
     if (method < 0 || method >= LEV_N_METHODS) return -1;
-    return method != LEV_DOP853 && method != LEV_VERN9;
+    return method != LEV_DOP853 && method != LEV_VERN9 && method != LEV_TAYLOR;
 }
 
 size_t lev_sizeof_system(void) { return sizeof(lev_system); }
 size_t lev_sizeof_options(void) { return sizeof(lev_options); }
 size_t lev_sizeof_stats(void) { return sizeof(lev_stats); }
+size_t lev_sizeof_job(void) { return sizeof(lev_job); }
 
 /* ---- work layout ---- */
 
@@ -255,6 +256,8 @@ size_t lev_work_bytes(int method, int n)
     case LEV_DOP853_FIXED: return 17 * N * sizeof(double);
     case LEV_DOP853:
     case LEV_VERN9: return ADAPTIVE_WORK * N * sizeof(double);
+    /* the coefficients (LEV_TAYLOR_MAX_ORDER + 1 per state), xn, comp, comp_new, yd, inc */
+    case LEV_TAYLOR: return ((size_t)(LEV_TAYLOR_MAX_ORDER + 1) * N + 5 * N) * sizeof(double);
     case LEV_GAUSS4:
     case LEV_MIDPOINT:
         s = gauss_stages(method);
@@ -867,6 +870,153 @@ static int run_adaptive(lev_ctx *c, double *x, double *w, const adaptive_method 
 }
 
 
+/* ---- Taylor's method over the generated coefficients (LEV_TAYLOR) ---- */
+
+int lev_taylor_order(double rtol)
+{
+    const double p = ceil(-log(rtol) / 2.0 + 1.0);
+    if (!(p >= 2.0)) return 2;                      /* also a NaN */
+    return p > LEV_TAYLOR_MAX_ORDER ? LEV_TAYLOR_MAX_ORDER : (int)p;
+}
+
+/* inc_k = sum_{j=1..p} C_k^[j] h^j (Horner): the change of state k over h from the expansion point. */
+static void taylor_increment(int n, int p, const double *C, double h, double *inc)
+{
+    int k, j;
+    for (k = 0; k < n; k++) {
+        const double *ck = C + (size_t)k * (size_t)(p + 1);
+        double s = ck[p];
+        for (j = p - 1; j >= 1; j--) s = LEV_MADD(s, h, ck[j]);
+        inc[k] = s * h;
+    }
+}
+
+/* The state at the expansion point + dt (the step's polynomial: dense output, the box event). */
+static void taylor_dense(int n, int p, const double *C, double dt, double *y)
+{
+    int k;
+    taylor_increment(n, p, C, dt, y);
+    for (k = 0; k < n; k++) y[k] += C[(size_t)k * (size_t)(p + 1)];
+}
+
+/* Jorba & Zou's step (Experiment. Math. 14, 2005, eqs. 3-11; heyoka's safety factor): with the
+ * component weights w_k = atol_k / rtol + |x_k|, N_j = max_k |C_k^[j]| / w_k and
+ * rho = min((1 / N_{p-1})^(1/(p-1)), (1 / N_p)^(1/p)), the step rho e^-2 e^(-0.7/(p-1)) makes the
+ * last terms about rtol w_k: the truncation error per step, p = ceil(-ln rtol / 2 + 1). */
+static double taylor_step(int n, int p, const double *C, const double *x, const lev_options *o)
+{
+    double n1 = 0.0, n2 = 0.0, r1 = INFINITY, r2 = INFINITY;
+    int k;
+    for (k = 0; k < n; k++) {
+        const double *ck = C + (size_t)k * (size_t)(p + 1);
+        const double w = (o->atol_v ? o->atol_v[k] : o->atol) / o->rtol + fabs(x[k]);
+        n1 = fmax(n1, fabs(ck[p - 1]) / w);
+        n2 = fmax(n2, fabs(ck[p]) / w);
+    }
+    if (n1 > 0.0) r1 = pow(n1, -1.0 / (p - 1));
+    if (n2 > 0.0) r2 = pow(n2, -1.0 / p);
+    return fmin(r1, r2) * exp(-2.0 - 0.7 / (p - 1));
+}
+
+/* After an accepted step from t_old (coefficients C at the old state) to t: the box event located
+ * on the step's polynomial by bisection, then the samples; LEV_RUNNING or the final status. */
+static int taylor_after_step(lev_ctx *c, int p, const double *C, double t_old, double *t, double h,
+                             double *x, double *yd, long *i_out, double e)
+{
+    const lev_options *o = c->opt;
+    lev_stats *st = c->st;
+    const int n = c->sys->n;
+    int it;
+    if (o->box_on && box_outside(o, x)) {
+        double lo = 0.0, hi = 1.0;
+        for (it = 0; it < 80 && (hi - lo) * h > 2.0 * DBL_EPSILON * fabs(*t); it++) {
+            double mid = 0.5 * (lo + hi);
+            taylor_dense(n, p, C, mid * h, yd);
+            if (all_finite(yd, n) && !box_outside(o, yd)) lo = mid; else hi = mid;
+        }
+        if (hi < 1.0) {
+            taylor_dense(n, p, C, hi * h, yd);
+            if (all_finite(yd, n) && box_outside(o, yd)) {
+                memcpy(x, yd, (size_t)n * sizeof(double));
+                *t = t_old + hi * h;
+                st->t_final = *t;
+                e = c->sys->energy ? call_energy(c, x) : 0.0;
+            }
+        }
+        while (o->t_out && *i_out < o->n_out && o->t_out[*i_out] < *t) {
+            taylor_dense(n, p, C, o->t_out[*i_out] - t_old, yd);
+            record(c, o->t_out[*i_out], yd, c->sys->energy ? call_energy(c, yd) : 0.0);
+            (*i_out)++;
+        }
+        record(c, *t, x, e);
+        return LEV_LEFT_BOX;
+    }
+    if (energy_exceeded(c)) return LEV_ENERGY_LIMIT;
+    if (o->t_out) {
+        while (*i_out < o->n_out && o->t_out[*i_out] <= *t) {
+            if (o->t_out[*i_out] == *t) {
+                record(c, *t, x, e);
+            } else {
+                taylor_dense(n, p, C, o->t_out[*i_out] - t_old, yd);
+                record(c, o->t_out[*i_out], yd, c->sys->energy ? call_energy(c, yd) : 0.0);
+            }
+            (*i_out)++;
+        }
+    } else if (o->every > 0 && st->steps % o->every == 0) {
+        record(c, *t, x, e);
+    }
+    return *t < o->t_end ? LEV_RUNNING : LEV_COMPLETED;
+}
+
+/* Taylor's method: at each step the coefficients of order p at x (sys->taylor), the step of
+ * taylor_step, the new state by Horner and compensated summation. Every step is accepted (the
+ * step is chosen from the coefficients so that the truncation error is about rtol w_k); one
+ * expansion per step (counted in st->iterations), no rhs call. */
+static int run_taylor(lev_ctx *c, double *x, double *w)
+{
+    const lev_options *o = c->opt;
+    lev_stats *st = c->st;
+    const int n = c->sys->n, p = lev_taylor_order(o->rtol);
+    double *C = w, *xn = C + (size_t)n * (size_t)(p + 1), *comp = xn + n, *comp_new = comp + n,
+           *yd = comp_new + n, *swap;
+    const double hmax = o->h_max > 0.0 ? o->h_max : o->t_end - o->t0;
+    double t = o->t0;
+    long i_out = 0;
+    int k, status;
+    for (k = 0; k < n; k++) comp[k] = 0.0;
+    while (o->t_out && i_out < o->n_out && o->t_out[i_out] <= t) {
+        record(c, t, x, st->energy0);
+        i_out++;
+    }
+    for (;;) {
+        double h, t_new, t_old, e;
+        if (st->steps >= o->max_steps) return LEV_STEP_BUDGET;
+        if (c->sys->taylor(x, c->sys->p, p, C) != 0) return LEV_BAD_INPUT;
+        st->iterations++;
+        if (!all_finite(C, n * (p + 1))) return LEV_NONFINITE;
+        h = fmin(taylor_step(n, p, C, x, o), hmax);
+        t_new = t + h < o->t_end ? t + h : o->t_end;
+        h = t_new - t;
+        if (!(h > 0.0) || h < 10.0 * (nextafter(t, INFINITY) - t))
+            return LEV_STEP_UNDERFLOW;
+        taylor_increment(n, p, C, h, yd);
+        add_compensated(n, x, 1.0, yd, comp, xn, comp_new);
+        if (!all_finite(xn, n)) return LEV_NONFINITE;
+        memcpy(x, xn, (size_t)n * sizeof(double));
+        swap = comp;
+        comp = comp_new;
+        comp_new = swap;
+        t_old = t;
+        t = t_new;
+        st->steps++;
+        st->h_last = h;
+        st->t_final = t;
+        e = monitor(c, x);
+        status = taylor_after_step(c, p, C, t_old, &t, h, x, yd, &i_out, e);
+        if (status != LEV_RUNNING) return status;
+    }
+}
+
 /* ---- Gauss-Legendre collocation (s = 1: implicit midpoint; s = 2: order 4), symplectic ---- */
 
 /* LU with partial pivoting, in place; returns 0 if singular. */
@@ -1150,6 +1300,7 @@ static int integrate_begin(int method, const lev_system *sys, const lev_options 
     if (!(opt->t_end > opt->t0) || !isfinite(opt->t0) || !isfinite(opt->t_end)) return LEV_BAD_INPUT;
     if (fixed && (!(opt->h > 0.0) || !isfinite(opt->h))) return LEV_BAD_INPUT;
     if (fixed && opt->t_out) return LEV_BAD_INPUT;
+    if (method == LEV_TAYLOR && (!sys->taylor || !(opt->rtol > 0.0))) return LEV_BAD_INPUT;
     if (!fixed && (!(opt->rtol >= 0.0) || !(opt->atol >= 0.0) || !(opt->h >= 0.0)
                    || !(opt->h_max >= 0.0)))
         return LEV_BAD_INPUT;
@@ -1205,11 +1356,20 @@ int lev_integrate(int method, const lev_system *sys, const lev_options *opt, dou
         status = run_adaptive(&c, x, (double *)work, &DOP853_M);
     else if (method == LEV_VERN9)
         status = run_adaptive(&c, x, (double *)work, &VERN9_M);
+    else if (method == LEV_TAYLOR)
+        status = run_taylor(&c, x, (double *)work);
     else if (method == LEV_GAUSS4 || method == LEV_MIDPOINT)
         status = run_gauss(method, &c, x, (double *)work);
     else
         status = run_fixed(method, &c, x, (double *)work);
     return integrate_end(&c, x, status);
+}
+
+int lev_integrate_job(const lev_job *job)
+{
+    if (!job) return LEV_BAD_INPUT;
+    return lev_integrate(job->method, job->sys, job->opt, job->x, job->work, job->out_t, job->out_x,
+                         job->out_e, job->st);
 }
 
 /* ---- several runs at once through a lane variant of the rhs (lev_integrate_lanes) ---- */

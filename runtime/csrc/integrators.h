@@ -13,6 +13,9 @@
  *   LEV_DOP853_FIXED the 8th-order DOP853 formula at a fixed step (for order tests)
  *   LEV_VERN9        Verner's "most efficient" 9(8) pair, adaptive, dense output of order 9
  *                    (a Verner step of theta h from the start of the step; Numer. Algor. 53, 2010)
+ *   LEV_TAYLOR       Taylor's method over the generated coefficients (sys->taylor), order and
+ *                    step from the tolerance (Jorba & Zou, Experiment. Math. 14, 2005), dense
+ *                    output the step's own polynomial
  *
  * Every method updates the state by compensated summation (Kahan): a step's increment is tiny
  * against a state that grows (the spin angle), and the rounding of x + increment would otherwise
@@ -29,6 +32,13 @@
 
 typedef void (*lev_fn)(const double *in, const double *p, double *out);
 
+/* A generated Taylor function (derive/emit/taylor.py): out[k (order + 1) + j] = the j-th Taylor
+ * coefficient of state k of the solution through `in`; 0, or -1 for an order out of range. */
+typedef int (*lev_taylor_fn)(const double *in, const double *p, int order, double *out);
+
+/* The largest order LEV_TAYLOR asks for (the generated functions hold as many: model.h) */
+#define LEV_TAYLOR_MAX_ORDER 32
+
 enum lev_method {
     LEV_EULER = 0,
     LEV_RK4 = 1,
@@ -36,7 +46,8 @@ enum lev_method {
     LEV_GAUSS4 = 3,
     LEV_MIDPOINT = 4,
     LEV_DOP853_FIXED = 5,
-    LEV_VERN9 = 6
+    LEV_VERN9 = 6,
+    LEV_TAYLOR = 7
 };
 
 enum lev_status {
@@ -56,13 +67,16 @@ typedef struct {
     lev_fn jac;         /* d rhs/d state, row-major n x n; NULL: fixed-point iteration (gauss) */
     lev_fn energy;      /* a scalar invariant monitored after every step; NULL: none */
     const double *p;    /* parameter vector passed to every call */
+    lev_taylor_fn taylor; /* LEV_TAYLOR: the Taylor coefficients; NULL: none */
 } lev_system;
 
 typedef struct {
     double t0, t_end;
     double h;           /* fixed step (rounded so that an integer number of steps ends at t_end);
                            DOP853: first step, 0 = automatic */
-    double rtol, atol;  /* DOP853 local error control: |err_k| <= atol_k + rtol |x_k| (RMS norm) */
+    double rtol, atol;  /* DOP853 local error control: |err_k| <= atol_k + rtol |x_k| (RMS norm);
+                           LEV_TAYLOR: order and step from rtol (> 0), atol_k / rtol the floor of
+                           each component's magnitude */
     const double *atol_v; /* per-component absolute tolerances (n), or NULL: atol for all */
     double h_max;       /* DOP853 largest step; 0 = unlimited */
     long max_steps;     /* the step budget: attempted steps (accepted + rejected), > 0 required */
@@ -107,6 +121,21 @@ size_t lev_work_bytes(int method, int n);
 int lev_integrate(int method, const lev_system *sys, const lev_options *opt, double *x,
                   void *work, double *out_t, double *out_x, double *out_e, lev_stats *st);
 
+/* lev_integrate's arguments in one struct: a caller that runs the same system again and again
+ * (runtime/integrate/propagator.py) builds it once and passes one pointer per run. */
+typedef struct {
+    int method;
+    const lev_system *sys;
+    const lev_options *opt;
+    double *x;
+    void *work;
+    double *out_t, *out_x, *out_e;
+    lev_stats *st;
+} lev_job;
+
+/* lev_integrate(job->method, job->sys, ...): the same run. */
+int lev_integrate_job(const lev_job *job);
+
 /* The largest state dimension (the scratch sums of the explicit methods live on the stack). */
 #define LEV_MAX_STATES 256
 
@@ -148,10 +177,14 @@ int lev_method_id(const char *name);
 const char *lev_method_name(int method);
 int lev_method_fixed_step(int method);
 
+/* The order LEV_TAYLOR uses for a tolerance: ceil(-ln(rtol) / 2 + 1), within 2 .. LEV_TAYLOR_MAX_ORDER. */
+int lev_taylor_order(double rtol);
+
 /* sizeof of the structs passed through ctypes (runtime/integrate/c_backend.py checks its mirrors). */
 size_t lev_sizeof_system(void);
 size_t lev_sizeof_options(void);
 size_t lev_sizeof_stats(void);
+size_t lev_sizeof_job(void);
 
 /* Nanoseconds per call of f(x, p, out) measured in C over `reps` calls (clock_gettime). */
 double lev_time_fn(lev_fn f, const double *x, const double *p, int n_out, long reps);

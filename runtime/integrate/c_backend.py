@@ -32,7 +32,8 @@ CSRC = Path(__file__).resolve().parent.parent / "csrc"
 
 class _System(ctypes.Structure):
     _fields_ = [("n", ctypes.c_int), ("rhs", ctypes.c_void_p), ("jac", ctypes.c_void_p),
-                ("energy", ctypes.c_void_p), ("p", ctypes.c_void_p)]    # double *: an address
+                ("energy", ctypes.c_void_p), ("p", ctypes.c_void_p),    # double *: an address
+                ("taylor", ctypes.c_void_p)]
 
 
 class _Options(ctypes.Structure):
@@ -56,11 +57,16 @@ class _Stats(ctypes.Structure):
                 ("energy0", ctypes.c_double), ("energy_max_dev", ctypes.c_double)]
 
 
+class _Job(ctypes.Structure):
+    _fields_ = [("method", ctypes.c_int)] + [(k, ctypes.c_void_p) for k in (
+        "sys", "opt", "x", "work", "out_t", "out_x", "out_e", "st")]
+
+
 _DP = ctypes.POINTER(ctypes.c_double)
 
 
 _STRUCTS = (("lev_sizeof_system", _System), ("lev_sizeof_options", _Options),
-            ("lev_sizeof_stats", _Stats))
+            ("lev_sizeof_stats", _Stats), ("lev_sizeof_job", _Job))
 
 
 def bind(lib: ctypes.CDLL) -> ctypes.CDLL:
@@ -84,12 +90,14 @@ def bind(lib: ctypes.CDLL) -> ctypes.CDLL:
         # POINTER instance or byref() in ~0.2 us, ~1 us of a reduced bench run's ~5 us wall time
         f.argtypes = [ctypes.c_int] + [ctypes.c_void_p] * 8
         f.restype = ctypes.c_int
+        lib.lev_integrate_job.argtypes, lib.lev_integrate_job.restype = [ctypes.c_void_p], ctypes.c_int
         lib.lev_work_bytes.argtypes = [ctypes.c_int, ctypes.c_int]
         lib.lev_work_bytes.restype = ctypes.c_size_t
         lib.lev_status_message.argtypes = [ctypes.c_int]
         lib.lev_status_message.restype = ctypes.c_char_p
         lib.lev_time_fn.argtypes = [ctypes.c_void_p, _DP, _DP, ctypes.c_int, ctypes.c_long]
         lib.lev_time_fn.restype = ctypes.c_double
+        lib.lev_taylor_order.argtypes, lib.lev_taylor_order.restype = [ctypes.c_double], ctypes.c_int
     return lib
 
 
@@ -157,7 +165,7 @@ def time_fn_ns(lib: ctypes.CDLL, fn: Any, x: np.ndarray, p: np.ndarray, n_out: i
 
 def run_c(lib: ctypes.CDLL, method: str, rhs: Any, x0, p, t_end: float, *, t0: float = 0.0,
           h: float = 0.0, rtol: float = 0.0, atol: float | Sequence[float] = 0.0,
-          jac: Any = None, energy: Any = None, box: Box | None = None,
+          jac: Any = None, energy: Any = None, taylor: Any = None, box: Box | None = None,
           t_out: Sequence[float] | None = None, every: int = 0, max_samples: int | None = None,
           max_steps: int | None = None, h_max: float = 0.0, max_iter: int = 0,
           energy_limit: float = 0.0) -> Result:
@@ -168,7 +176,8 @@ def run_c(lib: ctypes.CDLL, method: str, rhs: Any, x0, p, t_end: float, *, t0: f
     ``energy_limit`` > 0 the run stops once |H - H0| > energy_limit |H0| (status "energy_limit").
     max_steps: the step budget (attempted steps; status "step_budget"); None: the number of fixed
     steps, or runtime.integrate.budget.MAX_STEPS_CAP for DOP853. method "auto": the method resolve(rtol)
-    picks (runtime/integrate/methods.py), named in Result.method."""
+    picks (runtime/integrate/methods.py), named in Result.method. taylor: the part's Taylor
+    function (method "taylor"; its expansions are Result.iterations, and it makes no rhs call)."""
     bind(lib)
     requested, method = method, resolve(method, rtol, h or None)
     code = lookup(method).c_id
@@ -192,7 +201,8 @@ def run_c(lib: ctypes.CDLL, method: str, rhs: Any, x0, p, t_end: float, *, t0: f
                                                  max_samples if energy is not None else 0, n_work)
     x[:] = x0
     out_x = out_x.reshape(max_samples, n)
-    sysd = _System(n, fn_address(rhs), fn_address(jac), fn_address(energy), _addr(p))
+    sysd = _System(n, fn_address(rhs), fn_address(jac), fn_address(energy), _addr(p),
+                   fn_address(taylor))
     b = box or _NO_BOX
     opt = _Options(t0, t0 + t_end, h, rtol, float(atol), _addr(atol_v), h_max, max_steps,
                    1 if box is not None else 0, b.ix, b.iy, b.iz, b.z_lo, b.z_hi, b.r_max,
@@ -237,6 +247,14 @@ class CSystem:
 
     def c_function(self, name: str):
         return getattr(self.lib, f"{self.prefix}_{name}")
+
+    def taylor_function(self):
+        """`<prefix>_taylor` (int (in, p, order, out), integrators.h's lev_taylor_fn), or None."""
+        fn = getattr(self.lib, f"{self.prefix}_taylor", None)
+        if fn is not None and fn.argtypes is None:
+            fn.argtypes = [_DP, _DP, ctypes.c_int, _DP]
+            fn.restype = ctypes.c_int
+        return fn
 
     def _call(self, name: str, x, p, n_out: int) -> np.ndarray:
         from levitron.runtime.model.load import CFunction

@@ -26,6 +26,7 @@ class Integrator:
     fixed_step: bool             # True: a fixed step h; False: adaptive, tolerance tol
     needs_jacobian: bool = False  # uses the generated Jacobian (simplified Newton)
     monitors_energy: bool = False  # the energy is evaluated after every step (in C)
+    needs_taylor: bool = False   # runs on the part's generated Taylor coefficients (the reduced model)
     c_id: int | None = None      # the value of enum lev_method (C methods only)
     engine: str | None = None    # the casadi plugin or scipy's solve_ivp method name
     sweep: tuple = ()            # the bench's values, coarse to fine: tol, or h as a fraction of T_fast
@@ -50,6 +51,9 @@ TABLE: tuple[Integrator, ...] = (
                sweep=(1 / 30, 1 / 300, 1 / 3000)),
     Integrator("dop853-fixed", "c", True, monitors_energy=True, c_id=5),
     Integrator("vern9", "c", False, monitors_energy=True, c_id=6, sweep=FINE_TOLS),  # Verner 9(8), 2010
+    # Taylor's method (Jorba & Zou 2005) over derive/emit/taylor.py's coefficients: the reduced model
+    Integrator("taylor", "c", False, monitors_energy=True, needs_taylor=True, c_id=7, sweep=FINE_TOLS,
+               quick_sweep=(1e-10,)),
     Integrator("cvodes", "casadi", False, engine="cvodes", sweep=TOLS, quick_sweep=(1e-6,)),
     Integrator("casadi-rk", "casadi", True, engine="rk", sweep=(1 / 30, 1 / 100, 1 / 300),
                quick_sweep=(1 / 30,)),
@@ -84,6 +88,8 @@ AUTO_ENTRY = Integrator(AUTO, "c", False, monitors_energy=True)
 
 BY_NAME: dict[str, Integrator] = {**{i.name: i for i in TABLE}, AUTO: AUTO_ENTRY}
 METHODS: tuple[str, ...] = tuple(BY_NAME)
+# the methods that run the full model (simulate, scan, launch): all but taylor
+FULL_MODEL_METHODS: tuple[str, ...] = tuple(m for m in METHODS if not BY_NAME[m].needs_taylor)
 DEFAULT = "dop853"          # the integrator of simulate, scan and integrate unless one is named
 
 
@@ -112,6 +118,16 @@ def resolve(name: str, tol: float | None = None, h: float | None = None) -> str:
         raise UserError(f"integrator auto picks its method from the tolerance, and tol={tol} is not a "
                         "positive finite number; pass e.g. --tol 1e-9")
     return "vern9" if tol < AUTO_VERN9_BELOW_TOL else "dop853"
+
+
+def refuse_on_full_model(name: str, what: str) -> None:
+    """A one-line UserError if method `name` cannot run the full model, which `what` (a command)
+    integrates: taylor's coefficients are generated for the reduced model only."""
+    if lookup(name).needs_taylor:
+        from levitron.runtime.errors import UserError
+        raise UserError(f"integrator {name} runs the reduced model only (its Taylor coefficients, "
+                        f"derive/emit/taylor.py); {what} runs the full model: choose dop853, vern9 "
+                        "or auto")
 
 
 def auto_note(tol: float) -> str:

@@ -12,6 +12,9 @@ generated right-hand side, with no Python call per step:
 - ``midpoint``     implicit midpoint (1-stage Gauss), order 2, symplectic, fixed step h
 - ``dop853-fixed`` the 8th-order DOP853 formula at a fixed step (used by the order tests)
 - ``vern9``        Verner's 9(8) pair, adaptive like dop853, dense output, box event
+- ``taylor``       Taylor's method over the part's generated coefficients (derive/emit/taylor.py;
+                   the reduced model): order ceil(-ln(tol)/2 + 1), Jorba & Zou's step, no
+                   rejected steps, dense output from the step's polynomial, box event
 - ``auto``         dop853 or vern9, whichever the bench measured cheapest at the requested tol
                    (runtime.integrate.methods.resolve); the Result names the method that ran
                    (``method``) and records the request (``details["integrator_requested"]``,
@@ -156,14 +159,26 @@ def output_grid(t_end: float, n_out: int) -> np.ndarray:
     return grid
 
 
+def taylor_of(part):
+    """The part's generated Taylor function, or a UserError naming the methods that run it."""
+    fn = part.taylor_function() if hasattr(part, "taylor_function") else None
+    if fn is None:
+        scene = getattr(getattr(getattr(part, "model", None), "scene", None), "name", "this scene")
+        raise UserError(f"integrator taylor needs Taylor coefficients, which derive generates for "
+                        f"the reduced model only; the {getattr(part, 'name', 'given')} model of "
+                        f"scene '{scene}' has none: choose dop853, vern9 or auto")
+    return fn
+
+
 def _integrate_c(part, method, x0, p, t_end, tol, h, box, n_out, scale, monitor_energy, max_steps):
     lib = _lib_of(part)
     rhs = part.c_function("rhs")
     energy = part.c_function("energy") if monitor_energy else None
     if not lookup(method).fixed_step:
         t_out = output_grid(t_end, n_out)
+        taylor = taylor_of(part) if lookup(method).needs_taylor else None
         return run_c(lib, method, rhs, x0, p, t_end, rtol=tol, atol=tol * scale, energy=energy,
-                     box=box, t_out=t_out, max_steps=max_steps)
+                     taylor=taylor, box=box, t_out=t_out, max_steps=max_steps)
     n_steps = fixed_steps(t_end, h)
     every = max(1, math.ceil(n_steps / n_out))
     jac = (part.c_function("jac") if lookup(method).needs_jacobian and _has_function(part, "jac")

@@ -270,6 +270,10 @@ class Part:
     def casadi(self, kind: str):
         return self.model.casadi(f"{self.name}_{kind}")
 
+    def taylor_function(self):
+        """The ctypes pointer of `<part>_taylor` (derive/emit/taylor.py), or None if it has none."""
+        return self.model.taylor_function(self.name)
+
     def _call(self, kind, x, p, backend):
         return self.model.call(f"{self.name}_{kind}", x, p, backend)
 
@@ -414,6 +418,19 @@ class Model:
             fn.argtypes = [_DOUBLE_P, _DOUBLE_P, _DOUBLE_P]
             fn.restype = None
             self._cfuncs[name] = fn
+        return fn
+
+    def taylor_function(self, part: str):
+        """`int <part>_taylor(in, p, order, out)` (manifest `taylor`), or None for a part without one."""
+        info = self.manifest.taylor.get(part)
+        if info is None:
+            return None
+        fn = self._cfuncs.get(info.function)
+        if fn is None:
+            fn = getattr(self.lib, info.function)
+            fn.argtypes = [_DOUBLE_P, _DOUBLE_P, ctypes.c_int, _DOUBLE_P]
+            fn.restype = ctypes.c_int
+            self._cfuncs[info.function] = fn
         return fn
 
     def fast(self, name: str, p: np.ndarray | None = None) -> CFunction:

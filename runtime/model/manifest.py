@@ -39,6 +39,18 @@ class FunctionInfo:
 
 
 @dataclass(frozen=True)
+class TaylorInfo:
+    """A part's Taylor function `int name(const double *in, const double *p, int order, double *out)`
+    (derive/emit/taylor.py): out[k (order + 1) + j] for its n states, orders 1 .. max_order."""
+
+    part: str
+    function: str
+    n: int
+    max_order: int
+    nodes: int
+
+
+@dataclass(frozen=True)
 class PartInfo:
     """One part of the model ("reduced", "full") and its state names in order."""
 
@@ -62,16 +74,19 @@ class Manifest:
     parameters: tuple[str, ...]
     parts: Mapping[str, PartInfo]
     functions: Mapping[str, FunctionInfo]
+    taylor: Mapping[str, TaylorInfo]      # part -> its Taylor function (parts without one: absent)
     files: Mapping[str, str]
     manifest_sha256: str
 
 
 _TOP = {"generator": str, "note": str, "scene": str, "input_hash": str, "versions": dict,
         "plate": str, "coordinates": str, "field_order": int, "field_order_choice": dict,
-        "onaxis_K": int, "parameters": list, "parts": dict, "functions": dict, "files": dict,
+        "onaxis_K": int, "parameters": list, "parts": dict, "functions": dict, "taylor": dict,
+        "files": dict,
         SELF_KEY: str}
 _FUNCTION = {"doc": str, "n_in": int, "n_out": int, "shape": list, "ops": int, "casadi": str}
 _PART = {"equations": str, "states": list}
+_TAYLOR = {"function": str, "n": int, "max_order": int, "nodes": int}
 _KIND_OUT = {"rhs": lambda nx: nx, "energy": lambda nx: 1, "jac": lambda nx: nx * nx,
              "invariants": lambda nx: 2, "dissipation": lambda nx: 1, "axis": lambda nx: 3}
 
@@ -132,6 +147,15 @@ def parse_manifest(data, where: str, fix: str) -> Manifest:
         functions[name] = FunctionInfo(name, info["doc"], info["n_in"], info["n_out"], tuple(shape),
                                        info["ops"], r.file_name(info["casadi"], key + ".casadi"))
     _check_sizes(r, parts, functions, d["onaxis_K"])
+    taylor = {}
+    for part, info in d["taylor"].items():
+        key = f"taylor.{part}"
+        r.table(info, _TAYLOR, key + ".")
+        if part not in parts or info["n"] != len(parts[part].states):
+            r.fail(f"key '{key}' is for no part of {info['n']} states")
+        if info["function"] != f"{part}_taylor" or info["max_order"] < 1:
+            r.fail(f"key '{key}' names {info['function']!r} up to order {info['max_order']}")
+        taylor[part] = TaylorInfo(part, info["function"], info["n"], info["max_order"], info["nodes"])
     files = {r.file_name(n, f"files.{n}"): h for n, h in d["files"].items()}
     if not all(isinstance(h, str) for h in files.values()):
         r.fail("key 'files' must map file names to sha256 strings")
@@ -144,7 +168,7 @@ def parse_manifest(data, where: str, fix: str) -> Manifest:
         coordinates=d["coordinates"], field_order=d["field_order"],
         field_order_choice=MappingProxyType(dict(d["field_order_choice"])), onaxis_K=d["onaxis_K"],
         parameters=params, parts=MappingProxyType(parts), functions=MappingProxyType(functions),
-        files=MappingProxyType(files), manifest_sha256=d[SELF_KEY])
+        taylor=MappingProxyType(taylor), files=MappingProxyType(files), manifest_sha256=d[SELF_KEY])
 
 
 def _check_sizes(r: _Reader, parts: dict, functions: dict, kmax: int) -> None:

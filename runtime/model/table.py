@@ -2,8 +2,8 @@
 
 model.c defines `const char *const *lev_model_table(void)`: NULL-terminated pieces of one JSON
 object (derive/emit/c/emitter.py): scene, input hash, parameter names in order, the states of each
-part, and each function's n_in and n_out. Nothing is called in a model until its table agrees
-with the manifest, so no buffer size is taken on trust.
+part, each function's n_in and n_out, and each Taylor function's sizes. Nothing is called in a
+model until its table agrees with the manifest, so no buffer size is taken on trust.
 """
 from __future__ import annotations
 
@@ -43,7 +43,9 @@ def table_of(manifest: Manifest) -> dict:
             "parameters": list(manifest.parameters),
             "parts": {name: list(p.states) for name, p in manifest.parts.items()},
             "functions": {name: {"n_in": f.n_in, "n_out": f.n_out}
-                          for name, f in manifest.functions.items()}}
+                          for name, f in manifest.functions.items()},
+            "taylor": {part: {"function": t.function, "n": t.n, "max_order": t.max_order,
+                              "nodes": t.nodes} for part, t in manifest.taylor.items()}}
 
 
 def disagreement(table: dict | None, manifest: Manifest) -> str | None:
@@ -51,7 +53,7 @@ def disagreement(table: dict | None, manifest: Manifest) -> str | None:
     if table is None:
         return f"the compiled model exports no readable {TABLE_SYMBOL}() (derived by an older levitron?)"
     want = table_of(manifest)
-    for key in ("scene", "input_hash", "parameters", "parts"):
+    for key in ("scene", "input_hash", "parameters", "parts", "taylor"):
         if table.get(key) != want[key]:
             return f"{key}: the compiled model.c has {table.get(key)}, manifest.json {want[key]}"
     have = table.get("functions")

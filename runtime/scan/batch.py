@@ -25,7 +25,7 @@ import numpy as np
 
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.budget import check_options, default_budget
-from levitron.runtime.integrate.methods import DEFAULT, default_step, lookup, resolve
+from levitron.runtime.integrate.methods import DEFAULT, default_step, lookup, refuse_on_full_model, resolve
 from levitron.runtime.ui.validate import real
 
 MAX_LAUNCHES = 10**6
@@ -104,6 +104,7 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
         cols = launch_columns(cols)
     requested, integrator = integrator, resolve(integrator, tol, h)
     entry = lookup(integrator)
+    refuse_on_full_model(integrator, "simulate_many")
     if entry.backend != "c":
         raise UserError(f"batched runs use the C integrators (dop853, vern9, auto, rk4, gauss4, ...), "
                         f"not {integrator!r}: run that one through simulate")

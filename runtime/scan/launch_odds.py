@@ -39,7 +39,7 @@ import numpy as np
 
 from levitron.runtime.errors import UserError
 from levitron.runtime.physics.friction import has_friction
-from levitron.runtime.integrate.methods import DEFAULT, lookup, resolve
+from levitron.runtime.integrate.methods import DEFAULT, lookup, refuse_on_full_model, resolve
 from levitron.runtime.ui.validate import count, real
 
 INPUTS = ("spin", "tilt", "tilt_azimuth", "offset", "velocity", "mass", "strength", "temperature")
@@ -314,6 +314,7 @@ def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n
         raise UserError(f"--success-time {success_time:g} is longer than --t-end {t_end:g}: no run "
                         "could succeed; make --t-end at least the success time")
     method = resolve(integrator, tol, None)
+    refuse_on_full_model(method, "launch")
     if lookup(method).backend != "c" or lookup(method).fixed_step:
         raise UserError(f"launch runs adaptive C integrators only (dop853, vern9, auto), not {integrator!r}")
     plan = Plan(scene_ref, tuple(overrides), tuple((k, dists[k]) for k in INPUTS), int(n), int(seed),

@@ -57,7 +57,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from levitron.runtime.errors import UserError
-from levitron.runtime.integrate.methods import DEFAULT, default_step
+from levitron.runtime.integrate.methods import DEFAULT, default_step, refuse_on_full_model
 from levitron.runtime.scan.grid import AXES, MAX_POINTS, UNITS, check_axis
 from levitron.runtime.scan.physics import linear_interval, reference_spin, slow_period
 from levitron.runtime.scan.points import N_OUT
@@ -178,6 +178,7 @@ def check_run_options(model, axis: str, spins: np.ndarray, others: np.ndarray, h
     if fastest is None:
         return
     T, what = fastest
+    refuse_on_full_model(integrator, "a scan")
     fixed = lookup(integrator).fixed_step
     check_options(integrator, t_end, None if fixed else tol, (h or default_step(T)) if fixed else h,
                   N_OUT, T, what)

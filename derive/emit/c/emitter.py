@@ -13,6 +13,7 @@ from pathlib import Path
 import jinja2
 
 from ..lower import Lowered
+from ..taylor import TAYLOR_MAX_ORDER, Tape, c_lines
 from .printer import FMA_PRELUDE, LevitronCPrinter
 
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -67,13 +68,20 @@ def lane_lines(f: Lowered, printer: LevitronCPrinter) -> list[str]:
     return lines
 
 
+def taylor_entry(tape: Tape) -> dict:
+    """What the manifest and the model's table say of a Taylor function (runtime/model/manifest.py)."""
+    return {"function": tape.name, "n": tape.n, "max_order": TAYLOR_MAX_ORDER,
+            "nodes": len(tape.nodes)}
+
+
 def model_table(scene: str, input_hash: str, params: list[str], parts: dict,
-                lowered: list[Lowered]) -> dict:
+                lowered: list[Lowered], tapes: dict[str, Tape]) -> dict:
     """What the compiled model says about itself (read by runtime/model/table.py)."""
     return {"format": TABLE_FORMAT, "scene": scene, "input_hash": input_hash,
             "parameters": list(params),
             "parts": {name: list(info["states"]) for name, info in parts.items()},
-            "functions": {f.name: {"n_in": f.n_in, "n_out": f.n_out} for f in lowered}}
+            "functions": {f.name: {"n_in": f.n_in, "n_out": f.n_out} for f in lowered},
+            "taylor": {part: taylor_entry(t) for part, t in tapes.items()}}
 
 
 def c_string_chunks(text: str, width: int = TABLE_CHUNK) -> list[str]:
@@ -83,7 +91,7 @@ def c_string_chunks(text: str, width: int = TABLE_CHUNK) -> list[str]:
 
 
 def render(banner: str, guard: str, params: list[str], parts: dict, kmax: int,
-           lowered: list[Lowered], table: dict) -> tuple[str, str]:
+           lowered: list[Lowered], table: dict, tapes: dict[str, Tape]) -> tuple[str, str]:
     """The text of model.h and model.c."""
     printer = LevitronCPrinter()
     funcs = []
@@ -91,10 +99,15 @@ def render(banner: str, guard: str, params: list[str], parts: dict, kmax: int,
         funcs.append({"name": f.name, "doc": f.doc, "n_in": f.n_in, "n_out": f.n_out, "ops": f.ops,
                       "inputs": f.inputs, "params": f.params, "lines": body_lines(f, printer),
                       "lane_lines": lane_lines(f, printer) if f.name.endswith("_rhs") else None})
+    taylor = [{"name": t.name, "params": t.params, "lines": c_lines(t, printer),
+               "nodes": len(t.nodes), "mults": t.mults_per_degree,
+               "doc": f"{part} model: Taylor coefficients of the solution (derive/emit/taylor.py)"}
+              for part, t in tapes.items()]
     env = _env()
     table_json = json.dumps(table, sort_keys=True, separators=(",", ":"), ensure_ascii=True)
     uses_sincos = any(line.startswith("lev_sincos(") for f in funcs for line in f["lines"])
     ctx = {"fma_prelude": FMA_PRELUDE, "uses_sincos": uses_sincos, "lanes": LANES, "banner": banner, "guard": guard,
            "params": params, "parts": parts, "kmax": kmax,
-           "functions": funcs, "table_lines": c_string_chunks(table_json)}
+           "functions": funcs, "table_lines": c_string_chunks(table_json),
+           "taylor": taylor, "taylor_max_order": TAYLOR_MAX_ORDER}
     return env.get_template("model.h.j2").render(**ctx), env.get_template("model.c.j2").render(**ctx)

@@ -9,7 +9,7 @@ from pathlib import Path
 from levitron.runtime.scan import stability_map as sc
 from levitron.runtime.errors import UserError
 from levitron.runtime.ui.human import Units, duration, lines, sig
-from levitron.runtime.integrate.methods import DEFAULT, METHODS, lookup
+from levitron.runtime.integrate.methods import DEFAULT, FULL_MODEL_METHODS, lookup
 from levitron.runtime.ui.plotting import check_plot_path
 from levitron.runtime.scan.grid import check_axis, check_grid_size, parse_range, pick_axis
 from levitron.runtime.scan.plot import draw
@@ -50,7 +50,7 @@ def add_arguments(parser) -> None:
                              "of the linearisation or the vertical bounce; ~10.5 s for the thesis plate "
                              "with a 51.5 g top)")
     parser.add_argument("--integrator", default=DEFAULT, metavar="NAME",
-                        help=f"one of: {', '.join(METHODS)} (default {DEFAULT})")
+                        help=f"one of: {', '.join(FULL_MODEL_METHODS)} (default {DEFAULT})")
     parser.add_argument("--tol", type=float, default=1e-9, help="tolerance of adaptive integrators (default 1e-9)")
     parser.add_argument("--step", type=float, default=None, metavar="H",
                         help="step of fixed-step integrators, s (default: 1/100 of the fastest period)")

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from levitron.runtime.errors import UserError
 from levitron.runtime.ui.human import Units, duration, lines, sig
-from levitron.runtime.integrate.methods import DEFAULT, METHODS, lookup
+from levitron.runtime.integrate.methods import DEFAULT, FULL_MODEL_METHODS, lookup
 from levitron.runtime.ui.plotting import check_plot_path
 from levitron.runtime.simulate.run import DEFAULT_AZIMUTH, DEFAULT_TILT, simulate
 from levitron.runtime.cli.commands.common import model_of
@@ -27,7 +27,7 @@ def add_arguments(parser) -> None:
                         help="run length, s (default 1; in air 5 spin decay times: the run ends when "
                         "the top falls)")
     parser.add_argument("--integrator", default=DEFAULT, metavar="NAME",
-                        help=f"one of: {', '.join(METHODS)} (default {DEFAULT})")
+                        help=f"one of: {', '.join(FULL_MODEL_METHODS)} (default {DEFAULT})")
     parser.add_argument("--tol", type=float, default=1e-9, help="tolerance of adaptive integrators (default 1e-9)")
     parser.add_argument("--step", type=float, default=None, metavar="H",
                         help="step of fixed-step integrators, s (default: 1/100 of the fastest period)")
