@@ -34,6 +34,7 @@ from levitron.runtime import lazy_surface as _lazy_surface  # noqa: E402  (needs
 # command line's start) costs no numpy, casadi or scipy
 __getattr__, __dir__, __all__ = _lazy_surface(__name__, {
     "DesignResult": "runtime.design.optimize", "Equilibria": "results", "Equilibrium": "results",
-    "FitResult": "runtime.design.fit", "LaunchOdds": "results", "ScanResult": "runtime.scan.stability_map",
+    "FitResult": "runtime.design.fit", "LaunchOdds": "results", "Propagator": "runtime.integrate.propagator",
+    "ScanResult": "runtime.scan.stability_map",
     "SceneError": "derive.scene", "Simulation": "results", "Simulations": "results",
     "Stability": "results", "Study": "study", "UserError": "runtime.errors", "load": "study"})

@@ -243,6 +243,24 @@ class Study:
                           [(e["input"], e["effect"]) for e in out["ranking"]], out, self.units)
 
     @_in_scene_units
+    def propagator(self, part: str = "reduced", integrator: str = "auto", tol: float = 1e-9,
+                   spin: float = 0.0):
+        """A run prepared once and repeated cheaply (runtime/integrate/propagator.py):
+        ``prop(x0, t_end)`` is the state at t_end (s) of the run from x0 (the part's states in
+        order, ``prop.states``), about 1 us of Python around the C integration; or in place,
+        ``prop.state[:] = x0; prop.propagate(t_end)``. integrator: an adaptive C method (dop853,
+        vern9, auto; taylor on the reduced model); tol relative to the scene's state magnitudes
+        (lengths z_s, linear momenta m sqrt(g z_s), angles 1 rad, angular momenta
+        max(C |spin|, A sqrt(g / z_s)), with spin in rad/s)."""
+        from levitron.runtime.integrate.propagator import Propagator
+        from levitron.runtime.simulate.start import state_scales
+        arg.choice(part, "part", tuple(self.model.parts))
+        pt = self.model.part(part)
+        z_s = eqm.hover_height(self.model, self.model.p)
+        scale = state_scales(pt, z_s, arg.number(spin, "spin"), self.model.pvals())
+        return Propagator(pt, integrator, arg.number(tol, "tol"), scale=scale)
+
+    @_in_scene_units
     def scan(self, spins: Sequence[float], axis: str, values: Sequence[float], **options):
         """A stability map: runtime.scan.stability_map.ScanResult over spins (rad/s) and one second axis:
 

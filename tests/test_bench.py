@@ -59,6 +59,16 @@ def test_bench_quick_on_every_scene(name, tmp_path, capsys):
         # the reference is an order tighter than the finest bound of the cheapest-run table (1e-13)
         assert data["reference_check"] < 1e-14
         assert (tmp_path / f"bench_{part}.png").stat().st_size > 5000
+        # the per-call race: the prepared run (Study.propagator) beside integrate()'s general path
+        calls = data["per_call"]
+        with open(tmp_path / f"bench_per_call_{part}.csv") as fh:
+            assert {r["contestant"] for r in csv.DictReader(fh)} == set(calls["contestants"])
+        if part == "reduced":          # (the full model's quick sweep may miss the bound)
+            assert {"dop853", "taylor"} <= set(calls["contestants"])     # the quick sweep's methods
+        if calls["contestants"]:
+            ours = calls["ours"]
+            assert ours["error"] <= calls["bound"] and ours["integrator"] in ("dop853", "vern9", "taylor")
+            assert 0 < ours["propagator_s"] < ours["integrate_s"] and ours["c_call_s"] > 0
     goals = json.loads((tmp_path / "bench_goals.json").read_text())
     if "full" in model.parts:
         assert goals["full_rhs_ns"] > 0 and goals["full_rhs_ops"] > 0

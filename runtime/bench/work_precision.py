@@ -137,13 +137,15 @@ def start(model, part_name: str, su: Setup):
     return part, x0, state_scales(part, su.z_s, su.spin, pv)
 
 
-def plan(quick: bool) -> list[tuple[str, str, list[float]]]:
+def plan(quick: bool, part=None) -> list[tuple[str, str, list[float]]]:
     """(integrator, "tol" or "h", values) from coarse to fine, read from the integrator table
     (runtime/integrate/methods.py: each entry's sweep and quick_sweep); "h" values are fractions of
-    T_fast. The quick plan runs C integrators first, as the full one does."""
+    T_fast. The quick plan runs C integrators first, as the full one does. taylor only where the
+    part has Taylor coefficients (the reduced model, derive/emit/taylor.py)."""
     from levitron.runtime.integrate.methods import TABLE
+    has_taylor = part is not None and part.taylor_function() is not None
     rows = [(m.name, "h" if m.fixed_step else "tol", list(m.quick_sweep if quick else m.sweep))
-            for m in TABLE]
+            for m in TABLE if has_taylor or not m.needs_taylor]
     return [r for r in rows if r[2]]
 
 
@@ -165,7 +167,7 @@ def bench_model(model, part_name: str, quick: bool = False, repeats: int | None 
     x_ref, ref_check = reference(part, x0, su, scale)
     repeat = ONCE if (quick or repeats == 1) else REPEAT
     rows = []
-    runs = [(method, kind, v) for method, kind, values in plan(quick) for v in values]
+    runs = [(method, kind, v) for method, kind, values in plan(quick, part) for v in values]
     for method, kind, v in progress.track(runs, f"bench {model.scene.name} ({part_name})"):
         value = v * su.t_fast if kind == "h" else v
         kw = {"tol": value} if kind == "tol" else {"h": value, "tol": None}
@@ -187,7 +189,7 @@ def bench_model(model, part_name: str, quick: bool = False, repeats: int | None 
                      "step_or_tol": kind, "status": best.status})
     heyoka = heyoka_rows(model, part_name, x0, su, scale, x_ref, repeat) if not quick else []
     rows += heyoka or []
-    calls = per_call(model, part_name, x0, su, scale, x_ref, heyoka or [], quick)
+    calls = per_call(model, part_name, x0, su, scale, rows, quick)
     return {"rows": rows, "reference_check": ref_check, "setup": su.as_dict(), "z_s": su.z_s,
             "x0": x0.tolist(), "states": list(part.states),
             "heyoka": ("not run in --quick (it compiles for seconds per tolerance)" if quick
@@ -229,57 +231,111 @@ def heyoka_rows(model, part_name: str, x0, su: Setup, scale, x_ref, repeat: dict
     return rows
 
 
-PER_CALL_TOL = 1e-9          # the single run of the per-call figures (C dop853)
-PER_CALL_CALLS = 500          # calls per figure (quick: 50); the minimum is taken
+PER_CALL_BOUND = 1e-9        # the error bound of the per-call race
+PER_CALL_ROUNDS = 20         # rounds, each PER_CALL_CALLS calls of every contestant in turn ...
+PER_CALL_CALLS = 50          # ... the minimum over all is kept (quick: 3 rounds)
+ADAPTIVE_C = ("dop853", "vern9", "taylor")
 
 
-def per_call(model, part_name: str, x0, su: Setup, scale, x_ref, heyoka: list, quick: bool) -> dict:
-    """What one run costs a Python caller (the whole call, not only the integrator): C dop853 at
-    PER_CALL_TOL through runtime.integrate.run.integrate (the API's path), through run_c, and its
-    C call alone (Result.wall_s); heyoka's propagate_until called from Python (state and time
-    reset, as a loop would) at the loosest tolerance of its rows whose error is at most ours. The
-    minimum over PER_CALL_CALLS calls each, in seconds."""
+def per_call(model, part_name: str, x0, su: Setup, scale, rows: list, quick: bool) -> dict:
+    """What one run costs a Python caller at the error bound PER_CALL_BOUND, the whole call:
+
+    ours    each adaptive C method at the loosest tolerance of its rows whose error is within the
+            bound, through the public API's prepared run (Study.propagator: runtime/integrate/
+            propagator.py, `prop.state[:] = x0; prop.propagate(t_end)`); the fastest is kept, with
+            the same run through integrate() beside it, and integrate's ctypes call alone
+            (Result.wall_s: lev_integrate's nine arguments converted, and the C integration);
+    heyoka  its loosest tolerance within the bound, `ta.state[:] = X0; ta.time = 0;
+            ta.propagate_until(t_end)`, the same pattern (state reset, as a loop would).
+
+    The contestants take turns, PER_CALL_CALLS calls each per round, so a change of the machine's
+    load hits all alike; each figure is the minimum over all its calls, in seconds."""
+    from levitron.runtime.integrate.propagator import Propagator
     part = model.part(part_name)
-    rhs = part.c_function("rhs")
-    kw = dict(method="dop853", tol=PER_CALL_TOL, p=su.p, scale=scale, n_out=1)
-    n = 50 if quick else PER_CALL_CALLS
+    rounds = 3 if quick else PER_CALL_ROUNDS
+    x0 = np.asarray(x0, float)
 
-    def best(fn) -> float:
-        b = math.inf
-        for _ in range(n):
-            t0 = time.perf_counter()
-            fn()
-            b = min(b, time.perf_counter() - t0)
-        return b
+    def loosest(backend: str, integrator: str):
+        ok = [r for r in rows if r["backend"] == backend and r["integrator"] == integrator
+              and r["status"] == "completed" and r["error"] <= PER_CALL_BOUND]
+        return max(ok, key=lambda r: r["tol"]) if ok else None
 
-    r = integrate(part, x0, su.t_end, **kw)
-    err = float(np.max(np.abs(r.x_final - x_ref) / scale))
-    out = {"tol": PER_CALL_TOL, "error": err,
-           "integrate_s": best(lambda: integrate(part, x0, su.t_end, **kw)),
-           "run_c_s": best(lambda: run_c(model.lib, "dop853", rhs, x0, su.p, su.t_end,
-                                         rtol=PER_CALL_TOL, atol=PER_CALL_TOL * scale)),
-           "c_call_s": min(integrate(part, x0, su.t_end, **kw).wall_s for _ in range(n))}
-    ok = [h for h in heyoka if h["status"] == "completed" and h["error"] <= err]
-    if ok:
+    runs: dict = {}
+    for name in ADAPTIVE_C:
+        row = loosest("c", name)
+        if row is None:
+            continue
+        prop = Propagator(part, name, row["tol"], p=su.p, scale=scale)
+
+        def run(prop=prop):
+            prop.state[:] = x0
+            prop.propagate(su.t_end)
+        runs[name] = (row, run)
+    hrow = loosest("heyoka", "taylor")
+    if hrow is not None:
+        runs["heyoka"] = (hrow, heyoka_call(model, part_name, x0, su, scale, hrow["tol"]))
+    best = {name: math.inf for name in runs}
+    for _ in range(rounds):
+        for name, (_, run) in runs.items():
+            for _ in range(PER_CALL_CALLS):
+                t0 = time.perf_counter()
+                run()
+                best[name] = min(best[name], time.perf_counter() - t0)
+    out: dict = {"bound": PER_CALL_BOUND, "calls": rounds * PER_CALL_CALLS,
+                 "contestants": {name: {"integrator": "taylor" if name == "heyoka" else name,
+                                        "tol": row["tol"], "error": row["error"], "call_s": best[name]}
+                                 for name, (row, _) in runs.items()}}
+    ours = [n for n in runs if n != "heyoka"]
+    if ours:
+        win = min(ours, key=lambda n: best[n])
+        row = runs[win][0]
+        kw = dict(method=win, tol=row["tol"], p=su.p, scale=scale, n_out=1)
+        n = 50 if quick else 500
+        out["ours"] = {"integrator": win, "tol": row["tol"], "error": row["error"],
+                       "propagator_s": best[win],
+                       "integrate_s": min(_timed(lambda: integrate(part, x0, su.t_end, **kw))
+                                          for _ in range(n)),
+                       "c_call_s": min(integrate(part, x0, su.t_end, **kw).wall_s for _ in range(n))}
+    if "heyoka" in runs:
         import heyoka as hy
-
-        from levitron.derive.emit.heyoka import lowered_rhs, system
-        from levitron.runtime.bench import heyoka as bench_heyoka
-        h = max(ok, key=lambda row: row["tol"])
-        key = bench_heyoka.cache_key(input_hash=model.manifest.input_hash, part=part_name,
-                                     scale=[float(v).hex() for v in scale], tol=float(h["tol"]).hex())
-        X0 = np.asarray(x0, float) / scale
-        ta, _, _ = bench_heyoka.integrator(lambda: system(lowered_rhs(model.scene, part_name), scale),
-                                           X0, su.p, h["tol"], key)
-
-        def hrun():
-            ta.state[:] = X0
-            ta.time = 0.0
-            ta.propagate_until(float(su.t_end))
-
-        out.update({"heyoka_tol": h["tol"], "heyoka_error": h["error"],
-                    "heyoka_propagate_until_s": best(hrun), "heyoka_version": hy.__version__})
+        out["heyoka"] = {"tol": hrow["tol"], "error": hrow["error"],
+                         "propagate_until_s": best["heyoka"], "version": hy.__version__}
+    if "ours" in out and "heyoka" in out:
+        out["heyoka_over_ours"] = out["heyoka"]["propagate_until_s"] / out["ours"]["propagator_s"]
     return out
+
+
+def write_per_call(calls: dict, path: Path) -> None:
+    """per_call's contestants as a table: one row each, the whole Python call in seconds."""
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["contestant", "integrator", "tol", "error", "call_s", "error_bound"])
+        for name, c in sorted(calls.get("contestants", {}).items(), key=lambda kv: kv[1]["call_s"]):
+            w.writerow([name, c["integrator"], c["tol"], c["error"], c["call_s"], calls["bound"]])
+
+
+def _timed(fn) -> float:
+    t0 = time.perf_counter()
+    fn()
+    return time.perf_counter() - t0
+
+
+def heyoka_call(model, part_name: str, x0, su: Setup, scale, tol: float):
+    """heyoka's run from Python at `tol` (its integrator from the disk cache, runtime/bench/heyoka.py)."""
+    from levitron.derive.emit.heyoka import lowered_rhs, system
+    from levitron.runtime.bench import heyoka as bench_heyoka
+    key = bench_heyoka.cache_key(input_hash=model.manifest.input_hash, part=part_name,
+                                 scale=[float(v).hex() for v in scale], tol=float(tol).hex())
+    X0 = np.asarray(x0, float) / scale
+    ta, _, _ = bench_heyoka.integrator(lambda: system(lowered_rhs(model.scene, part_name), scale),
+                                       X0, su.p, tol, key)
+    t_end = float(su.t_end)
+
+    def run():
+        ta.state[:] = X0
+        ta.time = 0.0
+        ta.propagate_until(t_end)
+    return run
 
 
 def cheapest_by_bound(rows: list[dict]) -> list[dict]:
@@ -417,7 +473,9 @@ def run(model, out_dir: str | Path = "reports", quick: bool = False) -> dict:
         draw(res["rows"], Path(f"{stem}.png"),
              f"{model.scene.name}, {name} model: {units.time(su.t_end)} at {units.rate(su.spin)}")
         write_cheapest(res["cheapest_by_bound"], out / f"bench_cheapest_{name}.csv")
-        files += [f"{stem}.csv", f"{stem}.json", f"{stem}.png", str(out / f"bench_cheapest_{name}.csv")]
+        write_per_call(res["per_call"], out / f"bench_per_call_{name}.csv")
+        files += [f"{stem}.csv", f"{stem}.json", f"{stem}.png", str(out / f"bench_cheapest_{name}.csv"),
+                  str(out / f"bench_per_call_{name}.csv")]
     g = goals(model, [r for r in rows if r["model"] == "full"], quick, su) if "full" in model.parts else {}
     (out / "bench_goals.json").write_text(json.dumps(g, indent=1, default=_json))
     files.append(str(out / "bench_goals.json"))

@@ -1,0 +1,81 @@
+"""The prepared run (runtime/integrate/propagator.py, Study.propagator): the same numbers as
+integrate(), bit for bit, for every adaptive C method; bad input refused in one line, nothing lost.
+Its speed is measured by `levitron bench` (per_call in reports/<scene>/bench_reduced.json), not here."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import levitron as lev
+from levitron.runtime.errors import UserError
+from levitron.runtime.integrate.propagator import Propagator
+from levitron.runtime.integrate.run import integrate
+
+
+@pytest.fixture(scope="module")
+def study():
+    return lev.load("thesis_stable")
+
+
+@pytest.mark.parametrize("method", ["dop853", "vern9", "taylor", "auto"])
+def test_same_final_state_as_integrate_bit_for_bit(study, method):
+    prop = study.propagator("reduced", method, 1e-10, spin=1100.0)
+    part = study.model.part("reduced")
+    x0 = np.array([0.108, 0.0, 0.001, prop.scale[3] * 0.9])
+    for t_end in (0.05, 0.4, 0.05):
+        got = prop(x0, t_end)
+        ref = integrate(part, x0, t_end, method=method, tol=1e-10, scale=prop.scale, n_out=1)
+        assert ref.status == "completed"
+        np.testing.assert_array_equal(got, ref.x_final)
+        assert prop.status == "completed" and prop.steps == ref.steps
+        prop.state[:] = x0                                   # the in-place form: the same run
+        prop.propagate(t_end)
+        np.testing.assert_array_equal(prop.state, ref.x_final)
+    assert prop.states == ("z", "zeta", "p_z", "p_zeta")
+
+
+def test_the_full_model_too(study):
+    prop = study.propagator("full", "dop853", 1e-9, spin=1100.0)
+    part = study.model.part("full")
+    from levitron.runtime.simulate.start import initial_state
+    x0 = initial_state(part, 0.106, 1100.0, 0.01, 0.001, study.model.p)
+    ref = integrate(part, x0, 0.02, method="dop853", tol=1e-9, scale=prop.scale, n_out=1)
+    np.testing.assert_array_equal(prop(x0, 0.02), ref.x_final)
+    with pytest.raises(UserError, match="reduced model only"):
+        study.propagator("full", "taylor")
+
+
+@pytest.mark.parametrize("call, words", [
+    (lambda p: p([0.1, 0.0, 0.0], 0.1), "4 numbers"),
+    (lambda p: p([math.nan, 0.0, 0.0, 0.0], 0.1), "not finite"),
+    (lambda p: p([0.1, 0.0, 0.0, 0.0], -1.0), "positive finite"),
+    (lambda p: p([0.1, 0.0, 0.0, 0.0], math.inf), "positive finite"),
+])
+def test_bad_input_is_one_line_and_the_next_run_is_unharmed(study, call, words):
+    prop = study.propagator("reduced", "dop853", 1e-9)
+    x0 = np.array([0.108, 0.0, 0.0, 1e-3])
+    before = prop(x0, 0.1)
+    with pytest.raises(UserError, match=words) as info:
+        call(prop)
+    assert "\n" not in str(info.value)
+    np.testing.assert_array_equal(prop(x0, 0.1), before)
+
+
+def test_a_run_that_cannot_finish_says_why(study):
+    part = study.model.part("reduced")
+    prop = Propagator(part, "dop853", 1e-9, scale=np.ones(4), max_steps=2)
+    with pytest.raises(UserError, match="ended 'step_budget'"):
+        prop([0.108, 0.0, 0.0, 1e-3], 1.0)
+
+
+@pytest.mark.parametrize("kwargs, words", [
+    (dict(method="rk4"), "adaptive C method"), (dict(method="cvodes"), "adaptive C method"),
+    (dict(tol=1.0), "too loose"), (dict(scale=None), "needs scale"),
+    (dict(scale=[1.0, 1.0]), "4 positive numbers"), (dict(method="leapfrog"), "unknown integrator"),
+])
+def test_bad_options_are_refused(study, kwargs, words):
+    args = dict(method="dop853", tol=1e-9, scale=np.ones(4)) | kwargs
+    with pytest.raises(UserError, match=words):
+        Propagator(study.model.part("reduced"), **args)
