@@ -189,7 +189,7 @@ def test_locked_excludes_a_second_holder_until_released(tmp_path):
 
 
 def test_another_models_stamped_library_is_rebuilt_not_blamed_on_the_folder(tmp_path, monkeypatch,
-                                                                            capfd):
+                                                                            capfd, seed_cache):
     """Another model's library with its own valid stamp copied onto this model's cache name: the
     table check refused it with "delete derived/<folder>", which could not help (the folder
     derives the same model.c, whose hash names the same wrong library). Now the library is
@@ -198,7 +198,8 @@ def test_another_models_stamped_library_is_rebuilt_not_blamed_on_the_folder(tmp_
 
     from levitron.derive.scene import load_scene
     from levitron.runtime.model.load import load_model
-    monkeypatch.setenv("LEVITRON_CACHE", str(tmp_path / "cache"))
+    # seeded with the runtime/csrc objects only: both models' libraries are built here
+    monkeypatch.setenv("LEVITRON_CACHE", str(seed_cache(tmp_path / "cache")))
     thesis = load_model(load_scene("thesis"))
     ours = thesis.library_path
     theirs = load_model(load_scene("square")).library_path

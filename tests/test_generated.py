@@ -16,8 +16,45 @@ SCENES = sorted(p.stem for p in SCENES_DIR.glob("*.toml"))
 
 @functools.cache
 def rendered(name: str) -> dict[str, bytes]:
-    """render() of a scene of scenes/ in this process (under its hash seed), once per worker."""
-    return render(load_scene(name))
+    """render() of a scene of scenes/ under this process's hash seed, once per test run: under
+    pytest-xdist with PYTHONHASHSEED set (`make test`: 0), the worker that renders a scene first
+    leaves the files in the run's shared temporary folder and the other workers, under the same
+    seed and code, read them there (square takes 7 s); otherwise once per process."""
+    shared = _shared_folder()
+    if shared is None:
+        return render(load_scene(name))
+    import fcntl
+    import pickle
+    done = shared / f"{name}-seed{os.environ['PYTHONHASHSEED']}.pickle"
+    with open(shared / f"{done.name}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)          # one worker renders, the others wait for it
+        if not done.exists():
+            files = render(load_scene(name))
+            tmp = done.with_name(f".{done.name}.{os.getpid()}")
+            tmp.write_bytes(pickle.dumps(files))
+            os.replace(tmp, done)
+            return files
+    return pickle.loads(done.read_bytes())
+
+
+_RUN: dict = {}
+
+
+def _shared_folder():
+    """The folder of this test run that every xdist worker sees (the parent of the workers' own
+    temporary folders), or None when not under xdist or when the hash seed is random."""
+    if not os.environ.get("PYTEST_XDIST_WORKER") or os.environ.get("PYTHONHASHSEED", "random") == "random":
+        return None
+    return _RUN.get("shared")
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _run_folder(tmp_path_factory):
+    folder = tmp_path_factory.getbasetemp().parent / "rendered"
+    folder.mkdir(exist_ok=True)
+    _RUN["shared"] = folder
+    yield
+    _RUN.pop("shared", None)
 
 
 @pytest.mark.parametrize("name", SCENES)
@@ -40,8 +77,8 @@ def test_committed_generated_is_what_derive_writes(name):
 
 
 def test_derive_is_byte_reproducible_across_hash_seeds(tmp_path):
-    """`python -m levitron.derive` under another hash seed writes, byte for byte, what render() gives in
-    this process (whose files the golden test above compares with generated/)."""
+    """`python -m levitron.derive` under another hash seed writes, byte for byte, what render() gives
+    under this process's seed (whose files the golden test above compares with generated/)."""
     ours = os.environ.get("PYTHONHASHSEED")      # `make test`: 0; unset: a random one
     seed = "12345" if ours != "12345" else "54321"
     env = dict(os.environ, PYTHONHASHSEED=seed)

@@ -102,10 +102,12 @@ def _cli(args, cwd: Path, env: dict, timeout: float = 300) -> subprocess.Complet
                           capture_output=True, text=True, timeout=timeout, check=False)
 
 
-def test_a_relative_cache_is_the_users_folder(tmp_path):
-    """Before: the derive subprocess (cwd = the repository) wrote under the checkout."""
+def test_a_relative_cache_is_the_users_folder(tmp_path, seed_cache):
+    """Before: the derive subprocess (cwd = the repository) wrote under the checkout. (The cache is
+    seeded with the runtime/csrc objects only: the derivation and the model's library are made
+    there by the run.)"""
     elsewhere = tmp_path / "elsewhere"
-    elsewhere.mkdir()
+    seed_cache(elsewhere / "relcache")
     scene = _scene(elsewhere, "relcache_scene")
     assert not (ROOT / "relcache").exists()
     res = _cli(["equilibrium", scene.name, "--json"], elsewhere, {"LEVITRON_CACHE": "relcache"})
@@ -149,8 +151,8 @@ def _processes_mentioning(text: str) -> list[int]:
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="PR_SET_PDEATHSIG is Linux's")
-def test_a_killed_parent_takes_its_derive_child_and_the_next_run_sweeps(tmp_path):
-    cache = tmp_path / "cache"
+def test_a_killed_parent_takes_its_derive_child_and_the_next_run_sweeps(tmp_path, seed_cache):
+    cache = seed_cache(tmp_path / "cache")      # the runtime/csrc objects: not what is tested here
     scene = _scene(tmp_path, "killed_parent")
     res = _cli(["equilibrium", str(scene)], tmp_path, {
         "LEVITRON_CACHE": str(cache), "LEVITRON_FAULT": f"runtime.deriving:{tmp_path / 'marker'}"})
@@ -175,14 +177,15 @@ def test_a_killed_parent_takes_its_derive_child_and_the_next_run_sweeps(tmp_path
     assert list((cache / "derived").glob("killed_parent-*/manifest.json"))
 
 
-def test_a_scene_edited_during_its_derivation_is_filed_under_what_was_read(tmp_path, monkeypatch):
+def test_a_scene_edited_during_its_derivation_is_filed_under_what_was_read(tmp_path, monkeypatch,
+                                                                          seed_cache):
     """Before: the derive child read the file again, so an edit in between filed the new formula's
     model under the old scene's hash (or failed with a wrong reason). Now the child derives a
     snapshot of what this process read and hashed."""
     from levitron.derive.inputs import input_hash
     from levitron.derive.scene import load_scene
     from levitron.runtime.model.load import load_model
-    monkeypatch.setenv("LEVITRON_CACHE", str(tmp_path / "cache"))
+    monkeypatch.setenv("LEVITRON_CACHE", str(seed_cache(tmp_path / "cache")))
     path = _scene(tmp_path, "edited")
     scene = load_scene(path)
     path.write_text(path.read_text().replace("b*z/sqrt(z**2 + c**2)", "3*b*z/sqrt(z**2 + c**2)"))

@@ -40,14 +40,14 @@ def fresh_venv(tmp_path_factory):
                             "--quiet", "-w", str(tmp / "dist")], capture_output=True, text=True, check=False)
     assert build.returncode == 0, build.stderr[-3000:]
     (wheel,) = (tmp / "dist").glob("levitron-*.whl")
-    venv = tmp / "venv"
-    subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True)
+    venv = tmp / "venv"           # without pip (ensurepip took 4 s): this venv's pip installs into it
+    subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True)
     py = venv / "bin" / "python"
     site = Path(subprocess.run([str(py), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
                                capture_output=True, text=True, check=True).stdout.strip())
     before = {p.name for p in site.iterdir()}
-    subprocess.run([str(py), "-m", "pip", "install", "--quiet", "--no-deps", "--no-index", str(wheel)],
-                   check=True)
+    subprocess.run([sys.executable, "-m", "pip", "--python", str(py), "install", "--quiet", "--no-deps",
+                    "--no-index", str(wheel)], check=True)
     after = {p.name for p in site.iterdir()}
     return venv, sorted(after - before), tmp
 
