@@ -30,6 +30,7 @@ from levitron.derive.faults import die_at
 from levitron.runtime.scan.points import point_run  # noqa: F401 (re-exported)
 
 CONNECT_TIMEOUT_S = 20  # how long to try to reach a dask scheduler (and to wait for a worker)
+CONNECT_GRACE_S = 5.0   # at most this much longer for dask's own connect error (half the timeout, >= 1 s)
 DASK_POLL_S = 0.5       # how often a dask scan looks at its cluster's workers
 MAX_POOL_RESTARTS = 3   # new local pools after lost workers, per scan
 
@@ -225,9 +226,11 @@ def dask_client(address: str, timeout: float | None = None):
 
     th = threading.Thread(target=connect, name="levitron-dask-connect", daemon=True)
     th.start()
-    th.join(timeout + 5.0)
+    # dask's own timeout fires at `timeout`; the grace lets its error (the better message) arrive
+    wait = timeout + min(CONNECT_GRACE_S, max(1.0, 0.5 * timeout))
+    th.join(wait)
     if th.is_alive():
-        raise UserError(f"no dask scheduler answered at {address!r} within {timeout + 5:g} s (is it a "
+        raise UserError(f"no dask scheduler answered at {address!r} within {wait:g} s (is it a "
                         "dask scheduler? another service accepts the connection but never answers "
                         "dask's handshake): give the address `dask scheduler` prints, or use --workers N")
     if "error" in box and not isinstance(box["error"], (OSError, TimeoutError, ValueError)):
