@@ -58,6 +58,9 @@ def test_bench_quick_on_every_scene(name, tmp_path, capsys):
         data = json.loads((tmp_path / f"bench_{part}.json").read_text())
         # the reference is an order tighter than the finest bound of the cheapest-run table (1e-13)
         assert data["reference_check"] < 1e-14
+        if part == "reduced":       # a second method: z, p_z to round-off; zeta the formula's bias
+            d = dict(zip(data["states"], data["reference_vs_taylor"]))
+            assert max(d["z"], d["p_z"], d["p_zeta"]) < 1e-14 and d["zeta"] < 5e-13, d
         assert (tmp_path / f"bench_{part}.png").stat().st_size > 5000
         # the per-call race: the prepared run (Study.propagator) beside integrate()'s general path
         calls = data["per_call"]
