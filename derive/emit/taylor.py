@@ -4,7 +4,7 @@ For dx/dt = f(x), the coefficients x^[j] of x(t0 + h) = sum_j x^[j] h^j follow f
 and x^[n+1] = f(x)^[n] / (n + 1), where f(x)^[n] is the n-th coefficient of f along the
 solution. That needs f as a tape of elementary operations, each with its recurrence over the
 coefficients of its operands (automatic differentiation in Taylor mode; Jorba & Zou, Experiment.
-Math. 14, 2005, section 2.2; the method heyoka compiles, docs/bench.md):
+Math. 14, 2005, section 2.2; the method heyoka compiles, runtime/bench/heyoka.py):
 
     lin   u = c + sum k_i a_i          u^[n] = sum k_i a_i^[n]                      (n >= 1)
     mul   u = a b                      u^[n] = sum_{j=0..n} a^[j] b^[n-j]
@@ -16,10 +16,10 @@ Math. 14, 2005, section 2.2; the method heyoka compiles, docs/bench.md):
     sin, cos  s = sin a, c = cos a     s^[n] = sum j a^[j] c^[n-j] / n, c^[n] = -sum j a^[j] s^[n-j] / n
 
 (each from differentiating the definition: a u' = e a' u for pow, u' = a' u for exp, ...);
-tan is sin / cos, sinh, cosh and tanh are written with exp. The
-constants of f (what depends on the parameters only) are computed once, as scalars; only what
-depends on the state becomes a series. Degree 0 of every node is the node's plain value, so
-x^[1] is f(x) as the rhs computes it up to the order of its roundings (tests/test_taylor.py).
+tan is sin / cos, sinh, cosh and tanh are written with exp. The constants of f (what depends on
+the parameters only) are computed once, as scalars; only what depends on the state becomes a
+series. Degree 0 of every node is the node's plain value, so
+x^[1] is f(x) as the rhs computes it, to its rounding (tests/test_taylor.py).
 
 The generated C (derive/emit/c/templates/model.c.j2):
 
@@ -41,7 +41,9 @@ import sympy as sp
 
 from .lower import Lowered
 
-TAYLOR_MAX_ORDER = 32      # out's and the nodes' capacity: tol 1e-27 needs order 32 (runtime/csrc)
+# out's and the nodes' capacity; runtime/csrc/integrators.h's LEV_TAYLOR_MAX_ORDER caps the order at
+# the same number (tests/test_taylor.py): ceil(-ln tol / 2 + 1) <= 32 down to tol 1e-26 (TOL_MIN 1e-15: 19)
+TAYLOR_MAX_ORDER = 32
 PARTS = ("reduced",)       # the parts that get a Taylor function
 
 
