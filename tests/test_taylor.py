@@ -11,6 +11,7 @@ on the scenes' reduced models against the bench's reference.
 from __future__ import annotations
 
 import ctypes
+import json
 import math
 
 import numpy as np
@@ -215,3 +216,13 @@ def test_reduced_runs_meet_the_reference(name):
         assert r.status == "completed"
         assert np.max(np.abs(r.x_final - ref) / scale) < 10 * tol
         assert r.steps < d.steps or tol > 1e-10
+
+
+def test_info_names_the_parts_with_taylor_coefficients(capsys):
+    from levitron.runtime.cli.main import main
+    assert main(["info", "thesis_stable", "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)["taylor"]
+    assert got == {"reduced": {"function": "reduced_taylor", "max_order": TAYLOR_MAX_ORDER,
+                               "nodes": load_model(load_scene("thesis_stable")).manifest.taylor["reduced"].nodes}}
+    assert main(["info", "thesis_stable"]) == 0
+    assert "taylor coefficients: reduced (reduced_taylor, " in capsys.readouterr().out

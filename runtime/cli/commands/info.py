@@ -41,8 +41,20 @@ def run(args) -> dict:
         "parts": {k: list(v.states) for k, v in m.parts.items()},
         "functions": {k: {"ops": f.ops, "n_in": f.n_in, "n_out": f.n_out, "doc": f.doc}
                       for k, f in m.functions.items()},
+        "taylor": {part: {"function": t.function, "nodes": t.nodes, "max_order": t.max_order}
+                   for part, t in m.taylor.items()},
         "decay_times": decay_times(params) if has_friction(model) else None,
     }
+
+
+def _taylor(taylor: dict | None) -> str:
+    """The parts with Taylor coefficients (derive/emit/taylor.py: integrator taylor), or a "none" line."""
+    if not taylor:
+        return ("taylor coefficients: none (integrator taylor needs a reduced model whose rhs has "
+                "a recurrence for every operation)")
+    return "taylor coefficients: " + ", ".join(
+        f"{part} ({t['function']}, {t['nodes']} series nodes, orders up to {t['max_order']}: "
+        "integrator taylor)" for part, t in taylor.items())
 
 
 def _air(taus: dict | None, u: Units) -> str:
@@ -83,6 +95,7 @@ def human(r: dict, scene=None) -> str:
         f"parts: {parts}",
         _air(r.get("decay_times"), u),
         f"operations per call: {ops}",
+        _taylor(r.get("taylor")),
         *[f"note: {restate(n, u)}" for n in r.get("notes") or []],
         f"generated: {r['generated']} (input hash {r['input_hash'][:12]})",
         u.note)
