@@ -980,6 +980,7 @@ static int run_taylor(lev_ctx *c, double *x, double *w)
     double *C = w, *xn = C + (size_t)n * (size_t)(p + 1), *comp = xn + n, *comp_new = comp + n,
            *yd = comp_new + n, *swap;
     const double hmax = o->h_max > 0.0 ? o->h_max : o->t_end - o->t0;
+    const double stretch = exp(0.7 / (p - 1));
     double t = o->t0;
     long i_out = 0;
     int k, status;
@@ -995,6 +996,9 @@ static int run_taylor(lev_ctx *c, double *x, double *w)
         st->iterations++;
         if (!all_finite(C, n * (p + 1))) return LEV_NONFINITE;
         h = fmin(taylor_step(n, p, C, x, o), hmax);
+        /* the last step may go without the safety factor e^(-0.7/(p-1)) rather than leave a sliver
+         * that costs one more expansion (as DOP853 stretches its last step by 1 %) */
+        if (o->t_end - t <= h * stretch && o->t_end - t <= hmax) h = o->t_end - t;
         t_new = t + h < o->t_end ? t + h : o->t_end;
         h = t_new - t;
         if (!(h > 0.0) || h < 10.0 * (nextafter(t, INFINITY) - t))
