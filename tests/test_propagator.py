@@ -79,3 +79,18 @@ def test_bad_options_are_refused(study, kwargs, words):
     args = dict(method="dop853", tol=1e-9, scale=np.ones(4)) | kwargs
     with pytest.raises(UserError, match=words):
         Propagator(study.model.part("reduced"), **args)
+
+
+def test_parameters_change_in_place_and_scale_is_fixed(study):
+    """prop.p[:] = ... is the next run's parameter vector (as integrate(p=...) would use it)."""
+    prop = study.propagator("reduced", "dop853", 1e-10)
+    part = study.model.part("reduced")
+    x0 = np.array([0.108, 0.0, 0.0, 1e-3])
+    p2 = study.p_of({"top.mass": 0.0512})
+    prop.p[:] = p2
+    ref = integrate(part, x0, 0.3, method="dop853", tol=1e-10, p=p2, scale=prop.scale, n_out=1)
+    np.testing.assert_array_equal(prop(x0, 0.3), ref.x_final)
+    with pytest.raises(AttributeError):
+        prop.p = p2
+    with pytest.raises(ValueError):
+        prop.scale[0] = 1.0

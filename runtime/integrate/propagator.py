@@ -16,7 +16,9 @@ reports/<scene>/bench_reduced.json). The numbers are those of ``integrate`` with
 tolerance, scale and parameters, bit for bit (tests/test_propagator.py): the same C call.
 
 No samples and no box: a run goes to t_end, or stops with a UserError naming why (its status).
-The statistics of the last run are ``steps``, ``status``, ``rhs_evals``.
+The statistics of the last run are ``steps``, ``status``, ``rhs_evals``. ``p`` is the parameter
+vector C reads in place (assign into it). One Propagator holds one set of buffers: use one per
+thread.
 """
 from __future__ import annotations
 
@@ -48,13 +50,14 @@ class Propagator:
         check_options(self.method, 1.0, tol)
         self.part, self.tol, self.n = part, float(tol), len(part.states)
         lib = _lib_of(part)
-        self.p = _f64(part.p if p is None else p)
+        self._p = _f64(part.p if p is None else p).copy()
         if scale is None:
             raise UserError(f"a Propagator needs scale: {self.n} state magnitudes (the tolerance is "
                             "relative to them; Study.propagator passes the scene's)")
-        self.scale = _f64(scale)
+        self.scale = _f64(scale).copy()
         if self.scale.shape != (self.n,) or not (np.isfinite(self.scale).all() and (self.scale > 0).all()):
             raise UserError(f"scale must be {self.n} positive numbers (state magnitudes)")
+        self.scale.flags.writeable = False
         self._atol = self.tol * self.scale
         taylor = taylor_of(part) if entry.needs_taylor else None
         self.max_steps = MAX_STEPS_CAP if max_steps is None else int(max_steps)
@@ -62,7 +65,7 @@ class Propagator:
         self._x = np.zeros(self.n)
         self._work = np.zeros(n_work)
         self._sys = _System(self.n, fn_address(part.c_function("rhs")), None, None,
-                            self.p.ctypes.data, fn_address(taylor))
+                            self._p.ctypes.data, fn_address(taylor))
         self._opt = _Options(t0=0.0, t_end=1.0, rtol=self.tol, atol_v=self._atol.ctypes.data,
                              max_steps=self.max_steps, ix=-1, iy=-1, iz=-1, z_lo=-math.inf,
                              z_hi=math.inf, r_max=math.inf)
@@ -74,6 +77,12 @@ class Propagator:
         self._run = bind(lib).lev_integrate_job
         self._t_end = 1.0
         self._lib = lib
+
+    @property
+    def p(self) -> np.ndarray:
+        """The parameter vector of the runs, which C reads in place: `prop.p[:] = p_new` changes
+        the next run's parameters (an optimisation loop needs no new Propagator)."""
+        return self._p
 
     @property
     def states(self) -> tuple[str, ...]:
