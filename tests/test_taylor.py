@@ -132,7 +132,7 @@ def test_an_operation_without_recurrence_gets_no_taylor_function(derived_model, 
     with pytest.raises(Unsupported, match="atan"):
         taylor_tape(lowered_rhs(model.scene, "reduced"))
     assert model.part("reduced").taylor_function() is None and not model.manifest.taylor
-    with pytest.raises(UserError, match="has none: choose dop853, vern9 or auto"):
+    with pytest.raises(UserError, match=r"has none \(its rhs has an operation without a recurrence"):
         integrate(model.part("reduced"), [0.5, 0, 0, 0.01], 1.0, method="taylor", tol=1e-9)
 
 
@@ -151,7 +151,8 @@ def test_the_full_model_has_none_and_taylor_says_so():
     model = load_model(load_scene("thesis_stable"))
     assert set(model.manifest.taylor) == {"reduced"}
     full = model.part("full")
-    with pytest.raises(UserError, match="reduced model only; the full model of scene 'thesis_stable'"):
+    with pytest.raises(UserError, match=r"the full model of scene 'thesis_stable' has none \(derive "
+                                         r"generates them for the reduced model only\)"):
         integrate(full, np.r_[0.0, 0.0, 0.1, np.zeros(9)] + 1e-3, 0.01, method="taylor", tol=1e-9)
 
 

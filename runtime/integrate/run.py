@@ -164,9 +164,11 @@ def taylor_of(part):
     fn = part.taylor_function() if hasattr(part, "taylor_function") else None
     if fn is None:
         scene = getattr(getattr(getattr(part, "model", None), "scene", None), "name", "this scene")
-        raise UserError(f"integrator taylor needs Taylor coefficients, which derive generates for "
-                        f"the reduced model only; the {getattr(part, 'name', 'given')} model of "
-                        f"scene '{scene}' has none: choose dop853, vern9 or auto")
+        name = getattr(part, "name", "given")
+        why = ("its rhs has an operation without a recurrence in derive/emit/taylor.py" if name == "reduced"
+               else "derive generates them for the reduced model only")
+        raise UserError(f"integrator taylor needs Taylor coefficients, and the {name} model of scene "
+                        f"'{scene}' has none ({why}): choose dop853, vern9 or auto")
     return fn
 
 
