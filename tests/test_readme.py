@@ -85,3 +85,27 @@ def test_readme_example(command, shown, tmp_path, capsys):
     output = capsys.readouterr().out.replace(str(tmp_path) + "/", "")
     missing = find_in_order(shown, output.splitlines())
     assert missing is None, f"README line not in the output of `levitron {command}`: {missing!r}\n{output}"
+
+
+def python_blocks() -> list[str]:
+    """The README's indented Python examples (a block of 4-space lines that starts with an import
+    of levitron)."""
+    blocks, lines = [], README.read_text().splitlines()
+    for i, line in enumerate(lines):
+        if line.startswith("    import levitron"):
+            block = []
+            for more in lines[i:]:
+                if not more.startswith("    "):
+                    break
+                block.append(more[4:])
+            blocks.append("\n".join(block))
+    return blocks
+
+
+def test_readme_python_examples_run(capsys):
+    """Every Python example of the README runs as written (its comments state the units)."""
+    blocks = python_blocks()
+    assert blocks
+    for src in blocks:
+        exec(compile(src, "README.md", "exec"), {})       # the README's own example, as a reader runs it
+    assert "top.mass" in capsys.readouterr().out
