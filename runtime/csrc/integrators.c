@@ -902,20 +902,25 @@ static void taylor_dense(int n, int p, const double *C, double dt, double *y)
 /* Jorba & Zou's step (Experiment. Math. 14, 2005, eqs. 3-11; heyoka's safety factor): with the
  * component weights w_k = atol_k / rtol + |x_k|, N_j = max_k |C_k^[j]| / w_k and
  * rho = min((1 / N_{p-1})^(1/(p-1)), (1 / N_p)^(1/p)), the step rho e^-2 e^(-0.7/(p-1)) makes the
- * last terms about rtol w_k: the truncation error per step, p = ceil(-ln rtol / 2 + 1). */
-static double taylor_step(int n, int p, const double *C, const double *x, const lev_options *o)
+ * last terms about rtol w_k: the truncation error per step, p = ceil(-ln rtol / 2 + 1).
+ * `safety` is e^-2 e^(-0.7/(p-1)), computed once per run; rho comes from one exp of the larger of
+ * ln(N_{p-1}) / (p-1) and ln(N_p) / p rather than two pow calls (the coefficients are finite here:
+ * run_taylor checks them first, so the maxima need no NaN rule). */
+static double taylor_step(int n, int p, const double *C, const double *x, const lev_options *o,
+                          double safety)
 {
-    double n1 = 0.0, n2 = 0.0, r1 = INFINITY, r2 = INFINITY;
+    double n1 = 0.0, n2 = 0.0, l = -INFINITY;
     int k;
     for (k = 0; k < n; k++) {
         const double *ck = C + (size_t)k * (size_t)(p + 1);
-        const double w = (o->atol_v ? o->atol_v[k] : o->atol) / o->rtol + fabs(x[k]);
-        n1 = fmax(n1, fabs(ck[p - 1]) / w);
-        n2 = fmax(n2, fabs(ck[p]) / w);
+        const double iw = 1.0 / ((o->atol_v ? o->atol_v[k] : o->atol) / o->rtol + fabs(x[k]));
+        const double a = fabs(ck[p - 1]) * iw, b = fabs(ck[p]) * iw;
+        if (a > n1) n1 = a;
+        if (b > n2) n2 = b;
     }
-    if (n1 > 0.0) r1 = pow(n1, -1.0 / (p - 1));
-    if (n2 > 0.0) r2 = pow(n2, -1.0 / p);
-    return fmin(r1, r2) * exp(-2.0 - 0.7 / (p - 1));
+    if (n1 > 0.0) l = log(n1) / (p - 1);
+    if (n2 > 0.0 && log(n2) / p > l) l = log(n2) / p;
+    return l == -INFINITY ? INFINITY : exp(-l) * safety;
 }
 
 /* After an accepted step from t_old (coefficients C at the old state) to t: the box event located
@@ -980,7 +985,7 @@ static int run_taylor(lev_ctx *c, double *x, double *w)
     double *C = w, *xn = C + (size_t)n * (size_t)(p + 1), *comp = xn + n, *comp_new = comp + n,
            *yd = comp_new + n, *swap;
     const double hmax = o->h_max > 0.0 ? o->h_max : o->t_end - o->t0;
-    const double stretch = exp(0.7 / (p - 1));
+    const double stretch = exp(0.7 / (p - 1)), safety = exp(-2.0 - 0.7 / (p - 1));
     double t = o->t0;
     long i_out = 0;
     int k, status;
@@ -995,7 +1000,7 @@ static int run_taylor(lev_ctx *c, double *x, double *w)
         if (c->sys->taylor(x, c->sys->p, p, C) != 0) return LEV_BAD_INPUT;
         st->iterations++;
         if (!all_finite(C, n * (p + 1))) return LEV_NONFINITE;
-        h = fmin(taylor_step(n, p, C, x, o), hmax);
+        h = fmin(taylor_step(n, p, C, x, o, safety), hmax);
         /* the last step may go without the safety factor e^(-0.7/(p-1)) rather than leave a sliver
          * that costs one more expansion (as DOP853 stretches its last step by 1 %) */
         if (o->t_end - t <= h * stretch && o->t_end - t <= hmax) h = o->t_end - t;
