@@ -203,6 +203,38 @@ def test_no_taylor_function_or_no_rtol_is_bad_input(osc):
     assert r.status == "bad_input"
 
 
+def _vector_path_compiled() -> bool:
+    """Whether the default flags (-march=native) give lev_tay_old its AVX2 + fma vector path."""
+    import subprocess
+    from levitron.runtime.model.cbuild import DEFAULT_FLAGS, compiler
+    macros = subprocess.run([compiler(), *[f for f in DEFAULT_FLAGS if f.startswith("-m")], "-dM", "-E", "-"],
+                            input="", capture_output=True, text=True, check=True).stdout.split("\n")
+    return {"#define __AVX2__ 1", "#define __FMA__ 1"} <= {m.strip() for m in macros}
+
+
+@pytest.mark.parametrize("name", SCENES)
+def test_vector_sums_give_the_scalar_bits(name):
+    """lev_tay_old's vector path (model.c.j2: the four chains as the lanes of one AVX2 register)
+    against its scalar path (-DLEV_TAYLOR_SCALAR), the same generated model.c: every coefficient of
+    every order 1 .. max at random states near the hover height equal bit for bit."""
+    if not _vector_path_compiled():
+        pytest.skip("this compiler and machine give no AVX2 + fma: only the scalar path is built")
+    from levitron.runtime.model.cbuild import DEFAULT_FLAGS, compile_shared
+    model = load_model(load_scene(name))
+    folder = model.folder
+    fns = []
+    for extra in ((), ("-DLEV_TAYLOR_SCALAR",)):
+        lib = ctypes.CDLL(str(compile_shared([folder / "model.c"], DEFAULT_FLAGS + extra, (folder,))))
+        fns.append(lib.reduced_taylor)
+    su, part, x0, scale = hover_state(model)
+    rng = np.random.default_rng(7)
+    for order in range(1, TAYLOR_MAX_ORDER + 1):
+        x = x0 + scale * rng.uniform(-0.2, 0.2, len(x0))
+        vec, sca = (coefficients(fn, x, su.p, order) for fn in fns)
+        assert np.isfinite(vec).all()
+        np.testing.assert_array_equal(vec.view(np.int64), sca.view(np.int64), err_msg=f"order {order}")
+
+
 @pytest.mark.parametrize("name", SCENES)
 def test_reduced_runs_meet_the_reference(name):
     """The bench's run of each scene (runtime/bench/work_precision.py): within 10 tol of its
