@@ -103,3 +103,21 @@ def test_a_band_above_z_c_and_approximations_out_of_range_say_so(tmp_path, capsy
     out = _out(capsys, "stability", str(path))
     assert "the thesis's approximations (eqs. 3.3.22/3.3.23) do not apply" in out
     assert f"{ap['sigma1']:.4g}-{ap['sigma2']:.4g}" not in out
+
+
+def test_launch_inputs_in_the_scene_units():
+    """`launch`'s line of inputs: each distribution with its unit (the JSON keeps the SI specs);
+    relative spreads in percent; a dimensionless scene's lengths and speeds bare."""
+    from levitron.runtime.cli.commands.launch import launch_input
+    from levitron.runtime.ui.human import Units
+    si, dl = Units(si=True), Units(si=False)
+    assert launch_input("spin", "normal:1122.18,112.218", si) == "spin 1122 rad/s, sd 112.2 rad/s (normal)"
+    assert launch_input("offset", "normal:0,0.00106467", si) == "offset 0 m, sd 1.065 mm (normal)"
+    assert launch_input("velocity", "normal:0,0.0102198", si) == "velocity 0 m/s, sd 0.01022 m/s (normal)"
+    assert launch_input("mass", "normal:-0.001,0.002", si) == "mass -0.1 %, sd 0.2 % (normal)"
+    assert launch_input("strength", "normal:0,0.005", si) == "strength +0 %, sd 0.5 % (normal)"
+    assert launch_input("tilt", "uniform:0,0.02", si) == "tilt 0 rad to 0.02 rad (uniform)"
+    assert launch_input("temperature", "28", si) == "temperature 28 degC"
+    assert launch_input("velocity", "normal:0,0.0102198", dl) == "velocity 0, sd 0.01022 (normal)"
+    assert launch_input("offset", "uniform:-0.01,0.01", dl) == "offset -0.01 to 0.01 (uniform)"
+    assert launch_input("spin", "normal:60,6", dl) == "spin 60 rad/time, sd 6 rad/time (normal)"

@@ -35,7 +35,7 @@ needs = ["reduced", "full", "linear"]
 """
 
 # an SI unit after a number or inside the brackets of an axis label
-SI = r"A m\^2|kg m\^2|m/s\^2|J m|rad/s|N/m|cm|mm|um|mN|mT|ms|kg|Hz|rpm|m|g|s|N|T|A"   # longest first
+SI = r"A m\^2|kg m\^2|m/s\^2|m/s|J m|rad/s|N/m|cm|mm|um|mN|mT|ms|kg|Hz|rpm|m|g|s|N|T|A"   # longest first
 AFTER_NUMBER = re.compile(rf"\d\s?({SI})(?![\w^/])")     # the unit, group 1
 IN_LABEL = re.compile(rf"\(({SI})(?:,[^)]*)?\)")
 WALL = re.compile(r"\d+(\.\d+)? (us|ms|s|min)( \d+ s)? of wall time|\d+(\.\d+)? (us|ms|s) per call")
@@ -47,8 +47,8 @@ def si_units(text: str) -> list[str]:
 
 
 def test_the_grep_finds_si_units():
-    assert si_units("z 15.74 cm, spin (rad/s), t_end = 208 s, moment -1 A m^2, 3 N/m") == \
-        ["cm", "s", "A m^2", "N/m", "(rad/s)"]
+    assert si_units("z 15.74 cm, spin (rad/s), t_end = 208 s, moment -1 A m^2, 3 N/m, v 0.1 m/s") == \
+        ["cm", "s", "A m^2", "N/m", "m/s", "(rad/s)"]
     assert si_units("30.28-119.1 rad/time, tilt 0.01 rad (0.573 deg), 417 ms of wall time, "
                     "height (fraction of z_s), z 0.9948-1.102") == []
 
@@ -88,6 +88,7 @@ COMMANDS = {
     "optimize-edge": ["--maximize", "spin-range", "--vary", "top.mass=1.0199945:1.0199965"],
     "optimize-fit-height": ["--fit-height", "1.0"],
     "report": ["--out", "{tmp}/r.html"],
+    "launch": ["--n", "12", "--t-end", "20", "--out", "{tmp}/launch.png"],
     "figures": ["--out", "{tmp}/figs", "--quick"],
 }
 

@@ -43,6 +43,10 @@ from levitron.runtime.integrate.methods import DEFAULT, lookup, refuse_on_full_m
 from levitron.runtime.ui.validate import count, real
 
 INPUTS = ("spin", "tilt", "tilt_azimuth", "offset", "velocity", "mass", "strength", "temperature")
+# what each input's numbers are (the module docstring): the SI unit of its JSON numbers, "1" for a
+# relative deviation d (mass m (1 + d), strength mu (1 + d)), "degC" for the temperature
+INPUT_UNITS = {"spin": "rad/s", "tilt": "rad", "tilt_azimuth": "rad", "offset": "m", "velocity": "m/s",
+               "mass": "1", "strength": "1", "temperature": "degC"}
 Z95 = 1.959963984540054          # the 97.5 % point of the standard normal
 MAX_N = 10**6
 BINS = 5

@@ -20,7 +20,7 @@ import math
 from dataclasses import dataclass
 
 G_SI = (9.0, 10.5)     # m/s^2: the range of g that marks a scene as SI
-SI_SYMBOLS = frozenset({"m", "cm", "mm", "um", "kg", "g", "s", "ms", "N", "N/m", "J", "J m", "A",
+SI_SYMBOLS = frozenset({"m", "cm", "mm", "um", "kg", "g", "s", "ms", "m/s", "N", "N/m", "J", "J m", "A",
                         "A m^2", "kg m^2", "m/s^2", "T", "mT", "Hz", "rpm", "rad/s"})
 
 
@@ -196,7 +196,7 @@ def restate(text, units: Units) -> str:
     return text
 
 
-_SI_UNITS = r"A m\^2|kg m\^2|m/s\^2|J m|N/m|rad/s|mT|T|Hz|rpm|N|s|A"
+_SI_UNITS = r"A m\^2|kg m\^2|m/s\^2|m/s|J m|N/m|rad/s|mT|T|Hz|rpm|N|s|A"
 
 
 def lines(*items) -> str:

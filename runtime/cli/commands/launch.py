@@ -60,6 +60,22 @@ def run(args) -> dict:
     return out
 
 
+def launch_input(name: str, spec: str, u: Units) -> str:
+    """One input's distribution (the JSON's spec, SI) in the scene's units: "spin 1122 rad/s, sd
+    112.2 rad/s (normal)", "tilt 0-0.02 rad (uniform)", "mass +0 %, sd 0.2 % (normal)", "temperature
+    20 degC"; a dimensionless scene's lengths and speeds bare."""
+    si_unit = mc.INPUT_UNITS[name]
+    show = {"m": u.length, "1": lambda v: f"{sig(100 * v, 3)} %",
+            "degC": lambda v: f"{sig(v)} degC"}.get(si_unit, lambda v: u.value(v, si_unit))
+    d = mc.parse_dist(name, spec)
+    if d.kind == "normal":
+        mean = show(d.a) if si_unit != "1" else ("+" if d.a >= 0 else "") + show(d.a)
+        return f"{name} {mean}, sd {show(d.b)} (normal)"
+    if d.kind == "uniform":
+        return f"{name} {show(d.a)} to {show(d.b)} (uniform)"
+    return f"{name} {show(d.a)}"
+
+
 def human(r: dict, scene=None) -> str:
     """Answer first: the odds with their interval; the flight times; what matters most."""
     u = Units.of_scene(scene) if scene is not None else Units(si=True)
@@ -78,7 +94,7 @@ def human(r: dict, scene=None) -> str:
         f" (runs of {u.time(r['t_end'])}{cens})",
         f"matters most: {'; '.join(rank)}" if rank else "no input has a spread",
         f"outcomes: {outcomes}",
-        "launches: " + ", ".join(f"{k} {v}" for k, v in r["inputs"].items()),
+        "launches: " + ", ".join(launch_input(k, v, u) for k, v in r["inputs"].items()),
         f"seed {r['seed']}, {r['integrator']} at tol {sig(r['tol'], 2)}",
         u.note,
         f"histogram: {r['out']}" if r.get("out") else "")
