@@ -13,7 +13,8 @@ generated right-hand side, with no Python call per step:
 - ``dop853-fixed`` the 8th-order DOP853 formula at a fixed step (used by the order tests)
 - ``vern9``        Verner's 9(8) pair, adaptive like dop853, dense output, box event
 - ``taylor``       Taylor's method over the part's generated coefficients (derive/emit/taylor.py;
-                   the reduced model): order ceil(-ln(tol)/2 + 1), Jorba & Zou's step, no
+                   the reduced model): order ceil(-ln(tol)/2 + 1), the step that holds the first
+                   omitted term to 0.1 tol w_k (integrators.c taylor_step), no
                    rejected steps, dense output from the step's polynomial, box event
 - ``auto``         dop853 or vern9, whichever the bench measured cheapest at the requested tol
                    (runtime.integrate.methods.resolve); the Result names the method that ran
