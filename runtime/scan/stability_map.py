@@ -61,6 +61,7 @@ from levitron.runtime.integrate.methods import DEFAULT, default_step, refuse_on_
 from levitron.runtime.scan.grid import AXES, MAX_POINTS, UNITS, check_axis
 from levitron.runtime.scan.physics import linear_interval, reference_spin, slow_period
 from levitron.runtime.scan.points import N_OUT
+from levitron.runtime.simulate.start import PERIODS   # default run length in slow periods (docstring)
 from levitron.runtime.scan.runners import (
     Common,
     dask_client,
@@ -74,7 +75,6 @@ from levitron.runtime.scan.runners import (
 )
 from levitron.runtime.ui.validate import axis_values, count, real
 
-PERIODS = 3            # default run length in slow periods (see the module docstring)
 BASE_TILT = 0.01       # rad, the seed tilt of mass and height scans
 CHUNKS_PER_WORKER = 8  # chunks per worker (process or dask thread): the last ones balance the load
 ENGINES = ("c", "python")
