@@ -56,6 +56,7 @@ from levitron.runtime.design.constraints import Constraint
 from levitron.runtime.errors import UserError
 from levitron.runtime.physics.ray_algebra import RayCoefficients, ray_cubic
 from levitron.runtime.design.scene_keys import KeyMap, Vary, key_value
+from levitron.runtime.ui.human import Units
 
 OBJECTIVES = {"spin-range": ("sigma_hi - sigma_lo", "rad/s"),
               "spin-ratio": ("sigma_hi / sigma_lo", "1"),
@@ -205,18 +206,23 @@ class DesignResult:
     def message(self) -> str:
         """scipy-style: IPOPT's status, then every warning."""
         return "; ".join([f"{self.solver_status}: {self.objective} {self.value:.6g} "
-                          f"{OBJECTIVES[self.objective][1]}", *self.warnings])
+                          f"{self.objective_unit}", *self.warnings])
+
+    @property
+    def objective_unit(self) -> str:
+        """The objective's unit: rad/s, 1; rad/time in a dimensionless scene."""
+        return Units.of_scene(self.scene).named(OBJECTIVES[self.objective][1])
 
     def __repr__(self) -> str:
         keys = ", ".join(f"{k}={v:.6g}" for k, v in self.optimum.items())
-        return (f"DesignResult({self.objective}={self.value:.6g} {OBJECTIVES[self.objective][1]} at "
+        return (f"DesignResult({self.objective}={self.value:.6g} {self.objective_unit} at "
                 f"{keys}, success={self.success}, warnings={len(self.warnings)})")
 
     def as_dict(self) -> dict:
         return {"objective": self.value, "objective_name": self.objective,
                 "at_bound": self.at_bound, "warnings": self.warnings,
                 "success": self.success, "message": self.message,
-                "objective_unit": OBJECTIVES[self.objective][1],
+                "objective_unit": self.objective_unit,
                 "objective_formula": OBJECTIVES[self.objective][0],
                 "optimum": self.optimum, "start": self.start, "start_objective": self.start_value,
                 "scene_objective": self.scene_value,
