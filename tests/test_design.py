@@ -150,3 +150,41 @@ def test_an_answer_is_verified_or_a_one_line_failure():
         assert res.returncode == 2 and res.stdout == ""
         assert len(res.stderr.strip().splitlines()) == 1
         assert "IPOPT failed (status " in res.stderr
+
+
+CANCELLING = """name = "cancelling"
+g = 9.81
+
+[top]
+mass = 0.012
+A = 2.2e-8
+C = 1.32e-8
+moment = -0.001
+
+[plate]
+kind = "expression"
+# two disks' potentials whose radii differ by 2 parts in a million: 5-6 digits cancel
+phi0 = "-b*(z/sqrt(z**2 + c**2) - z/sqrt(z**2 + (c + d)**2))"
+
+[plate.params]
+b = 1.0e5
+c = 0.05
+d = 1.0e-7
+
+[model]
+needs = ["reduced"]
+"""
+
+
+def test_a_formula_too_noisy_for_newton_is_a_one_line_error(tmp_path, capsys):
+    """A formula that subtracts nearly equal terms leaves rounding errors (~3e-11) above the strict
+    Newton tolerance of the NLP's rootfinders (1e-12): IPOPT cannot start. That is a one-line error
+    naming the cause (before: an internal error from CasADi's rootfinder, its dump on stderr)."""
+    from levitron.runtime.cli import main as cli
+    path = tmp_path / "cancelling.toml"
+    path.write_text(CANCELLING)
+    argv = ["optimize", str(path), "--maximize", "spin-range", "--vary", "top.mass=0.011:0.013"]
+    assert cli.main(argv) == 2
+    err = [line for line in capsys.readouterr().err.splitlines() if not line.startswith("levitron: ")]
+    assert len(err) == 1 and "internal error" not in err[0], err
+    assert "rounding errors" in err[0] and "cancellation" in err[0], err

@@ -191,3 +191,17 @@ def test_a_top_too_heavy_to_hover_is_told_which_tops_would(tmp_path, capsys):
     assert "a top of mass in 50.35-52.49 g would hover inside the stable band 9.948-11.02 cm" in answer
     assert cli.main(["equilibrium", "thesis", "--set", "top.mass=0.06"]) == 0
     assert "a top of mass in 50.35-52.49 g would hover inside the stable band" in capsys.readouterr().out
+
+
+def test_a_scene_without_the_full_model_gets_its_page(tmp_path, capsys):
+    """A scene that derives only the vertical motion (model.needs = ["reduced"]) with a stable spin
+    interval gets its page, the map and the launch (they run the 12-D model) left out with the
+    reason; before, the command stopped at the map with an error and wrote no page."""
+    out = tmp_path / "r.html"
+    argv = ["report", "reduced_only", "--set", "top.mass=0.0515", "--out", str(out), "--json"]
+    assert cli.main(argv) == 0, capsys.readouterr().err
+    facts = json.loads(capsys.readouterr().out)
+    assert facts["spin_interval"] and facts["map"] is None and facts["launch"] is None
+    assert 'add "full" to model.needs' in facts["not_drawn"]
+    page = out.read_text()
+    assert "Spin interval" in page and 'add "full" to model.needs' in html.unescape(page)

@@ -257,3 +257,19 @@ def test_cli_refuses_unbounded_work_in_one_line(capsys, args, words):
     rc = main(["simulate", "thesis", "--spin", "200", "--tilt", "0.01", *args])
     err = capsys.readouterr().err
     assert rc == 2 and words in err and len(err.strip().splitlines()) == 1
+
+
+def test_the_default_run_length_scales_with_the_scene_and_sees_the_fall():
+    """Without --t-end a run lasts the scan's default, 3 slow periods of the top at its hover
+    height (thesis 3.3.3/3.3.5), not a fixed time unit: before, 1 s called a top spun above the
+    linear interval (3500 > 2740 rad/s, its tilt grown 30-fold) levitating, and in a dimensionless
+    scene (one time unit is a fraction of a bounce) so was a top spun at half sigma_lo."""
+    from levitron.runtime.scan.stability_map import scan
+    thesis_stable_model = load_model(load_scene("thesis_stable"))
+    over = simulate(thesis_stable_model, 3500.0)
+    assert over["levitating"] is False and over["t_end"] > 5.0
+    inside = simulate(thesis_stable_model, 1000.0)
+    assert inside["levitating"] is True
+    scan_t_end = scan(thesis_stable_model, "thesis_stable", [], np.array([1000.0]), "tilt", np.array([0.01]),
+                      quiet=True).t_end
+    assert inside["t_end"] == pytest.approx(scan_t_end, rel=1e-12)

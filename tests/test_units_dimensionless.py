@@ -136,3 +136,20 @@ def test_no_si_unit_in_a_dimensionless_scenes_error_line(scene, capsys):
     assert "too heavy" in err and si_units(err) == [], err
     assert cli.main(["simulate", "thesis_stable", "--set", "top.mass=0.06", "--spin", "40"]) == 2
     assert si_units(capsys.readouterr().err)
+
+
+def test_no_si_unit_in_design_and_scan_results(scene):
+    """The design and scan results (repr, message) and the units their JSON names are the scene's:
+    before, a dimensionless scene's optimum read "spin-range 25.3 rad/s" and its map "t_end 20 s
+    each", with "objective_unit": "rad/s" and "units": {"spin": "rad/s"} in the JSON. An SI scene's
+    keep theirs (the check can fail)."""
+    import levitron as lev
+    study = lev.load(scene)
+    design = study.optimize("spin-range", {"top.mass": (0.98, 1.01)})
+    scan = study.scan([40.0, 60.0], "tilt", [0.01], t_end=5.0)
+    texts = [repr(design), design.message, repr(scan), scan.message]
+    assert all(si_units(t) == [] for t in texts), [(t, si_units(t)) for t in texts if si_units(t)]
+    assert design.as_dict()["objective_unit"] == "rad/time"
+    assert scan.as_dict()["units"] == {"spin": "rad/time", "tilt": "rad"}
+    si = lev.load("thesis_stable").scan([1000.0], "tilt", [0.01], t_end=0.05)
+    assert si_units(si.message) == ["s"] and si.as_dict()["units"]["spin"] == "rad/s"

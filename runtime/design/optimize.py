@@ -36,6 +36,7 @@ a check is a UserError naming IPOPT's status or the check.
 from __future__ import annotations
 
 import contextlib
+import io
 import itertools
 import math
 import os
@@ -55,6 +56,7 @@ from levitron.runtime.design.constraints import Constraint
 from levitron.runtime.errors import UserError
 from levitron.runtime.physics.ray_algebra import RayCoefficients, ray_cubic
 from levitron.runtime.design.scene_keys import KeyMap, Vary, key_value
+from levitron.runtime.ui.human import Units
 
 OBJECTIVES = {"spin-range": ("sigma_hi - sigma_lo", "rad/s"),
               "spin-ratio": ("sigma_hi / sigma_lo", "1"),
@@ -204,18 +206,23 @@ class DesignResult:
     def message(self) -> str:
         """scipy-style: IPOPT's status, then every warning."""
         return "; ".join([f"{self.solver_status}: {self.objective} {self.value:.6g} "
-                          f"{OBJECTIVES[self.objective][1]}", *self.warnings])
+                          f"{self.objective_unit}", *self.warnings])
+
+    @property
+    def objective_unit(self) -> str:
+        """The objective's unit: rad/s, 1; rad/time in a dimensionless scene."""
+        return Units.of_scene(self.scene).named(OBJECTIVES[self.objective][1])
 
     def __repr__(self) -> str:
         keys = ", ".join(f"{k}={v:.6g}" for k, v in self.optimum.items())
-        return (f"DesignResult({self.objective}={self.value:.6g} {OBJECTIVES[self.objective][1]} at "
+        return (f"DesignResult({self.objective}={self.value:.6g} {self.objective_unit} at "
                 f"{keys}, success={self.success}, warnings={len(self.warnings)})")
 
     def as_dict(self) -> dict:
         return {"objective": self.value, "objective_name": self.objective,
                 "at_bound": self.at_bound, "warnings": self.warnings,
                 "success": self.success, "message": self.message,
-                "objective_unit": OBJECTIVES[self.objective][1],
+                "objective_unit": self.objective_unit,
                 "objective_formula": OBJECTIVES[self.objective][0],
                 "optimum": self.optimum, "start": self.start, "start_objective": self.start_value,
                 "scene_objective": self.scene_value,
@@ -230,13 +237,15 @@ class DesignResult:
 def _quiet_stderr():
     """Silence file descriptor 2 for the solve: CasADi prints every failed Newton evaluation (an
     evaluation error IPOPT recovers from) there, and stderr carries one line per error
-    (docs/contract.md); IPOPT's outcome is reported through its status instead."""
+    (docs/contract.md); IPOPT's outcome is reported through its status instead. CasADi's Python
+    module writes through sys.stderr, which a notebook or a test replaces: that is silenced too."""
     sys.stderr.flush()
     saved = os.dup(2)
     devnull = os.open(os.devnull, os.O_WRONLY)
     try:
         os.dup2(devnull, 2)
-        yield
+        with contextlib.redirect_stderr(io.StringIO()):
+            yield
     finally:
         os.dup2(saved, 2)
         os.close(saved)
@@ -273,8 +282,24 @@ class _Nlp:
             ubg.append(ca.inf)
         f = -objective_of(objective, slo, shi) / objective_of(objective, *start.interval)
         self.solver = ca.nlpsol("design", "ipopt", {"x": u, "f": f, "g": ca.vertcat(*rows)}, IPOPT)
-        self.answer = ca.Function("answer", [u], [z, slo, shi])
+        # the answer, checked against the float routes afterwards, by the lenient Newton: a root whose
+        # residual stalls just above the strict tolerance (rounding in a scene's formula) is reported
+        # and verified rather than raised as an evaluation error
+        self.answer = ca.Function("answer", [u], [*sc.spin_function(sy)(start.z_s, *start.interval, p)])
         self.lbg, self.ubg, self.lo, self.span, self.n = lbg, ubg, lo, span, n
+        self.sy, self.keymap = sy, keymap
+
+    def failure_hint(self, start: Point) -> str:
+        """How to fix a failed solve: where Newton's strict tolerance lies below the rounding floor of
+        the scene's functions at the start (the float routes' roots), no bound or constraint helps."""
+        floor = sc.residual_at(self.sy, "spin", (start.z_s, *start.interval), self.keymap.exact(start.x)[1])
+        tol = sc.NEWTON_STRICT["abstol"]
+        if floor > tol:
+            return (f"the hover height and critical spins cannot be solved to Newton's tolerance "
+                    f"{tol:g} there: the scene's functions carry rounding errors of {floor:.1g} "
+                    "(relative), e.g. a formula that subtracts nearly equal terms; rewrite it without "
+                    "the cancellation")
+        return "change the bounds or constraints"
 
     def solve(self, start: Point, cell: float):
         """IPOPT from the start within the grid cells around it (cell: one grid step in u)."""
@@ -316,8 +341,12 @@ class _BandNlp(_Nlp):
                 ubg.append(ca.inf)
         f = -window / start.value
         self.solver = ca.nlpsol("design", "ipopt", {"x": u, "f": f, "g": ca.vertcat(*rows)}, IPOPT)
+        z_lo, z_hi, m_hi, m_lo, _ = sc.band_function(sy)(st.z_c, *st.band, p)    # lenient: as _Nlp's
         self.answer = ca.Function("answer", [u], [z_lo, z_hi, m_lo, m_hi])
         self.lbg, self.ubg, self.lo, self.span, self.n = lbg, ubg, lo, span, n
+
+    def failure_hint(self, start: Point) -> str:
+        return "change the bounds or constraints"
 
 
 def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequence[Constraint] = (),
@@ -346,7 +375,7 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
     status = str(stats.get("return_status"))
     if not stats.get("success"):
         raise UserError(f"IPOPT failed (status {status}, {stats.get('iter_count')} iterations) from "
-                        f"{keymap.describe(start.x)}: change the bounds or constraints")
+                        f"{keymap.describe(start.x)}: {nlp.failure_hint(start)}")
     keys = [v.key for v in varies]
     check = evaluate(model, keymap, x, objective, constraints, near=ans[:2] if band else ans[1:])
     if check.value is None:

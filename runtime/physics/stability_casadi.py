@@ -210,6 +210,14 @@ RESIDUALS = {"z_s": lambda sy, v: [sy.hover(v[0])],
              "spin": lambda sy, v: [sy.hover(v[0]), sy.q(1 / v[1] ** 2, v[0]),
                                     sy.q(1 / v[2] ** 2, v[0])]}
 
+def residual_at(sy: Symbols, name: str, roots, p) -> float:
+    """The largest normalised residual of rootfinder `name` (RESIDUALS) at the given roots and
+    parameters p: the floor Newton cannot go below there (rounding in the scene's functions)."""
+    v = ca.SX.sym("v", len(roots))
+    f = ca.Function("residual", [v, sy.p], [ca.mmax(ca.fabs(ca.vertcat(*RESIDUALS[name](sy, v))))])
+    return float(f(ca.DM(list(roots)), p))
+
+
 FUNCTIONS = {"z_s": z_s_function, "z_c": z_c_function, "spin": spin_function,
              "band": band_function}
 

@@ -106,9 +106,14 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
         parts.append("<h2>Spin interval (linear stability, thesis 3.3)</h2>")
         parts.append(_p(f"spin interval: {u.rate_span(*iv)} at z_s = {u.length(facts['z_s'])}" if iv
                         else f"no stable spin interval: {restate(res.reason, u)}"))
-        if iv:
+        full = "full" in model.parts      # the map and the launch run the 12-D model
+        if iv and not full:
+            facts["map"] = facts["launch"] = None
+            facts["not_drawn"] = ('no stability map and no launch: they run the full model, which '
+                                  'this scene does not derive; add "full" to model.needs in the scene')
+            parts.append(_p(facts["not_drawn"] + ".", "note"))
+        if iv and full:
             stage(2)
-        if iv:
             spin = math.sqrt(iv[0] * iv[1])
             T = slow_period(model, P["m"], facts["z_s"], spin)
             spins = spins_around(iv, MAP_SPINS)

@@ -9,9 +9,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from levitron.runtime.physics.eigen_route import transverse_matrix
-from levitron.runtime.errors import UserError
 from levitron.runtime.physics.stability import stability_of
+from levitron.runtime.simulate.start import slow_period  # noqa: F401 (the map's default run length)
 
 
 def linear_interval(model, mass: float | None = None) -> dict:
@@ -23,27 +22,6 @@ def linear_interval(model, mass: float | None = None) -> dict:
     iv = res.spin_interval
     return {"mass": m, "z_s": res.z_s, "spin_interval": None if iv is None else [float(iv[0]), float(iv[1])],
             "reason": res.reason}
-
-
-def slow_period(model, mass: float, z_s: float, spin: float) -> float:
-    """The longest period of the motion near the relative equilibrium at this spin: the slowest
-    transverse mode of the 8-D linearisation after thesis 3.3.5, or the vertical bounce
-    2 pi sqrt(m / (mu Phi_3(z_s))) (thesis 3.3.3), whichever is slower."""
-    P = model.pvals()
-    ph = np.asarray(model.onaxis(z_s), float)
-    periods = []
-    k = P["mu"] * ph[3]
-    if k > 0:
-        periods.append(2 * math.pi * math.sqrt(mass / k))
-    J = transverse_matrix(ph[1], ph[2], ph[3], mass, P["A"], P["C"], P["mu"], spin)
-    lam = np.linalg.eigvals(J)
-    im = np.abs(lam.imag)
-    im = im[im > 1e-9 * max(1.0, float(np.abs(lam).max()))]
-    if im.size:
-        periods.append(2 * math.pi / float(im.min()))
-    if not periods:
-        raise UserError("no oscillation at the hover height to set a run length from; pass --t-end T")
-    return max(periods)
 
 
 def reference_spin(interval: Sequence[float] | None, spins: np.ndarray) -> float:

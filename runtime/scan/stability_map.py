@@ -61,6 +61,7 @@ from levitron.runtime.integrate.methods import DEFAULT, default_step, refuse_on_
 from levitron.runtime.scan.grid import AXES, MAX_POINTS, UNITS, check_axis
 from levitron.runtime.scan.physics import linear_interval, reference_spin, slow_period
 from levitron.runtime.scan.points import N_OUT
+from levitron.runtime.simulate.start import PERIODS   # default run length in slow periods (docstring)
 from levitron.runtime.scan.runners import (
     Common,
     dask_client,
@@ -72,9 +73,9 @@ from levitron.runtime.scan.runners import (
     split,
     usable_cores,
 )
+from levitron.runtime.ui.human import Units
 from levitron.runtime.ui.validate import axis_values, count, real
 
-PERIODS = 3            # default run length in slow periods (see the module docstring)
 BASE_TILT = 0.01       # rad, the seed tilt of mass and height scans
 CHUNKS_PER_WORKER = 8  # chunks per worker (process or dask thread): the last ones balance the load
 ENGINES = ("c", "python")
@@ -96,6 +97,7 @@ class ScanResult:
     rhs_evals: int
     cpu_s: float
     extra: dict = field(default_factory=dict)
+    units: Units = field(default_factory=lambda: Units(si=True))    # the scene's: its message's units
 
     @property
     def success(self) -> bool:
@@ -108,13 +110,13 @@ class ScanResult:
         bad = sorted({st for row in self.status for st in row} -
                      {"completed", "left_box", "no_hover_height", ""})
         return (f"levitating at {100 * float(self.levitating.mean()):.3g}% of {self.levitating.size} "
-                f"points (spin x {self.axis}, t_end {self.t_end:.4g} s each)"
+                f"points (spin x {self.axis}, t_end {self.t_end:.4g} {self.units.named('s')} each)"
                 + (f"; runs ended by {', '.join(bad)}" if bad else ""))
 
     def __repr__(self) -> str:
         return (f"ScanResult(spin {self.spins.size} x {self.axis} {self.others.size}, levitating "
-                f"{int(self.levitating.sum())} of {self.levitating.size}, t_end={self.t_end:.4g} s, "
-                f"success={self.success})")
+                f"{int(self.levitating.sum())} of {self.levitating.size}, "
+                f"t_end={self.t_end:.4g} {self.units.named('s')}, success={self.success})")
 
     def agreement(self) -> float | None:
         """Fraction of grid points where 'levitating' equals 'spin inside the linear interval'."""
@@ -134,7 +136,7 @@ class ScanResult:
         return {
             "axes": ["spin", self.axis],
             "grid": {"spin": self.spins.tolist(), self.axis: self.others.tolist()},
-            "units": {"spin": UNITS["spin"], self.axis: UNITS[self.axis]},
+            "units": {"spin": self.units.named(UNITS["spin"]), self.axis: self.units.named(UNITS[self.axis])},
             "spin_hz": (self.spins / (2 * math.pi)).tolist(),
             "levitating": self.levitating.tolist(),
             "t_survived": self.t_survived.tolist(),
@@ -217,7 +219,8 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
                       extra={"scene_linear": scene_lin,
                              "public": {"integrator": integrator, "integrator_requested": requested,
                                         "tol": tol,
-                                        "base_tilt": base_tilt if axis != "tilt" else None}})
+                                        "base_tilt": base_tilt if axis != "tilt" else None}},
+                      units=Units.of_scene(model.scene))
 
 
 def _checked(axis: str, spins, others, workers, scheduler, t_end, engine: str, base_tilt):

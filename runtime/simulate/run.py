@@ -55,18 +55,25 @@ from levitron.runtime.simulate.rotations import (  # noqa: F401
     ANGLES, DEFAULT_AZIMUTH, SPIN_ANGLE, TILT_ANGLE, angle_generator_z, coordinates_of, rotation_bs,
     rotation_bs_derivatives, tilt_angles)
 from levitron.runtime.simulate.start import (  # noqa: F401
-    DEFAULT_TILT, UNTESTED, Launch, coordinate_names, default_box, fastest_period,
-    initial_state, launch, launch_state, launch_states, legendre_map, on_invariant_set, state_scales,
-    time_scale, vertical_stiffness)
+    DEFAULT_TILT, PERIODS, UNTESTED, Launch, coordinate_names, default_box, fastest_period,
+    initial_state, launch, launch_state, launch_states, legendre_map, on_invariant_set, slow_period,
+    state_scales, time_scale, vertical_stiffness)
 
 FRICTION_T_END_TAUS = 5.0        # default run length with friction: 5 tau, the spin falls by e^5
 
 
 def default_t_end(model, part: str, p) -> float:
-    """1 time unit, or FRICTION_T_END_TAUS spin decay times for a full model in air."""
-    if part == "full" and flight.has_friction(model) and model.pvals(p)["k_spin"] > 0:
-        return FRICTION_T_END_TAUS / model.pvals(p)["k_spin"]
-    return 1.0
+    """FRICTION_T_END_TAUS spin decay times for a full model in air; else PERIODS slow periods of
+    the top at its hover height (slow_period, thesis 3.3.3/3.3.5; the scan's default run length),
+    at the geometric mean of its linear spin interval (the bounce alone where it has none, or for
+    the reduced model). Never a fixed time: one time unit is half a bounce of a large plate's top
+    and many of a small one's, and a short run calls a falling top levitating."""
+    pv = model.pvals(p)
+    if part == "full" and flight.has_friction(model) and pv["k_spin"] > 0:
+        return FRICTION_T_END_TAUS / pv["k_spin"]
+    z_s = hover_height(model, p)
+    iv = stability_of(model, p=p, z_s=z_s, eigen=False).spin_interval if part == "full" else None
+    return PERIODS * slow_period(model, pv["m"], z_s, None if iv is None else math.sqrt(iv[0] * iv[1]), p)
 
 
 def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,

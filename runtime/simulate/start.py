@@ -12,6 +12,7 @@ import numpy as np
 
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.run import Box
+from levitron.runtime.physics.eigen_route import transverse_matrix
 from levitron.runtime.simulate.rotations import (ANGLES, DEFAULT_AZIMUTH, SPIN_ANGLE, coordinates_of,
                                         rotation_bs, rotation_bs_derivatives, tilt_angles)
 
@@ -176,6 +177,32 @@ def fastest_period(spin: float, pvals: dict, stiffness: float) -> tuple[float, s
         raise UserError("the top has no spin and no vertical stiffness at its hover height: no time "
                         "scale to integrate over")
     return min(periods)
+
+
+PERIODS = 3      # the default run length in slow periods (simulate, scan, launch)
+
+
+def slow_period(model, mass: float, z_s: float, spin: float | None, p=None) -> float:
+    """The longest period of the motion near the relative equilibrium at this spin: the slowest
+    transverse mode of the 8-D linearisation after thesis 3.3.5, or the vertical bounce
+    2 pi sqrt(m / (mu Phi_3(z_s))) (thesis 3.3.3), whichever is slower (spin None: the bounce only).
+    p: the parameter vector (default the scene's). In the scene's units of time."""
+    P = model.pvals(p)
+    ph = np.asarray(model.onaxis(z_s, p), float)
+    periods = []
+    k = P["mu"] * ph[3]
+    if k > 0:
+        periods.append(2 * math.pi * math.sqrt(mass / k))
+    if spin is not None:
+        J = transverse_matrix(ph[1], ph[2], ph[3], mass, P["A"], P["C"], P["mu"], spin)
+        lam = np.linalg.eigvals(J)
+        im = np.abs(lam.imag)
+        im = im[im > 1e-9 * max(1.0, float(np.abs(lam).max()))]
+        if im.size:
+            periods.append(2 * math.pi / float(im.min()))
+    if not periods:
+        raise UserError("no oscillation at the hover height to set a run length from; pass --t-end T")
+    return max(periods)
 
 
 def vertical_stiffness(model, p, z_s: float, pvals: dict) -> float:

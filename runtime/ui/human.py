@@ -100,6 +100,14 @@ class Units:
             return si_unit
         return {"rad/s": "rad/time", "s": "time units"}.get(si_unit, "")
 
+    def named(self, si_unit: str) -> str:
+        """The unit a JSON field or a result's message names: `si_unit` itself in an SI scene; in a
+        dimensionless scene the scene's ("rad/time", "time units", "scene units"; angles and "1"
+        as they are)."""
+        if self.si or si_unit in ("1", ""):
+            return si_unit
+        return self.unit(si_unit) or "scene units"
+
     def value(self, v, si_unit: str, digits: int = 4) -> str:
         """A number with its shown unit (unit)."""
         return f"{sig(v, digits)} {self.unit(si_unit)}".rstrip()

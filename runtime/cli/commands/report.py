@@ -59,4 +59,4 @@ def human(r: dict, scene=None) -> str:
     iv = r.get("spin_interval")
     return lines(f"report: {r['out']} ({sig(r['bytes'] / 1024, 3)} kB, one self-contained page)",
                  f"spin interval {u.rate_span(*iv)} at z_s = {u.length(r['z_s'])}" if iv
-                 else "no stable spin interval", u.note)
+                 else "no stable spin interval", r.get("not_drawn"), u.note)

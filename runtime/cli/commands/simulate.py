@@ -24,7 +24,8 @@ def add_arguments(parser) -> None:
                         help="direction of the tilt, rad from +x towards +y (default pi/2: towards +y)")
     parser.add_argument("--offset", type=float, default=0.0, metavar="DX", help="initial offset in x, m")
     parser.add_argument("--t-end", type=float, default=None, metavar="T",
-                        help="run length, s (default 1; in air 5 spin decay times: the run ends when "
+                        help="run length, s (default: 3 periods of the slowest motion at the hover "
+                        "height, as `levitron scan`'s; in air 5 spin decay times: the run ends when "
                         "the top falls)")
     parser.add_argument("--integrator", default=DEFAULT, metavar="NAME",
                         help=f"one of: {', '.join(FULL_MODEL_METHODS)} (default {DEFAULT})")
