@@ -238,3 +238,12 @@ def test_startup_bench_times_commands_in_fresh_processes(tmp_path, monkeypatch):
     assert data["rows"][0]["command"] == "--version" and len(data["load_average_1_5_15"]["before"]) == 3
     assert (tmp_path / "startup.csv").read_text().startswith("command,min_s,")
     assert (tmp_path / "startup.png").stat().st_size > 1000
+
+
+def test_max_per_tenth_of_a_short_run():
+    """The long run's per-tenth energy errors when the run ended early with fewer than ten samples
+    (an expression plate's top that left its box): one part per sample, none for none."""
+    from levitron.runtime.bench.work_precision import max_per_tenth
+    assert max_per_tenth([1e-9, -3e-9, 2e-9]) == [1e-9, 3e-9, 2e-9]
+    assert max_per_tenth([]) == []
+    assert max_per_tenth([0.0] * 19 + [-5.0]) == [0.0] * 9 + [5.0]
