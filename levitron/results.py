@@ -7,7 +7,8 @@ rad/time and time units; `units`, set by Study), and scipy-style `success` (bool
 sentence): for Equilibria, whether the top has a vertically stable hover height; for Stability,
 whether a spin rate stabilises it (a stable spin interval exists); for Simulation, whether the run
 ended normally (reached t_end or left the box, like solve_ivp's terminal event) rather than by a
-solver failure or its step budget; `levitating` says whether the top stayed up.
+solver failure or its step budget; `levitating` says whether the top stayed up; for LaunchOdds,
+whether every sample has its verdict (a run that ended normally, or a top that cannot hover).
 """
 from __future__ import annotations
 
@@ -170,7 +171,7 @@ class Simulation:
                 f"{_q(u, self.details.get('t_end', float('nan')), 's')}, energy_drift={self.energy_drift:.2g}, "
                 f"status={self.status!r}, success={self.success})")
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class LaunchOdds:
     """Launch odds by Monte Carlo (runtime/scan/launch_odds.py, docs/contract.md `launch`): probability of
     floating at least success_time (s), its 95 % Wilson interval, flight-time median and quartiles
@@ -184,6 +185,40 @@ class LaunchOdds:
     ranking: list
     details: dict = field(repr=False, default_factory=dict)
     units: Units = field(default=_SI, repr=False, compare=False)   # how repr and message show numbers
+
+    # a sample's verdict: its run ended normally, or it cannot hover (a launch that fails, no solver's)
+    VERDICTS = NORMAL_ENDS + ("cannot_hover",)
+
+    def _failed(self) -> dict:
+        return {k: v for k, v in self.details.get("outcomes", {}).items() if k not in self.VERDICTS}
+
+    @property
+    def success(self) -> bool:
+        """Every sample has its verdict: its run ended normally (reached t_end, or the top left the
+        box), or its top cannot hover; not a solver failure or a step budget."""
+        return not self._failed()
+
+    @property
+    def message(self) -> str:
+        lo, hi = self.probability_ci95
+        text = (f"{sig(100 * self.probability, 3)}% of {self.n} launches float at least "
+                f"{_q(self.units, self.success_time, 's', '.4g')} (95% Wilson interval "
+                f"{sig(100 * lo, 3)}-{sig(100 * hi, 3)}%)")
+        failed = self._failed()
+        if failed:
+            text += (f"; {sum(failed.values())} runs did not end normally "
+                     f"({', '.join(f'{k} {v}' for k, v in sorted(failed.items()))})")
+        return text
+
+    def __repr__(self) -> str:
+        lo, hi = self.probability_ci95
+        ft = self.flight_time
+        top = f", most: {self.ranking[0][0]}" if self.ranking else ""
+        u = self.units
+        return (f"LaunchOdds(probability={self.probability:.3g} [{lo:.3g}, {hi:.3g}], n={self.n}, "
+                f"success_time={_q(u, self.success_time, 's', '.4g')}, flight_time median "
+                f"{_q(u, ft['median'], 's', '.4g')} (quartiles {ft['q1']:.4g}-{_q(u, ft['q3'], 's', '.4g')})"
+                f"{top}, success={self.success})")
 
 
 @dataclass(frozen=True, repr=False)

@@ -121,11 +121,14 @@ def test_no_si_unit_in_the_apis_results(scene):
     assert "too heavy" in str(too_heavy.value) and si_units(str(too_heavy.value)) == []
     study = lev.load(scene)
     results = [study.equilibria(), *study.equilibria().equilibria, study.stability(),
-               study.simulate(40.0, t_end=5.0), study.simulate_many([30.0, 40.0], t_end=5.0)]
+               study.simulate(40.0, t_end=5.0), study.simulate_many([30.0, 40.0], t_end=5.0),
+               study.launch(n=6, t_end=5.0)]
     texts = [t for r in results for t in (repr(r), r.message if hasattr(r, "message") else "")]
     assert all(si_units(t) == [] for t in texts), [(t, si_units(t)) for t in texts if si_units(t)]
     si = lev.load("thesis_stable")
     assert si_units(repr(si.stability())) and si_units(repr(si.equilibria()))
+    odds = lev.load("thesis_air").launch(n=6, t_end=2.0)
+    assert si_units(repr(odds)) and si_units(odds.message)
 
 
 def test_no_si_unit_in_a_dimensionless_scenes_error_line(scene, capsys):
