@@ -121,3 +121,15 @@ def test_launch_inputs_in_the_scene_units():
     assert launch_input("velocity", "normal:0,0.0102198", dl) == "velocity 0, sd 0.01022 (normal)"
     assert launch_input("offset", "uniform:-0.01,0.01", dl) == "offset -0.01 to 0.01 (uniform)"
     assert launch_input("spin", "normal:60,6", dl) == "spin 60 rad/time, sd 6 rad/time (normal)"
+
+
+def test_a_range_of_lengths_in_one_unit():
+    """A height range takes the unit of its larger end, as a single height does: a millimetre top's
+    band reads '1-1.319 mm' beside its '1.242 mm' hover height, not '0.1-0.1319 cm'."""
+    from levitron.runtime.ui.human import Units, restate
+    si = Units(si=True)
+    assert si.length_span(0.0994827, 0.110185) == "9.948-11.02 cm"
+    assert si.length_span(0.001, 0.0013186) == "1-1.319 mm"
+    assert si.length_span(0.35, 1.2) == "0.35-1.2 m"
+    assert Units(si=False).length_span(0.001, 0.0013186) == "0.001-0.001319"
+    assert restate("outside the band [0.001, 0.0013186] m", si) == "outside the band 1-1.319 mm"

@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 
 from levitron.runtime.cli import main as cli
-from levitron.runtime.ui.human import Units, span
+from levitron.runtime.ui.human import Units
 
 
 class Page(HTMLParser):
@@ -100,7 +100,7 @@ def test_page_shows_the_numbers(report):
     assert u.length(facts["z_s"]) in text
     for e in facts["equilibria"]:
         assert u.length(e["z"]) in text
-    assert span(*facts["stable_band"]["z"], u.cm) in text
+    assert u.length_span(*facts["stable_band"]["z"]) in text
     assert 0 < facts["map"]["fraction_levitating"] < 1
     assert facts["launch"]["levitating"] is True
 

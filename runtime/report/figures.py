@@ -76,7 +76,7 @@ def _panel_3_5(ax, model, p, rep, z, m, g, mu, u, kz, kf, legend: bool) -> None:
     force = np.array([-mu * on(float(zz))[2] for zz in z])
     for b in rep.stable_bands:
         band(ax, b.z[0] * kz, b.z[1] * kz,
-             f"stable band {span(b.z[0], b.z[1], u.cm)} ({span(b.mass[0], b.mass[1], u.mass)})"
+             f"stable band {u.length_span(b.z[0], b.z[1])} ({span(b.mass[0], b.mass[1], u.mass)})"
              if legend else None)
     ax.plot(z * kz, force * kf, "r-", label=r"magnetic lift $-\mu\Phi_2(z)$" if legend else None)
     ax.axhline(m * g * kf, color="b", label=f"weight m g (m = {u.mass(m)})" if legend else None)

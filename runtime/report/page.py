@@ -99,7 +99,7 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
                           for e in rep.equilibria) or "none"
         parts.append(_table([
             ("equilibria (thesis 3.3.2)", roots),
-            ("stable band", f"z {span(*band.z, u.cm)}, mass {span(*band.mass, u.mass)}" if band else "none"),
+            ("stable band", f"z {u.length_span(*band.z)}, mass {span(*band.mass, u.mass)}" if band else "none"),
             ("heaviest top that hovers", u.mass(rep.max_mass) if rep.max_mass else "n/a")]))
         parts.append(_png(figure_3_5(model, tmp / "equilibrium.png")))
         stage(1)

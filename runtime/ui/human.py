@@ -127,24 +127,33 @@ class Units:
     def note(self) -> str:
         return "" if self.si else "(dimensionless scene: numbers in the scene's own units)"
 
+    @staticmethod
+    def _length_unit(v) -> tuple[float, str]:
+        """The factor and unit a length of size |v| is shown in (SI): m, cm, mm or um."""
+        if abs(v) >= 1 or v == 0:
+            return 1.0, "m"
+        if abs(v) >= 0.01:
+            return 100.0, "cm"
+        if abs(v) >= 1e-5:
+            return 1e3, "mm"
+        if abs(v) >= 1e-9:
+            return 1e6, "um"
+        return 1.0, "m"                      # below a nanometre: round-off scale, plain metres
+
     def length(self, v, digits: int = 4) -> str:
         if v is None:
             return "n/a"
         if not self.si:
             return sig(v, digits)
-        if abs(v) >= 1 or v == 0:
-            return f"{sig(v, digits)} m"
-        if abs(v) >= 0.01:
-            return f"{sig(v * 100, digits)} cm"
-        if abs(v) >= 1e-5:
-            return f"{sig(v * 1e3, digits)} mm"
-        if abs(v) >= 1e-9:
-            return f"{sig(v * 1e6, digits)} um"
-        return f"{sig(v, digits)} m"         # below a nanometre: round-off scale, plain metres
+        k, unit = self._length_unit(v)
+        return f"{sig(v * k, digits)} {unit}"
 
-    def cm(self, v, digits: int = 4) -> str:
-        """A length in cm always (a fixed unit for ranges and tables), scene units otherwise."""
-        return f"{sig(v * 100, digits)} cm" if self.si else sig(v, digits)
+    def length_span(self, lo, hi, digits: int = 4) -> str:
+        """A range of lengths in one unit, the larger end's: "9.948-11.02 cm", "1-1.319 mm"."""
+        if not self.si:
+            return f"{sig(lo, digits)}-{sig(hi, digits)}"
+        k, unit = self._length_unit(max(abs(lo), abs(hi)))
+        return f"{sig(lo * k, digits)}-{sig(hi * k, digits)} {unit}"
 
     def mass(self, v, digits: int = 4) -> str:
         if not self.si:
@@ -191,7 +200,7 @@ def restate(text, units: Units) -> str:
     if not text:
         return ""
     text = re.sub(rf"\[{_NUM}, {_NUM}\] m\b",
-                  lambda m: span(float(m.group(1)), float(m.group(2)), units.cm), str(text))
+                  lambda m: units.length_span(float(m.group(1)), float(m.group(2))), str(text))
     text = re.sub(rf"\[{_NUM}, {_NUM}\] kg\b",
                   lambda m: span(float(m.group(1)), float(m.group(2)), units.mass), text)
     text = re.sub(rf"{_NUM} m\b", lambda m: units.length(float(m.group(1))), text)

@@ -97,9 +97,9 @@ def human(r: dict, scene=None) -> str:
     band, adia = r["stable_band"], r["adiabatic_band"]
     band_line = "stable_band: none (no height where a spin can stabilise the top)"
     if band:
-        band_line = (f"stable_band: z {span(*band['z'], u.cm)}, mass {span(*band['mass'], u.mass)}")
+        band_line = (f"stable_band: z {u.length_span(*band['z'])}, mass {span(*band['mass'], u.mass)}")
         if adia:
-            band_line += f"   (Berry-Simon's adiabatic band: {span(*adia['z'], u.cm)})"
+            band_line += f"   (Berry-Simon's adiabatic band: {u.length_span(*adia['z'])})"
     poles = [f"{s['kind']} at {u.length(s['z'])}" + (f"-{u.length(s['z_end'])}" if s.get("z_end") not in
                                                         (None, s["z"]) else "")
              for s in r.get("singularities") or []]
