@@ -57,7 +57,7 @@ from levitron.runtime.simulate.rotations import (  # noqa: F401
 from levitron.runtime.simulate.start import (  # noqa: F401
     DEFAULT_TILT, PERIODS, UNTESTED, Launch, coordinate_names, default_box, fastest_period,
     initial_state, launch, launch_state, launch_states, legendre_map, on_invariant_set, slow_period,
-    state_scales, time_scale, vertical_stiffness)
+    state_scales, time_scale, untested_reason, vertical_stiffness)
 
 FRICTION_T_END_TAUS = 5.0        # default run length with friction: 5 tau, the spin falls by e^5
 
@@ -136,7 +136,7 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
     out["tilt_azimuth"] = azimuth
     out["tilt_default"] = tilt_default and coordinates_of(pt) is not None
     if on_invariant_set(pt, tilt, offset):
-        out["levitating"], out["untested"] = None, UNTESTED
+        out["levitating"], out["untested"] = None, untested_reason(pt)
     out["integrator_requested"] = requested
     if requested == AUTO:
         out["integrator_choice"] = auto_note(tol)
