@@ -133,3 +133,12 @@ def test_a_range_of_lengths_in_one_unit():
     assert si.length_span(0.35, 1.2) == "0.35-1.2 m"
     assert Units(si=False).length_span(0.001, 0.0013186) == "0.001-0.001319"
     assert restate("outside the band [0.001, 0.0013186] m", si) == "outside the band 1-1.319 mm"
+
+
+@pytest.mark.parametrize("scene, shown", [
+    ("thesis", "plate_a 10 cm, plate_w 3 cm, plate_rho 0.00262094 T m"),
+    ("square", "plate_thickness 2 cm, plate_magnetization 310352 A/m"),
+    ("loop", "plate_a 5 cm, plate_current 795.775 A"),
+])
+def test_info_shows_each_plate_parameter_with_its_unit(capsys, scene, shown):
+    assert shown in _out(capsys, "info", scene)

@@ -67,6 +67,24 @@ def test_the_other_branch_names_the_same_parameters(table):
     assert {s.name for s in build_plate(table).symbols} == resolved
 
 
+@pytest.mark.parametrize("table", [
+    *[_example(kind)["plate"] for kind in sorted(set(plates.KINDS) - {"expression"})],
+    {"kind": "ring_magnet", "r_out": 0.06, "r_in": 0.0, "thickness": 0.02, "remanence": 0.39},
+    {"kind": "rectangle", "side": 0.1, "murho": -0.002},
+])
+def test_every_resolved_parameter_has_its_unit(table):
+    """plates.param_units names the SI unit of every plate parameter the resolver gives (`info`
+    shows them), compound parts included; lengths are metres."""
+    data = _example("annulus")
+    data["plate"] = table
+    scene = validate(data)
+    resolved = {k for k in scene.params if k.startswith("plate_")}
+    units = plates.param_units(scene.data["plate"])
+    assert set(units) >= resolved, sorted(resolved - set(units))
+    assert all(units[k] == "m" for k in plates.length_names(scene.data["plate"]))
+    assert all(units[k] for k in resolved)
+
+
 def test_ring_r_in_zero_and_positive_have_different_input_hashes():
     """A solid and a hollow ring magnet share no cache key."""
     hollow = load_scene("ring_magnet")

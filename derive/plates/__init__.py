@@ -6,8 +6,8 @@ side runtime/physics/plates/<kind>.py (the exact field); tests/test_plate_regist
 registries have the same kinds. Adding a plate kind is one file on each side.
 
 Functions over a scene's [plate] table (validated by derive/scene.py), compound parts included:
-`resolve` (SI parameters), `decisions` (the structural decisions, for the input hash) and
-`length_scale` (the plate's characteristic length).
+`resolve` (SI parameters), `decisions` (the structural decisions, for the input hash),
+`length_scale` (the plate's characteristic length) and `param_units` (the parameters' SI units).
 """
 from __future__ import annotations
 
@@ -72,6 +72,17 @@ def length_names(table: dict, prefix: str = "plate_") -> list[str]:
     for i, part in enumerate(_parts(table)):
         names += length_names(part, f"{prefix}p{i}_")
     return names
+
+
+def param_units(table: dict, prefix: str = "plate_") -> dict[str, str]:
+    """The SI unit of each of the plate's Scene.params names that has one (lengths "m", the kind's
+    `units`), compound parts included; an expression plate's own parameters have none."""
+    kind = KINDS[table["kind"]]
+    out = {prefix + key: unit for key, unit in kind.units.items()}
+    out.update({name: "m" for name in length_names(table, prefix) if name.startswith(prefix)})
+    for i, part in enumerate(_parts(table)):
+        out.update(param_units(part, f"{prefix}p{i}_"))
+    return out
 
 
 def length_scale(table: dict, params: dict) -> float:

@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from ..checks import SceneError, number
-from .base import STRENGTH_KEYS, Context, Key, PlateKind, strength_rho
+from .base import Context, Key, PlateKind, STRENGTH_KEYS, STRENGTH_UNITS, strength_rho
 
 
 def resolve(table: dict, ctx: Context) -> dict:
@@ -24,5 +24,6 @@ KIND = PlateKind(
           *STRENGTH_KEYS),
     resolve=resolve,
     length_keys=("a", "w"),
+    units=STRENGTH_UNITS,
     example='kind = "annulus"\nradius = 0.10\nhole = 0.03\nmurho = -0.0026',
 )

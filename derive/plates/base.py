@@ -11,6 +11,7 @@ A kind is one module of derive/plates/ defining `KIND = PlateKind(...)`:
   the builder that branches on it (derive/plates/symbolic/<kind>.py calls the same `Decision.test`),
   so that the input hash (derive/inputs.py) covers it;
 - `length_keys`: the resolved parameters that are lengths (the plate's length scale);
+- `units`: the SI units of its other resolved parameters ("rho": "T m", ...), where they have one;
 - `example`: a TOML [plate] table that validates (tests/test_plate_registry.py checks it).
 """
 from __future__ import annotations
@@ -64,6 +65,7 @@ class PlateKind:
     example: str
     decisions: tuple[Decision, ...] = ()
     length_keys: tuple[str, ...] = ()
+    units: Mapping[str, str] = field(default_factory=dict)     # resolved name -> SI unit (not lengths)
     can_be_part: bool = True      # may be one of a compound plate's [[plate.parts]]
     has_parts: bool = False       # is a compound plate: its parts carry their own decisions, lengths
 
@@ -73,6 +75,10 @@ class PlateKind:
 
 
 # ---------------------------------------------------------------- shared resolvers
+
+# the SI units of the parameters the shared resolvers below give: a thin layer's strength, a
+# magnet's magnetisation
+STRENGTH_UNITS = {"rho": "T m", "magnetization": "A/m"}
 
 STRENGTH_KEYS = (
     Key("murho", "J m", "mu * rho of thesis eq. 2.2.11 (the thesis's parametrisation), the only product the "

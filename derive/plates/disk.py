@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from ..checks import number
-from .base import STRENGTH_KEYS, Context, Key, PlateKind, strength_rho
+from .base import Context, Key, PlateKind, STRENGTH_KEYS, STRENGTH_UNITS, strength_rho
 
 
 def resolve(table: dict, ctx: Context) -> dict:
@@ -15,5 +15,6 @@ KIND = PlateKind(
     keys=(Key("radius", "m", "radius a"), *STRENGTH_KEYS),
     resolve=resolve,
     length_keys=("a",),
+    units=STRENGTH_UNITS,
     example='kind = "disk"\nradius = 0.10\nmurho = -0.0026',
 )

@@ -25,5 +25,6 @@ KIND = PlateKind(
           Key("center_field", "T", "B at the centre instead of I (I = 2 a B / mu0)")),
     resolve=resolve,
     length_keys=("a",),
+    units={"current": "A"},
     example='kind = "loop"\nradius = 0.05\ncurrent = 1000.0',
 )

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from ..checks import SceneError, number
 from .base import (
+    STRENGTH_UNITS,
     MAGNETIZATION_KEYS,
     STRENGTH_KEYS,
     Context,
@@ -62,6 +63,7 @@ KIND = PlateKind(
     decisions=(Decision("block", "thickness > 0: a block magnet (parameters plate_thickness, "
                         "plate_magnetization) instead of a thin layer (plate_rho)", block),),
     length_keys=("side_x", "side_y", "thickness"),
+    units=STRENGTH_UNITS,
     can_be_part=False,
     example='kind = "rectangle"\nside = 0.10\nthickness = 0.02\nremanence = 0.39',
 )

@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from ..checks import SceneError, number
-from .base import MAGNETIZATION_KEYS, Context, Decision, Key, PlateKind, magnetization
+from .base import Context, Decision, Key, MAGNETIZATION_KEYS, PlateKind, STRENGTH_UNITS, magnetization
 
 
 def hollow(table: dict) -> bool:
@@ -35,5 +35,6 @@ KIND = PlateKind(
     decisions=(Decision("hollow", "r_in > 0: the inner cylinder's field is subtracted "
                         "(parameter plate_r_in)", hollow),),
     length_keys=("r_out", "r_in", "thickness"),
+    units=STRENGTH_UNITS,
     example='kind = "ring_magnet"\nr_out = 0.06\nr_in = 0.03\nthickness = 0.02\nremanence = 0.39',
 )

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 G_SI = (9.0, 10.5)     # m/s^2: the range of g that marks a scene as SI
 SI_SYMBOLS = frozenset({"m", "cm", "mm", "um", "kg", "g", "s", "ms", "m/s", "N", "N/m", "J", "J m", "A",
-                        "A m^2", "kg m^2", "m/s^2", "T", "mT", "Hz", "rpm", "rad/s"})
+                        "A m^2", "kg m^2", "m/s^2", "A/m", "T m", "T", "mT", "Hz", "rpm", "rad/s"})
 
 
 def sig(v, digits: int = 4) -> str:

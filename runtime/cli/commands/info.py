@@ -66,9 +66,13 @@ def _air(taus: dict | None, u: Units) -> str:
         f"{named[k]} {u.time(v) if v else 'none'}" for k, v in taus.items())
 
 
-def _param(name: str, v: float, u: Units, lengths=()) -> str:
-    if name in lengths:
+def _param(name: str, v: float, u: Units, plate_units=None) -> str:
+    """One parameter with its unit in the scene's units (plate_units: plates.param_units)."""
+    unit = (plate_units or {}).get(name)
+    if unit == "m":
         return f"{name} {u.length(v)}"
+    if unit:
+        return f"{name} {u.value(v, unit, 6)}"
     if name == "m":
         return f"mass {u.mass(v)}"
     if name in ("A", "C"):
@@ -83,14 +87,14 @@ def _param(name: str, v: float, u: Units, lengths=()) -> str:
 def human(r: dict, scene=None) -> str:
     """The scene, its parameters (SI names in the JSON), the generated parts and their sizes."""
     u = Units.of_scene(scene) if scene is not None else Units.of(r["parameters"].get("g"))
-    lengths = set(plates.length_names(scene.data["plate"])) if scene is not None else set()
+    plate_units = plates.param_units(scene.data["plate"]) if scene is not None else {}
     # the dipole density (A) goes through mu0, an SI constant: no meaning in a dimensionless scene
     derived = {k: v for k, v in r["derived_parameters"].items() if u.si or k != "dipole_density_A"}
     ops = ", ".join(f"{k} {v['ops']}" for k, v in r["functions"].items())
     parts = ", ".join(f"{k} ({len(v)} states)" for k, v in r["parts"].items())
     return lines(
         f"{r['scene']}: {r['plate']} plate, field order {r['field_order']}, {r['coordinates']} angles",
-        "parameters: " + ", ".join(_param(k, v, u, lengths) for k, v in r["parameters"].items()),
+        "parameters: " + ", ".join(_param(k, v, u, plate_units) for k, v in r["parameters"].items()),
         "derived: " + ", ".join(f"{k} {sig(v, 6)}" for k, v in derived.items()) if derived else "",
         f"parts: {parts}",
         _air(r.get("decay_times"), u),
