@@ -5,6 +5,7 @@ Every problem is one `SceneError` line that names the key, says what is wrong an
 """
 from __future__ import annotations
 
+import difflib
 import math
 
 # A scene number outside this magnitude range is refused: no SI levitron and no dimensionless
@@ -46,9 +47,13 @@ def number(section: dict, key: str, where: str, *, positive: bool = False, nonze
 
 
 def check_keys(section: dict, allowed, where: str) -> None:
+    """SceneError for the first key of `section` outside `allowed`, with the nearest allowed key
+    when one is close (a typo: `remanance` -> did you mean `remanence`?) and the whole list."""
     unknown = sorted(set(section) - set(allowed))
     if unknown:
-        raise SceneError(f"[{where}] has unknown key `{unknown[0]}`: allowed keys are "
+        near = difflib.get_close_matches(str(unknown[0]), sorted(allowed), n=1, cutoff=0.75)
+        hint = f"did you mean `{near[0]}`? " if near else ""
+        raise SceneError(f"[{where}] has unknown key `{unknown[0]}`: {hint}allowed keys are "
                          f"{', '.join(sorted(allowed))}")
 
 

@@ -20,7 +20,8 @@ def _snapshot(folder: Path) -> dict:
 
 CASES = [
     ("missing mass", GOOD.replace("mass = 0.0284", ""), "top.mass is missing"),
-    ("unknown key", GOOD.replace("[top]", "[top]\ncolour = 1"), "unknown key `colour`"),
+    ("unknown key", GOOD.replace("[top]", "[top]\ncolour = 1"), "unknown key `colour`: allowed keys are"),
+    ("misspelt key", GOOD.replace("hole = 0.03", "hloe = 0.03"), "unknown key `hloe`: did you mean `hole`?"),
     ("negative mass", GOOD.replace("mass = 0.0284", "mass = -0.0284"), "top.mass = -0.0284 must be positive"),
     ("negative inertia", GOOD.replace("A = 2.2e-6", "A = -2.2e-6"), "top.A"),
     ("hole too big", GOOD.replace("hole = 0.03", "hole = 0.10"), "plate.hole = 0.1 is not smaller than plate.radius"),
