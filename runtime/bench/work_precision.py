@@ -246,6 +246,10 @@ def heyoka_rows(model, part_name: str, x0, su: Setup, scale, x_ref, repeat: dict
 PER_CALL_BOUND = 1e-9        # the error bound of the per-call race
 PER_CALL_ROUNDS = 20         # rounds, each PER_CALL_CALLS calls of every contestant in turn ...
 PER_CALL_CALLS = 50          # ... the minimum over all is kept (quick: 3 rounds)
+# ... and rounds go on for at least this long (not in quick): this machine's core runs for 0.1-1 s
+# at a time some 40 % slower, a whole run's minimum included (levitron's and heyoka's alike), and
+# 20 rounds of a few-us run take 30 ms, which one such stretch holds whole
+PER_CALL_SECONDS = 3.0
 PER_CALL_CANDIDATES = 3      # each contestant's fastest rows within the bound that are timed so
 ADAPTIVE_C = ("dop853", "vern9", "taylor")
 
@@ -263,7 +267,9 @@ def per_call(model, part_name: str, x0, su: Setup, scale, rows: list, quick: boo
             ta.propagate_until(t_end)`, the same pattern (state reset, as a loop would).
 
     The contestants take turns, PER_CALL_CALLS calls each per round, so a change of the machine's
-    load hits all alike; each figure is the minimum over all its calls, in seconds."""
+    load hits all alike, for PER_CALL_ROUNDS rounds and at least PER_CALL_SECONDS, so that every
+    contestant meets the machine at its fastest; each figure is the minimum over all its calls, in
+    seconds."""
     from levitron.runtime.integrate.propagator import Propagator
     part = model.part(part_name)
     rounds = 3 if quick else PER_CALL_ROUNDS
@@ -286,18 +292,20 @@ def per_call(model, part_name: str, x0, su: Setup, scale, rows: list, quick: boo
     for row in candidates("heyoka", "taylor"):
         entries.append(("heyoka", row, heyoka_call(model, part_name, x0, su, scale, row["tol"])))
     times = [math.inf] * len(entries)
-    for _ in range(rounds):
+    until, done = time.perf_counter() + (0.0 if quick else PER_CALL_SECONDS), 0
+    while done < rounds or time.perf_counter() < until:
         for k, (_, _, run) in enumerate(entries):
             for _ in range(PER_CALL_CALLS):
                 t0 = time.perf_counter()
                 run()
                 times[k] = min(times[k], time.perf_counter() - t0)
+        done += 1
     runs: dict = {}          # contestant -> (its fastest row, its time)
     for (name, row, _), t in zip(entries, times):
         if name not in runs or t < runs[name][1]:
             runs[name] = (row, t)
     best = {name: t for name, (_, t) in runs.items()}
-    out: dict = {"bound": PER_CALL_BOUND, "calls": rounds * PER_CALL_CALLS,
+    out: dict = {"bound": PER_CALL_BOUND, "calls": done * PER_CALL_CALLS,
                  "candidates_per_contestant": PER_CALL_CANDIDATES,
                  "contestants": {name: {"integrator": "taylor" if name == "heyoka" else name,
                                         "tol": row["tol"], "error": row["error"], "call_s": t}
