@@ -15,9 +15,12 @@ tolerance: the Taylor order follows from it) is timed apart (`compile_s`) and no
 
 Compiled integrators are kept on disk (heyoka pickles them with their machine code): in the cache
 folder ($LEVITRON_CACHE/heyoka/<key>.pickle), where the key hashes what the compiled code is made
-of: the model's input hash (the one manifest.json carries: scene and derive sources, so the
-expressions), the part, the state scales, the tolerance, and heyoka's version, the machine and its
-CPU flags (a pickle is not portable across either). A second bench loads instead of building the
+of (expressions_key): the part's expressions, by the sha256 of its generated rhs (the CasADi file
+manifest.json lists: the graph the C computes, from the same lowered expressions) with the
+parameters in order and the translation's source (derive/emit/heyoka.py), the state scales, the
+tolerance, and heyoka's version, the machine and its CPU flags (a pickle is not portable across
+either). Not the model's input hash, which changes with every edit of derive's sources: a bench
+after one would compile some 10 minutes again for the same expressions. A second bench loads instead of building the
 expressions (sympy, seconds per part) and compiling; `compile_cached` says which it did. A file is
 written under a temporary name carrying the writer's pid and renamed into place, so a kill leaves
 no half-written pickle, only a temporary that runtime/model/cache_sweep.py removes; a pickle that
@@ -64,6 +67,15 @@ def cache_key(**what) -> str:
     ident = {**what, "heyoka": hy.__version__, "machine": platform.machine(),
              "cpu": hashlib.sha256(_cpu_identity().encode()).hexdigest()}
     return hashlib.sha256(json.dumps(ident, sort_keys=True).encode()).hexdigest()[:32]
+
+
+def expressions_key(model, part: str) -> dict:
+    """What heyoka's expressions of `part` are made of (module docstring): the digest of the part's
+    generated rhs, the parameter names in order and the digest of the translation's source."""
+    spec = importlib.util.find_spec("levitron.derive.emit.heyoka")     # found, not imported (sympy)
+    casadi_file = model.manifest.functions[f"{part}_rhs"].casadi
+    return {"rhs": model.manifest.files[casadi_file], "parameters": list(model.param_names),
+            "translation": hashlib.sha256(Path(spec.origin).read_bytes()).hexdigest()}
 
 
 def cache_folder() -> Path:

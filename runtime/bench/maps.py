@@ -193,7 +193,7 @@ def heyoka_batch(model, scene_ref: str, overrides, spins, tilts, t_end: float, q
 
     rows, matched = [], None
     for tol in HEYOKA_TOLS[:2] if quick else HEYOKA_TOLS:
-        key = bench_heyoka.cache_key(input_hash=model.manifest.input_hash, part="full", kind="batch_map",
+        key = bench_heyoka.cache_key(**bench_heyoka.expressions_key(model, "full"), part="full", kind="batch_map",
                                      scale=[float(v).hex() for v in scale], tol=float(tol).hex(),
                                      box=[box.iz, box.z_lo.hex(), box.z_hi.hex(), box.ix, box.iy,
                                           float(box.r_max).hex()])

@@ -231,7 +231,7 @@ def heyoka_rows(model, part_name: str, x0, su: Setup, scale, x_ref, repeat: dict
 
     rows = []
     for tol in tols:
-        key = bench_heyoka.cache_key(input_hash=model.manifest.input_hash, part=part_name,
+        key = bench_heyoka.cache_key(**bench_heyoka.expressions_key(model, part_name), part=part_name,
                                      scale=[float(v).hex() for v in scale], tol=float(tol).hex())
         r = bench_heyoka.run(make_sys, x0, su.p, scale, su.t_end, tol, repeat, key=key)
         err = (float(np.max(np.abs(r["x_final"] - x_ref) / scale))
@@ -350,7 +350,7 @@ def heyoka_call(model, part_name: str, x0, su: Setup, scale, tol: float):
     """heyoka's run from Python at `tol` (its integrator from the disk cache, runtime/bench/heyoka.py)."""
     from levitron.derive.emit.heyoka import lowered_rhs, system
     from levitron.runtime.bench import heyoka as bench_heyoka
-    key = bench_heyoka.cache_key(input_hash=model.manifest.input_hash, part=part_name,
+    key = bench_heyoka.cache_key(**bench_heyoka.expressions_key(model, part_name), part=part_name,
                                  scale=[float(v).hex() for v in scale], tol=float(tol).hex())
     X0 = np.asarray(x0, float) / scale
     ta, _, _ = bench_heyoka.integrator(lambda: system(lowered_rhs(model.scene, part_name), scale),
