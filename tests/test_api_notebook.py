@@ -99,3 +99,21 @@ def test_launch_on_the_invariant_set_is_refused(study):
         study.launch(n=3, seed=1, inputs={"tilt": 0, "offset": "normal:0,0", "velocity": "uniform:0,0"},
                      t_end=0.1)
     assert "invariant set" in one_line(e)
+
+
+def test_flight_plot_title_stays_inside_the_figure(tmp_path, monkeypatch):
+    # a dimensionless flight's one-line title ran past the right edge ("rad/time" cut off)
+    from levitron.runtime.simulate.plot import draw_flight
+    from levitron.runtime.ui.human import Units
+    from levitron.runtime.ui.plotting import pyplot
+    plt = pyplot()
+    t = np.linspace(0.0, 394.1, 50)
+    info = {"flight": {"spin_interval": [30.28, 119.1], "t_cross": 388.6, "flight_time": 394.1,
+                       "fell": True, "fall_spin": 29.87}, "spin": {"rad_s": 80.0}, "t_survived": 394.1}
+    made = []
+    monkeypatch.setattr(plt, "close", made.append)     # keep the figure to measure its title
+    draw_flight(t, -1e-3 * t, 80 * np.exp(-t / 400), tmp_path / "f.png", info, Units(si=False),
+                "dimless_air")
+    fig = made[0]
+    box = fig.axes[0].title.get_window_extent(fig.canvas.get_renderer())
+    assert 0 <= box.x0 and box.x1 <= fig.bbox.x1
