@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from levitron.runtime.errors import UserError
 from levitron.runtime.ui.human import Units, sig
 
 _SI = Units(si=True)
@@ -251,6 +252,9 @@ class Simulations:
 
     def final_state(self, i: int) -> dict:
         """Launch i's final state by name, as Study.simulate's final_state."""
+        n = len(self)
+        if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not -n <= i < n:
+            raise UserError(f"final_state({i!r}): give a launch index from 0 to {n - 1} (or -1 for the last)")
         return {k: float(v) for k, v in zip(self.states, self.final_states[i])}
 
     @property

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import functools
+import inspect
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
@@ -119,7 +120,8 @@ class Study:
 
     def quantities(self) -> list[str]:
         """The names `gradient` takes: the outputs of the stability Functions."""
-        return [n for F in self.casadi_stability.functions.values() for n in F.name_out()]
+        return list(dict.fromkeys(n for F in self.casadi_stability.functions.values()
+                                  for n in F.name_out()))
 
     def gradient(self, quantity: str, keys: Sequence[str]) -> dict[str, float]:
         """d quantity / d key for scene keys (quantity: z_s, stiffness, z_c, max_mass, sigma_lo,
@@ -204,7 +206,10 @@ class Study:
             keys = list(values)
             for key in keys:
                 arg.choice(key, "scene key", self.keys())
-            cols = launch_columns({k: values[k] for k in keys})
+            # the lengths checked with the launch's own columns, so a mismatch names the scene key
+            launch = {k: spin if k == "spin" else options[k] for k in ("spin", "tilt", "offset", "azimuth")
+                      if k == "spin" or options.get(k) is not None}
+            cols = launch_columns({**launch, **{k: values[k] for k in keys}})
             rows: dict = {}
             p = np.array([rows.setdefault(key, self.p_of(dict(zip(keys, key))))
                           for key in zip(*(cols[k].tolist() for k in keys))])
@@ -274,6 +279,10 @@ class Study:
         from levitron.runtime.scan.stability_map import scan
         from levitron.runtime.scan.grid import AXES, check_axis
         arg.choice(axis, "scan axis", AXES)
+        valid = [n for n in inspect.signature(scan).parameters
+                 if n not in ("model", "scene_ref", "overrides", "spins", "axis", "others")]
+        for name in options:
+            arg.choice(name, "scan option", valid)
         spins, values = self._grid(spins, "spins"), self._grid(values, axis)
         check_axis(axis, np.sort(values))
         ref = str(self.scene.path) if self.scene.path else self.scene.name

@@ -62,6 +62,10 @@ def check_row(row, where: str) -> Row:
     if row.quantity not in QUANTITIES:
         raise UserError(f"{where}: quantity {row.quantity!r}: use one of {', '.join(QUANTITIES)}")
     value = real(row.value, f"{where}: value")
+    if value <= 0:      # every QUANTITY is positive: a height above the plate z = 0, a stable
+        # stiffness U'' > 0 (thesis 3.3.3), the spin interval's ends, z_c, the largest mass
+        raise UserError(f"{where}: {row.quantity} = {value:g} must be positive: check the sign "
+                        "and the units")
     sigma = real(row.sigma, f"{where}: sigma", positive=True)
     if sigma < MIN_SIGMA or abs(value) / sigma > 1 / MIN_SIGMA:
         raise UserError(f"{where}: sigma = {sigma:g} is too small for value {value:g} (the squared "
@@ -417,7 +421,9 @@ def _gauss_newton(prob: _Problem, x, lo, hi, keys):
                 break
     if status != "converged":
         raise UserError(f"--fit: Gauss-Newton {status} after {it} iterations at "
-                        f"{', '.join(f'{k} = {v:.6g}' for k, v in zip(keys, x))}")
+                        f"{', '.join(f'{k} = {v:.6g}' for k, v in zip(keys, x))}: check the data's "
+                        "values and units, or start nearer (set the keys in the scene) or "
+                        "narrow the --vary box")
     return x, vals, r, J, cost, it
 
 

@@ -123,6 +123,9 @@ class Vary:
         return cls(key.strip(), lo_v, hi_v)
 
 
+STRUCTURE_SECTIONS = ("field", "model")    # their numbers change the generated code, not p
+
+
 class KeyMap:
     """p(x) for the varied keys x of one scene and model (module docstring)."""
 
@@ -132,6 +135,10 @@ class KeyMap:
             raise UserError(f"a key is varied twice: {', '.join(keys)}")
         self.scene, self.names, self.varies = scene, list(names), list(varies)
         for v in varies:
+            if v.key.split(".")[0] in STRUCTURE_SECTIONS:
+                raise UserError(f"{v.key} is structure (docs/contract.md: [field] and [model] shape the "
+                                "generated model), not a runtime parameter: it has no derivative and "
+                                "cannot be varied; set it in the scene instead")
             key_value(scene.data, v.key)
         self.x_ref = np.array([0.5 * (v.lo + v.hi) for v in varies])
         ref = self.resolve(self.x_ref)

@@ -84,6 +84,18 @@ class Propagator:
         the next run's parameters (an optimisation loop needs no new Propagator)."""
         return self._p
 
+    @p.setter
+    def p(self, value) -> None:
+        """`prop.p = p_new` copies into the vector C reads (the same as `prop.p[:] = p_new`)."""
+        try:
+            new = None if isinstance(value, str) else np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            new = None
+        if new is None or new.shape != self._p.shape or not np.isfinite(new).all():
+            raise UserError(f"prop.p must be {self._p.size} finite numbers (the parameter vector, "
+                            f"e.g. study.p_of({{...}})), not {value!r}")
+        self._p[:] = new
+
     @property
     def states(self) -> tuple[str, ...]:
         """The names of the state components, in order."""

@@ -356,6 +356,8 @@ class Model:
         return list(self.manifest.parts)
 
     def part(self, name: str) -> Part:
+        if name not in NEEDS_OF_PART:      # e.g. "linear": a need, not a part that integrates
+            raise MissingPart(f"part {name!r} is unknown: use one of {', '.join(NEEDS_OF_PART)}")
         if name not in self.manifest.parts:
             raise MissingPart(f"scene '{self.scene.name}' has no {name} model (model.needs = "
                               f"{self.scene.needs}): add \"{NEEDS_OF_PART.get(name, name)}\" to "

@@ -281,6 +281,11 @@ def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n
     if "spin" not in dists:
         raise UserError("the scene's top has no spin interval of linear stability at its hover height, "
                         "so there is no default spin: pass --spin normal:MEAN,SD")
+    if all(dists[k].a == 0 and (dists[k].kind == "fixed" or dists[k].b == 0)
+           for k in ("tilt", "offset", "velocity")):
+        raise UserError("tilt, offset and velocity are all exactly 0: every launch starts on the "
+                        "invariant set (thesis 3.2.1), where the ideal top stays at any spin, so the "
+                        "odds would test nothing; give a spread, e.g. --tilt uniform:0,0.02")
     for key in ("mass", "strength"):
         d = dists[key]
         low = d.a - 8 * d.b if d.kind == "normal" else d.a

@@ -61,7 +61,8 @@ def draw_flight(t, dz, w, path, info, u: Units, scene: str = "") -> Path:
         a.legend(loc="best", fontsize="small")
     verdict = (f"falls after {sig(fl['flight_time'], 4)} {tu} at spin {sig(fl['fall_spin'], 4)} {ru}"
                if fl["fell"] else f"still up after {sig(info['t_survived'], 4)} {tu}")
-    ax[0].set_title(f"{scene} in air: launched at {sig(info['spin']['rad_s'], 4)} {ru}; {verdict}",
+    # two lines, as draw_trajectory's: one ran past the figure's right edge with "time units"
+    ax[0].set_title(f"{scene} in air: launched at {sig(info['spin']['rad_s'], 4)} {ru}\n{verdict}",
                     fontsize="medium")
     fig.tight_layout()
     return save_figure(fig, path)

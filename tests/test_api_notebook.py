@@ -1,0 +1,119 @@
+"""The Python API as a physicist uses it in a notebook (second audit): each wrong input is one
+`lev.UserError` saying what is wrong, never a TypeError, IndexError, AttributeError or a sentence
+that blames the wrong thing; and a question that would test nothing is refused, not answered."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import levitron as lev
+
+
+@pytest.fixture(scope="module")
+def study():
+    return lev.load("thesis_stable")
+
+
+def one_line(exc_info) -> str:
+    text = str(exc_info.value)
+    assert "\n" not in text
+    return text
+
+
+def test_quantities_are_listed_once(study):
+    q = study.quantities()
+    assert len(q) == len(set(q)) and {"z_s", "sigma_lo", "mass_window"} <= set(q)
+
+
+def test_a_need_that_is_not_a_part_is_named_as_unknown(study):
+    # "linear" is in model.needs, so "has no linear model ... add linear" was false
+    for call in (lambda: study.simulate(1500.0, part="linear", t_end=0.1),
+                 lambda: study.simulate_many([1500.0], part="linear", t_end=0.1)):
+        with pytest.raises(lev.UserError) as e:
+            call()
+        assert "part 'linear' is unknown" in one_line(e) and "reduced" in str(e.value)
+
+
+def test_a_structural_key_is_not_differentiated(study, tmp_path):
+    # field.order = 2 * 1.01 was reported as "the scene is not valid: narrow the --vary bounds"
+    with pytest.raises(lev.UserError) as e:
+        study.gradient("sigma_hi", ["field.order"])
+    assert "field.order is structure" in one_line(e)
+    data = tmp_path / "z.csv"
+    data.write_text("quantity,value,sigma\nz_s,0.1065,0.0005\n")
+    with pytest.raises(lev.UserError) as e:
+        study.fit(data, {"field.order": (2, 4)})
+    assert "field.order is structure" in one_line(e)
+
+
+def test_fit_refuses_a_quantity_that_cannot_be_negative(study, tmp_path):
+    # a negative height went to 60 Gauss-Newton iterations and "max_iter"
+    data = tmp_path / "neg.csv"
+    data.write_text("quantity,value,sigma\nz_s,-0.1065,0.0005\n")
+    with pytest.raises(lev.UserError) as e:
+        study.fit(data, {"plate.murho": (-0.003, -0.0023)})
+    assert "z_s = -0.1065 must be positive" in one_line(e) and "line 2" in str(e.value)
+
+
+def test_unknown_scan_option_is_a_user_error(study):
+    with pytest.raises(lev.UserError) as e:
+        study.scan([1500.0], "tilt", [0.01], tend=0.5)
+    assert "scan option 'tend' is unknown" in one_line(e) and "t_end" in str(e.value)
+
+
+def test_simulations_final_state_index_out_of_range(study):
+    many = study.simulate_many([1000.0, 1500.0], tilt=0.01, t_end=0.05)
+    assert many.final_state(-1) == many.final_state(1)
+    with pytest.raises(lev.UserError) as e:
+        many.final_state(2)
+    assert "from 0 to 1" in one_line(e)
+
+
+def test_values_length_mismatch_names_the_scene_key(study):
+    # it named "p", an internal vector the user never passed
+    with pytest.raises(lev.UserError) as e:
+        study.simulate_many(np.array([1000.0, 1500.0, 2000.0]),
+                            values={"top.mass": np.array([0.0515, 0.051])}, t_end=0.05)
+    text = one_line(e)
+    assert "top.mass 2" in text and "spin 3" in text and " p " not in text
+
+
+def test_propagator_p_assignment_copies_or_says_what_is_wrong(study):
+    prop = study.propagator("reduced", "dop853", 1e-9)
+    x0 = [0.108, 0.0, 0.0, 1e-3]
+    before = prop(x0, 0.2)
+    prop.p = study.p_of({"top.mass": 0.051})          # as prop.p[:] = ...
+    moved = prop(x0, 0.2)
+    prop.p[:] = study.p_of()
+    assert np.array_equal(prop(x0, 0.2), before) and not np.array_equal(moved, before)
+    for bad in (np.zeros(3), "0.05", [np.nan] * prop.p.size):
+        with pytest.raises(lev.UserError) as e:
+            prop.p = bad
+        assert f"prop.p must be {prop.p.size} finite numbers" in one_line(e)
+    assert np.array_equal(prop(x0, 0.2), before)
+
+
+def test_launch_on_the_invariant_set_is_refused(study):
+    # every sample at tilt 0, offset 0, velocity 0 floats forever: "100% float" tested nothing
+    with pytest.raises(lev.UserError) as e:
+        study.launch(n=3, seed=1, inputs={"tilt": 0, "offset": "normal:0,0", "velocity": "uniform:0,0"},
+                     t_end=0.1)
+    assert "invariant set" in one_line(e)
+
+
+def test_flight_plot_title_stays_inside_the_figure(tmp_path, monkeypatch):
+    # a dimensionless flight's one-line title ran past the right edge ("rad/time" cut off)
+    from levitron.runtime.simulate.plot import draw_flight
+    from levitron.runtime.ui.human import Units
+    from levitron.runtime.ui.plotting import pyplot
+    plt = pyplot()
+    t = np.linspace(0.0, 394.1, 50)
+    info = {"flight": {"spin_interval": [30.28, 119.1], "t_cross": 388.6, "flight_time": 394.1,
+                       "fell": True, "fall_spin": 29.87}, "spin": {"rad_s": 80.0}, "t_survived": 394.1}
+    made = []
+    monkeypatch.setattr(plt, "close", made.append)     # keep the figure to measure its title
+    draw_flight(t, -1e-3 * t, 80 * np.exp(-t / 400), tmp_path / "f.png", info, Units(si=False),
+                "dimless_air")
+    fig = made[0]
+    box = fig.axes[0].title.get_window_extent(fig.canvas.get_renderer())
+    assert 0 <= box.x0 and box.x1 <= fig.bbox.x1
