@@ -287,3 +287,30 @@ def test_cli_simulate_on_a_scene_without_the_full_model_names_both_ways(capsys):
     assert "--part reduced" in err and 'add "full" to model.needs' in err and len(err.strip().splitlines()) == 1
     assert main(["simulate", "reduced_only", "--spin", "1000", "--part", "reduced", "--t-end", "0.05", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["levitating"] is None      # on the invariant set: untested
+
+
+def test_linear_context_against_the_generated_jacobian(capsys):
+    """simulate's line of linear theory (thesis 3.3.9-3.3.16): inside the interval no growth; outside
+    it the e-folding time of a tilt is 1 / the largest real part of the eigenvalues of the
+    generated 12-D Jacobian's transverse block at the relative equilibrium (a second route to the
+    8-D matrix linear_context uses), to 1e-9; the command prints it with the run's e-foldings."""
+    from levitron.runtime.cli.main import main
+    from levitron.runtime.physics import eigen_route, stability
+    from levitron.runtime.physics.equilibrium import hover_height
+    from levitron.runtime.simulate.start import linear_context
+    m = load_model(load_scene("thesis_stable"))
+    z_s = hover_height(m, m.p)
+    _, jac, states = stability.model_callables(m, m.p)
+    inside = linear_context(m, m.p, z_s, 1000.0)
+    lo, hi = inside["spin_interval"]
+    assert inside["inside"] and inside["e_folding_time"] is None and 459 < lo < 460 < 2739 < hi < 2740
+    for spin in (0.9 * lo, 1.02 * hi):
+        lin = linear_context(m, m.p, z_s, spin)
+        x_eq = eigen_route.full_equilibrium_state(states, z_s, m.param("C"), spin)
+        gamma = eigen_route.growth_rate(eigen_route.transverse_block(jac(x_eq), states))
+        assert not lin["inside"] and lin["e_folding_time"] == pytest.approx(1 / gamma, rel=1e-9)
+    assert main(["simulate", "thesis_stable", "--spin", "2800", "--t-end", "2"]) == 0
+    out = capsys.readouterr().out
+    assert "linear theory: 2800 rad/s lies above the stable interval 459.6-2740 rad/s: a tilt grows by e every" in out
+    assert main(["simulate", "thesis_stable", "--spin", "1000", "--t-end", "0.5", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["linear"]["inside"] is True

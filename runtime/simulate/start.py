@@ -12,7 +12,7 @@ import numpy as np
 
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.run import Box
-from levitron.runtime.physics.eigen_route import transverse_matrix
+from levitron.runtime.physics.eigen_route import growth_rate, transverse_matrix
 from levitron.runtime.simulate.rotations import (ANGLES, DEFAULT_AZIMUTH, SPIN_ANGLE, coordinates_of,
                                         rotation_bs, rotation_bs_derivatives, tilt_angles)
 
@@ -213,6 +213,26 @@ def slow_period(model, mass: float, z_s: float, spin: float | None, p=None) -> f
     if not periods:
         raise UserError("no oscillation at the hover height to set a run length from; pass --t-end T")
     return max(periods)
+
+
+def linear_context(model, p, z_s: float, spin: float) -> dict:
+    """What linear theory says of a run at this spin (thesis 3.3.9-3.3.16): the stable spin
+    interval at z_s (exact route, None if no spin holds the top there), whether the spin lies
+    inside it, and else the e-folding time of the fastest transverse mode of the 8-D linearisation
+    after thesis 3.3.5 (1 / the largest real part of its eigenvalues): how long a tilt takes to
+    grow by e. Near a critical spin that time is long, and a run shorter than it cannot show the
+    fall."""
+    from levitron.runtime.physics.stability import stability_of
+    iv = stability_of(model, p=p, z_s=z_s, eigen=False).spin_interval
+    inside = iv is not None and iv[0] <= spin <= iv[1]
+    e_folding = None
+    if not inside:
+        P = model.pvals(p)
+        ph = np.asarray(model.onaxis(z_s, p), float)
+        rate = growth_rate(transverse_matrix(ph[1], ph[2], ph[3], P["m"], P["A"], P["C"], P["mu"], spin))
+        e_folding = 1.0 / rate if rate > 0 else None
+    return {"spin_interval": None if iv is None else list(iv), "inside": inside,
+            "e_folding_time": e_folding}
 
 
 def vertical_stiffness(model, p, z_s: float, pvals: dict) -> float:

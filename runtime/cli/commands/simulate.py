@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from levitron.runtime.errors import UserError
+from levitron.runtime.simulate.start import linear_context
 from levitron.runtime.ui.human import Units, duration, lines, sig
 from levitron.runtime.integrate.methods import DEFAULT, FULL_MODEL_METHODS, lookup
 from levitron.runtime.ui.plotting import check_plot_path
@@ -55,10 +56,13 @@ def run(args) -> dict:
         raise UserError(f"scene '{model.scene.name}' has no full model (model.needs = {model.scene.needs}): "
                         "pass --part reduced for the vertical motion on the invariant set (no tilt, so "
                         "no stability verdict), or add \"full\" to model.needs for the whole top")
-    return simulate(model, spin=args.spin, tilt=args.tilt, offset=args.offset, t_end=args.t_end,
-                    integrator=args.integrator, tol=args.tol, box=args.box, plot=args.plot,
-                    part=args.part, h=args.step, n_out=args.n_out,
-                    azimuth=args.tilt_azimuth, save=args.save)
+    r = simulate(model, spin=args.spin, tilt=args.tilt, offset=args.offset, t_end=args.t_end,
+                 integrator=args.integrator, tol=args.tol, box=args.box, plot=args.plot,
+                 part=args.part, h=args.step, n_out=args.n_out,
+                 azimuth=args.tilt_azimuth, save=args.save)
+    if args.part == "full" and "flight" not in r:      # in air the flight line gives the limits
+        r["linear"] = linear_context(model, model.p, r["z_s"], args.spin)
+    return r
 
 
 def flight_line(r: dict, u: Units) -> str:
@@ -89,6 +93,26 @@ def flight_line(r: dict, u: Units) -> str:
     return lines(head, f"{limits}; {pred}" if pred else limits, above, f"air friction: decay times {taus}")
 
 
+def linear_line(r: dict, u: Units) -> str:
+    """What linear theory says of this spin (runtime/simulate/start.py linear_context): inside the
+    stable interval, or outside it with the e-folding time of a tilt, so that a run shorter than a
+    few of them is not read as a verdict."""
+    lin = r.get("linear")
+    if not lin:
+        return ""
+    spin, iv = u.value(r["spin"]["rad_s"], "rad/s"), lin["spin_interval"]
+    if iv is None:
+        return "linear theory: no spin holds this top at its hover height (`levitron stability` says why)"
+    span = u.rate_span(*iv).split(" (")[0]
+    if lin["inside"]:
+        return f"linear theory: {spin} lies inside the stable interval {span} (thesis 3.3.9-3.3.16)"
+    side = "below" if r["spin"]["rad_s"] < iv[0] else "above"
+    te = lin["e_folding_time"]
+    grow = ("" if te is None else f": a tilt grows by e every {u.time(te)} "
+            f"({sig(r['t_end'] / te, 2)} e-foldings in this run)")
+    return f"linear theory: {spin} lies {side} the stable interval {span}{grow}"
+
+
 def human(r: dict, scene=None) -> str:
     """Answer first: does it stay up, for how long; then the launch, the excursions, the invariants."""
     u = Units.of_scene(scene) if scene is not None else Units(si=True)
@@ -109,6 +133,7 @@ def human(r: dict, scene=None) -> str:
         flight_line(r, u) if "flight" in r else "",
         f"levitating: {up}, {u.time(r['t_survived'])} of flight (of {u.time(r['t_end'])}), "
         f"{duration(r['wall_s'])} of wall time",
+        linear_line(r, u),
         f"launch: spin {u.rate(r['spin']['rad_s'])}, tilt {u.angle(r['tilt'])}"
         f"{' (the default perturbation)' if r.get('tilt_default') else ''}{toward}, offset "
         f"{u.length(r['offset'])}, from z_s = {u.length(r['z_s'])}",
