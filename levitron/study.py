@@ -81,6 +81,12 @@ class Study:
         self.model, self.scene, self.overrides = model, model.scene, list(overrides)
         self._cs = None
 
+    def __repr__(self) -> str:
+        over = f", overrides={self.overrides}" if self.overrides else ""
+        units = "SI" if self.units.si else "dimensionless"
+        return (f"Study(scene={self.scene.name!r}{over}, {units}, parts={self.model.parts}, "
+                f"{self.model.manifest.plate} plate)")
+
     @property
     def units(self) -> Units:
         """How this scene's numbers are shown (its `units` key, else decided by g): the results'

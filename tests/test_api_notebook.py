@@ -117,3 +117,12 @@ def test_flight_plot_title_stays_inside_the_figure(tmp_path, monkeypatch):
     fig = made[0]
     box = fig.axes[0].title.get_window_extent(fig.canvas.get_renderer())
     assert 0 <= box.x0 and box.x1 <= fig.bbox.x1
+
+
+def test_a_study_says_what_it_is():
+    """A notebook's cell that shows a Study: its scene, overrides, units, parts and plate (it was
+    '<levitron.study.Study object at 0x...>')."""
+    assert repr(lev.load("thesis_stable", {"top.mass": 0.051})) == (
+        "Study(scene='thesis_stable', overrides=['top.mass=0.051'], SI, parts=['full', 'reduced'], "
+        "annulus plate)")
+    assert repr(lev.load("reduced_only")).startswith("Study(scene='reduced_only', SI, parts=['reduced'],")
