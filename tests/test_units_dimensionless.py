@@ -35,7 +35,7 @@ needs = ["reduced", "full", "linear"]
 """
 
 # an SI unit after a number or inside the brackets of an axis label
-SI = r"A m\^2|kg m\^2|m/s\^2|m/s|A/m|T m|J m|rad/s|N/m|cm|mm|um|mN|mT|ms|kg|Hz|rpm|m|g|s|N|T|A"   # longest first
+SI = r"A m\^2|kg m\^2|m/s\^2|m/s|A/m|T m|J m|degC|rad/s|N/m|cm|mm|um|mN|mT|ms|kg|Hz|rpm|m|g|s|N|T|A"   # longest first
 AFTER_NUMBER = re.compile(rf"\d\s?({SI})(?![\w^/])")     # the unit, group 1
 IN_LABEL = re.compile(rf"\(({SI})(?:,[^)]*)?\)")
 WALL = re.compile(r"\d+(\.\d+)? (us|ms|s|min)( \d+ s)? of wall time|\d+(\.\d+)? (us|ms|s) per call")

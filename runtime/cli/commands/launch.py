@@ -76,6 +76,16 @@ def launch_input(name: str, spec: str, u: Units) -> str:
     return f"{name} {show(d.a)}"
 
 
+def _temperature_matters(spec: str, scene) -> bool:
+    """Whether the launches' temperature says anything: it is spread, or the scene's magnets have a
+    temperature coefficient (without one, and fixed, it changes nothing: not shown, which also
+    keeps degC out of a dimensionless scene that does not model temperature)."""
+    if mc.parse_dist("temperature", spec).spread or scene is None:
+        return True
+    data = scene.data
+    return any(float(data.get(t, {}).get("temperature_coefficient", 0.0)) != 0.0 for t in ("plate", "top"))
+
+
 def human(r: dict, scene=None) -> str:
     """Answer first: the odds with their interval; the flight times; what matters most."""
     u = Units.of_scene(scene) if scene is not None else Units(si=True)
@@ -94,7 +104,8 @@ def human(r: dict, scene=None) -> str:
         f" (runs of {u.time(r['t_end'])}{cens})",
         f"matters most: {'; '.join(rank)}" if rank else "no input has a spread",
         f"outcomes: {outcomes}",
-        "launches: " + ", ".join(launch_input(k, v, u) for k, v in r["inputs"].items()),
+        "launches: " + ", ".join(launch_input(k, v, u) for k, v in r["inputs"].items()
+                                 if k != "temperature" or _temperature_matters(v, scene)),
         f"seed {r['seed']}, {r['integrator']} at tol {sig(r['tol'], 2)}",
         u.note,
         f"histogram: {r['out']}" if r.get("out") else "")
