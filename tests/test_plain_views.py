@@ -152,3 +152,11 @@ def test_launch_shows_a_temperature_that_matters():
     assert _temperature_matters("20", load_scene("thesis_air"))
     assert not _temperature_matters("20", load_scene("thesis_stable"))
     assert _temperature_matters("normal:20,2", load_scene("thesis_stable"))
+
+
+def test_a_dimensionless_restatement_drops_every_si_unit_the_views_know():
+    """restate's units are SI_SYMBOLS' (the plate units A/m and T m included): a runtime sentence
+    about a dimensionless scene keeps none of them."""
+    from levitron.runtime.ui.human import Units, restate
+    dl = Units(si=False)
+    assert restate("M = 310352 A/m and rho = 0.0026 T m at 0.5 m/s", dl) == "M = 310352 and rho = 0.0026 at 0.5"

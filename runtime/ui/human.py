@@ -203,7 +203,7 @@ def restate(text, units: Units) -> str:
                   lambda m: units.length_span(float(m.group(1)), float(m.group(2))), str(text))
     text = re.sub(rf"\[{_NUM}, {_NUM}\] kg\b",
                   lambda m: span(float(m.group(1)), float(m.group(2)), units.mass), text)
-    text = re.sub(rf"{_NUM} m\b", lambda m: units.length(float(m.group(1))), text)
+    text = re.sub(rf"{_NUM} m\b(?!/)", lambda m: units.length(float(m.group(1))), text)
     text = re.sub(rf"{_NUM} kg\b", lambda m: units.mass(float(m.group(1))), text)
     text = re.sub(rf"\b(z_s|z) = {_NUM}(?![\d.eE])(?! ?(?:m|kg|cm|mm|um|g)\b)",
                   lambda m: f"{m.group(1)} = {units.length(float(m.group(2)))}", text)
@@ -213,7 +213,7 @@ def restate(text, units: Units) -> str:
     return text
 
 
-_SI_UNITS = r"A m\^2|kg m\^2|m/s\^2|m/s|J m|N/m|rad/s|mT|T|Hz|rpm|N|s|A"
+_SI_UNITS = r"A m\^2|kg m\^2|m/s\^2|m/s|A/m|T m|J m|N/m|rad/s|mT|T|Hz|rpm|N|s|A"
 
 
 def lines(*items) -> str:
