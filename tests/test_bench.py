@@ -247,3 +247,18 @@ def test_max_per_tenth_of_a_short_run():
     assert max_per_tenth([1e-9, -3e-9, 2e-9]) == [1e-9, 3e-9, 2e-9]
     assert max_per_tenth([]) == []
     assert max_per_tenth([0.0] * 19 + [-5.0]) == [0.0] * 9 + [5.0]
+
+
+def test_the_api_bench_runs_quick_and_measures_each_part(tmp_path):
+    """runtime/bench/api.py in its quick mode: a row per part, the fastest call's wall time holds its
+    own integration, and the report files exist (the 1 ms budget is measured by `make bench`)."""
+    from pathlib import Path
+
+    from levitron.runtime.bench import api
+    from levitron.runtime.model.load import load_model
+    res = api.bench(load_model(load_scene("thesis_stable")), "thesis_stable", [], tmp_path, quick=True)
+    assert [r["part"] for r in res["rows"]] == ["full", "reduced"]
+    for r in res["rows"]:
+        assert 0 < r["integration_s"] < r["wall_s"] and r["overhead_s"] <= r["wall_s"] - r["integration_s"]
+        assert r["calls"] >= 1 and r["budget_s"] == api.OVERHEAD_BUDGET_S
+    assert all(Path(f).exists() for f in res["files"]) and "overhead" in res["headline"]

@@ -117,3 +117,52 @@ def test_kept_output_grids_and_constants_give_the_same_runs(lib):
         np.testing.assert_array_equal(r.X, fresh.X)
         assert r.message == fresh.message
     assert not np.shares_memory(runs[0].X, runs[1].X) and not np.shares_memory(runs[1].X, runs[2].X)
+
+
+def test_the_legendre_map_in_one_call_is_the_map_of_single_calls(model):
+    """runtime/simulate/start.py legendre_map evaluates its 1 + n rows of the rhs in one C call
+    (Model.rows): the same f0 and M^-1 as one Part.rhs call per row (thesis eq. 2.3.8), bit for bit."""
+    from levitron.runtime.simulate.start import coordinate_names, legendre_map
+    pt = model.part("full")
+    s = list(pt.states)
+    coords = coordinate_names(pt)
+    q = np.random.default_rng(2).uniform(-0.3, 0.3, len(coords))
+    q[coords.index("z")] = 0.12
+    base = np.zeros(len(s))
+    base[[s.index(c) for c in coords]] = q
+    f0 = pt.rhs(base)[[s.index(c) for c in coords]]
+    cols = []
+    for c in coords:
+        e = base.copy()
+        e[s.index("p_" + c)] = 1.0
+        cols.append(pt.rhs(e)[[s.index(c) for c in coords]] - f0)
+    got_f0, got_minv = legendre_map(pt, q)
+    assert np.array_equal(got_f0, f0) and np.array_equal(got_minv, np.array(cols).T)
+
+
+def test_model_calls_reuse_their_buffers_and_keep_parameters_apart(model):
+    """Model.call binds one CFunction per function and thread and copies p into it: calls with
+    other parameters, in turn and from threads at once, each give the answer of a fresh CFunction."""
+    import threading
+    pt = model.part("full")
+    x = np.random.default_rng(4).normal(size=pt.nx) * 0.01
+    x[pt.states.index("z")] = 0.12
+    ps = [model.p * (1 + 0.01 * k) for k in range(4)]
+    want = [model.fast("full_rhs", p)(x) for p in ps]
+    for _ in range(2):
+        for p, w in zip(ps, want):
+            assert np.array_equal(pt.rhs(x, p), w)
+    bad = []
+
+    def worker(k):
+        for _ in range(2000):
+            if not np.array_equal(pt.rhs(x, ps[k]), want[k]):
+                bad.append(k)
+                return
+
+    threads = [threading.Thread(target=worker, args=(k,)) for k in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not bad

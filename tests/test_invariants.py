@@ -57,3 +57,32 @@ def test_generated_axis_matches_the_numpy_rotations(which, request):
     idx = [pt.states.index(a) for a in sim.ANGLES[coords]]
     want = np.array([sim.rotation_bs(coords, x[idx])[:, 2] for x in X])
     np.testing.assert_allclose(model.rows("full_axis", X), want, rtol=0, atol=4e-16)
+
+
+def test_the_reduced_models_invariants_are_its_column_not_a_loop(thesis_model):
+    """The reduced model (no generated invariants: on I both are -p_zeta) gives L_z and L.n as one
+    column of the samples, the per-sample numpy route's numbers bit for bit."""
+    pt = thesis_model.part("reduced")
+    X = np.random.default_rng(3).normal(size=(30, pt.nx))
+    want = np.array([[sim.angular_momentum_z(pt, x), sim.spin_momentum(pt, x)] for x in X])
+    got = sim.invariants(pt, X, thesis_model.p)
+    assert got.shape == (30, 2) and np.array_equal(got, want)
+
+
+def test_one_run_computes_its_per_sample_quantities_once(thesis_model, monkeypatch):
+    """simulate's summary and its trajectory table share one Samples (runtime/simulate/invariants.py):
+    the generated invariants and axis are each called once over the samples, and the table's columns
+    are those of separate calls, bit for bit."""
+    from levitron.runtime.simulate import invariants as inv
+    calls = []
+    rows = type(thesis_model).rows
+    monkeypatch.setattr(type(thesis_model), "rows",
+                        lambda self, name, X, p=None: calls.append(name) or rows(self, name, X, p))
+    r = sim.simulate(thesis_model, spin=1000.0, tilt=0.01, t_end=0.05, trajectory=True)
+    assert sorted(calls) == ["full_axis", "full_invariants", "full_rhs"]   # rhs: the Legendre map
+    X = np.column_stack([r["trajectory"][s] for s in thesis_model.part("full").states])
+    pt = thesis_model.part("full")
+    both = inv.invariants(pt, X, thesis_model.p)
+    assert np.array_equal(r["trajectory"]["L_z"], both[:, 0])
+    assert np.array_equal(r["trajectory"]["L_n"], both[:, 1])
+    assert np.array_equal(r["trajectory"]["tilt"], inv.tilt_of(pt, X))

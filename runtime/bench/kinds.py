@@ -43,6 +43,9 @@ KINDS = {k.name: k for k in (
     Kind("startup", "levitron.runtime.bench.startup", "wall time of warm one-shot commands (--version, --help, "
          "stability, equilibrium) in fresh processes, against their budgets", ("thesis_stable",),
          "reports/startup"),
+    Kind("api", "levitron.runtime.bench.api", "the Python that Study.simulate adds around the C integration "
+         "it reports, a short run per part, against its 1 ms budget", ("thesis_stable", "ring_magnet"),
+         "reports/{scene}/api"),
 )}
 DEFAULT = "work-precision"
 QUICK_OUT = "out/bench-quick/{kind}"      # a quick run never overwrites a report

@@ -19,6 +19,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import threading
 from functools import cached_property
 from pathlib import Path
 from typing import NamedTuple
@@ -76,6 +77,13 @@ class CFunction:
         self._in[:] = x
         self._fn(*self._args)
         return self._out.copy()
+
+    def bind(self, p) -> None:
+        """Give the function parameters p (copied into the buffer C reads)."""
+        p = np.asarray(p, dtype=float).reshape(-1)
+        if p.size != self._p.size:
+            raise ValueError(f"expected {self._p.size} parameters, got {p.size}")
+        self._p[:] = p
 
     def at(self, z: float) -> np.ndarray:
         """f([z]) for a function of one input (the on-axis functions of a height), without the
@@ -316,6 +324,8 @@ class Model:
         self._casadi = {}
         self._parts = {}
         self._cfuncs = {}
+        self._bound = threading.local()   # call's CFunctions, per thread (ctypes drops the GIL)
+        self._rows_addr = {}
 
     # ---- parameters
     @property
@@ -475,10 +485,21 @@ class Model:
             raise ValueError(f"{name}: expected {info.n_in} inputs and {self.p.size} parameters, "
                              f"got {x.size}, {p.size}")
         if backend == "c":
-            return self.fast(name, p)(x)
+            return self._bound_function(name, p)(x)
         if backend == "casadi":
             return np.asarray(self.casadi(name)(x, p), dtype=float).reshape(-1)
         raise UserError(f"unknown backend {backend!r}: use 'c' or 'casadi'")
+
+    def _bound_function(self, name: str, p: np.ndarray) -> CFunction:
+        """fast(name, p), built once per function and thread and given p by a copy into its
+        buffer: call's path (a launch's Legendre map makes eight calls, a run's summary more)."""
+        cache = self._bound.__dict__
+        f = cache.get(name)
+        if f is None:
+            f = cache[name] = self.fast(name, p)
+        else:
+            f.bind(p)
+        return f
 
     def rows(self, name: str, X, p=None) -> np.ndarray:
         """The generated C function `name` at every row of X (rows, n_in) -> (rows, n_out), in one
@@ -489,14 +510,19 @@ class Model:
         if p.size != self.p.size:
             raise ValueError(f"{name}: expected {self.p.size} parameters, got {p.size}")
         out = np.empty((X.shape[0], info.n_out))
-        f = self.lib.lev_rows
-        if f.argtypes is None:
-            f.argtypes = [ctypes.c_void_p, ctypes.c_long, ctypes.c_int, ctypes.c_int, ctypes.c_void_p,
-                          ctypes.c_void_p, ctypes.c_void_p]
-            f.restype = None
-        f(ctypes.cast(self.c_function(name), ctypes.c_void_p), X.shape[0], info.n_in, info.n_out,
-          X.ctypes.data, p.ctypes.data, out.ctypes.data)
+        addr = self._rows_addr.get(name)
+        if addr is None:
+            addr = self._rows_addr[name] = ctypes.cast(self.c_function(name), ctypes.c_void_p).value
+        self._lev_rows(addr, X.shape[0], info.n_in, info.n_out, X.ctypes.data, p.ctypes.data,
+                       out.ctypes.data)
         return out
+
+    @cached_property
+    def _lev_rows(self):
+        """runtime/csrc lev_rows(f, rows, n_in, n_out, X, p, out), plain int addresses."""
+        return ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_long, ctypes.c_int, ctypes.c_int,
+                                ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p)(
+            ctypes.cast(self.lib.lev_rows, ctypes.c_void_p).value)
 
     def onaxis(self, z, p=None, backend: str = "c") -> np.ndarray:
         """[Phi_0, ..., Phi_K](z) of the plate (thesis eq. 2.2.6 and eqs. 2.2.12-2.2.14)."""

@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from dataclasses import dataclass
+
 from levitron.runtime.simulate.rotations import ANGLES, angle_generator_z, coordinates_of, rotation_bs
 
 
@@ -77,15 +79,37 @@ def invariants(pt, X, p) -> np.ndarray:
     model = getattr(pt, "model", None)
     if model is not None and pt.has("invariants"):
         return model.rows(f"{pt.name}_invariants", X, p)
+    if coordinates_of(pt) is None and "p_zeta" in pt.states:   # the reduced model: a column
+        lz = -X[:, list(pt.states).index("p_zeta")].astype(float)
+        return np.column_stack([lz, lz])
     return np.array([[angular_momentum_z(pt, x), spin_momentum(pt, x)] for x in X])
 
 
-def deviations(pt, X, x0, p, pv: dict, spin: float, energy: float) -> dict:
+def deviations(pt, X, x0, p, pv: dict, spin: float, energy: float, inv=None) -> dict:
     """The largest relative deviation over the samples of H (given), L_z and L.n, each relative to
-    max(|its start value|, C |spin|) (the spin's angular momentum: the scale of both)."""
+    max(|its start value|, C |spin|) (the spin's angular momentum: the scale of both). inv: the
+    invariants of x0 then the rows of X, if already computed (Samples)."""
     c_spin = pv.get("C", 0.0) * abs(spin)
-    inv = invariants(pt, np.vstack([x0, X]), p)
+    if inv is None:
+        inv = invariants(pt, np.vstack([x0, X]), p)
     lz, ln = inv[:, 0], inv[:, 1]
     return {"energy": energy,
             "L_z": largest_deviation(lz, max(abs(lz[0]), c_spin)),
             "L_n": largest_deviation(ln, max(abs(ln[0]), c_spin))}
+
+
+@dataclass(frozen=True)
+class Samples:
+    """A run's per-sample quantities, each computed once for its summary and its trajectory table:
+    the energy H at the samples (the integrator's own where it monitored it), the invariants
+    (L_z, L.n) of the start x0, the samples, then the final state, and the tilt at the samples."""
+    energy: np.ndarray
+    invariants: np.ndarray
+    tilt: np.ndarray
+
+    @classmethod
+    def of(cls, pt, res, x0, p) -> Samples:
+        X = np.atleast_2d(res.X)
+        H = res.energy if res.energy is not None else rows_of(pt, "energy", X, p)[:, 0]
+        inv = invariants(pt, np.vstack([x0, X, res.x_final]), p)     # one C call
+        return cls(np.asarray(H, float), inv, tilt_of(pt, X))

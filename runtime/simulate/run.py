@@ -49,7 +49,8 @@ from levitron.runtime.simulate import trajectory_file
 from levitron.runtime.ui.human import Units
 from levitron.runtime.physics.stability import stability_of
 from levitron.runtime.simulate.invariants import (  # noqa: F401 (the run's pieces, by name: sim.X)
-    angular_momentum_z, deviations, invariants, largest_deviation, rows_of, spin_momentum, spin_rate, tilt_of)
+    Samples, angular_momentum_z, deviations, invariants, largest_deviation, rows_of, spin_momentum, spin_rate,
+    tilt_of)
 from levitron.runtime.simulate.plot import draw, draw_flight
 from levitron.runtime.simulate.rotations import (  # noqa: F401
     ANGLES, DEFAULT_AZIMUTH, SPIN_ANGLE, TILT_ANGLE, angle_generator_z, coordinates_of, rotation_bs,
@@ -132,7 +133,8 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
         st = stability_of(model, p=p, z_s=z_s)    # the ideal top's interval at z_s (rates set to 0)
         fl = flight.flight(model, pt, p, res, x0, spin, z_s, t_end, st.spin_interval,
                            lambda X: spin_rate(pt, X, pvals["C"], p))
-    out = summarize(pt, res, x0, p, z_s, bx, spin, tilt, offset, t_end, integrator, tol, h, plot, fl)
+    ps = Samples.of(pt, res, x0, p)
+    out = summarize(pt, res, x0, p, z_s, bx, spin, tilt, offset, t_end, integrator, tol, h, plot, fl, ps)
     out["tilt_azimuth"] = azimuth
     out["tilt_default"] = tilt_default and coordinates_of(pt) is not None
     if on_invariant_set(pt, tilt, offset):
@@ -141,31 +143,33 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
     if requested == AUTO:
         out["integrator_choice"] = auto_note(tol)
     if save is not None or trajectory:
-        names, table = trajectory_table(pt, res, p)
+        names, table = trajectory_table(pt, res, p, ps)
         out["saved"] = str(trajectory_file.write(save, names, table)) if save is not None else None
         if trajectory:
             out["trajectory"] = {n: table[:, i] for i, n in enumerate(names)}
     return out
 
 
-def trajectory_table(pt, res: Result, p) -> tuple[list[str], np.ndarray]:
+def trajectory_table(pt, res: Result, p, ps: Samples | None = None) -> tuple[list[str], np.ndarray]:
     """The samples of a run as columns (runtime/simulate/trajectory_file.py): t, the states, energy, L_z,
-    L_n and tilt, each derived column from a generated function in one C call."""
+    L_n and tilt, each derived column from a generated function in one C call (ps: Samples.of, if
+    the summary already computed them)."""
     X = np.atleast_2d(res.X)
-    H = res.energy if res.energy is not None else rows_of(pt, "energy", X, p)[:, 0]
-    inv = invariants(pt, X, p)
-    cols = [np.asarray(res.t, float)[:, None], X, np.asarray(H, float)[:, None], inv,
-            tilt_of(pt, X)[:, None]]
+    ps = Samples.of(pt, res, X[0], p) if ps is None else ps
+    cols = [np.asarray(res.t, float)[:, None], X, ps.energy[:, None], ps.invariants[1:-1],
+            ps.tilt[:, None]]
     return ["t", *pt.states, "energy", "L_z", "L_n", "tilt"], np.hstack(cols)
 
 
 def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, integrator, tol, h,
-              plot, fl: dict | None = None) -> dict:
+              plot, fl: dict | None = None, ps: Samples | None = None) -> dict:
     """simulate's answer. fl: the flight block of a run in air (runtime/physics/friction.py); there the energy
-    drift is the residual of the energy balance and L.n is compared with its exponential decay."""
+    drift is the residual of the energy balance and L.n is compared with its exponential decay.
+    ps: the run's Samples (Samples.of), if computed already."""
     s = list(pt.states)
     X = res.X
-    H = res.energy if res.energy is not None else rows_of(pt, "energy", X, p)[:, 0]
+    ps = Samples.of(pt, res, x0, p) if ps is None else ps
+    H = ps.energy
     H0 = pt.energy(x0, p)
     names = pt.model.param_names if hasattr(pt, "model") else []
     pv = dict(zip(names, p))
@@ -176,9 +180,8 @@ def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, i
     z = X[:, s.index("z")]
     r = np.hypot(X[:, s.index("x")], X[:, s.index("y")]) if "x" in s else np.zeros(len(X))
     exc = np.sqrt(r ** 2 + (z - z_s) ** 2)
-    tilt_t = tilt_of(pt, X)
-    inv = invariants(pt, np.vstack([x0, res.x_final]), p)
-    lz0, lz1 = float(inv[0, 0]), float(inv[1, 0])
+    tilt_t = ps.tilt
+    lz0, lz1 = float(ps.invariants[0, 0]), float(ps.invariants[-1, 0])
     pz = ([float(x0[s.index("p_zeta")]), float(res.x_final[s.index("p_zeta")])]
           if "p_zeta" in s else None)
     out = {
@@ -208,7 +211,8 @@ def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, i
             "L_z": [lz0, lz1],
             "p_zeta": pz,
         },
-        "conserved_max_deviation": deviations(pt, X, x0, p, pv, spin, float(drift.max())),
+        "conserved_max_deviation": deviations(pt, X, x0, p, pv, spin, float(drift.max()),
+                                              ps.invariants[:-1]),
         "part": pt.name if hasattr(pt, "name") else None,
         "coordinates": coordinates_of(pt),
         "plot": None,

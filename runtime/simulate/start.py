@@ -13,6 +13,7 @@ import numpy as np
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.run import Box
 from levitron.runtime.physics.eigen_route import growth_rate, transverse_matrix
+from levitron.runtime.simulate.invariants import rows_of
 from levitron.runtime.simulate.rotations import (ANGLES, DEFAULT_AZIMUTH, SPIN_ANGLE, coordinates_of,
                                         rotation_bs, rotation_bs_derivatives, tilt_angles)
 
@@ -29,15 +30,11 @@ def legendre_map(part, q: np.ndarray, p=None) -> tuple[np.ndarray, np.ndarray]:
     coords = coordinate_names(part)
     ic = [s.index(c) for c in coords]
     ip = [s.index("p_" + c) for c in coords]
-    base = np.zeros(len(s))
-    base[ic] = q
-    f0 = part.rhs(base, p)[ic]
-    cols = []
-    for k in ip:
-        e = base.copy()
-        e[k] = 1.0
-        cols.append(part.rhs(e, p)[ic] - f0)
-    return f0, np.array(cols).T
+    E = np.zeros((1 + len(ip), len(s)))        # row 0 at p_q = 0, row 1 + k at p_k = 1
+    E[:, ic] = q
+    E[1 + np.arange(len(ip)), ip] = 1.0
+    rows = rows_of(part, "rhs", E, p)[:, ic]   # one C call
+    return rows[0], (rows[1:] - rows[0]).T
 
 
 DEFAULT_TILT = 0.005             # rad: the default launch's tilt (module docstring)
@@ -99,7 +96,7 @@ def launch(part, z_s: float, tilt: float = 0.0, offset: float = 0.0, p=None,
             q[coords.index(a)] = v
         n = rotation_bs(kind, angles)[:, 2]
         want = [math.sin(tilt) * math.cos(azimuth), math.sin(tilt) * math.sin(azimuth), math.cos(tilt)]
-        if not np.allclose(n, want, atol=1e-14, rtol=0):
+        if not max(abs(a - b) for a, b in zip(n, want)) <= 1e-14:
             raise AssertionError(f"tilt convention broken: n = {n}")
         # the spin angle's rate that gives omega . n = spin, omega = vee(dR/da R^T) a_dot
         ispin = ANGLES[kind].index(SPIN_ANGLE[kind])
