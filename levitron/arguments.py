@@ -11,14 +11,16 @@ words.
 """
 from __future__ import annotations
 
+import difflib
 import numbers
+import re
 from collections.abc import Iterable, Mapping
 
 import numpy as np
 
 from levitron.runtime.errors import UserError
 
-__all__ = ["UserError", "boxes", "choice", "names", "number", "plain", "scene_keys"]
+__all__ = ["UserError", "Named", "api_words", "boxes", "choice", "names", "number", "plain", "scene_keys"]
 
 
 def is_number(value) -> bool:
@@ -44,9 +46,10 @@ def plain(value):
     return value
 
 
-def names(value, what: str, valid: Iterable[str] | None = None) -> list[str]:
+def names(value, what: str, valid: Iterable[str] | None = None, each: str | None = None) -> list[str]:
     """A list of names: refuses one string (it would be taken letter by letter) and, with
-    `valid`, any name not in it, listing the valid ones."""
+    `valid`, any name not in it, listing the valid ones (`each`: what one name is, e.g. "scene
+    key" for the list `keys`)."""
     if isinstance(value, str):
         raise UserError(f"{what} must be a list of names, not the string {value!r}: write [{value!r}]")
     try:
@@ -57,7 +60,7 @@ def names(value, what: str, valid: Iterable[str] | None = None) -> list[str]:
         if not isinstance(name, str):
             raise UserError(f"{what}: {name!r} is not a name (a string)")
         if valid is not None:
-            choice(name, what, valid)
+            choice(name, each or what, valid)
     return out
 
 
@@ -65,8 +68,36 @@ def choice(name, what: str, valid: Iterable[str]) -> str:
     """`name` if it is one of `valid`, else a UserError listing them."""
     valid = list(valid)
     if name not in valid:
-        raise UserError(f"{what} {name!r} is unknown: use one of {', '.join(valid)}")
+        near = difflib.get_close_matches(str(name), valid, n=1) if isinstance(name, str) else []
+        hint = f"did you mean {near[0]!r}? " if near else ""
+        raise UserError(f"{what} {name!r} is unknown: {hint}use one of {', '.join(valid)}")
     return name
+
+
+class Named(dict):
+    """A dict of named things (Study.functions) whose unknown name is a one-line UserError listing
+    the names, not a bare KeyError."""
+
+    def __init__(self, what: str, items):
+        super().__init__(items)
+        self.what = what
+
+    def __missing__(self, name):
+        choice(name, self.what, self)
+
+
+_FLAG_VALUE = re.compile(r"--([a-z][a-z0-9-]*) (-?(?:\d[\w.+-]*|\.\d[\w.+-]*)(?::[\w.+-]+)*)(?=[\s;,)]|$)")
+_FLAG = re.compile(r"--([a-z][a-z0-9-]*)")
+_API_NAME = {"set": "overrides"}
+
+
+def api_words(text: str) -> str:
+    """A runtime sentence in the API's words: the command line's flags as the keyword arguments
+    they are ("--t-end 1" -> "t_end=1", "--n-out" -> "n_out", "--set" -> "overrides")."""
+    def name(flag: str) -> str:
+        return _API_NAME.get(flag, flag.replace("-", "_"))
+    text = _FLAG_VALUE.sub(lambda m: f"{name(m.group(1))}={m.group(2)}", text)
+    return _FLAG.sub(lambda m: name(m.group(1)), text)
 
 
 def scene_keys(data: Mapping, prefix: str = "") -> list[str]:

@@ -61,16 +61,18 @@ def load(scene: str | Path, overrides: Mapping[str, float | str] | None = None) 
 
 
 def _in_scene_units(method):
-    """A Study method whose UserError speaks the scene's units: the runtime's messages speak SI
-    (as the JSON does), and a dimensionless scene's are restated without SI units."""
+    """A Study method whose UserError speaks the scene's units and the API's words: the runtime's
+    messages speak SI (as the JSON does), and a dimensionless scene's are restated without SI
+    units; the command line's flags they name become the keyword arguments (arguments.api_words)."""
     @functools.wraps(method)
     def wrapper(self, *args, **kwargs):
         try:
             return method(self, *args, **kwargs)
         except UserError as exc:
-            if self.units.si:
+            text = arg.api_words(str(exc) if self.units.si else restate(str(exc), self.units))
+            if text == str(exc):
                 raise
-            raise UserError(restate(str(exc), self.units)) from None
+            raise UserError(text) from None
     return wrapper
 
 class Study:
@@ -114,7 +116,7 @@ class Study:
         z_s(z_guess, p) -> (z_s, stiffness), z_c(z_guess, p) -> (z_c, max_mass),
         spin(z_guess, sigma_lo_guess, sigma_hi_guess, p) -> (z_s, sigma_lo, sigma_hi),
         band(z_c_guess, z_hi_guess, s_guess, t_guess, p) -> (z_lo, z_hi, m_hi, m_lo, mass_window)."""
-        out = {name: self.model.casadi(name) for name in self.model.manifest.functions}
+        out = arg.Named("function", {name: self.model.casadi(name) for name in self.model.manifest.functions})
         out.update(self.casadi_stability.functions)
         return out
 
@@ -135,7 +137,7 @@ class Study:
         scene's values. keys: a list of scene keys (one string is refused, not spelled out)."""
         from levitron.runtime.design.scene_keys import KeyMap
         arg.choice(quantity, "quantity", self.quantities())
-        keys = arg.names(keys, "keys", self.keys())
+        keys = arg.names(keys, "keys", self.keys(), each="scene key")
         x = np.array([self.value(k) for k in keys])
         if not np.all(x != 0):
             raise UserError(f"gradient: a key at 0 ({keys[int(np.argmin(np.abs(x)))]}) has no relative "

@@ -35,11 +35,13 @@ def test_unknown_quantity_lists_the_valid_ones(study):
     with pytest.raises(lev.UserError) as exc:
         study.gradient("spin_hi", ["top.mass"])
     msg = str(exc.value)
-    assert "quantity 'spin_hi' is unknown: use one of" in msg and "sigma_hi" in msg and "mass_window" in msg
+    assert "quantity 'spin_hi' is unknown: did you mean 'sigma_hi'? use one of" in msg
+    assert "mass_window" in msg
 
 
 def test_unknown_key_lists_the_scene_keys(study):
-    with pytest.raises(lev.UserError, match=r"scene key 'top.mas' is unknown: use one of .*top\.mass"):
+    with pytest.raises(lev.UserError,
+                       match=r"scene key 'top.mas' is unknown: did you mean 'top.mass'\? use one of .*top\.mass"):
         study.value("top.mas")
     with pytest.raises(lev.UserError, match="plate.hole"):
         study.gradient("sigma_hi", ["top.mas"])
@@ -57,7 +59,8 @@ def test_simulate_takes_the_command_line_names(study):
     a = study.simulate(1000.0, tilt=0.02, tilt_azimuth=0.3, t_end=0.05)
     b = study.simulate(1000.0, tilt=0.02, azimuth=0.3, t_end=0.05)
     assert a.details["tilt_azimuth"] == 0.3 and a.final_state == b.final_state
-    with pytest.raises(lev.UserError, match=r"simulate option 'tend' is unknown: use one of .*t_end"):
+    with pytest.raises(lev.UserError,
+                       match=r"simulate option 'tend' is unknown: did you mean 't_end'\? use one of .*t_end"):
         study.simulate(1000.0, tend=0.05)
 
 
@@ -67,7 +70,8 @@ def test_scan_height_axis_is_a_fraction_and_validated(study):
     assert "FRACTION of the hover height" in lev.Study.scan.__doc__
     with pytest.raises(lev.UserError, match="fraction of z_s"):
         study.scan([1000.0], "height", [0.6], t_end=0.01)
-    with pytest.raises(lev.UserError, match=r"scan axis 'heigth' is unknown: use one of tilt, mass, height"):
+    with pytest.raises(lev.UserError,
+                       match=r"scan axis 'heigth' is unknown: did you mean 'height'\? use one of tilt, mass, height"):
         study.scan([1000.0], "heigth", [0.01], t_end=0.01)
     with pytest.raises(lev.UserError, match="not the string"):
         study.scan("1000", "tilt", [0.01], t_end=0.01)

@@ -126,3 +126,42 @@ def test_a_study_says_what_it_is():
         "Study(scene='thesis_stable', overrides=['top.mass=0.051'], SI, parts=['full', 'reduced'], "
         "annulus plate)")
     assert repr(lev.load("reduced_only")).startswith("Study(scene='reduced_only', SI, parts=['reduced'],")
+
+
+@pytest.mark.parametrize("text,want", [
+    ("t_end=-1.0 must be positive; pass e.g. --t-end 1", "t_end=-1.0 must be positive; pass e.g. t_end=1"),
+    ("--n-out = 0 must be at least 1", "n_out = 0 must be at least 1"),
+    ("--n -5 must be a whole number", "n=-5 must be a whole number"),
+    ("pass e.g. --tol 1e-9", "pass e.g. tol=1e-9"),
+    ("give a tilt (e.g. --tilt 0.005) or an offset", "give a tilt (e.g. tilt=0.005) or an offset"),
+    ("--tilt 0.001:0.3:10", "tilt=0.001:0.3:10"),
+    ("add it with --set field.order=12", "add it with overrides field.order=12"),
+    ("run the full model (--part full)", "run the full model (part full)"),
+    ("a 2-3 mm top at 1e-9 s", "a 2-3 mm top at 1e-9 s"),
+])
+def test_runtime_sentences_are_restated_in_the_apis_words(text, want):
+    """levitron/arguments.py api_words: the command line's flags in a runtime sentence become the
+    keyword arguments of the API (a Study method's UserError passes through it)."""
+    from levitron.arguments import api_words
+    assert api_words(text) == want
+
+
+def test_no_study_error_names_a_command_line_flag(study):
+    """The API's errors name its keyword arguments, not flags (simulate validates with the
+    command line's checks, whose sentences say --spin, --t-end, ...)."""
+    bad = [lambda: study.simulate(spin=float("nan")), lambda: study.simulate(1000.0, t_end=-1.0),
+           lambda: study.simulate(1000.0, n_out=0), lambda: study.simulate(1000.0, tol=2.0),
+           lambda: study.simulate(1000.0, integrator="rk4", step=-1.0),
+           lambda: study.propagator(tol=-1.0), lambda: study.launch(n=-5),
+           lambda: study.scan([100.0, 200.0], "tilt", [0.1], workers=0)]
+    for call in bad:
+        with pytest.raises(lev.UserError) as exc:
+            call()
+        assert "--" not in str(exc.value) and len(str(exc.value).splitlines()) == 1, str(exc.value)
+
+
+def test_an_unknown_function_name_is_one_line_with_a_hint(study):
+    fns = study.functions()
+    with pytest.raises(lev.UserError, match=r"function 'full_rsh' is unknown: did you mean 'full_rhs'\?"):
+        fns["full_rsh"]
+    assert "full_rhs" in fns and fns.get("nope") is None
