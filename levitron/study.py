@@ -257,21 +257,25 @@ class Study:
 
     @_in_scene_units
     def propagator(self, part: str = "reduced", integrator: str = "auto", tol: float = 1e-9,
-                   spin: float = 0.0):
+                   spin: float = 0.0, box: bool | float = False):
         """A run prepared once and repeated cheaply (runtime/integrate/propagator.py):
         ``prop(x0, t_end)`` is the state at t_end (s) of the run from x0 (the part's states in
         order, ``prop.states``), about 1 us of Python around the C integration; or in place,
         ``prop.state[:] = x0; prop.propagate(t_end)``. integrator: an adaptive C method (dop853,
         vern9, auto; taylor on the reduced model); tol relative to the scene's state magnitudes
         (lengths z_s, linear momenta m sqrt(g z_s), angles 1 rad, angular momenta
-        max(C |spin|, A sqrt(g / z_s)), with spin in rad/s)."""
+        max(C |spin|, A sqrt(g / z_s)), with spin in rad/s). box: False (none: a run goes to t_end),
+        True (simulate's: |z - z_s| and the radial offset within z_s / 2) or a half-width (m); a run
+        that leaves it stops there, ``prop.status`` "left_box" at ``prop.t_final``."""
         from levitron.runtime.integrate.propagator import Propagator
-        from levitron.runtime.simulate.start import state_scales
+        from levitron.runtime.simulate.start import default_box, state_scales
         arg.choice(part, "part", tuple(self.model.parts))
         pt = self.model.part(part)
         z_s = eqm.hover_height(self.model, self.model.p)
         scale = state_scales(pt, z_s, arg.number(spin, "spin"), self.model.pvals())
-        return Propagator(pt, integrator, arg.number(tol, "tol"), scale=scale)
+        box = bool(box) if isinstance(box, (bool, np.bool_)) else arg.number(box, "box")
+        bx = None if box is False else default_box(pt, z_s, None if box is True else box)
+        return Propagator(pt, integrator, arg.number(tol, "tol"), scale=scale, box=bx)
 
     @_in_scene_units
     def scan(self, spins: Sequence[float], axis: str, values: Sequence[float], **options):

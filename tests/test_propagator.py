@@ -95,3 +95,34 @@ def test_parameters_change_in_place_and_scale_is_fixed(study):
     assert prop.p is buf and np.array_equal(buf, 2 * p2)
     with pytest.raises(ValueError):
         prop.scale[0] = 1.0
+
+
+@pytest.mark.parametrize("part", ["reduced", "full"])
+def test_a_box_stops_a_fall_where_simulates_box_does(study, part):
+    """Study.propagator(box=True): simulate's box (|z - z_s|, r within z_s / 2). A top started far
+    below its hover height falls out of it: the run stops at the crossing with status left_box, the
+    state and time of integrate() with the same Box, bit for bit, and no error; the next run, inside
+    the box, completes. Without a box the same fall is integrated to t_end."""
+    from levitron.runtime.simulate.start import default_box, initial_state
+    from levitron.runtime.physics.equilibrium import hover_height
+    pt = study.model.part(part)
+    z_s = hover_height(study.model, study.model.p)
+    prop = study.propagator(part, "dop853", 1e-9, spin=1100.0, box=True)
+    tilt = 0.01 if part == "full" else 0.0
+    x0 = initial_state(pt, 0.8 * z_s, 1100.0, tilt, 0.0, study.model.p)    # falls below z_s / 2
+    bx = default_box(pt, z_s)
+    ref = integrate(pt, x0, 2.0, method="dop853", tol=1e-9, scale=prop.scale, n_out=1, box=bx)
+    assert ref.status == "left_box"
+    got = prop(x0, 2.0)
+    assert prop.status == "left_box" and prop.t_final == ref.t_final < 2.0
+    np.testing.assert_array_equal(got, ref.x_final)
+    inside = initial_state(pt, z_s, 1100.0, tilt, 0.0, study.model.p)
+    prop(inside, 0.05)
+    assert prop.status == "completed" and prop.t_final == 0.05
+    free = study.propagator(part, "dop853", 1e-9, spin=1100.0)
+    free(x0, 0.05)
+    assert free.status == "completed" and free.box is None
+    half = study.propagator(part, "dop853", 1e-9, spin=1100.0, box=0.1 * z_s)
+    assert half.box.z_lo == pytest.approx(0.9 * z_s) and "box z" in repr(half)
+    with pytest.raises(UserError, match="box"):
+        study.propagator(part, box=-1.0)

@@ -15,8 +15,11 @@ optimisation loop or a sweep pays about 1 us of Python per run (`levitron bench`
 reports/<scene>/bench_reduced.json). The numbers are those of ``integrate`` with the same method,
 tolerance, scale and parameters, bit for bit (tests/test_propagator.py): the same C call.
 
-No samples and no box: a run goes to t_end, or stops with a UserError naming why (its status).
-The statistics of the last run are ``steps``, ``status``, ``rhs_evals``. ``p`` is the parameter
+No samples. Without a box a run goes to t_end, or stops with a UserError naming why (its status);
+with a Box (runtime/integrate/trajectory.py, the one `simulate` uses) a run that leaves it stops
+there, as `simulate`'s does, and returns the state at the crossing with ``status`` "left_box" and
+``t_final`` the time (no error: a top that falls is an answer). The statistics of the last run are
+``steps``, ``status``, ``t_final``, ``rhs_evals``. ``p`` is the parameter
 vector C reads in place (assign into it). One Propagator holds one set of buffers: use one per
 thread.
 """
@@ -32,15 +35,19 @@ from levitron.runtime.integrate.budget import MAX_STEPS_CAP, check_options
 from levitron.runtime.integrate.c_backend import (STATUS, _Job, _Options, _Stats, _System, _f64,
                                                   bind, fn_address)
 from levitron.runtime.integrate.methods import lookup, resolve
+from levitron.runtime.integrate.trajectory import Box
+
+
+_LEFT_BOX = next(k for k, v in STATUS.items() if v == "left_box")
 
 
 class Propagator:
     """Runs of `part` with one adaptive C method (dop853, vern9, taylor or auto) at tolerance `tol`
     (rtol = tol, atol_k = tol * scale_k, as ``integrate``; `scale`: the state magnitudes, required),
-    parameters `p` (default the part's)."""
+    parameters `p` (default the part's), `box` the region the top must stay in (a Box, or None)."""
 
     def __init__(self, part, method: str = "dop853", tol: float = 1e-9, p=None, scale=None, *,
-                 max_steps: int | None = None):
+                 max_steps: int | None = None, box: Box | None = None):
         from levitron.runtime.integrate.run import _lib_of, taylor_of
         self.requested, self.method = method, resolve(method, tol)
         entry = lookup(self.method)
@@ -66,9 +73,12 @@ class Propagator:
         self._work = np.zeros(n_work)
         self._sys = _System(self.n, fn_address(part.c_function("rhs")), None, None,
                             self._p.ctypes.data, fn_address(taylor))
+        self.box = box
+        b = box or Box(iz=-1, z_lo=-math.inf, z_hi=math.inf)
         self._opt = _Options(t0=0.0, t_end=1.0, rtol=self.tol, atol_v=self._atol.ctypes.data,
-                             max_steps=self.max_steps, ix=-1, iy=-1, iz=-1, z_lo=-math.inf,
-                             z_hi=math.inf, r_max=math.inf)
+                             max_steps=self.max_steps, box_on=int(box is not None), ix=b.ix, iy=b.iy,
+                             iz=b.iz, z_lo=b.z_lo,
+                             z_hi=b.z_hi, r_max=b.r_max)
         self._st = _Stats()
         self._job = _Job(entry.c_id, ctypes.addressof(self._sys), ctypes.addressof(self._opt),
                          self._x.ctypes.data, self._work.ctypes.data, None, None, None,
@@ -112,7 +122,7 @@ class Propagator:
         if t_end != self._t_end:
             self._set_t_end(t_end)
         status = self._run(self._addr)
-        if status:
+        if status and not (status == _LEFT_BOX and self.box is not None):
             self._fail(status)
 
     def __call__(self, x0, t_end: float) -> np.ndarray:
@@ -124,7 +134,7 @@ class Propagator:
         except (ValueError, TypeError):
             raise UserError(f"initial state must be {self.n} numbers, got {np.shape(x0)}") from None
         status = self._run(self._addr)
-        if status:
+        if status and not (status == _LEFT_BOX and self.box is not None):
             self._fail(status)
         return self._x.copy()
 
@@ -147,6 +157,11 @@ class Propagator:
         return STATUS.get(self._st.status, str(self._st.status))
 
     @property
+    def t_final(self) -> float:
+        """Where the last run ended: t_end, or the time it left the box."""
+        return float(self._st.t_final)
+
+    @property
     def steps(self) -> int:
         return int(self._st.steps)
 
@@ -156,4 +171,5 @@ class Propagator:
 
     def __repr__(self) -> str:
         part = getattr(self.part, "name", "?")
-        return f"Propagator(part={part}, method={self.method}, tol={self.tol:g}, n={self.n})"
+        box = "" if self.box is None else f", box z {self.box.z_lo:.4g}..{self.box.z_hi:.4g}"
+        return f"Propagator(part={part}, method={self.method}, tol={self.tol:g}, n={self.n}{box})"
