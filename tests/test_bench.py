@@ -262,3 +262,22 @@ def test_the_api_bench_runs_quick_and_measures_each_part(tmp_path):
         assert 0 < r["integration_s"] < r["wall_s"] and r["overhead_s"] <= r["wall_s"] - r["integration_s"]
         assert r["calls"] >= 1 and r["budget_s"] == api.OVERHEAD_BUDGET_S
     assert all(Path(f).exists() for f in res["files"]) and "overhead" in res["headline"]
+
+
+def test_the_per_call_race_keeps_the_loosest_tolerance_within_the_bound():
+    """runtime/bench/work_precision.py race_candidates: a contestant's loosest tolerances within the
+    error bound are raced even when a slow stretch made their sweep rows look slow (square's taylor
+    at 1e-8 was once left out for 10.8 us against 7.2 us at 1e-13), beside its fastest rows; rows
+    outside the bound, of another method or not completed never are."""
+    from levitron.runtime.bench.work_precision import PER_CALL_BOUND, race_candidates
+
+    def row(tol, err, wall, integrator="taylor", status="completed"):
+        return {"backend": "c", "integrator": integrator, "tol": tol, "error": err, "wall_s": wall,
+                "status": status}
+    rows = [row(1e-6, 10 * PER_CALL_BOUND, 1e-6), row(1e-8, 0.25 * PER_CALL_BOUND, 10.8e-6),
+            row(1e-9, 0.4 * PER_CALL_BOUND, 10.7e-6), row(1e-13, 1e-12, 7.2e-6),
+            row(1e-14, 1e-13, 7.6e-6), row(1e-15, 1e-13, 8.9e-6), row(1e-16, 1e-13, 9.9e-6),
+            row(1e-8, 0.1 * PER_CALL_BOUND, 1e-7, integrator="vern9"),
+            row(1e-7, 0.1 * PER_CALL_BOUND, 1e-7, status="step_budget")]
+    got = [r["tol"] for r in race_candidates(rows, "c", "taylor")]
+    assert got == [1e-8, 1e-9, 1e-13, 1e-14, 1e-15]
