@@ -18,7 +18,6 @@ import json
 import sys
 from pathlib import Path
 
-from .build import derive_scene
 from .faults import die_at
 from .paths import GENERATED, SCENES_DIR, is_committed_scene
 from .scene import SceneError, load_scene
@@ -100,6 +99,7 @@ def main(argv=None) -> int:
         scenes = [load_scene(n, args.set) for n in names]   # validate all before writing any
         if out.resolve() == GENERATED.resolve():
             refuse_uncommitted(scenes, args.set)
+        from .build import derive_scene      # sympy and the emitters: after the scenes are valid
         for scene in scenes:
             with stage_lines(args.stages):
                 res = derive_scene(scene, out, force=args.force)

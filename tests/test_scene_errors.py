@@ -186,3 +186,16 @@ def test_design_keys_reach_a_compound_plates_parts(tmp_path):
     for bad in ("plate.parts.2.radius", "plate.parts.one.radius"):
         with pytest.raises(UserError, match="plate.parts.<i>.<key>"):
             key_value(sc.data, bad)
+
+
+def test_derive_refuses_a_bad_scene_before_it_loads_sympy(tmp_path):
+    """python -m levitron.derive validates every scene before it imports the derivation (sympy, the
+    emitters: half a second), so a bad scene is refused at once."""
+    scene = tmp_path / "bad.toml"
+    scene.write_text(CASES[0][1])
+    code = ("import sys; from levitron.derive.__main__ import main; rc = main([sys.argv[1]]); "
+            "print(rc, 'sympy' in sys.modules)")
+    res = subprocess.run([sys.executable, "-c", code, str(scene)], cwd=ROOT, capture_output=True, text=True,
+                         check=False)
+    assert res.stdout.split() == ["2", "False"], res.stdout + res.stderr
+    assert CASES[0][2] in res.stderr
