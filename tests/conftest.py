@@ -25,19 +25,18 @@ def thesis_model(thesis_scene):
 
 
 @pytest.fixture(scope="session")
-def derived_model(tmp_path_factory):
-    """derived_model(scene_name, *overrides) -> a Model derived into a temporary folder."""
-    from levitron.derive.build import derive_scene
-    from levitron.runtime.model.load import Model
+def derived_model():
+    """derived_model(scene_name, *overrides) -> the Model of a scene variant, as a user gets it
+    (runtime/model/load.py load_model: derived once into $LEVITRON_CACHE, verified, then reused by
+    every test, worker and run that asks for the same variant; tests of derivation itself,
+    tests/test_generated.py and tests/test_artefacts.py, derive afresh)."""
+    from levitron.runtime.model.load import load_model
     cache = {}
 
     def make(name, *overrides):
         key = (name, overrides)
         if key not in cache:
-            scene = load_scene(name, list(overrides))
-            out = tmp_path_factory.mktemp("gen")
-            derive_scene(scene, out, force=True)
-            cache[key] = Model(scene, out / scene.name)
+            cache[key] = load_model(load_scene(name, list(overrides)), list(overrides))
         return cache[key]
     return make
 
