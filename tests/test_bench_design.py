@@ -22,6 +22,12 @@ def test_quick_bench_writes_json_and_csv(tmp_path):
     assert case["solver_status"] in ("Solve_Succeeded", "Solved_To_Acceptable_Level")
     assert case["iterations"] > 0 and case["grid_points"] == 20 and case["wall_s"] > 0
     assert case["max_relative_gap"] <= 1e-8
+    # the stiffness floor is the scene's own: a fifth of its top's stiffness (2.56 N/m), not a number
+    from levitron.derive.scene import load_scene
+    from levitron.runtime.bench.design import STIFFNESS_FRACTION, stiffness_floor
+    from levitron.runtime.model.load import load_model
+    floor = stiffness_floor(load_model(load_scene("thesis_stable")))
+    assert case["constraints"] == [floor] and floor == f"stiffness>={STIFFNESS_FRACTION * 2.5552696761:.4g}"
     rows = list(csv.DictReader((tmp_path / "bench_design.csv").open()))
     assert [r["case"] for r in rows] == ["one_key"]
     assert int(rows[0]["iterations"]) == case["iterations"]
