@@ -165,3 +165,17 @@ def test_an_unknown_function_name_is_one_line_with_a_hint(study):
     with pytest.raises(lev.UserError, match=r"function 'full_rsh' is unknown: did you mean 'full_rhs'\?"):
         fns["full_rsh"]
     assert "full_rhs" in fns and fns.get("nope") is None
+
+
+def test_a_part_the_scene_did_not_derive_is_named_as_missing_not_unknown():
+    """Third audit: on a reduced-only scene, study.propagator("full") said "part 'full' is unknown:
+    use one of reduced", while simulate says what is true: the scene has no full model, add "full"
+    to model.needs. A misspelt part is still unknown, with a hint."""
+    red = lev.load("reduced_only")
+    for call in (lambda: red.propagator("full"), lambda: red.simulate(1000.0, part="full", t_end=0.1)):
+        with pytest.raises(lev.UserError) as e:
+            call()
+        assert "has no full model" in one_line(e) and "model.needs" in str(e.value), str(e.value)
+    with pytest.raises(lev.UserError) as e:
+        red.propagator("ful")
+    assert "part 'ful' is unknown: did you mean 'full'?" in one_line(e)
