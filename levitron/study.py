@@ -175,7 +175,7 @@ class Study:
             P = self.model.pvals()
             k = P["mu"] * float(self.model.onaxis(res.z_s)[3])
         return Stability(res.z_s, k, None if res.spin_interval is None else tuple(res.spin_interval),
-                         res.reason, res.routes_agree, res.mass, self.units)
+                         res.reason and arg.api_words(res.reason), res.routes_agree, res.mass, self.units)
 
     @_in_scene_units
     def simulate(self, spin: float, **options) -> Simulation:

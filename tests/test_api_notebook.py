@@ -179,3 +179,21 @@ def test_a_part_the_scene_did_not_derive_is_named_as_missing_not_unknown():
     with pytest.raises(lev.UserError) as e:
         red.propagator("ful")
     assert "part 'ful' is unknown: did you mean 'full'?" in one_line(e)
+
+
+def test_the_apis_sentences_name_its_methods_not_the_commands():
+    """Third audit: a Study's error and a Stability's message sent a notebook user to the command
+    line ("(see `levitron equilibrium`)", "(`levitron equilibrium` gives it)"); the API names its
+    own method, Study.equilibria() (arguments.api_words, as it does for flags)."""
+    from levitron.arguments import api_words
+    assert api_words("outside the band (see `levitron equilibrium`)") == \
+        "outside the band (see `Study.equilibria()`)"
+    assert api_words("run `levitron stability` first") == "run `Study.stability()` first"
+    texts = [lev.load("thesis").stability().message]
+    for call in (lambda: lev.load("thesis_stable", {"top.mass": 0.06}).simulate(1000.0),
+                 lambda: lev.load("thesis_stable").stability(height=-1.0)):
+        with pytest.raises(lev.UserError) as e:
+            call()
+        texts.append(one_line(e))
+    for text in texts:
+        assert "`levitron" not in text and "Study.equilibria()" in text, text
