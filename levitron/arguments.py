@@ -89,13 +89,20 @@ class Named(dict):
 _FLAG_VALUE = re.compile(r"--([a-z][a-z0-9-]*) (-?(?:\d[\w.+-]*|\.\d[\w.+-]*)(?::[\w.+-]+)*)(?=[\s;,)]|$)")
 _FLAG = re.compile(r"--([a-z][a-z0-9-]*)")
 _API_NAME = {"set": "overrides"}
+# the commands a runtime sentence sends a person to, as the Study methods that answer the same
+_API_METHOD = {"equilibrium": "Study.equilibria()", "stability": "Study.stability()",
+               "simulate": "Study.simulate()", "scan": "Study.scan()", "launch": "Study.launch()",
+               "optimize": "Study.optimize()"}
+_COMMAND = re.compile(rf"`levitron ({'|'.join(_API_METHOD)})`")
 
 
 def api_words(text: str) -> str:
     """A runtime sentence in the API's words: the command line's flags as the keyword arguments
-    they are ("--t-end 1" -> "t_end=1", "--n-out" -> "n_out", "--set" -> "overrides")."""
+    they are ("--t-end 1" -> "t_end=1", "--n-out" -> "n_out", "--set" -> "overrides"), a command
+    it points to as the Study method ("`levitron equilibrium`" -> "`Study.equilibria()`")."""
     def name(flag: str) -> str:
         return _API_NAME.get(flag, flag.replace("-", "_"))
+    text = _COMMAND.sub(lambda m: f"`{_API_METHOD[m.group(1)]}`", text)
     text = _FLAG_VALUE.sub(lambda m: f"{name(m.group(1))}={m.group(2)}", text)
     return _FLAG.sub(lambda m: name(m.group(1)), text)
 

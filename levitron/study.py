@@ -18,7 +18,7 @@ from levitron.runtime.design.optimize import optimize as _optimize
 from levitron.runtime.errors import UserError
 from levitron.runtime.design.fit import FitResult, Row, read_rows
 from levitron.runtime.design.fit import fit as _fit
-from levitron.runtime.model.load import Model, load_model
+from levitron.runtime.model.load import NEEDS_OF_PART, Model, load_model
 from levitron.runtime.design.scene_keys import Vary, key_value, pvector, with_values
 from levitron.runtime.physics.stability import stability_of
 from levitron.runtime.ui.human import Units, restate
@@ -175,7 +175,7 @@ class Study:
             P = self.model.pvals()
             k = P["mu"] * float(self.model.onaxis(res.z_s)[3])
         return Stability(res.z_s, k, None if res.spin_interval is None else tuple(res.spin_interval),
-                         res.reason, res.routes_agree, res.mass, self.units)
+                         res.reason and arg.api_words(res.reason), res.routes_agree, res.mass, self.units)
 
     @_in_scene_units
     def simulate(self, spin: float, **options) -> Simulation:
@@ -269,7 +269,7 @@ class Study:
         that leaves it stops there, ``prop.status`` "left_box" at ``prop.t_final``."""
         from levitron.runtime.integrate.propagator import Propagator
         from levitron.runtime.simulate.start import default_box, state_scales
-        arg.choice(part, "part", tuple(self.model.parts))
+        arg.choice(part, "part", tuple(NEEDS_OF_PART))     # a part this scene lacks: Model.part says so
         pt = self.model.part(part)
         z_s = eqm.hover_height(self.model, self.model.p)
         scale = state_scales(pt, z_s, arg.number(spin, "spin"), self.model.pvals())

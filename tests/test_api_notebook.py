@@ -165,3 +165,35 @@ def test_an_unknown_function_name_is_one_line_with_a_hint(study):
     with pytest.raises(lev.UserError, match=r"function 'full_rsh' is unknown: did you mean 'full_rhs'\?"):
         fns["full_rsh"]
     assert "full_rhs" in fns and fns.get("nope") is None
+
+
+def test_a_part_the_scene_did_not_derive_is_named_as_missing_not_unknown():
+    """Third audit: on a reduced-only scene, study.propagator("full") said "part 'full' is unknown:
+    use one of reduced", while simulate says what is true: the scene has no full model, add "full"
+    to model.needs. A misspelt part is still unknown, with a hint."""
+    red = lev.load("reduced_only")
+    for call in (lambda: red.propagator("full"), lambda: red.simulate(1000.0, part="full", t_end=0.1)):
+        with pytest.raises(lev.UserError) as e:
+            call()
+        assert "has no full model" in one_line(e) and "model.needs" in str(e.value), str(e.value)
+    with pytest.raises(lev.UserError) as e:
+        red.propagator("ful")
+    assert "part 'ful' is unknown: did you mean 'full'?" in one_line(e)
+
+
+def test_the_apis_sentences_name_its_methods_not_the_commands():
+    """Third audit: a Study's error and a Stability's message sent a notebook user to the command
+    line ("(see `levitron equilibrium`)", "(`levitron equilibrium` gives it)"); the API names its
+    own method, Study.equilibria() (arguments.api_words, as it does for flags)."""
+    from levitron.arguments import api_words
+    assert api_words("outside the band (see `levitron equilibrium`)") == \
+        "outside the band (see `Study.equilibria()`)"
+    assert api_words("run `levitron stability` first") == "run `Study.stability()` first"
+    texts = [lev.load("thesis").stability().message]
+    for call in (lambda: lev.load("thesis_stable", {"top.mass": 0.06}).simulate(1000.0),
+                 lambda: lev.load("thesis_stable").stability(height=-1.0)):
+        with pytest.raises(lev.UserError) as e:
+            call()
+        texts.append(one_line(e))
+    for text in texts:
+        assert "`levitron" not in text and "Study.equilibria()" in text, text

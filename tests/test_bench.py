@@ -281,3 +281,23 @@ def test_the_per_call_race_keeps_the_loosest_tolerance_within_the_bound():
             row(1e-7, 0.1 * PER_CALL_BOUND, 1e-7, status="step_budget")]
     got = [r["tol"] for r in race_candidates(rows, "c", "taylor")]
     assert got == [1e-8, 1e-9, 1e-13, 1e-14, 1e-15]
+
+
+@pytest.mark.parametrize("parts", [["reduced"], ["full", "reduced"]])
+def test_the_api_benchs_legend_clears_its_axis_label(tmp_path, monkeypatch, parts):
+    """runtime/bench/api.py draw: the legend under the axes overlapped the x label "wall time of the
+    fastest call (ms)" on a scene with one part (a reduced-only scene's api.png, third audit): it
+    was anchored at a fraction of the axes' height, which one bar makes short."""
+    from levitron.runtime.bench import api
+    from levitron.runtime.ui.plotting import pyplot
+    plt = pyplot()
+    made = []
+    monkeypatch.setattr(plt, "close", made.append)      # keep the figure to measure it
+    rows = [{"part": p, "integration_s": 2e-4, "wall_s": 5e-4, "budget_s": 1e-3} for p in parts]
+    api.draw(rows, tmp_path / "api.png", "scene: Study.simulate")
+    fig = made[0]
+    r = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    legend, label = ax.get_legend() or fig.legends[0], ax.xaxis.label
+    lb, xb = legend.get_window_extent(r), label.get_window_extent(r)
+    assert lb.y1 <= xb.y0 and lb.y0 >= fig.bbox.y0, (lb, xb)

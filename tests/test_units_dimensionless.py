@@ -156,3 +156,31 @@ def test_no_si_unit_in_design_and_scan_results(scene):
     assert scan.as_dict()["units"] == {"spin": "rad/time", "tilt": "rad"}
     si = lev.load("thesis_stable").scan([1000.0], "tilt", [0.01], t_end=0.05)
     assert si_units(si.message) == ["s"] and si.as_dict()["units"]["spin"] == "rad/s"
+
+
+# an SI unit named as a word, not after a number: "a positive number in m", "(m)", "number rad/s"
+UNIT_WORD = re.compile(rf"(?:\bin |number |\()({SI})(?![\w^/])")
+
+
+def test_no_si_unit_word_in_a_dimensionless_scenes_argument_errors(scene, capsys):
+    """Third audit: a bad argument on a dimensionless scene named an SI unit as a word, through the
+    API and the command line: "box = -1 must be a positive number in m", "step = -1 ... in s",
+    "spin = nan must be a finite number rad/s", "box half-width -1.0 must be a positive length (m)",
+    "t_end = -1 must be a positive time in s". An SI scene's keep theirs (the check can fail)."""
+    import levitron as lev
+    study, si = lev.load(scene), lev.load("thesis_stable")
+    calls = [lambda s: s.simulate(40.0, box=-1), lambda s: s.simulate(40.0, integrator="rk4", h=-1),
+             lambda s: s.simulate(float("nan")), lambda s: s.propagator(box=-1.0),
+             lambda s: s.launch(n=5, t_end=-1)]
+    for call in calls:
+        with pytest.raises(lev.UserError) as dl:
+            call(study)
+        with pytest.raises(lev.UserError) as e_si:
+            call(si)
+        assert UNIT_WORD.findall(str(dl.value)) == [] and "\n" not in str(dl.value), str(dl.value)
+        assert UNIT_WORD.findall(str(e_si.value)), str(e_si.value)
+    for argv in (["simulate", scene, "--spin", "40", "--box", "-1"],
+                 ["simulate", scene, "--spin", "nan"], ["launch", scene, "--n", "5", "--t-end", "-1"]):
+        assert cli.main(argv) == 2
+        err = capsys.readouterr().err
+        assert "error" in err and UNIT_WORD.findall(err) == [], err

@@ -107,6 +107,10 @@ def draw(rows: list[dict], path: Path, title: str) -> Path:
     ax.set_yticks(list(ys), [r["part"] for r in rows])
     ax.set_xlabel("wall time of the fastest call (ms)")
     ax.set_title(title, fontsize="small")
-    ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.3), ncol=3)
-    fig.tight_layout()
+    # the legend in a strip of fixed height at the figure's foot: anchored at a fraction of the
+    # axes' height it overlapped the x label when one bar (one part) made the axes short
+    strip = 0.35 / fig.get_figheight()
+    fig.legend(*ax.get_legend_handles_labels(), fontsize="x-small", loc="lower center", ncol=3,
+               markerscale=0.4, bbox_to_anchor=(0.5, 0.0))
+    fig.tight_layout(rect=(0.0, strip, 1.0, 1.0))
     return save_figure(fig, path)

@@ -158,7 +158,7 @@ def default_box(part, z_s: float, half_width: float | None = None) -> Box:
     """|z - z_s| <= b and sqrt(x^2 + y^2) <= b, b = z_s / 2 unless given."""
     b = 0.5 * z_s if half_width is None else float(half_width)
     if not (b > 0 and math.isfinite(b)):
-        raise UserError(f"box half-width {half_width} must be a positive length (m)")
+        raise UserError(f"box half-width {half_width} must be a positive length in m")
     s = list(part.states)
     ix = s.index("x") if "x" in s else -1
     iy = s.index("y") if "y" in s else -1

@@ -210,6 +210,10 @@ def restate(text, units: Units) -> str:
     if not units.si:        # every other SI unit after a number: dropped, or the scene's rate/time
         text = re.sub(rf"{_NUM} ({_SI_UNITS})(?![\w^/])",
                       lambda m: units.value(float(m.group(1)), m.group(2), 6), text)
+        # a unit named as a word ("a positive number in m", "a length (m)"): the scene's name for it
+        text = re.sub(rf"\b(in|number) (m|kg|{_SI_UNITS})(?![\w^/])",
+                      lambda m: f"{m.group(1)} {units.named(m.group(2))}", text)
+        text = re.sub(rf"\((m|kg|{_SI_UNITS})\)", lambda m: f"({units.named(m.group(1))})", text)
     return text
 
 

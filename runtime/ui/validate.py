@@ -22,10 +22,10 @@ def real(value, label: str, *, positive: bool = False, nonnegative: bool = False
     noun = f"{what} in {unit}" if what and unit else what or (f"number in {unit}" if unit else "number")
     unit = f" {unit}" if unit else ""
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise UserError(f"{label} = {value!r} is not a number: give a finite number{unit}")
+        raise UserError(f"{label} = {value!r} is not a number: give a finite {noun}")
     v = float(value)
     if not math.isfinite(v):
-        raise UserError(f"{label} = {v} must be a finite number{unit}")
+        raise UserError(f"{label} = {v} must be a finite {noun}")
     if positive and not v > 0:
         raise UserError(f"{label} = {v:g} must be a positive {noun}")
     if nonnegative and v < 0:
