@@ -15,6 +15,7 @@ import time
 import pytest
 
 import levitron
+import levitron.study
 from levitron.derive.scene import SceneError, load_scene, override_text, parse_override
 from levitron.runtime.design import fit
 from levitron.runtime.cli.main import main
