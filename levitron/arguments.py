@@ -76,17 +76,22 @@ def choice(name, what: str, valid: Iterable[str]) -> str:
 
 class Named(dict):
     """A dict of named things (Study.functions) whose unknown name is a one-line UserError listing
-    the names, not a bare KeyError."""
+    the names, not a bare KeyError; `absent(name)`: the sentence for a name the scene could have
+    but does not (e.g. a part it did not derive), else None."""
 
-    def __init__(self, what: str, items):
+    def __init__(self, what: str, items, absent=None):
         super().__init__(items)
-        self.what = what
+        self.what, self.absent = what, absent
 
     def __missing__(self, name):
+        why = self.absent(name) if self.absent is not None and isinstance(name, str) else None
+        if why:
+            raise UserError(why)
         choice(name, self.what, self)
 
 
 _FLAG_VALUE = re.compile(r"--([a-z][a-z0-9-]*) (-?(?:\d[\w.+-]*|\.\d[\w.+-]*)(?::[\w.+-]+)*)(?=[\s;,)]|$)")
+_FLAG_WORD = re.compile(r"--(part|integrator|axis|kind) ([a-z][\w-]*)")     # options whose values are names
 _FLAG = re.compile(r"--([a-z][a-z0-9-]*)")
 _API_NAME = {"set": "overrides"}
 # the commands a runtime sentence sends a person to, as the Study methods that answer the same
@@ -104,6 +109,7 @@ def api_words(text: str) -> str:
         return _API_NAME.get(flag, flag.replace("-", "_"))
     text = _COMMAND.sub(lambda m: f"`{_API_METHOD[m.group(1)]}`", text)
     text = _FLAG_VALUE.sub(lambda m: f"{name(m.group(1))}={m.group(2)}", text)
+    text = _FLAG_WORD.sub(lambda m: f"{name(m.group(1))}={m.group(2)!r}", text)
     return _FLAG.sub(lambda m: name(m.group(1)), text)
 
 

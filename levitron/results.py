@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from levitron.runtime.errors import UserError
-from levitron.runtime.ui.human import Units, sig
+from levitron.runtime.ui.human import Units, restate, sig
 
 _SI = Units(si=True)
 
@@ -109,7 +109,7 @@ class Stability:
     @property
     def message(self) -> str:
         if self.spin_interval is None:
-            return f"no stable spin interval: {self.reason or 'no stable hover height'}"
+            return f"no stable spin interval: {restate(self.reason, self.units) or 'no stable hover height'}"
         lo, hi = self.spin_interval
         u = self.units
         return f"stable for spin {lo:.6g}-{_q(u, hi, 'rad/s')} at z_s = {_q(u, self.z_s, 'm')}" + \

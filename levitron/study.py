@@ -116,7 +116,14 @@ class Study:
         z_s(z_guess, p) -> (z_s, stiffness), z_c(z_guess, p) -> (z_c, max_mass),
         spin(z_guess, sigma_lo_guess, sigma_hi_guess, p) -> (z_s, sigma_lo, sigma_hi),
         band(z_c_guess, z_hi_guess, s_guess, t_guess, p) -> (z_lo, z_hi, m_hi, m_lo, mass_window)."""
-        out = arg.Named("function", {name: self.model.casadi(name) for name in self.model.manifest.functions})
+        def absent(name: str) -> str | None:
+            part = name.split("_")[0]
+            if "_" in name and part in NEEDS_OF_PART and part not in self.model.parts:
+                return (f"function {name!r}: scene '{self.scene.name}' has no {part} model (model.needs = "
+                        f"{self.scene.needs}): add \"{part}\" to model.needs in the scene")
+            return None
+        out = arg.Named("function", {name: self.model.casadi(name) for name in self.model.manifest.functions},
+                        absent)
         out.update(self.casadi_stability.functions)
         return out
 

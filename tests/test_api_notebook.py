@@ -136,7 +136,7 @@ def test_a_study_says_what_it_is():
     ("give a tilt (e.g. --tilt 0.005) or an offset", "give a tilt (e.g. tilt=0.005) or an offset"),
     ("--tilt 0.001:0.3:10", "tilt=0.001:0.3:10"),
     ("add it with --set field.order=12", "add it with overrides field.order=12"),
-    ("run the full model (--part full)", "run the full model (part full)"),
+    ("run the full model (--part full)", "run the full model (part='full')"),
     ("a 2-3 mm top at 1e-9 s", "a 2-3 mm top at 1e-9 s"),
 ])
 def test_runtime_sentences_are_restated_in_the_apis_words(text, want):
@@ -197,3 +197,23 @@ def test_the_apis_sentences_name_its_methods_not_the_commands():
         texts.append(one_line(e))
     for text in texts:
         assert "`levitron" not in text and "Study.equilibria()" in text, text
+
+
+def test_a_reduced_only_scene_says_what_it_lacks_in_the_apis_words():
+    """On a scene derived without the full model, functions()['full_rhs'] names the missing part
+    (not 'unknown'), and simulate(spin) offers part='reduced' as the API writes it."""
+    st = lev.load("reduced_only")
+    with pytest.raises(lev.UserError, match=r"function 'full_rhs': scene 'reduced_only' has no full model.*"
+                                            r"add \"full\" to model.needs"):
+        st.functions()["full_rhs"]
+    with pytest.raises(lev.UserError, match=r"has no full model.*pass part='reduced' for the vertical motion"):
+        st.simulate(250.0)
+    with pytest.raises(lev.UserError, match="did you mean 'reduced_rhs'"):
+        st.functions()["reduced_rsh"]
+
+
+def test_a_stability_without_interval_gives_its_height_with_a_unit():
+    """Stability.message restates its reason in the scene's units: 'at z_s = 15.74 cm', not the JSON's
+    bare 'z_s = 0.157391'."""
+    msg = lev.load("thesis").stability().message
+    assert "at z_s = 15.74 cm the top is vertically stable" in msg and "0.157391" not in msg

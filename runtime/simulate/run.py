@@ -104,6 +104,10 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
     tol = None if tol is None else real(tol, "--tol (tolerance)")
     box = None if box is None else real(box, "--box", positive=True, unit="m")
     h = None if h is None else real(h, "--step", positive=True, unit="s")
+    if part == "full" and "full" not in model.parts and "reduced" in model.parts:
+        raise UserError(f"scene '{model.scene.name}' has no full model (model.needs = {model.scene.needs}): "
+                        "pass --part reduced for the vertical motion on the invariant set (no tilt, so "
+                        "no stability verdict), or add \"full\" to model.needs for the whole top")
     pt = model.part(part)
     p = model.with_params(params or {})
     pvals = model.pvals(p)

@@ -52,10 +52,6 @@ def run(args) -> dict:
     if args.plot is not None:
         check_plot_path(args.plot)
     model = model_of(args)
-    if args.part == "full" and "full" not in model.parts and "reduced" in model.parts:
-        raise UserError(f"scene '{model.scene.name}' has no full model (model.needs = {model.scene.needs}): "
-                        "pass --part reduced for the vertical motion on the invariant set (no tilt, so "
-                        "no stability verdict), or add \"full\" to model.needs for the whole top")
     r = simulate(model, spin=args.spin, tilt=args.tilt, offset=args.offset, t_end=args.t_end,
                  integrator=args.integrator, tol=args.tol, box=args.box, plot=args.plot,
                  part=args.part, h=args.step, n_out=args.n_out,
