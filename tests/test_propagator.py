@@ -126,3 +126,16 @@ def test_a_box_stops_a_fall_where_simulates_box_does(study, part):
     assert half.box.z_lo == pytest.approx(0.9 * z_s) and "box z" in repr(half)
     with pytest.raises(UserError, match="box"):
         study.propagator(part, box=-1.0)
+
+
+def test_a_start_outside_the_box_ends_at_once(study):
+    """A sweep gets an answer for every start: outside the box the run ends at t = 0, left_box, with
+    the state unchanged (simulate refuses such a start in one line instead)."""
+    from levitron.runtime.physics.equilibrium import hover_height
+    z_s = hover_height(study.model, study.model.p)
+    prop = study.propagator("reduced", "dop853", 1e-9, spin=1100.0, box=0.1 * z_s)
+    x0 = np.array([0.7 * z_s, 0.0, 0.0, prop.scale[3] * 0.9])
+    np.testing.assert_array_equal(prop(x0, 1.0), x0)
+    assert prop.status == "left_box" and prop.t_final == 0.0
+    with pytest.raises(UserError, match="already outside the box"):
+        study.simulate(1100.0, offset=0.5 * z_s, box=0.1 * z_s, t_end=0.1)

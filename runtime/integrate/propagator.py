@@ -18,7 +18,9 @@ tolerance, scale and parameters, bit for bit (tests/test_propagator.py): the sam
 No samples. Without a box a run goes to t_end, or stops with a UserError naming why (its status);
 with a Box (runtime/integrate/trajectory.py, the one `simulate` uses) a run that leaves it stops
 there, as `simulate`'s does, and returns the state at the crossing with ``status`` "left_box" and
-``t_final`` the time (no error: a top that falls is an answer). The statistics of the last run are
+``t_final`` the time (no error: a top that falls is an answer; a start outside the box ends at
+once, t_final 0 and the state unchanged, where `simulate` refuses it: a sweep gets its answer for
+every start). The statistics of the last run are
 ``steps``, ``status``, ``t_final``, ``rhs_evals``. ``p`` is the parameter
 vector C reads in place (assign into it). One Propagator holds one set of buffers: use one per
 thread.
