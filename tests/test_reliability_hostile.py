@@ -196,19 +196,19 @@ def stable_study():
 
 API = [
     ("launch-unknown-option", "air", lambda s: s.launch(n=4, colour=3), r"unknown option 'colour'"),   # fixed
-    ("launch-tol-text", "air", lambda s: s.launch(n=4, t_end=0.05, tol="1e-8"), r"--tol"),              # fixed
-    ("launch-workers-text", "air", lambda s: s.launch(n=4, t_end=0.05, workers="2"), r"--workers"),     # fixed
-    ("launch-scheduler-number", "air", lambda s: s.launch(n=4, t_end=0.05, scheduler=5), r"--scheduler"),  # fixed
-    ("launch-t_end-text", "air", lambda s: s.launch(n=4, t_end="5"), r"--t-end = '5'"),                 # fixed
-    ("launch-t_end-zero", "air", lambda s: s.launch(n=4, t_end=0), r"--t-end = 0"),                     # fixed
-    ("launch-t_end-nan", "air", lambda s: s.launch(n=4, t_end=math.nan), r"--t-end"),                 # fixed
+    ("launch-tol-text", "air", lambda s: s.launch(n=4, t_end=0.05, tol="1e-8"), r"^tol = '1e-8' is not a number"),
+    ("launch-workers-text", "air", lambda s: s.launch(n=4, t_end=0.05, workers="2"), r"^workers = '2' must be"),
+    ("launch-scheduler-number", "air", lambda s: s.launch(n=4, t_end=0.05, scheduler=5), r"^scheduler 5: give"),
+    ("launch-t_end-text", "air", lambda s: s.launch(n=4, t_end="5"), r"^t_end = '5'"),                 # fixed
+    ("launch-t_end-zero", "air", lambda s: s.launch(n=4, t_end=0), r"^t_end = 0 must be"),                     # fixed
+    ("launch-t_end-nan", "air", lambda s: s.launch(n=4, t_end=math.nan), r"^t_end = nan"),                 # fixed
     ("launch-input-inline-table", "air", lambda s: s.launch(n=4, inputs={"spin": {"a": 1}}),
      r"spin = \{'a': 1\} is not a distribution"),                                                      # fixed
     ("launch-input-none", "air", lambda s: s.launch(n=4, inputs={"spin": None}), r"not a distribution"),
     ("launch-input-unknown", "air", lambda s: s.launch(n=4, inputs={"colour": 1}), r"colour"),
-    ("launch-n-true", "air", lambda s: s.launch(n=True), r"--n True"),
-    ("launch-seed-negative", "air", lambda s: s.launch(n=4, seed=-1), r"--seed"),
-    ("simulate-save-number", "stable", lambda s: s.simulate(1000, t_end=0.01, save=5), r"--save 5"),    # fixed
+    ("launch-n-true", "air", lambda s: s.launch(n=True), r"^n True"),
+    ("launch-seed-negative", "air", lambda s: s.launch(n=4, seed=-1), r"^seed=-1"),
+    ("simulate-save-number", "stable", lambda s: s.simulate(1000, t_end=0.01, save=5), r"^save 5"),    # fixed
     ("simulate-save-below-a-file", "stable", lambda s: s.simulate(1000, t_end=0.01, save="{tmp}/afile/x.csv"),
      r"is a file, not a folder"),                                                                      # fixed
     ("simulate-save-txt", "stable", lambda s: s.simulate(1000, t_end=0.01, save="{tmp}/x.txt"), r"\.csv"),
