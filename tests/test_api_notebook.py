@@ -215,5 +215,9 @@ def test_a_reduced_only_scene_says_what_it_lacks_in_the_apis_words():
 def test_a_stability_without_interval_gives_its_height_with_a_unit():
     """Stability.message restates its reason in the scene's units: 'at z_s = 15.74 cm', not the JSON's
     bare 'z_s = 0.157391'."""
-    msg = lev.load("thesis").stability().message
+    study = lev.load("thesis")
+    msg = study.stability().message
     assert "at z_s = 15.74 cm the top is vertically stable" in msg and "0.157391" not in msg
+    # the runtime's own sentence (the JSON's, the command line's errors) carries its SI unit
+    from levitron.runtime.physics.stability import stability_of
+    assert "at z_s = 0.157391 m the top is vertically stable" in stability_of(study.model).reason

@@ -176,9 +176,9 @@ def _verdict(z_s: float, ph, mu: float, disc, eig, approximations, timings: dict
     reason = None
     interval = None
     if not vertical:
-        reason = f"z_s = {z_s:.6g} is not vertically stable (mu Phi_3 = {mu * ph[3]:.3g} <= 0, thesis 3.3.3)"
+        reason = f"z_s = {z_s:.6g} m is not vertically stable (mu Phi_3 = {mu * ph[3]:.3g} N/m <= 0, thesis 3.3.3)"
     elif not bounded:
-        reason = (f"at z_s = {z_s:.6g} the top is vertically stable but no spin rate makes it "
+        reason = (f"at z_s = {z_s:.6g} m the top is vertically stable but no spin rate makes it "
                   "linearly stable: N(t) (thesis 3.3.11) never has four real roots; the height is "
                   "outside the stable band (see `levitron equilibrium`)")
     else:
