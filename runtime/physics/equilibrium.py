@@ -123,16 +123,16 @@ class EquilibriumReport:
         sing = ""
         if self.singularities:
             sing = ("; the on-axis functions are singular at " + ", ".join(
-                f"z = {s.z:.6g} ({s.kind})" if s.kind == "pole" else
-                f"z in [{s.z:.6g}, {s.z_end:.6g}] ({s.kind})" for s in self.singularities))
+                f"z = {s.z:.6g} m ({s.kind})" if s.kind == "pole" else
+                f"z in [{s.z:.6g}, {s.z_end:.6g}] m ({s.kind})" for s in self.singularities))
         marginal = [e for e in self.equilibria if e.marginal]
         if marginal:
-            return (f"the top (m = {m:.6g}) is exactly as heavy as the plate can hold: a double root "
-                    f"at z_c = {marginal[0].z:.6g} with U'' = 0, marginal, not vertically stable "
+            return (f"the top ({m:.6g} kg) is exactly as heavy as the plate can hold: a double root "
+                    f"at z_c = {marginal[0].z:.6g} m with U'' = 0, marginal, not vertically stable "
                     "(thesis 3.3.3); take a lighter top" + sing)
         if self.equilibria:
             return ("no vertically stable equilibrium: at every root of m g + mu Phi_2 = 0 "
-                    f"(z = {', '.join(f'{e.z:.6g}' for e in self.equilibria)}) mu Phi_3 <= 0 "
+                    f"(z = {', '.join(f'{e.z:.6g}' for e in self.equilibria)} m) mu Phi_3 <= 0 "
                     "(thesis 3.3.3)" + sing)
         if self.max_mass is not None and self.z_c is not None and m > self.max_mass:
             return (f"the top of mass {m:.6g} kg is too heavy for the plate, which holds at most "
