@@ -119,3 +119,15 @@ def test_unreasonable_options_are_refused_with_the_reason(kwargs, words):
     with pytest.raises(UserError, match=words) as err:
         check_options(**args)
     assert "\n" not in str(err.value)
+
+
+def test_the_budgets_sentences_carry_their_time_unit():
+    """A refused step or run length says its times in s (restated in a dimensionless scene's time
+    units by the views): 'step h=1 s is longer than the run t_end=0.5 s', not bare numbers."""
+    from levitron.runtime.errors import UserError
+    from levitron.runtime.integrate.budget import budget_message, check_options
+    with pytest.raises(UserError, match=r"step h=1 s is longer than the run t_end=0.5 s"):
+        check_options("rk4", 0.5, h=1.0)
+    with pytest.raises(UserError, match=r"\(0.01 s\), which it cannot resolve; pass h <= 0.0005 s"):
+        check_options("rk4", 1.0, h=0.1, time_scale=0.01)
+    assert "at t = 0.25 s before t_end" in budget_message(100, 0.25)

@@ -62,7 +62,7 @@ def default_budget(method: str, t_end: float, h: float | None = None,
 
 def budget_message(max_steps: int, t: float | None = None) -> str:
     """The message of a run stopped by its step budget."""
-    at = "" if t is None else f" at t = {t:.6g}"
+    at = "" if t is None else f" at t = {t:.6g} s"
     return (f"stopped: the step budget of {max_steps} steps ran out{at} before t_end (the motion "
             "needs ever smaller steps, e.g. near a singularity of the coordinates; try other "
             "coordinates, a looser --tol or a shorter --t-end)")
@@ -94,18 +94,18 @@ def check_options(method: str, t_end: float, tol: float | None = None, h: float 
         if not _positive(h):
             raise UserError(f"step h={h} must be positive and finite; pass e.g. --step 1e-4")
         if h > t_end:
-            raise UserError(f"step h={h:.3g} is longer than the run t_end={t_end:.3g}; pass h <= t_end")
+            raise UserError(f"step h={h:.3g} s is longer than the run t_end={t_end:.3g} s; pass h <= t_end")
         if time_scale is not None:
             if h > time_scale:
-                raise UserError(f"step h={h:.3g} is longer than {what} ({time_scale:.3g}), which it "
-                                f"cannot resolve; pass h <= {time_scale / 20:.3g}")
+                raise UserError(f"step h={h:.3g} s is longer than {what} ({time_scale:.3g} s), which it "
+                                f"cannot resolve; pass h <= {time_scale / 20:.3g} s")
             if h < MIN_STEP_FRACTION * time_scale:
-                raise UserError(f"step h={h:.3g} is below {MIN_STEP_FRACTION:g} of {what} "
-                                f"({time_scale:.3g}); pass h >= {MIN_STEP_FRACTION * time_scale:.3g}")
+                raise UserError(f"step h={h:.3g} s is below {MIN_STEP_FRACTION:g} of {what} "
+                                f"({time_scale:.3g} s); pass h >= {MIN_STEP_FRACTION * time_scale:.3g} s")
         n = fixed_steps(t_end, h)
         if n > cap:
-            raise UserError(f"t_end={t_end:.3g} at step h={h:.3g} takes {n:.3g} steps, above the budget "
-                            f"cap of {cap:.0e} for {method}; pass t_end <= {cap * h:.3g} or a "
+            raise UserError(f"t_end={t_end:.3g} s at step h={h:.3g} s takes {n:.3g} steps, above the budget "
+                            f"cap of {cap:.0e} for {method}; pass t_end <= {cap * h:.3g} s or a "
                             "larger step")
         return
     if h is not None:
@@ -121,11 +121,11 @@ def check_options(method: str, t_end: float, tol: float | None = None, h: float 
         return
     resolvable = RESOLUTION_ULPS * sys.float_info.epsilon * t_end * STEPS_PER_PERIOD
     if time_scale < resolvable:
-        raise UserError(f"{what} ({time_scale:.3g}) is below what the time variable resolves over "
-                        f"t_end={t_end:.3g} (at least {resolvable:.3g}); pass a shorter --t-end or a "
+        raise UserError(f"{what} ({time_scale:.3g} s) is below what the time variable resolves over "
+                        f"t_end={t_end:.3g} s (at least {resolvable:.3g} s); pass a shorter --t-end or a "
                         "slower spin")
     need = STEPS_PER_PERIOD * t_end / time_scale
     if need > cap:
-        raise UserError(f"t_end={t_end:.3g} spans {t_end / time_scale:.3g} times {what} "
-                        f"({time_scale:.3g}): about {need:.3g} steps, above the budget cap of "
-                        f"{cap:.0e} for {method}; pass t_end <= {cap * time_scale / STEPS_PER_PERIOD:.3g}")
+        raise UserError(f"t_end={t_end:.3g} s spans {t_end / time_scale:.3g} times {what} "
+                        f"({time_scale:.3g} s): about {need:.3g} steps, above the budget cap of "
+                        f"{cap:.0e} for {method}; pass t_end <= {cap * time_scale / STEPS_PER_PERIOD:.3g} s")
