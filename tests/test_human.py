@@ -213,3 +213,13 @@ def test_top_level_help_is_the_full_parsers_without_importing_the_commands(monke
     assert res.returncode == 0, res.stderr
     assert res.stdout == full
     assert res.stderr.strip() == "[]", res.stderr
+
+
+def test_a_narrow_span_of_rates_keeps_its_ends_apart():
+    """`scan thesis_stable --spin 459.6151:459.6161:5` (1e-6 of the lower critical spin) printed
+    'stays up for spin 459.6-459.6 rad/s (73.2-73.2 Hz, 4390-4390 rpm)': a span shown as a point.
+    The digits grow (up to the 6 this view allows) until the two ends differ."""
+    text = Units(si=True).rate_span(459.6151, 459.6161)
+    assert text == "459.615-459.616 rad/s (73.15-73.1502 Hz, 4389-4389.01 rpm)", text
+    assert Units(si=True).rate_span(459.6, 2740.0) == "459.6-2740 rad/s (73.1-436 Hz, 4390-26200 rpm)"
+    assert Units(si=False).rate_span(30.28281, 30.28289) == "30.2828-30.2829 rad/time"

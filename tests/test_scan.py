@@ -184,3 +184,46 @@ def test_parse_range():
     for bad in ("1:2:1", "a:1:2", "0:1:2.5", "0:nan:3"):
         with pytest.raises(UserError):
             parse_range(bad, "tilt")
+
+
+def _stopped_early_map():
+    """A 3 x 2 map (spin x tilt) whose tilt-1e-5 row ran out of its step budget at every spin (as
+    z-x-z angles do near the upright top: `scan thesis_stable --set model.coordinates="euler-zxz"
+    --spin 600:2000:3 --tilt 1e-5:1e-3:3 --t-end 0.5`) while the other row stayed up."""
+    spins, tilts = np.array([600.0, 1300.0, 2000.0]), np.array([1e-5, 1e-3])
+    lev = np.array([[False, True]] * 3)
+    ts = np.array([[1.7e-6, 0.5]] * 3)
+    status = [["step_budget", "completed"] for _ in spins]
+    lin = [{"spin_interval": [459.6, 2740.0], "z_s": 0.1065}] * 2
+    return sc.ScanResult("tilt", spins, tilts, lev, ts, status, lin, 0.5, {"given": True}, 0.1,
+                         {"kind": "serial", "workers": 1}, 0, 0.1)
+
+
+def test_runs_stopped_early_are_no_verdict_not_falls(tmp_path, monkeypatch):
+    """A run that stops on its step budget (or a non-finite state, a step underflow) says nothing of
+    the top: the summary used to print "falls at every spin (0 of 3)" for such a row, and the map
+    painted it as 'fell at once'. The row now names the runs without a verdict and the map marks
+    them in their own colour (as it does the points that cannot hover)."""
+    import matplotlib.figure
+    from levitron.runtime.cli.commands.scan import human
+    from levitron.runtime.scan.plot import draw
+    res = _stopped_early_map()
+    r = res.as_dict()
+    r.update(points=6, runner={"kind": "serial", "workers": 1}, wall_s=0.1)
+    text = human(r)
+    row = next(line for line in text.splitlines() if "tilt 1e-5" in line)
+    assert "falls" not in row, row
+    assert "no verdict" in row and "step_budget" in row and "3 of 3" in row, row
+    other = next(line for line in text.splitlines() if "tilt 0.001" in line)
+    assert "stays up for spin" in other and "no verdict" not in other, other
+    legends = []
+    save = matplotlib.figure.Figure.savefig
+
+    def recording(fig, *a, **k):
+        for ax in fig.axes:
+            if ax.get_legend() is not None:
+                legends.extend(t.get_text() for t in ax.get_legend().get_texts())
+        return save(fig, *a, **k)
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", recording)
+    draw(res, tmp_path / "m.png")
+    assert any("no verdict" in t for t in legends), legends

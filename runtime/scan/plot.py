@@ -12,6 +12,8 @@ from levitron.runtime.scan.grid import UNITS
 
 NO_HOVER = "no_hover_height"     # the scan's status of a point with no equilibrium
 NO_HOVER_COLOUR = "0.75"          # light grey: outside viridis, which runs from purple to yellow
+NO_VERDICT_COLOUR = "0.35"        # dark grey: a run that stopped early (step budget, ...)
+NORMAL = ("completed", "left_box", "")
 
 
 def _edges(v: np.ndarray) -> np.ndarray:
@@ -24,7 +26,8 @@ def _edges(v: np.ndarray) -> np.ndarray:
 
 def draw(res, path: str | Path, title: str = "", units: Units | None = None) -> Path:
     """The map (thesis fig. 3.8): colour = t_survived / t_end (1 = levitating, marked with dots;
-    grey where the top cannot hover and nothing was run)
+    light grey where the top cannot hover and nothing was run, dark grey where the run stopped early
+    without a verdict: step budget, non-finite state, step underflow)
     over spin (x) and the other axis (y); the linear spin interval as vertical lines (for a mass
     scan, one pair per mass row: it moves with the mass). units: the scene's (runtime/ui/human.py;
     default SI)."""
@@ -47,6 +50,12 @@ def draw(res, path: str | Path, title: str = "", units: Units | None = None) -> 
         ax.pcolormesh(_edges(res.spins), _edges(others), np.ma.masked_where(~no_hover, no_hover),
                       cmap=ListedColormap([NO_HOVER_COLOUR]), shading="flat")
         extra.append(Patch(color=NO_HOVER_COLOUR, label="cannot hover (no equilibrium: not simulated)"))
+    stopped = np.array([[st not in NORMAL and st != NO_HOVER for st in row] for row in res.status], bool).T
+    if stopped.any():       # no verdict either way: never the colour map's "fell at once"
+        ax.pcolormesh(_edges(res.spins), _edges(others), np.ma.masked_where(~stopped, stopped),
+                      cmap=ListedColormap([NO_VERDICT_COLOUR]), shading="flat")
+        kinds = ", ".join(sorted({st for row in res.status for st in row} - set(NORMAL) - {NO_HOVER}))
+        extra.append(Patch(color=NO_VERDICT_COLOUR, label=f"no verdict: the run stopped early ({kinds})"))
     S, O = np.meshgrid(res.spins, others, indexing="ij")
     # white dots ringed in black: visible on the dark and on the bright end of the colour map
     ax.plot(S[res.levitating], O[res.levitating], "o", ms=5, mfc="w", mec="k", mew=1.0, ls="none",

@@ -37,6 +37,42 @@ def legendre_map(part, q: np.ndarray, p=None) -> tuple[np.ndarray, np.ndarray]:
     return rows[0], (rows[1:] - rows[0]).T
 
 
+def body_rate_matrix(kind: str, angles) -> np.ndarray:
+    """J with omega_body = J angle_rates, column i = vee(R_bs^T dR_bs/d angle_i) (thesis eqs.
+    2.1.10, 3.2.7-3.2.9; derive/kinematics.py body_angular_velocity)."""
+    R = rotation_bs(kind, angles)
+    cols = []
+    for dR in rotation_bs_derivatives(kind, angles):
+        W = R.T @ dR
+        cols.append([W[2, 1], W[0, 2], W[1, 0]])
+    return np.array(cols).T
+
+
+def momentum_column(part, q: np.ndarray, i_rate: int, pvals: dict) -> np.ndarray:
+    """dp/d(qdot_i): column i of the mass matrix M(q) of p = M(q) qdot = dL/d(qdot) (thesis eq.
+    2.3.8), from T = m v^2 / 2 + omega^T diag(A, A, C) omega / 2 (thesis eqs. 2.1.11-2.1.14):
+    the translations' block is m 1, the angles' J^T diag(A, A, C) J. Computed forward, never by
+    inverting the generated map dq/dt = M^-1 p: in z-x-z angles M^-1 holds 1/(A sin^2 theta)
+    beside 1/C, and near the upright top (theta ~ 1e-8) the 1/C is lost to rounding."""
+    coords = coordinate_names(part)
+    kind = coordinates_of(part)
+    col = np.zeros(len(coords))
+    name = coords[i_rate]
+    if name in ("x", "y", "z"):
+        col[i_rate] = pvals["m"]
+        return col
+    if kind is None:    # the reduced model: z and the spin angle zeta about the vertical
+        col[i_rate] = pvals["C"]
+        return col
+    names = ANGLES[kind]
+    J = body_rate_matrix(kind, [q[coords.index(a)] for a in names])
+    inertia = np.array([pvals["A"], pvals["A"], pvals["C"]])
+    block = J.T @ (inertia * J[:, names.index(name)])
+    for k, a in enumerate(names):
+        col[coords.index(a)] = block[k]
+    return col
+
+
 DEFAULT_TILT = 0.005             # rad: the default launch's tilt (module docstring)
 
 
@@ -62,12 +98,12 @@ def untested_reason(part) -> str:
 
 @dataclass(frozen=True)
 class Launch:
-    """The spin-free part of the initial state (module docstring): the coordinates q, the Legendre
-    map at q (legendre_map: f0, Minv) and the spin angle's rate per unit spin, 1 / along. A map
-    (runtime/scan/runners.py) computes it once per launch position and tilt for all its spins."""
+    """The spin-free part of the initial state (module docstring): the coordinates q, the
+    momenta per unit rate of the spin angle (momentum_column) and that rate per unit spin,
+    1 / along. A map (runtime/scan/runners.py) computes it once per launch position and tilt for
+    all its spins."""
     q: np.ndarray
-    f0: np.ndarray
-    Minv: np.ndarray
+    p_spin: np.ndarray   # p = M(q) qdot for a unit rate of the spin angle (momentum_column)
     i_spin: int          # the spin angle's index among the coordinates
     along: float         # omega . n per unit rate of the spin angle: +1 or -1
     ic: list             # the state indices of the coordinates ...
@@ -103,31 +139,28 @@ def launch(part, z_s: float, tilt: float = 0.0, offset: float = 0.0, p=None,
         W = rotation_bs_derivatives(kind, angles)[ispin] @ rotation_bs(kind, angles).T
         along = float(np.dot([W[2, 1], W[0, 2], W[1, 0]], n))    # = +1 or -1
         i_spin = coords.index(SPIN_ANGLE[kind])
-    f0, Minv = legendre_map(part, q, p)
-    return Launch(q, f0, Minv, i_spin, along, [s.index(c) for c in coords],
+    p_spin = momentum_column(part, q, i_spin, part.model.pvals(p))
+    return Launch(q, p_spin, i_spin, along, [s.index(c) for c in coords],
                   [s.index("p_" + c) for c in coords], len(s))
 
 
 def launch_state(la: Launch, spin: float) -> np.ndarray:
-    """The initial state of a Launch at `spin`: the momenta solve dq/dt = M(q)^-1 p (thesis eq.
-    2.3.8) for the coordinate rates, at rest except for the spin angle's rate spin / along."""
-    qdot = np.zeros(len(la.q))
-    qdot[la.i_spin] = spin / la.along       # the reduced model: along = -1, exactly -spin
+    """The initial state of a Launch at `spin`: the momenta p = M(q) qdot (thesis eq. 2.3.8) of
+    the top at rest except for the spin angle's rate spin / along (the reduced model: along = -1,
+    exactly -spin)."""
     x = np.zeros(la.n)
     x[la.ic] = la.q
-    x[la.ip] = np.linalg.solve(la.Minv, qdot - la.f0)
+    x[la.ip] = la.p_spin * (spin / la.along)
     return x
 
 
 def launch_states(la: Launch, spins: np.ndarray) -> np.ndarray:
-    """launch_state at each of `spins`, (k, n): the same right-hand sides, solved in one batched
-    call (numpy solves each with its own LAPACK gesv, as launch_state does), so the same states."""
+    """launch_state at each of `spins`, (k, n): the same products, elementwise, so the same states
+    bit for bit."""
     spins = np.asarray(spins, dtype=float).reshape(-1)
-    qdot = np.zeros((spins.size, len(la.q)))
-    qdot[:, la.i_spin] = spins / la.along
     X = np.zeros((spins.size, la.n))
     X[:, la.ic] = la.q
-    X[:, la.ip] = np.linalg.solve(la.Minv, (qdot - la.f0)[..., None])[..., 0]
+    X[:, la.ip] = la.p_spin[None, :] * (spins / la.along)[:, None]
     return X
 
 

@@ -170,11 +170,13 @@ class Units:
                 f"{sig(w * 60 / (2 * math.pi), 3)} rpm)")
 
     def rate_span(self, lo, hi, digits: int = 4) -> str:
+        """"lo-hi rad/s (... Hz, ... rpm)"; a narrow span gets more digits (up to sig's 6) until
+        its two ends differ, never a span printed as a point."""
         if not self.si:
-            return f"{sig(lo, digits)}-{sig(hi, digits)} rad/time"
+            return f"{apart(lo, hi, digits)} rad/time"
         hz = 2 * math.pi
-        return (f"{sig(lo, digits)}-{sig(hi, digits)} rad/s ({sig(lo / hz, 3)}-{sig(hi / hz, 3)} Hz, "
-                f"{sig(lo * 60 / hz, 3)}-{sig(hi * 60 / hz, 3)} rpm)")
+        return (f"{apart(lo, hi, digits)} rad/s ({apart(lo / hz, hi / hz, 3)} Hz, "
+                f"{apart(lo * 60 / hz, hi * 60 / hz, 3)} rpm)")
 
     def time(self, t) -> str:
         return duration(t) if self.si else f"{sig(t, 4)} time units"
@@ -187,6 +189,14 @@ class Units:
         if not self.si:
             return sig(b, 4)
         return f"{sig(b * 1e3, 4)} mT" if abs(b) < 1 else f"{sig(b, 4)} T"
+
+
+def apart(lo, hi, digits: int = 4) -> str:
+    """"lo-hi" at `digits` significant digits, or more (up to 6) where the ends would print alike."""
+    d = digits
+    while d < 6 and lo != hi and sig(lo, d) == sig(hi, d):
+        d += 1
+    return f"{sig(lo, d)}-{sig(hi, d)}"
 
 
 _NUM = r"(-?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)"

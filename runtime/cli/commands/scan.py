@@ -133,14 +133,33 @@ def _stays_up(spins, up, u: Units) -> str:
     return "stays up for spin " + " and ".join(parts)
 
 
+def stopped_early(status) -> list[str]:
+    """The statuses of runs that ended before t_end for a reason other than the top leaving its box
+    (the step budget, a non-finite state, a step underflow): they give no verdict, neither up nor
+    down (runtime/scan/stability_map.py ScanResult.success)."""
+    return [s for s in status if s not in NORMAL and s != NO_HOVER]
+
+
+NORMAL = ("completed", "left_box", "")    # "": a map without statuses
+
+
 def _row(axis: str, v, spins, up, status, u: Units) -> str:
     """One row of the summary: where it stays up, "cannot hover" where no run was made (no
-    equilibrium at that mass or height), "falls at every spin" where every run fell."""
+    equilibrium at that mass or height), "falls at every spin" where every run fell, and the runs
+    that stopped early (step budget, ...) apart: no verdict, never "falls"."""
     skipped = sum(s == NO_HOVER for s in status)
     if skipped == len(spins):
         return f"  {axis} {_axis_value(axis, v, u)}: cannot hover (no equilibrium: not simulated)"
-    where = _stays_up(spins, up, u) if any(up) else "falls at every spin"
-    return f"  {axis} {_axis_value(axis, v, u)}: {where} ({sum(up)} of {len(spins) - skipped})"
+    stopped = stopped_early(status)
+    ran = len(spins) - skipped
+    why = ", ".join(sorted(set(stopped)))
+    head = f"  {axis} {_axis_value(axis, v, u)}: "
+    if len(stopped) == ran:
+        return head + f"no verdict at any spin: {ran} of {ran} runs stopped early ({why})"
+    where = (_stays_up(spins, up, u) if any(up) else
+             "falls at every spin" + (" with a verdict" if stopped else ""))
+    tail = f"; no verdict: {len(stopped)} of {ran} runs stopped early ({why})" if stopped else ""
+    return head + f"{where} ({sum(up)} of {ran - len(stopped)}){tail}"
 
 
 def human(r: dict, scene=None) -> str:
@@ -154,9 +173,11 @@ def human(r: dict, scene=None) -> str:
                  [status[i][j] for i in range(len(spins))], u)
             for j, v in enumerate(r["grid"][axis])]
     iv = r.get("spin_interval")
+    n_stopped = len(stopped_early([s for row in status for s in row]))
     return lines(
         f"levitating at {sig(100 * r['fraction_levitating'], 3)}% of {r['points']} points "
-        f"(spin x {axis}, {u.time(r['t_end'])} each)",
+        f"(spin x {axis}, {u.time(r['t_end'])} each)"
+        + (f"; {n_stopped} runs stopped early without a verdict (JSON status)" if n_stopped else ""),
         *rows,
         f"linear spin interval: {u.rate_span(*iv)}" if iv else "linear spin interval: none",
         f"{duration(r['wall_s'])} of wall time, {r['runner']['kind']} runner",
