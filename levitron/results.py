@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from levitron.runtime.errors import UserError
+from levitron.runtime.integrate.verdict import DOWN, UP
 from levitron.runtime.ui.human import Units, restate, sig
 
 _SI = Units(si=True)
@@ -26,7 +27,7 @@ def _q(units: Units, value: float, si_unit: str, fmt: str = ".6g") -> str:
     """A number and its unit as the scene shows it: "0.106 m" (SI), "0.106" in a dimensionless
     scene, where a rate is "rad/time" and a time "time units" (runtime/ui/human.py Units)."""
     return f"{value:{fmt}} {units.unit(si_unit)}".rstrip()
-NORMAL_ENDS = ("completed", "left_box")    # runtime/integrate/c_backend.py STATUS: the run itself succeeded
+NORMAL_ENDS = (UP, DOWN)    # the runs with a verdict (runtime/integrate/verdict.py): the run itself succeeded
 
 
 @dataclass(frozen=True)
@@ -127,7 +128,8 @@ class Stability:
 @dataclass(frozen=True)
 class Simulation:
     """One trajectory from the hover height (docs/contract.md `simulate`): levitating (None for a
-    launch on the invariant set, which tests nothing: details["untested"] says why); t_survived
+    launch on the invariant set, which tests nothing, or a run that stopped early without a verdict,
+    runtime/integrate/verdict.py: details["untested"] says why); t_survived
     (s); max_excursion (m); energy_drift (relative; in air the energy balance's residual);
     rhs_evals; wall_s (s); final_state (the model's states, SI); details: every key of the
     command's JSON (in air also "flight": flight time, fall spin, the adiabatic t_cross);
@@ -226,8 +228,9 @@ class LaunchOdds:
 class Simulations:
     """Many launches in one call of the C chunk driver (Study.simulate_many, runtime/scan/batch.py),
     each the run Study.simulate makes with the same options, as arrays of length n: levitating
-    (bool: the run reached t_end), untested (a launch on the invariant set, which tests nothing:
-    Study.simulate's levitating None), status (runtime/integrate/c_backend.py STATUS names),
+    (bool: the run reached t_end), untested (a launch on the invariant set, which tests nothing, or
+    a run that stopped early without a verdict: Study.simulate's levitating None), status
+    (runtime/integrate/c_backend.py STATUS names),
     t_survived (s), rhs_evals (without simulate's dense-output evaluations), steps, z_s (m, each
     launch's hover height), final_states (n, len(states)), SI; inputs: the launch columns
     {spin (rad/s), tilt (rad), offset (m), azimuth (rad), and any varied scene keys}; wall_s (s,

@@ -193,9 +193,11 @@ def test_hard_case_axis_near_vertical_euler_vs_tait_bryan(model, zxz_model):
 def test_near_upright_euler_zxz_stops_on_its_default_step_budget(zxz_model):
     """Near the upright top the z-x-z angles' adaptive step shrinks without end
     (`simulate --set model.coordinates=euler-zxz --tilt 1e-6` never returned). The default budget
-    (from t_end and the fastest period) stops it with status "step_budget", reported, no exception."""
+    (from t_end and the fastest period) stops it with status "step_budget", reported, no exception,
+    and no verdict (levitating None: it says nothing of the top; it used to answer False)."""
     out = simulate(zxz_model, spin=1000.0, tilt=1e-6, t_end=1.0)
-    assert out["status"] == "step_budget" and out["levitating"] is False
+    assert out["status"] == "step_budget" and out["levitating"] is None
+    assert out["untested"].startswith("the run stopped early (step_budget) before t_end")
     assert "step budget of" in out["message"] and out["t_survived"] < 1.0
     for k in DESIGN_KEYS:
         assert k in out
@@ -363,3 +365,22 @@ def test_linear_context_against_the_generated_jacobian(capsys):
     assert "linear theory: 2800 rad/s lies above the stable interval 459.6-2740 rad/s: a tilt grows by e every" in out
     assert main(["simulate", "thesis_stable", "--spin", "1000", "--t-end", "0.5", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["linear"]["inside"] is True
+
+
+def test_a_run_that_stops_early_gives_no_verdict():
+    """runtime/integrate/verdict.py: a run that ends before t_end for another reason than the top
+    leaving its box (here the step budget of the z-x-z chart at a tilt of 1e-8, singular at the
+    upright top) says nothing of the top: simulate answers levitating None with the reason, not
+    'no'; simulate_many marks it untested, the same answer; the verdicts of the other statuses."""
+    import levitron as lev
+    from levitron.runtime.integrate.verdict import no_verdict_reason, stopped_early, verdict
+    assert (verdict("completed"), verdict("left_box"), verdict("step_budget"), verdict("nonfinite")) == \
+        (True, False, None, None)
+    assert stopped_early("step_budget") and not stopped_early("no_hover_height") and not stopped_early("")
+    st = lev.load("thesis_stable", {"model.coordinates": "euler-zxz"})
+    one = st.simulate(1000.0, tilt=1e-8, t_end=0.01)
+    assert one.details["status"] == "step_budget" and one.levitating is None
+    assert one.details["untested"] == no_verdict_reason("step_budget", one.details["message"])
+    many = st.simulate_many([1000.0, 1000.0], tilt=[1e-8, 0.01], t_end=0.01)
+    assert many.untested.tolist() == [True, False] and many.status.tolist() == ["step_budget", "completed"]
+    assert (None if many.untested[0] else bool(many.levitating[0])) == one.levitating

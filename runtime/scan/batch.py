@@ -26,6 +26,7 @@ import numpy as np
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.budget import check_options, default_budget
 from levitron.runtime.integrate.methods import DEFAULT, default_step, lookup, refuse_on_full_model, resolve
+from levitron.runtime.integrate.verdict import stopped_early
 from levitron.runtime.ui.validate import real
 
 MAX_LAUNCHES = 10**6
@@ -74,8 +75,9 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
     arrays: a parameter vector per launch, each with its own hover height) broadcast to length k;
     p: parameter vectors (k, n_p) or one (n_p,) that `params` then changes (default the scene's).
     t_end, integrator (a C one), tol, box, h: one for all runs, as simulate()'s. Returns arrays
-    of length k: levitating, untested (a launch on the invariant set, simulate()'s levitating
-    None), status, t_survived, rhs_evals, steps, z_s, final_state (k, n); plus states, inputs,
+    of length k: levitating, untested (a launch on the invariant set, or a run that stopped early
+    without a verdict, runtime/integrate/verdict.py: simulate()'s levitating None), status,
+    t_survived, rhs_evals, steps, z_s, final_state (k, n); plus states, inputs,
     t_end, integrator, integrator_requested, tol, step, lanes and wall_s."""
     from levitron.runtime.physics.equilibrium import hover_height
     from levitron.runtime.scan.chunk_c import drive_runs
@@ -156,8 +158,8 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
     res = drive_runs(model, pt, integrator, run_t_end, None if entry.fixed_step else tol, x0,
                      np.array(P), scale, hs, boxes, budget)
     status = np.array(res["status"])
-    untested = np.array([sim.on_invariant_set(pt, float(t), float(o))
-                         for t, o in zip(cols["tilt"], cols["offset"])])
+    untested = np.array([sim.on_invariant_set(pt, float(t), float(o)) or stopped_early(st)
+                         for t, o, st in zip(cols["tilt"], cols["offset"], status)])
     return {"levitating": status == "completed", "untested": untested, "status": status,
             "t_survived": res["t_final"], "rhs_evals": res["rhs_evals"], "steps": res["steps"],
             "z_s": z_s, "final_state": res["x_final"], "states": list(pt.states),

@@ -8,12 +8,11 @@ import numpy as np
 from levitron.runtime.ui.human import Units
 from levitron.runtime.ui.plotting import pyplot, save_figure, style
 from levitron.runtime.scan.grid import UNITS
+from levitron.runtime.integrate.verdict import NO_HOVER, stopped_early
 
 
-NO_HOVER = "no_hover_height"     # the scan's status of a point with no equilibrium
 NO_HOVER_COLOUR = "0.75"          # light grey: outside viridis, which runs from purple to yellow
 NO_VERDICT_COLOUR = "0.35"        # dark grey: a run that stopped early (step budget, ...)
-NORMAL = ("completed", "left_box", "")
 
 
 def _edges(v: np.ndarray) -> np.ndarray:
@@ -50,11 +49,11 @@ def draw(res, path: str | Path, title: str = "", units: Units | None = None) -> 
         ax.pcolormesh(_edges(res.spins), _edges(others), np.ma.masked_where(~no_hover, no_hover),
                       cmap=ListedColormap([NO_HOVER_COLOUR]), shading="flat")
         extra.append(Patch(color=NO_HOVER_COLOUR, label="cannot hover (no equilibrium: not simulated)"))
-    stopped = np.array([[st not in NORMAL and st != NO_HOVER for st in row] for row in res.status], bool).T
+    stopped = np.array([[stopped_early(st) for st in row] for row in res.status], bool).T
     if stopped.any():       # no verdict either way: never the colour map's "fell at once"
         ax.pcolormesh(_edges(res.spins), _edges(others), np.ma.masked_where(~stopped, stopped),
                       cmap=ListedColormap([NO_VERDICT_COLOUR]), shading="flat")
-        kinds = ", ".join(sorted({st for row in res.status for st in row} - set(NORMAL) - {NO_HOVER}))
+        kinds = ", ".join(sorted({st for row in res.status for st in row if stopped_early(st)}))
         extra.append(Patch(color=NO_VERDICT_COLOUR, label=f"no verdict: the run stopped early ({kinds})"))
     S, O = np.meshgrid(res.spins, others, indexing="ij")
     # white dots ringed in black: visible on the dark and on the bright end of the colour map

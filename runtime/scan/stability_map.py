@@ -58,6 +58,7 @@ import numpy as np
 
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.methods import DEFAULT, default_step, refuse_on_full_model
+from levitron.runtime.integrate.verdict import NO_HOVER, stopped_early
 from levitron.runtime.scan.grid import AXES, MAX_POINTS, UNITS, check_axis
 from levitron.runtime.scan.physics import linear_interval, reference_spin, slow_period
 from levitron.runtime.scan.points import N_OUT
@@ -103,12 +104,11 @@ class ScanResult:
     def success(self) -> bool:
         """scipy-style: every point that could be run ended normally (reached t_end or left the
         box); points without a hover height were not run and do not count."""
-        return all(st in ("completed", "left_box", "no_hover_height", "") for row in self.status for st in row)
+        return not any(stopped_early(st) for row in self.status for st in row)
 
     @property
     def message(self) -> str:
-        bad = sorted({st for row in self.status for st in row} -
-                     {"completed", "left_box", "no_hover_height", ""})
+        bad = sorted({st for row in self.status for st in row if stopped_early(st)})
         return (f"levitating at {100 * float(self.levitating.mean()):.3g}% of {self.levitating.size} "
                 f"points (spin x {self.axis}, t_end {self.t_end:.4g} {self.units.named('s')} each)"
                 + (f"; runs ended by {', '.join(bad)}" if bad else ""))
@@ -265,7 +265,7 @@ def _hover_and_linear(model, axis: str, others: np.ndarray):
             hover.append(hover_height(model, p))
         except UserError:
             hover.append(None)
-            status_pre[j] = "no_hover_height"
+            status_pre[j] = NO_HOVER
         lin.append(linear_interval(model, m))
     return lin, hover, linear_interval(model), status_pre
 

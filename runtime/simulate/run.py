@@ -43,6 +43,7 @@ from levitron.runtime.errors import UserError
 from levitron.runtime.ui.validate import count, real
 from levitron.runtime.integrate.run import Box, Result, integrate
 from levitron.runtime.integrate.methods import AUTO, DEFAULT, auto_note, default_step, lookup, resolve
+from levitron.runtime.integrate.verdict import no_verdict_reason, verdict
 
 from levitron.runtime.physics import friction as flight
 from levitron.runtime.simulate import trajectory_file
@@ -143,6 +144,8 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
     out["tilt_default"] = tilt_default and coordinates_of(pt) is not None
     if on_invariant_set(pt, tilt, offset):
         out["levitating"], out["untested"] = None, untested_reason(pt)
+    elif verdict(res.status) is None:        # the step budget, ...: neither up nor down
+        out["levitating"], out["untested"] = None, no_verdict_reason(res.status, res.message)
     out["integrator_requested"] = requested
     if requested == AUTO:
         out["integrator_choice"] = auto_note(tol)

@@ -9,7 +9,9 @@ from pathlib import Path
 from levitron.runtime.scan import stability_map as sc
 from levitron.runtime.errors import UserError
 from levitron.runtime.ui.human import Units, duration, lines, sig
+from levitron.runtime.integrate import verdict
 from levitron.runtime.integrate.methods import DEFAULT, FULL_MODEL_METHODS, lookup
+from levitron.runtime.integrate.verdict import NO_HOVER
 from levitron.runtime.ui.plotting import check_plot_path
 from levitron.runtime.scan.grid import check_axis, check_grid_size, parse_range, pick_axis
 from levitron.runtime.scan.plot import draw
@@ -111,7 +113,6 @@ def _axis_value(axis: str, v: float, u: Units) -> str:
     return f"{sig(v, 3)} z_s"
 
 
-NO_HOVER = "no_hover_height"      # the scan's status of a point with no equilibrium: nothing simulated
 
 
 def runs(flags) -> list[tuple[int, int]]:
@@ -134,13 +135,8 @@ def _stays_up(spins, up, u: Units) -> str:
 
 
 def stopped_early(status) -> list[str]:
-    """The statuses of runs that ended before t_end for a reason other than the top leaving its box
-    (the step budget, a non-finite state, a step underflow): they give no verdict, neither up nor
-    down (runtime/scan/stability_map.py ScanResult.success)."""
-    return [s for s in status if s not in NORMAL and s != NO_HOVER]
-
-
-NORMAL = ("completed", "left_box", "")    # "": a map without statuses
+    """The statuses of the runs that stopped early: no verdict (runtime/integrate/verdict.py)."""
+    return [s for s in status if verdict.stopped_early(s)]
 
 
 def _row(axis: str, v, spins, up, status, u: Units) -> str:

@@ -5,6 +5,7 @@ from levitron.runtime.errors import UserError
 from levitron.runtime.simulate.start import linear_context
 from levitron.runtime.ui.human import Units, duration, lines, sig
 from levitron.runtime.integrate.methods import DEFAULT, FULL_MODEL_METHODS, lookup
+from levitron.runtime.integrate.verdict import stopped_early
 from levitron.runtime.ui.plotting import check_plot_path
 from levitron.runtime.simulate.run import DEFAULT_AZIMUTH, DEFAULT_TILT, simulate
 from levitron.runtime.cli.commands.common import model_of
@@ -113,7 +114,7 @@ def human(r: dict, scene=None) -> str:
     """Answer first: does it stay up, for how long; then the launch, the excursions, the invariants."""
     u = Units.of_scene(scene) if scene is not None else Units(si=True)
     if r["levitating"] is None:
-        up = f"untested: {r['untested']}"
+        up = f"{'no verdict' if stopped_early(r['status']) else 'untested'}: {r['untested']}"
     else:
         up = "yes" if r["levitating"] else f"no ({r['status']}: {r['message']})"
     dev = r.get("conserved_max_deviation") or {}
