@@ -63,3 +63,19 @@ def seed_cache(csrc_objects):
                 shutil.copy2(f, folder / "obj" / f.name)
         return folder
     return seed
+
+
+@pytest.fixture
+def legend_texts(monkeypatch):
+    """The legend entries of every figure saved during the test (a list, filled as they are saved)."""
+    import matplotlib.figure
+    texts: list[str] = []
+    save = matplotlib.figure.Figure.savefig
+
+    def recording(fig, *a, **k):
+        for ax in fig.axes:
+            if ax.get_legend() is not None:
+                texts.extend(t.get_text() for t in ax.get_legend().get_texts())
+        return save(fig, *a, **k)
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", recording)
+    return texts

@@ -223,20 +223,11 @@ def test_scan_row_with_one_stable_spin_is_no_range():
     assert "10.5-10.5" not in row and "stays up for spin 10.5 rad/s (" in row, row
 
 
-def test_scan_masses_that_cannot_hover_are_not_falls(capsys, tmp_path, monkeypatch):
+def test_scan_masses_that_cannot_hover_are_not_falls(capsys, tmp_path, legend_texts):
     """53 and 54 g exceed the largest mass the thesis plate holds (52.49 g): no run is made (the
     JSON says no_hover_height); the text says "cannot hover" and the map draws them grey, apart
     from the colour map's 'fell at once'."""
-    import matplotlib.figure
-    legends = []
-    save = matplotlib.figure.Figure.savefig
-
-    def recording(fig, *a, **k):
-        for ax in fig.axes:
-            if ax.get_legend() is not None:
-                legends.extend(t.get_text() for t in ax.get_legend().get_texts())
-        return save(fig, *a, **k)
-    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", recording)
+    legends = legend_texts
     argv = ["scan", "thesis_stable", "--spin", "300:3000:6", "--mass", "0.050:0.054:5", "--t-end", "0.5",
             "--out", str(tmp_path / "m.png")]
     out = plain(capsys, *argv)
