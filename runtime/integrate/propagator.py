@@ -34,8 +34,8 @@ import numpy as np
 
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.budget import MAX_STEPS_CAP, check_options
-from levitron.runtime.integrate.c_backend import (STATUS, _Job, _Options, _Stats, _System, _f64,
-                                                  bind, fn_address)
+from levitron.runtime.integrate.c_backend import (_NO_BOX, STATUS, _Job, _Options, _Stats, _System,
+                                                  _f64, bind, fn_address)
 from levitron.runtime.integrate.methods import lookup, resolve
 from levitron.runtime.integrate.trajectory import Box
 
@@ -76,11 +76,10 @@ class Propagator:
         self._sys = _System(self.n, fn_address(part.c_function("rhs")), None, None,
                             self._p.ctypes.data, fn_address(taylor))
         self.box = box
-        b = box or Box(iz=-1, z_lo=-math.inf, z_hi=math.inf)
+        b = box or _NO_BOX
         self._opt = _Options(t0=0.0, t_end=1.0, rtol=self.tol, atol_v=self._atol.ctypes.data,
                              max_steps=self.max_steps, box_on=int(box is not None), ix=b.ix, iy=b.iy,
-                             iz=b.iz, z_lo=b.z_lo,
-                             z_hi=b.z_hi, r_max=b.r_max)
+                             iz=b.iz, z_lo=b.z_lo, z_hi=b.z_hi, r_max=b.r_max)
         self._st = _Stats()
         self._job = _Job(entry.c_id, ctypes.addressof(self._sys), ctypes.addressof(self._opt),
                          self._x.ctypes.data, self._work.ctypes.data, None, None, None,

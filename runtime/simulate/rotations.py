@@ -80,6 +80,17 @@ def rotation_bs_derivatives(coords: str, angles: Sequence[float]) -> list[np.nda
     return [f[0][1] @ f[1][0] @ f[2][0], f[0][0] @ f[1][1] @ f[2][0], f[0][0] @ f[1][0] @ f[2][1]]
 
 
+def body_rate_matrix(kind: str, angles: Sequence[float]) -> np.ndarray:
+    """J with omega_body = J angle_rates, column i = vee(R_bs^T dR_bs/d angle_i) (thesis eqs.
+    2.1.10, 3.2.7-3.2.9; derive/kinematics.py body_angular_velocity)."""
+    R = rotation_bs(kind, angles)
+    cols = []
+    for dR in rotation_bs_derivatives(kind, angles):
+        W = R.T @ dR
+        cols.append([W[2, 1], W[0, 2], W[1, 0]])
+    return np.array(cols).T
+
+
 def angle_generator_z(coords: str, angles: Sequence[float]) -> np.ndarray:
     """d angles / d alpha under R_bs -> Q_z(alpha) R_bs (active rotation about the lab z axis):
     least squares of dR = sum_i dR/da_i da_i = K R, K = [[0,-1,0],[1,0,0],[0,0,0]]."""

@@ -14,8 +14,8 @@ from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.run import Box
 from levitron.runtime.physics.eigen_route import growth_rate, transverse_matrix
 from levitron.runtime.simulate.invariants import rows_of
-from levitron.runtime.simulate.rotations import (ANGLES, DEFAULT_AZIMUTH, SPIN_ANGLE, coordinates_of,
-                                        rotation_bs, rotation_bs_derivatives, tilt_angles)
+from levitron.runtime.simulate.rotations import (ANGLES, DEFAULT_AZIMUTH, SPIN_ANGLE, body_rate_matrix,
+                                        coordinates_of, rotation_bs, rotation_bs_derivatives, tilt_angles)
 
 
 def coordinate_names(part) -> list[str]:
@@ -25,7 +25,8 @@ def coordinate_names(part) -> list[str]:
 def legendre_map(part, q: np.ndarray, p=None) -> tuple[np.ndarray, np.ndarray]:
     """The coordinate rows of the generated rhs at coordinates q, dq/dt = M(q)^-1 p_q (thesis eq.
     2.3.8), linear in the momenta: (f0, Minv), f0 the rows at p_q = 0 and Minv's column k the rows
-    at p_k = 1 less f0."""
+    at p_k = 1 less f0. The launch does not use it (momentum_column builds M forward): it is the
+    second route that checks the launch's momenta against the generated equations."""
     s = list(part.states)
     coords = coordinate_names(part)
     ic = [s.index(c) for c in coords]
@@ -35,17 +36,6 @@ def legendre_map(part, q: np.ndarray, p=None) -> tuple[np.ndarray, np.ndarray]:
     E[1 + np.arange(len(ip)), ip] = 1.0
     rows = rows_of(part, "rhs", E, p)[:, ic]   # one C call
     return rows[0], (rows[1:] - rows[0]).T
-
-
-def body_rate_matrix(kind: str, angles) -> np.ndarray:
-    """J with omega_body = J angle_rates, column i = vee(R_bs^T dR_bs/d angle_i) (thesis eqs.
-    2.1.10, 3.2.7-3.2.9; derive/kinematics.py body_angular_velocity)."""
-    R = rotation_bs(kind, angles)
-    cols = []
-    for dR in rotation_bs_derivatives(kind, angles):
-        W = R.T @ dR
-        cols.append([W[2, 1], W[0, 2], W[1, 0]])
-    return np.array(cols).T
 
 
 def momentum_column(part, q: np.ndarray, i_rate: int, pvals: dict) -> np.ndarray:
