@@ -113,8 +113,6 @@ def _axis_value(axis: str, v: float, u: Units) -> str:
     return f"{sig(v, 3)} z_s"
 
 
-
-
 def runs(flags) -> list[tuple[int, int]]:
     """The maximal runs of consecutive True entries, as (first, last) index pairs."""
     out, start = [], None
@@ -153,7 +151,7 @@ def _row(axis: str, v, spins, up, status, u: Units) -> str:
     if len(stopped) == ran:
         return head + f"no verdict at any spin: {ran} of {ran} runs stopped early ({why})"
     where = (_stays_up(spins, up, u) if any(up) else
-             "falls at every spin" + (" with a verdict" if stopped else ""))
+             "falls at every spin" + (" that gave a verdict" if stopped else ""))
     tail = f"; no verdict: {len(stopped)} of {ran} runs stopped early ({why})" if stopped else ""
     return head + f"{where} ({sum(up)} of {ran - len(stopped)}){tail}"
 
