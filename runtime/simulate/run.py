@@ -159,13 +159,14 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
 
 def trajectory_table(pt, res: Result, p, ps: Samples | None = None) -> tuple[list[str], np.ndarray]:
     """The samples of a run as columns (runtime/simulate/trajectory_file.py): t, the states, energy, L_z,
-    L_n and tilt, each derived column from a generated function in one C call (ps: Samples.of, if
-    the summary already computed them)."""
+    L_n, tilt and the spin omega_3 = L_n / C, each derived column from a generated function in one
+    C call (ps: Samples.of, if the summary already computed them)."""
     X = np.atleast_2d(res.X)
     ps = Samples.of(pt, res, X[0], p) if ps is None else ps
+    C = dict(zip(pt.model.param_names, p))["C"]
     cols = [np.asarray(res.t, float)[:, None], X, ps.energy[:, None], ps.invariants[1:-1],
-            ps.tilt[:, None]]
-    return ["t", *pt.states, "energy", "L_z", "L_n", "tilt"], np.hstack(cols)
+            ps.tilt[:, None], ps.invariants[1:-1, 1:2] / C]
+    return ["t", *pt.states, "energy", "L_z", "L_n", "tilt", "spin"], np.hstack(cols)
 
 
 def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, integrator, tol, h,

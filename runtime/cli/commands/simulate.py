@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from levitron.runtime.errors import UserError
+from levitron.runtime.simulate import animation
 from levitron.runtime.simulate.start import linear_context
 from levitron.runtime.ui.human import Units, duration, lines, sig
 from levitron.runtime.integrate.methods import DEFAULT, FULL_MODEL_METHODS, lookup
@@ -40,7 +41,10 @@ def add_arguments(parser) -> None:
     parser.add_argument("--n-out", type=int, default=2000, help="number of output samples (default 2000)")
     parser.add_argument("--plot", default=None, metavar="FILE", help="draw height, radial offset and tilt to FILE.png")
     parser.add_argument("--save", default=None, metavar="FILE",
-                        help="write the samples to FILE.csv or FILE.npz: t, the states, energy, L_z, L_n, tilt")
+                        help="write the samples (--n-out of them) to FILE.csv or FILE.npz: t, every state, "
+                        "energy, L_z, L_n, tilt and the spin omega_3")
+    parser.add_argument("--animate", default=None, metavar="FILE",
+                        help="an animation of the run: FILE.html (a page that plays offline), .gif or .mp4")
 
 
 def run(args) -> dict:
@@ -52,11 +56,22 @@ def run(args) -> dict:
     lookup(args.integrator)   # an unknown name is a one-line UserError
     if args.plot is not None:
         check_plot_path(args.plot)
+    animate = getattr(args, "animate", None)
+    if animate is not None:
+        animation.check_path(animate)
+        if args.part != "full":
+            raise UserError("--animate draws the whole top: drop --part reduced (the reduced model has no tilt)")
     model = model_of(args)
     r = simulate(model, spin=args.spin, tilt=args.tilt, offset=args.offset, t_end=args.t_end,
                  integrator=args.integrator, tol=args.tol, box=args.box, plot=args.plot,
                  part=args.part, h=args.step, n_out=args.n_out,
-                 azimuth=args.tilt_azimuth, save=args.save)
+                 azimuth=args.tilt_azimuth, save=args.save, trajectory=animate is not None)
+    if animate is not None:
+        from levitron.runtime.report.setup_shape import setup_of
+        u = Units.of_scene(model.scene)
+        data = animation.frames(r.pop("trajectory"), r, setup_of(model), u)
+        r["animation"] = str(animation.write(animate, data, f"{model.scene.name}: a launch at "
+                                             f"{u.rate(args.spin)}"))
     if args.part == "full" and "flight" not in r:      # in air the flight line gives the limits
         r["linear"] = linear_context(model, model.p, r["z_s"], args.spin)
     return r
@@ -142,4 +157,5 @@ def human(r: dict, scene=None) -> str:
         f"{sig(r['rhs_evals'], 6)} rhs evaluations",
         u.note,
         f"plot: {r['plot']}" if r.get("plot") else "",
-        f"samples: {r['saved']}" if r.get("saved") else "")
+        f"samples: {r['saved']}" if r.get("saved") else "",
+        f"animation: {r['animation']}" if r.get("animation") else "")

@@ -1,0 +1,78 @@
+"""The set-up as drawn to scale: the base's outline (from the scene's plate keys), the top as a disc
+of its own mass and axial moment, the hover height, the stable band and z_c (no plotting here).
+
+    shape = setup_of(model, p)         # a JSON-able dict, in the scene's lengths (SI: m)
+
+The base: an annulus or disk plate is a thin layer in z = 0 (thesis 2.2.11); a ring magnet or a
+block fills -thickness <= z <= 0 (derive/plates/ring_magnet.py, rectangle.py); a loop is a wire of
+its radius in z = 0; a compound plate is its parts; an expression plate has no outline (None).
+The top: a uniform cylinder of the top's mass m with its axial moment C = m r^2 / 2, so
+r = sqrt(2 C / m), and its transverse A = m (3 r^2 + h^2) / 12 for the height h (0 where that
+gives none): the scene gives no size of the top, only these.
+"""
+from __future__ import annotations
+
+import math
+
+
+def _part(table: dict) -> dict | None:
+    """One plate table's outline: {"kind": "disc"|"ring"|"rect"|"loop", "r_out", "r_in",
+    "half_x", "half_y", "thickness"} (lengths as the scene writes them), or None."""
+    kind = table.get("kind")
+
+    def num(key, default=0.0):
+        v = table.get(key, default)
+        return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else default
+
+    if kind == "annulus":
+        return {"kind": "ring", "r_out": num("radius"), "r_in": num("hole"), "thickness": 0.0}
+    if kind == "disk":
+        return {"kind": "ring", "r_out": num("radius"), "r_in": 0.0, "thickness": 0.0}
+    if kind == "ring_magnet":
+        return {"kind": "ring", "r_out": num("r_out"), "r_in": num("r_in"), "thickness": num("thickness")}
+    if kind == "loop":
+        return {"kind": "loop", "r_out": num("radius"), "r_in": num("radius"), "thickness": 0.0}
+    if kind == "rectangle":
+        side = num("side")
+        return {"kind": "rect", "half_x": 0.5 * num("side_x", side), "half_y": 0.5 * num("side_y", side),
+                "thickness": num("thickness")}
+    return None
+
+
+def base_of(plate: dict) -> list[dict]:
+    """The base's outlines (a compound plate: one per part; an expression plate: none)."""
+    if plate.get("kind") == "compound":
+        return [s for s in (_part(p) for p in plate.get("parts", [])) if s is not None]
+    one = _part(plate)
+    return [one] if one is not None else []
+
+
+def extent(base: list[dict]) -> float:
+    """The base's largest horizontal half-width (0 without an outline)."""
+    return max([max(s.get("r_out", 0.0), s.get("half_x", 0.0), s.get("half_y", 0.0)) for s in base],
+               default=0.0)
+
+
+def top_disc(m: float, A: float, C: float) -> tuple[float, float]:
+    """(radius, height) of the uniform cylinder of mass m and moments A, C (module docstring)."""
+    r = math.sqrt(2 * C / m)
+    h2 = 12 * A / m - 3 * r * r
+    return r, math.sqrt(h2) if h2 > 0 else 0.0
+
+
+def setup_of(model, p=None, bands: bool = False) -> dict:
+    """The drawing's numbers: base outlines, the top's disc, z_s (None where it cannot hover) and,
+    with bands, the stable band and the critical height z_c (thesis 3.3.3)."""
+    from levitron.runtime.physics import equilibrium as eqm
+    pv = model.pvals(p)
+    r, h = top_disc(pv["m"], pv["A"], pv["C"])
+    out = {"base": base_of(model.scene.data["plate"]), "top_radius": r, "top_height": h, "C": pv["C"],
+           "scale": eqm.scale_of(model, p), "z_s": None, "band": None, "z_c": None}
+    rep = eqm.equilibria_of(model, p, bands=bands)
+    out["z_s"] = rep.stable[0].z if rep.stable else None
+    if bands:
+        band = rep.stable_band
+        out["band"] = list(band.z) if band is not None else None
+        on = eqm.model_onaxis(model, model.p if p is None else p)
+        out["z_c"] = eqm.critical_height(on, pv["g"], pv["mu"], out["scale"])[0]
+    return out
