@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -50,7 +51,11 @@ SCENE_KEYS = (
 )
 REFERENCE_KEYS = (
     Key("source", "", "where the stated values come from (e.g. \"thesis\"), shown beside them"),
-    Key("z_stable", "m", "a stated height of the vertically stable equilibrium, shown beside ours"),
+    Key("z_stable", "m", "a stated height of the vertically stable equilibrium, shown beside ours "
+        "(a number, or [value, uncertainty])"),
+    Key("spin_interval", "rad/s", "a stated spin interval of stability, [low, high]"),
+    Key("mass_window", "kg", "a stated range of masses that hover, [lightest, heaviest]"),
+    Key("flight_time", "s", "a stated flight time in air (a number, or [value, uncertainty])"),
 )
 TEMPERATURE_KEY = Key("temperature_coefficient", "1/K", "relative change of the magnet's "
                       "remanence per kelvin from 20 degC (ferrite about -0.002, NdFeB about -0.0012; "
@@ -306,6 +311,24 @@ def friction_rates(top: dict, needs) -> dict[str, float]:
     return rates
 
 
+def _reference_value(ref: dict, key: str) -> None:
+    """A [reference] value: a positive number or [value, uncertainty] (z_stable, flight_time), or a
+    range [low, high] (spin_interval, mass_window)."""
+    v = ref[key]
+    pair = isinstance(v, list) and len(v) == 2 and all(
+        isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) for x in v)
+    if key in ("spin_interval", "mass_window"):
+        if not (pair and 0 < v[0] <= v[1]):
+            raise SceneError(f"reference.{key} = {v!r}: give a range [low, high] of positive numbers, "
+                             f"e.g. {key} = [1.0, 2.0]")
+    elif isinstance(v, list):
+        if not (pair and v[0] > 0 and v[1] >= 0):
+            raise SceneError(f"reference.{key} = {v!r}: give a positive number or [value, uncertainty], "
+                             f"e.g. {key} = [0.15, 0.01]")
+    else:
+        number(ref, key, "reference", positive=True)
+
+
 def validate(data: dict, path: Path | None = None) -> Scene:
     """Check every key and resolve the parameters; raises SceneError on the first problem."""
     check_keys(data, _names(SCENE_KEYS) | {"top", "plate", "field", "model", "reference", "launch"},
@@ -321,8 +344,9 @@ def validate(data: dict, path: Path | None = None) -> Scene:
     check_keys(ref, _names(REFERENCE_KEYS), "reference")
     if not isinstance(ref.get("source", ""), str):
         raise SceneError("reference.source must be text, e.g. source = \"thesis\"")
-    if "z_stable" in ref:
-        number(ref, "z_stable", "reference", positive=True)
+    for key in ("z_stable", "spin_interval", "mass_window", "flight_time"):
+        if key in ref:
+            _reference_value(ref, key)
     for section in ("top", "plate"):
         if section not in data or not isinstance(data[section], dict):
             raise SceneError(f"the scene has no [{section}] section: add it (see docs/contract.md)")

@@ -11,7 +11,6 @@ fonts), so it opens anywhere, offline.
 """
 from __future__ import annotations
 
-import base64
 import html
 import math
 import tempfile
@@ -22,7 +21,8 @@ import numpy as np
 from levitron.derive import plates
 
 from levitron.runtime.physics import equilibrium as eqm
-from levitron.runtime.ui import progress
+from levitron.runtime.report.html_parts import p as _p, png as _png, table as _table
+from levitron.runtime.ui import progress, reference
 from levitron.runtime.ui.human import SI_SYMBOLS, Units, restate, sig, span
 from levitron.runtime.physics.stability import stability_of
 
@@ -30,47 +30,41 @@ MAP_SPINS, MAP_TILTS = 8, 6
 LAUNCH_TILT = 0.01            # rad
 LAUNCH_PERIODS = 3            # the launch runs this many slow periods
 
+THESIS = "thesis"
+THESIS_NAME = "thesis: K. F. Lüskow, Theory and Modeling of Gyroscopes, Greifswald 2011"
+AIR_SAMPLES = 16000           # samples of the flight in air (the animation's trace resolves the precession)
+
 CSS = """body{font-family:system-ui,sans-serif;max-width:60em;margin:2em auto;padding:0 1em;color:#222}
 h1{font-size:1.6em}h2{font-size:1.2em;margin-top:1.6em;border-bottom:1px solid #ccc}
 table{border-collapse:collapse}td,th{padding:.2em .8em;text-align:left;border-bottom:1px solid #eee}
-.answer{font-size:1.15em;font-weight:600}img{max-width:100%}.note{color:#666;font-size:.9em}"""
-
-
-def _png(path: Path) -> str:
-    data = base64.b64encode(Path(path).read_bytes()).decode("ascii")
-    return f'<img alt="{html.escape(Path(path).stem)}" src="data:image/png;base64,{data}">'
-
-
-def _table(rows) -> str:
-    body = "".join(f"<tr><th>{html.escape(str(k))}</th><td>{html.escape(str(v))}</td></tr>"
-                   for k, v in rows)
-    return f"<table>{body}</table>"
-
-
-def _p(text: str, cls: str = "") -> str:
-    c = f' class="{cls}"' if cls else ""
-    return f"<p{c}>{html.escape(text)}</p>"
+.answer{font-size:1.15em;font-weight:600}img{max-width:100%}.note{color:#666;font-size:.9em}
+pre.toml{background:#f6f6f6;border:1px solid #ddd;padding:.6em;overflow-x:auto}"""
 
 
 def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -> tuple[str, dict]:
     """The page and the facts it shows (SI numbers, for --json); provenance: the block of
     runtime/ui/provenance.py, shown at the foot of the page (its command rebuilds the page)."""
-    from levitron.runtime.scan import stability_map as sc
+    from levitron.runtime.physics.friction import has_friction
+    from levitron.runtime.report import real_launch, rebuild, setup_drawing
     from levitron.runtime.report.figures import figure_3_5
+    from levitron.runtime.report.setup_shape import setup_of
+    from levitron.runtime.scan import stability_map as sc
     from levitron.runtime.scan.physics import slow_period, spins_around
     from levitron.runtime.scan.plot import draw as draw_map
+    from levitron.runtime.simulate import animation
     from levitron.runtime.simulate.run import simulate
 
     scene = model.scene
     u = Units.of_scene(scene)
     P = model.pvals()
+    air = "full" in model.parts and has_friction(model) and P.get("k_spin", 0) > 0
     facts: dict = {"scene": scene.name, "units": "SI" if u.si else "dimensionless"}
     parts = [f"<h1>{html.escape(scene.name)}: does the top levitate?</h1>",
              _p(_made(provenance), "note")]
+    names = ["equilibria and the band", "spin interval", "a small stability map", "a typical launch"]
     with tempfile.TemporaryDirectory(prefix="levitron-report-") as tmp, \
-            progress.stages(f"report {scene.name}", ["equilibria and the band", "spin interval",
-                                                     "a small stability map", "a typical launch"],
-                            [1, 1, 3, 2]) as stage:
+            progress.stages(f"report {scene.name}", names + (["launch odds"] if air else []),
+                            [1, 1, 3, 2] + ([4] if air else [])) as stage:
         stage(0)
         tmp = Path(tmp)
         rep = eqm.equilibria_of(model, bands=True)
@@ -90,6 +84,12 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
             why = "; ".join(restate(h, u) for h in hints) or restate(res.reason or "", u)
             answer = f"No: {u.top(P['m'])} cannot levitate over this plate: {why}."
         parts.append(_p(answer, "answer"))
+        answer_at = len(parts)           # the stated reference values go here, once all are known
+        setup = setup_of(model, bands=True)
+        parts.append("<h2>The set-up, to scale</h2>")
+        parts.append(setup_drawing.drawing(setup, u, f"{scene.name}: a cut through the axis"))
+        parts.append(_p(setup_drawing.NOTE, "note"))
+        launch_at = len(parts)          # the animation goes here, once the launch has run
         parts.append("<h2>Scene</h2>")
         parts.append(_table(scene_rows(scene, overrides, u, P)))
         if u.note:
@@ -98,7 +98,7 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
         roots = ", ".join(f"{u.length(e.z)} ({'vertically stable' if e.vertically_stable else 'unstable'})"
                           for e in rep.equilibria) or "none"
         parts.append(_table([
-            ("equilibria (thesis 3.3.2)", roots),
+            (f"equilibria ({THESIS} 3.3.2)", roots),
             ("stable band", f"z {u.length_span(*band.z)}, mass {span(*band.mass, u.mass)}" if band else "none"),
             ("heaviest top that hovers", u.mass(rep.max_mass) if rep.max_mass else "n/a")]))
         parts.append(_png(figure_3_5(model, tmp / "equilibrium.png")))
@@ -128,24 +128,51 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
                             "A sketch: `levitron scan` draws a finer, longer one.", "note"))
             parts.append(_png(draw_map(m, tmp / "map.png", f"{scene.name}: levitating vs spin and tilt", u)))
             stage(3)
-            run = simulate(model, spin=spin, tilt=LAUNCH_TILT, t_end=LAUNCH_PERIODS * T,
-                           plot=tmp / "launch.png")
+            # in air the whole flight, to the fall (simulate's default run length); else 3 slow periods
+            run = simulate(model, spin=spin, tilt=LAUNCH_TILT, t_end=None if air else LAUNCH_PERIODS * T,
+                           plot=tmp / "launch.png", trajectory=True, n_out=AIR_SAMPLES if air else 2000)
+            traj = run.pop("trajectory")
             facts["launch"] = {k: run[k] for k in ("levitating", "t_survived", "max_tilt",
                                                    "max_height_deviation", "energy_drift")}
             facts["launch"]["spin"] = spin
+            how = ("the whole flight in air, to the fall" if air else
+                   f"{LAUNCH_PERIODS} slow periods")
             parts.append("<h2>A typical launch</h2>")
             parts.append(_p(f"spin {u.rate(spin)} (the geometric mean of the interval), tilt "
-                            f"{u.angle(LAUNCH_TILT)}: {'levitating' if run['levitating'] else run['status']} "
+                            f"{u.angle(LAUNCH_TILT)}, {how}: "
+                            f"{'levitating' if run['levitating'] else run['status']} "
                             f"for {u.time(run['t_survived'])}; largest tilt {u.angle(run['max_tilt'])}, "
-                            f"energy drift {sig(run['energy_drift'], 2)}"))
+                            f"energy {'balance residual' if air else 'drift'} {sig(run['energy_drift'], 2)}"))
             parts.append(_png(Path(run["plot"])))
+            data = animation.frames(traj, run, setup, u)
+            facts["animation"] = {"frames": len(data["t"]), "speed": data["speed"]}
+            parts.insert(launch_at, "<h2>A launch to watch</h2>" + animation.fragment(
+                data, f"The typical launch below ({how}), played: spin {u.rate(spin)}, tilt "
+                      f"{u.angle(LAUNCH_TILT)}."))
+            if air:
+                stage(4)
+                html_air, facts["air"] = real_launch.section(model, scene_ref, overrides, run, u, tmp, _png)
+                parts.append(html_air)
+        stated = reference.rows(scene, {
+            "z_stable": facts["z_s"], "spin_interval": facts["spin_interval"],
+            "mass_window": band.mass if band is not None else None,
+            "flight_time": (facts.get("air") or {}).get("flight_time")}, u)
+        if stated:
+            parts.insert(answer_at, "<h3>Beside the stated values</h3>" + _table(stated))
+        block, facts["rebuild"] = rebuild.section(scene, overrides, provenance)
+        parts.append(block)
     page = ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
             f"<title>levitron report: {html.escape(scene.name)}</title><style>{CSS}</style></head>"
-            f"<body>{''.join(parts)}{_provenance(provenance, scene.name)}"
+            f"<body>{_cite_first(''.join(parts))}{_provenance(provenance, scene.name)}"
             "</body></html>\n")
     if provenance is not None:
         facts["provenance"] = provenance
     return page, facts
+
+
+def _cite_first(body: str) -> str:
+    """The first citation of the thesis on the page names the work (THESIS_NAME)."""
+    return body.replace(f"({THESIS} ", f"({THESIS_NAME}, ", 1) if THESIS_NAME not in body else body
 
 
 def _made(block: dict | None) -> str:

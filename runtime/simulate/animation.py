@@ -26,8 +26,8 @@ from levitron.runtime.simulate.animation_script import SCRIPT
 from levitron.runtime.simulate.rotations import ANGLES, rotation_bs
 from levitron.runtime.ui.human import Units, sig
 
-MAX_FRAMES = 1500          # the page stays small (about 100 bytes a frame)
-SCREEN_FPS = 25            # frames per screen second the run is sampled for
+MAX_FRAMES = 3000          # the page stays small (about 100 bytes a frame)
+SCREEN_FPS = 40            # frames per screen second the run is sampled for
 SCREEN_RUN = 40.0          # screen seconds the whole run would take at most, were it not for ...
 PRECESSION_ON_SCREEN = 1.0  # ... the precession, which takes at least this many screen seconds a turn
 MARK_TURNS = 0.5           # turns a screen second of the rim mark at the launch

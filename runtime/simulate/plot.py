@@ -49,7 +49,8 @@ def draw_flight(t, dz, w, path, info, u: Units, scene: str = "") -> Path:
         ax[0].axhline(iv[0], color="C3", ls="--", lw=1, label=f"lower limit {sig(iv[0], 4)} {ru}")
         if iv[1] < 1.2 * max(w):
             ax[0].axhline(iv[1], color="C4", ls="--", lw=1, label=f"upper limit {sig(iv[1], 4)} {ru}")
-    if fl["t_cross"] is not None:
+    shown = fl["t_cross"] is not None and t[0] <= fl["t_cross"] <= t[-1]   # axes fitted to the run
+    if shown:
         for a in ax:
             a.axvline(fl["t_cross"], color="0.5", ls=":", lw=1)
         ax[0].plot([], [], color="0.5", ls=":", label=f"adiabatic crossing t = {sig(fl['t_cross'], 4)} {tu}")
@@ -57,6 +58,9 @@ def draw_flight(t, dz, w, path, info, u: Units, scene: str = "") -> Path:
     ax[1].plot(t, dz * k, color="C1", label="z - z_s")
     ax[1].set_ylabel(f"height above z_s ({lu})")
     ax[1].set_xlabel(f"t ({tu})")
+    ax[1].set_xlim(t[0], t[-1])
+    if fl["t_cross"] is not None and not shown:
+        ax[0].plot([], [], " ", label=f"adiabatic crossing at t = {sig(fl['t_cross'], 4)} {tu}, after this run")
     for a in ax:
         a.legend(loc="best", fontsize="small")
     verdict = (f"falls after {sig(fl['flight_time'], 4)} {tu} at spin {sig(fl['fall_spin'], 4)} {ru}"

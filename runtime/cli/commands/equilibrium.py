@@ -9,7 +9,7 @@ import time
 
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.ui.human import Units, lines, restate, span
-from levitron.runtime.ui.reference import stated
+from levitron.runtime.ui.reference import MODIFIED, stated
 from levitron.runtime.ui.plotting import check_plot_path
 from levitron.runtime.cli.commands.common import model_of
 
@@ -93,6 +93,8 @@ def human(r: dict, scene=None) -> str:
             kind = "marginal"
         if ref and e["vertically_stable"]:
             kind += f"; {ref['source']}: {u.length(ref['value'])}"
+            if not ref.get("describes", True):
+                kind += f" ({MODIFIED})"
         roots.append(f"{u.length(e['z'])} ({kind})")
     band, adia = r["stable_band"], r["adiabatic_band"]
     band_line = "stable_band: none (no height where a spin can stabilise the top)"

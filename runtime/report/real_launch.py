@@ -1,0 +1,134 @@
+"""The report's section on a launch in air (a scene with a spin decay time, derive/friction.py):
+the flight against the adiabatic prediction tau ln(omega_0 / sigma_lo) (runtime/physics/friction.py),
+the launch odds with their 95 % Wilson interval and the launch spread used, what matters most
+(runtime/scan/launch_odds.py monte_carlo), and the masses that hover (the stable band's mass window,
+thesis 3.3.2-3.3.3) at the scene's temperature and TEMPERATURE_STEP degC either side, through both
+magnets' temperature coefficients.
+"""
+from __future__ import annotations
+
+import html
+from pathlib import Path
+
+import numpy as np
+
+from levitron.runtime.report.html_parts import table as _table
+from levitron.runtime.ui.human import Units, sig, span
+
+ODDS_N = 200             # launches of the report's odds: a sketch; `levitron launch` runs more
+TEMPERATURE_STEP = 8.0   # degC either side of the scene's temperature
+
+
+def mass_windows(model) -> list[dict]:
+    """The stable band's mass window at the scene's temperature T and at T -/+ TEMPERATURE_STEP
+    (mu scaled by launch_odds.temperature_factor)."""
+    from levitron.runtime.physics import equilibrium as eqm
+    from levitron.runtime.scan.launch_odds import temperature_factor
+    from levitron.derive.scene import T_REF
+    T0 = float(model.scene.data.get("temperature", T_REF))
+    mu = model.param("mu")
+    out = []
+    for dT in (-TEMPERATURE_STEP, 0.0, TEMPERATURE_STEP):
+        f = temperature_factor(model, T0 + dT)
+        band = eqm.equilibria_of(model, model.with_params({"mu": mu * f}), bands=True).stable_band
+        out.append({"temperature": T0 + dT, "factor": f, "mass": list(band.mass) if band else None,
+                    "z": list(band.z) if band else None})
+    return out
+
+
+def _input_text(name: str, spec: str, u: Units) -> str:
+    from levitron.runtime.scan import launch_odds as mc
+    si_unit = mc.INPUT_UNITS[name]
+    show = {"m": u.length, "1": lambda v: f"{sig(100 * v, 3)} %",
+            "degC": lambda v: f"{sig(v)} degC"}.get(si_unit, lambda v: u.value(v, si_unit))
+    d = mc.parse_dist(name, spec)
+    if d.kind == "normal":
+        return f"{name}: {show(d.a)}, sd {show(d.b)} (normal)"
+    if d.kind == "uniform":
+        return f"{name}: {show(d.a)} to {show(d.b)} (uniform)"
+    return f"{name}: {show(d.a)}"
+
+
+def _noise(effect: dict) -> str:
+    """", within the noise of N points" where an input's effect is no larger than chance's."""
+    if effect["effect"] > effect["noise"]:
+        return ""
+    return f", within the noise of {sig(100 * effect['noise'], 2)} points"
+
+
+def histogram(odds: dict, path: Path, u: Units, scene: str) -> Path:
+    """The flight times of the odds' launches, axis fitted to them, the censored runs (still up at
+    the run's end) as a bar of their own, labelled."""
+    from levitron.runtime.ui.plotting import pyplot, save_figure, style
+    plt = pyplot()
+    style()
+    tu = "s" if u.si else "time units"
+    t = np.asarray(odds["flight_time"]["values"], float)
+    t_end = odds["t_end"]
+    up = t >= t_end * (1 - 1e-12)
+    fig, ax = plt.subplots(figsize=(7, 3.6))
+    width = t_end / 40
+    if np.any(~up):
+        ax.hist(t[~up], bins=np.arange(0, t_end + width, width), color="C0", label="fell")
+    if np.any(up):
+        ax.bar([t_end + width], [int(up.sum())], width=width, color="C2",
+               label=f"still floating at the run's end ({int(up.sum())})")
+        ax.annotate(f"{int(up.sum())} still up", (t_end + width, int(up.sum())), ha="center", va="bottom",
+                    fontsize=8)
+    ax.axvline(odds["success_time"], color="C3", ls="--", label=f"success time {sig(odds['success_time'], 4)} {tu}")
+    ax.set_xlim(0, t_end + 2 * width)
+    ax.set_xlabel(f"flight time ({tu})")
+    ax.set_ylabel("launches")
+    ax.set_title(f"{scene}: flight times of {odds['n']} launches", fontsize="medium")
+    ax.legend(loc="upper left", fontsize="small")
+    fig.tight_layout()
+    return save_figure(fig, path)
+
+
+def section(model, scene_ref: str, overrides, run: dict, u: Units, tmp: Path, png) -> tuple[str, dict]:
+    """The section's HTML and its facts (SI). run: the report's flight (simulate's answer)."""
+    from levitron.runtime.scan import launch_odds as mc
+    fl = run["flight"]
+    facts = {"flight_time": fl["flight_time"] if fl["fell"] else None, "t_cross": fl["t_cross"],
+             "fall_spin": fl["fall_spin"] if fl["fell"] else None}
+    rows = [("launch", f"spin {u.rate(run['spin']['rad_s'])}, tilt {u.angle(run['tilt'])}")]
+    if fl["fell"]:
+        rows.append(("flight time (the run)", u.time(fl["flight_time"])))
+    else:
+        rows.append(("flight time (the run)", f"still floating after {u.time(run['t_survived'])}"))
+    if fl["t_cross"]:
+        diff = (f" ({sig(100 * (fl['flight_time'] - fl['t_cross']) / fl['t_cross'], 2)} % apart)"
+                if fl["fell"] else "")
+        rows.append(("adiabatic prediction tau ln(omega_0 / sigma_lo)", u.time(fl["t_cross"]) + diff))
+    if fl["fell"]:
+        rows.append(("spin at the fall", f"{u.rate(fl['fall_spin'])} (lower limit "
+                     f"{u.rate(fl['spin_interval'][0])})" if fl["spin_interval"] else u.rate(fl["fall_spin"])))
+    given, table = mc.table_settings(model.scene.data.get("launch", {}))
+    odds = mc.monte_carlo(model, scene_ref, list(overrides), given, n=ODDS_N, seed=0, quiet=True)
+    lo, hi = odds["probability_ci95"]
+    facts["odds"] = {k: odds[k] for k in ("probability", "probability_ci95", "n", "seed", "success_time",
+                                          "t_end", "inputs")}
+    facts["odds"]["ranking"] = [{"input": e["input"], "effect": e["effect"], "noise": e["noise"]}
+                                for e in odds["ranking"]]
+    spread = [_input_text(k, v, u) for k, v in odds["inputs"].items()
+              if k != "temperature" or mc.parse_dist(k, v).kind != "fixed"]
+    ranked = [f"{e['input']} (the success rate over its quintiles varies by {sig(100 * e['effect'], 2)} "
+              f"points{_noise(e)})" for e in odds["ranking"][:3]]
+    windows = mass_windows(model)
+    facts["mass_windows"] = windows
+    out = ["<h2>The real launch: in air</h2>", _table(rows),
+           f"<p class=\"answer\">Launch odds: {sig(100 * odds['probability'], 3)} % of {odds['n']} launches by "
+           f"hand float at least {html.escape(u.time(odds['success_time']))} (95 % interval "
+           f"{sig(100 * lo, 3)}-{sig(100 * hi, 3)} %, Wilson).</p>",
+           f"<p class=\"note\">The launch spread used (seed {odds['seed']}): {html.escape('; '.join(spread))}. "
+           "`levitron launch` runs more launches and takes other spreads.</p>",
+           f"<p>What matters most: {html.escape('; '.join(ranked))}.</p>" if ranked else "",
+           png(histogram(odds, tmp / "odds.png", u, model.scene.name)),
+           "<h3>The masses that hover, and the temperature</h3>",
+           _table([(f"{sig(w['temperature'], 3)} degC" + (" (the scene's)" if i == 1 else ""),
+                    f"mass {span(*w['mass'], u.mass)}, heights {u.length_span(*w['z'])}" if w["mass"]
+                    else "no stable band") for i, w in enumerate(windows)]),
+           "<p class=\"note\">The magnets weaken as they warm (the scene's temperature coefficients); the "
+           "masses that hover move with them: trim the top with washers at the temperature it flies in.</p>"]
+    return "".join(out), facts
+
