@@ -159,6 +159,19 @@ class Simulation:
     def status(self) -> str:
         return str(self.details.get("status", "completed" if self.levitating else "unknown"))
 
+    def _repr_html_(self) -> str:
+        """In a notebook: the run animated (runtime/simulate/animation.py: the top over its base to
+        scale, its trace, spin and height against time; inline, offline), under its repr."""
+        import html
+
+        from levitron.runtime.simulate import animation
+        head = f"<pre>{html.escape(repr(self))}</pre>"
+        setup = self.details.get("setup")
+        if not self.trajectory or setup is None or self.details.get("coordinates") is None:
+            return head
+        return head + animation.fragment(animation.frames(self.trajectory, self.details, setup, self.units),
+                                         self.message)
+
     @property
     def success(self) -> bool:
         """The run ended normally: reached t_end, or stopped when the top left the box."""

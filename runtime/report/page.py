@@ -47,7 +47,7 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
     from levitron.runtime.physics.friction import has_friction
     from levitron.runtime.report import real_launch, rebuild, setup_drawing
     from levitron.runtime.report.figures import figure_3_5
-    from levitron.runtime.report.setup_shape import setup_of
+    from levitron.runtime.simulate.setup_shape import setup_of
     from levitron.runtime.scan import stability_map as sc
     from levitron.runtime.scan.physics import slow_period, spins_around
     from levitron.runtime.scan.plot import draw as draw_map
@@ -132,6 +132,7 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
             run = simulate(model, spin=spin, tilt=LAUNCH_TILT, t_end=None if air else LAUNCH_PERIODS * T,
                            plot=tmp / "launch.png", trajectory=True, n_out=AIR_SAMPLES if air else 2000)
             traj = run.pop("trajectory")
+            run.pop("setup")
             facts["launch"] = {k: run[k] for k in ("levitating", "t_survived", "max_tilt",
                                                    "max_height_deviation", "energy_drift")}
             facts["launch"]["spin"] = spin

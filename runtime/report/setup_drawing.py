@@ -3,13 +3,13 @@ at its hover height z_s (thesis 3.3.2-3.3.3), the stable band shaded and the cri
 (thesis 3.3.3, where the band is widest), with dimensions in the scene's units
 (runtime/ui/human.py Units; a dimensionless scene shows bare numbers).
 
-    svg = drawing(setup, units, title)     # setup: runtime/report/setup_shape.py setup_of(..., bands=True)
+    svg = drawing(setup, units, title)     # setup: runtime/simulate/setup_shape.py setup_of(..., bands=True)
 """
 from __future__ import annotations
 
 import html
 
-from levitron.runtime.report.setup_shape import extent
+from levitron.runtime.simulate.setup_shape import extent
 from levitron.runtime.ui.human import Units
 
 W, H = 640, 420          # the SVG's viewBox

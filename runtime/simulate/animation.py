@@ -63,7 +63,7 @@ def _short(a, digits: int = 5) -> list:
 def frames(traj: dict, details: dict, setup: dict, u: Units) -> dict:
     """The run as the page draws it: frame times, the centre, the axis n and the rim mark's
     direction (turned about n by the slowed spin: module docstring), the spin and the limits, the
-    base and the top's disc (runtime/report/setup_shape.py)."""
+    base and the top's disc (runtime/simulate/setup_shape.py)."""
     coords = details.get("coordinates")
     if coords is None or "t" not in traj:
         raise UserError("only a run of the full model can be animated (the reduced model has no tilt): "

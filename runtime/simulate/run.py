@@ -153,7 +153,9 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
         names, table = trajectory_table(pt, res, p, ps)
         out["saved"] = str(trajectory_file.write(save, names, table)) if save is not None else None
         if trajectory:
+            from levitron.runtime.simulate.setup_shape import setup_of
             out["trajectory"] = {n: table[:, i] for i, n in enumerate(names)}
+            out["setup"] = setup_of(model, p)       # what an animation draws (animation.py)
     return out
 
 

@@ -67,9 +67,8 @@ def run(args) -> dict:
                  part=args.part, h=args.step, n_out=args.n_out,
                  azimuth=args.tilt_azimuth, save=args.save, trajectory=animate is not None)
     if animate is not None:
-        from levitron.runtime.report.setup_shape import setup_of
         u = Units.of_scene(model.scene)
-        data = animation.frames(r.pop("trajectory"), r, setup_of(model), u)
+        data = animation.frames(r.pop("trajectory"), r, r.pop("setup"), u)
         r["animation"] = str(animation.write(animate, data, f"{model.scene.name}: a launch at "
                                              f"{u.rate(args.spin)}"))
     if args.part == "full" and "flight" not in r:      # in air the flight line gives the limits
