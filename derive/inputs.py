@@ -78,6 +78,23 @@ def structure(data: dict) -> dict:
     return out
 
 
+EXACT_INT = 2 ** 53       # every integer below this is a double exactly
+
+
+def spelled_alike(node):
+    """The data with every number written one way: a float with an integral value (200.0) as the
+    integer (200), so that how a number is spelled in the TOML never makes another scene (the
+    input hash here, the scene hash of derive/scene.py). Booleans stay booleans."""
+    if isinstance(node, dict):
+        return {k: spelled_alike(v) for k, v in node.items()}
+    if isinstance(node, list):
+        return [spelled_alike(v) for v in node]
+    if isinstance(node, float) and node.is_integer() and abs(node) < EXACT_INT:
+        return int(node)
+    return node
+
+
 def input_hash(data: dict) -> str:
-    payload = {"structure": structure(data), "derive": sources_hash(), "versions": tool_versions()}
+    payload = {"structure": spelled_alike(structure(data)), "derive": sources_hash(),
+               "versions": tool_versions()}
     return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()

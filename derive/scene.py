@@ -154,8 +154,10 @@ class Scene:
         return dict(self.data["field"])
 
     def canonical(self) -> str:
-        """The scene as canonical JSON (sorted keys): what the generated code depends on."""
-        return json.dumps(self.data, sort_keys=True, separators=(",", ":"))
+        """The scene as canonical JSON (sorted keys, numbers spelled one way: derive/inputs.py
+        spelled_alike, so that 200 and 200.0 are one scene)."""
+        from .inputs import spelled_alike
+        return json.dumps(spelled_alike(self.data), sort_keys=True, separators=(",", ":"))
 
     def scene_hash(self) -> str:
         return hashlib.sha256(self.canonical().encode()).hexdigest()
