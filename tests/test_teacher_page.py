@@ -1,0 +1,256 @@
+"""The page a teacher shows (issue 28): the launch animated (it plays in headless Chromium and asks
+the network for nothing), the set-up drawn to scale, the report of a launch in air, a report that
+rebuilds from its embedded TOML, one hash however a number is spelled, stated reference values
+beside the answers, simulate --animate and --save's columns."""
+from __future__ import annotations
+
+import html
+import io
+import json
+import re
+import shlex
+import shutil
+import subprocess
+from contextlib import redirect_stdout
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from levitron.derive.inputs import input_hash
+from levitron.derive.scene import SceneError, load_scene
+from levitron.runtime.cli import main as cli
+from tests.test_units_dimensionless import SCENE as DIMENSIONLESS, si_units
+
+ROOT = Path(__file__).resolve().parent.parent
+CHROMIUM = shutil.which("chromium")
+
+
+def _json(argv: list[str]) -> dict:
+    buf = io.StringIO()
+    with redirect_stdout(buf):
+        assert cli.main([*argv, "--json", "--quiet"]) == 0
+    return json.loads(buf.getvalue())
+
+
+def _text(page: str) -> str:
+    page = re.sub(r"<img[^>]*>|<style>.*?</style>|<script>.*?</script>", "", page, flags=re.S)
+    return html.unescape(re.sub(r"<[^>]+>", " ", page))
+
+
+@pytest.fixture(scope="module")
+def air(tmp_path_factory):
+    out = tmp_path_factory.mktemp("air") / "thesis_air.html"
+    return out, _json(["report", "thesis_air", "--out", str(out)])
+
+
+@pytest.fixture(scope="module")
+def dimensionless(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("dimless")
+    scene = folder / "unit_annulus.toml"
+    scene.write_text(DIMENSIONLESS)
+    out = folder / "unit_annulus.html"
+    return out, _json(["report", str(scene), "--out", str(out)])
+
+
+# ---- the report of a launch in air
+
+def test_air_report_has_the_flight_the_odds_and_the_trim(air):
+    path, facts = air
+    text = _text(path.read_text())
+    fl = facts["air"]
+    assert fl["flight_time"] is not None and fl["t_cross"] is not None
+    assert abs(fl["flight_time"] - fl["t_cross"]) / fl["t_cross"] < 0.05     # adiabatic: tau ln(w0/lo)
+    odds = fl["odds"]
+    lo, hi = odds["probability_ci95"]
+    assert lo <= odds["probability"] <= hi and odds["n"] == 200
+    assert "Launch odds:" in text and "Wilson" in text and "What matters most:" in text
+    T = [w["temperature"] for w in fl["mass_windows"]]
+    assert T == [12.0, 20.0, 28.0]
+    # the magnets weaken as they warm: the masses that hover fall with the temperature
+    m = [w["mass"][0] for w in fl["mass_windows"]]
+    assert m[0] > m[1] > m[2]
+    assert "12 degC" in text and "28 degC" in text
+    assert "still floating at the run's end" not in text or "still up" in text
+    assert facts["animation"]["frames"] > 100
+
+
+def test_air_report_names_the_thesis_at_first_use(air):
+    path, _ = air
+    text = _text(path.read_text())
+    first = re.search(r"\bthesis\b", text).start()        # not the scene's name, thesis_air
+    assert text[first:first + 60].startswith("thesis: K. F. Lüskow"), text[first - 20:first + 60]
+    assert text.count("Lüskow") == 1
+
+
+def test_the_page_is_offline(air):
+    """No reference to anything outside the page: no src or href but data: and #, no script src."""
+    page = air[0].read_text()
+    for m in re.finditer(r'\b(src|href)="([^"]*)"', page):
+        assert m.group(2).startswith(("data:", "#")), m.group(0)[:80]
+    assert not re.search(r"<script[^>]+src=", page)
+    assert "fetch(" not in page and "XMLHttpRequest" not in page and "http://" not in page.replace(
+        "http://www.w3.org/2000/svg", "")
+
+
+# ---- a report that rebuilds
+
+def test_footer_command_on_the_embedded_toml_rebuilds(tmp_path, monkeypatch):
+    """Save the embedded block, run the footer's command: the same scene hash and numbers
+    (thesis at another temperature: a quick page, the override carried)."""
+    first = tmp_path / "first.html"
+    facts = _json(["report", "thesis", "--temperature", "25", "--out", str(first)])
+    page = first.read_text()
+    toml = html.unescape(re.search(r'<pre class="toml" id="scene-toml">(.*?)</pre>', page, re.S).group(1))
+    assert toml == (ROOT / "scenes" / "thesis.toml").read_text()
+    command = html.unescape(re.search(r'<code class="rebuild">(.*?)</code>', page, re.S).group(1))
+    assert command == facts["rebuild"]["command"] and "thesis.toml" in command and "25" in command
+    folder = tmp_path / "saved"
+    folder.mkdir()
+    (folder / "thesis.toml").write_text(toml)
+    monkeypatch.chdir(folder)
+    argv = shlex.split(command)[1:]
+    argv[argv.index("--out") + 1] = "again.html"
+    again = _json(argv)
+    assert again["provenance"]["scene_hash"] == facts["provenance"]["scene_hash"]
+    assert again["rebuild"]["scene_hash"] == facts["rebuild"]["scene_hash"]
+    for key in ("equilibria", "stable_band", "spin_interval", "z_s", "hints"):
+        assert again[key] == facts[key], key
+
+
+def test_a_number_spelled_two_ways_is_one_scene(tmp_path):
+    text = (ROOT / "scenes" / "thesis_air.toml").read_text()
+    assert "spin_decay_time = 150.0" in text
+    a, b = tmp_path / "a" / "thesis_air.toml", tmp_path / "b" / "thesis_air.toml"
+    for path, spelled in ((a, "150.0"), (b, "150")):
+        path.parent.mkdir()
+        path.write_text(text.replace("spin_decay_time = 150.0", f"spin_decay_time = {spelled}"))
+    sa, sb = load_scene(a), load_scene(b)
+    assert sa.scene_hash() == sb.scene_hash()
+    assert input_hash(sa.data) == input_hash(sb.data)
+    other = tmp_path / "c.toml"
+    other.write_text(text.replace("spin_decay_time = 150.0", "spin_decay_time = 150.5"))
+    assert load_scene(other).scene_hash() != sa.scene_hash()
+
+
+# ---- stated reference values
+
+REFERENCE = """
+[reference]
+source = "Smith 2020, a measured top"
+z_stable = [0.1060, 0.002]
+spin_interval = [470.0, 2700.0]
+mass_window = [0.0505, 0.0525]
+"""
+
+
+def test_reference_values_shown_beside_ours_with_the_difference(tmp_path, capsys):
+    from levitron.runtime.model.scenes import load_scene as load_with
+    from levitron.runtime.ui import reference
+    scene = tmp_path / "measured.toml"
+    scene.write_text((ROOT / "scenes" / "thesis_stable.toml").read_text().split("[reference]")[0] + REFERENCE)
+    sc = load_scene(scene)
+    answers = {"z_stable": 0.1065, "spin_interval": [459.6, 2740.0], "mass_window": [0.05035, 0.05249],
+               "flight_time": None}
+    rows = reference.rows(sc, answers, _units(sc))
+    assert rows[0] == ("z stable: Smith 2020, a measured top", "10.6 cm +/- 2 mm; here 10.65 cm (+0.47 %)")
+    assert rows[1][1].endswith("(-2.2 %, +1.5 %)"), rows[1]
+    assert len(rows) == 3 and all(reference.MODIFIED not in v for _, v in rows)
+    for changed in (load_with(str(scene), ["top.mass=0.0510"]), load_with(str(scene), ["temperature=25.0"])):
+        marked = reference.rows(changed, answers, _units(changed))
+        assert len(marked) == 3 and all(reference.MODIFIED in v for _, v in marked)
+    out = _plain(capsys, "equilibrium", str(scene), "--set", "top.mass=0.0510")
+    assert "Smith 2020, a measured top: 10.6 cm (reference is for the unmodified scene)" in out
+
+
+def test_reference_values_are_checked(tmp_path):
+    base = (ROOT / "scenes" / "thesis_stable.toml").read_text().split("[reference]")[0]
+    for bad in ("spin_interval = 470.0", "spin_interval = [2700.0, 470.0]", "flight_time = [1, 2, 3]",
+                "mass_window = [0.05, 'x']"):
+        path = tmp_path / "bad.toml"
+        path.write_text(base + "\n[reference]\n" + bad + "\n")
+        with pytest.raises(SceneError, match="reference"):
+            load_scene(path)
+
+
+def _units(scene):
+    from levitron.runtime.ui.human import Units
+    return Units.of_scene(scene)
+
+
+def _plain(capsys, *argv) -> str:
+    assert cli.main(list(argv)) == 0
+    return capsys.readouterr().out
+
+
+# ---- simulate --animate and --save
+
+def test_simulate_animate_writes_an_offline_page_and_save_has_the_spin(tmp_path):
+    page, csv = tmp_path / "run.html", tmp_path / "run.csv"
+    r = _json(["simulate", "thesis_stable", "--spin", "1000", "--t-end", "2", "--n-out", "400",
+               "--animate", str(page), "--save", str(csv)])
+    assert r["animation"] == str(page) and "setup" not in r and "trajectory" not in r
+    text = page.read_text()
+    assert "<svg" in text and "<script>" in text and "real time" in text
+    names = csv.read_text().splitlines()[0].split(",")
+    assert names[:13] == ["t", "x", "y", "z", "phi", "vartheta", "zeta", "p_x", "p_y", "p_z", "p_phi",
+                          "p_vartheta", "p_zeta"] and names[-1] == "spin"
+    table = np.loadtxt(csv, delimiter=",", skiprows=1)
+    assert table.shape == (401, len(names))
+    # omega_3 = -p_zeta / C (thesis 3.2.9): a second route to the spin column
+    C = 1.32e-6
+    assert np.allclose(table[:, -1], -table[:, names.index("p_zeta")] / C, rtol=1e-12)
+    assert abs(table[0, -1] - 1000) < 1e-9
+
+
+def test_animate_refuses_another_suffix(tmp_path, capsys):
+    assert cli.main(["simulate", "thesis_stable", "--spin", "1000", "--animate", str(tmp_path / "a.txt")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and ".html" in err
+
+
+# ---- the animation plays in headless Chromium
+
+def _chromium(page: Path, shot: Path, budget_ms: int) -> None:
+    argv = [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
+            "--window-size=1100,1400", f"--virtual-time-budget={budget_ms}", f"--screenshot={shot}"]
+    subprocess.run([*argv, page.as_uri()], check=True, capture_output=True, timeout=120)
+
+
+def _dom(page: Path, budget_ms: int) -> str:
+    return subprocess.run([CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu",
+                           f"--virtual-time-budget={budget_ms}", "--dump-dom", page.as_uri()],
+                          check=True, capture_output=True, timeout=120, text=True).stdout
+
+
+# the test's probe, added to a copy of the page: every resource the page asked for (images,
+# scripts, fetch, XHR: the Resource Timing list), written into the DOM that --dump-dom prints
+PROBE = ("<script>setTimeout(function () { var p = document.createElement('pre'); p.id = 'probe'; "
+         "p.textContent = JSON.stringify(performance.getEntriesByType('resource').map("
+         "function (e) { return e.name; })); document.body.appendChild(p); }, 1200);</script>")
+
+
+@pytest.mark.skipif(CHROMIUM is None, reason="chromium not installed (Debian: apt-get install chromium)")
+@pytest.mark.parametrize("which", ["air", "dimensionless"])
+def test_the_animation_plays_offline(which, request, tmp_path):
+    """Two screenshots a (virtual) second apart differ, and only in the animation's area (the rest
+    of the page stands still); the page asks for no resource (Resource Timing, through a probe in
+    a copy of the page); a dimensionless scene's page, as drawn, shows no SI unit."""
+    import matplotlib.image
+    page = request.getfixturevalue(which)[0]
+    shots = [tmp_path / "a.png", tmp_path / "b.png"]
+    _chromium(page, shots[0], 1000)
+    _chromium(page, shots[1], 2000)
+    a, b = (matplotlib.image.imread(str(s))[..., :3] for s in shots)
+    rows = np.nonzero(np.abs(a - b).max(axis=(1, 2)) > 0.05)[0]
+    assert len(rows) > 20, "the animation did not move"
+    assert rows.max() - rows.min() < 520, (rows.min(), rows.max())   # the animation's 440 px and its controls
+    probed = tmp_path / "probed.html"
+    probed.write_text(page.read_text().replace("</body>", PROBE + "</body>"))
+    dom = _dom(probed, 3000)
+    assert len(re.findall("<svg", dom)) >= 2              # the set-up, then the animation
+    asked = json.loads(html.unescape(re.search(r'<pre id="probe">(.*?)</pre>', dom, re.S).group(1)))
+    assert asked == []
+    if which == "dimensionless":
+        text = _text(re.sub(r'<pre class="toml".*?</pre>', "", dom, flags=re.S))   # the author's TOML
+        assert "time units" in text and si_units(text) == [], si_units(text)[:10]
