@@ -25,26 +25,31 @@ def as_json(capsys, *argv) -> dict:
 # ---- item 1: a reference value only beside the scene it describes
 
 def test_thesis_reference_shown_for_the_thesis_scene(capsys):
-    assert "vertically stable; thesis: 15.68 cm" in plain(capsys, "equilibrium", "thesis")
+    out = plain(capsys, "equilibrium", "thesis")
+    assert "vertically stable; thesis: 15.68 cm" in out and "unmodified" not in out
     assert as_json(capsys, "equilibrium", "thesis")["reference"]["z_stable"] == \
-        {"value": 0.1568, "source": "thesis"}
+        {"value": 0.1568, "uncertainty": None, "source": "thesis", "describes": True}
 
 
-@pytest.mark.parametrize("override", ["top.mass=0.0515", "plate.hole=0", "g=9.8"])
-def test_thesis_reference_dropped_when_a_set_changes_the_scene(capsys, override):
+@pytest.mark.parametrize("override", ["top.mass=0.0515", "plate.hole=0", "g=9.8", "temperature=28.0"])
+def test_thesis_reference_marked_when_a_set_changes_the_scene(capsys, override):
+    """Issue 28: under --set (or --temperature) the stated value stays, marked as for the
+    unmodified scene (it used to vanish silently; before that it stood beside another top's height)."""
     out = plain(capsys, "equilibrium", "thesis", "--set", override)
-    assert "vertically stable" in out and "thesis:" not in out, out
-    assert as_json(capsys, "equilibrium", "thesis", "--set", override)["reference"]["z_stable"] is None
+    assert "thesis: 15.68 cm (reference is for the unmodified scene)" in out, out
+    ref = as_json(capsys, "equilibrium", "thesis", "--set", override)["reference"]["z_stable"]
+    assert ref["value"] == 0.1568 and ref["describes"] is False
 
 
-def test_thesis_reference_dropped_for_a_copy_with_another_top(capsys, tmp_path):
+def test_thesis_reference_marked_for_a_copy_with_another_top(capsys, tmp_path):
     """The [reference] table travels with a copied file; its parameters are no longer the thesis's."""
     text = (ROOT / "scenes" / "thesis.toml").read_text()
     same, other = tmp_path / "mine.toml", tmp_path / "heavier.toml"
     same.write_text(text)
     other.write_text(text.replace("mass = 0.0284", "mass = 0.0515"))
-    assert "thesis: 15.68 cm" in plain(capsys, "equilibrium", str(same))
-    assert "thesis:" not in plain(capsys, "equilibrium", str(other))
+    mine = plain(capsys, "equilibrium", str(same))
+    assert "thesis: 15.68 cm" in mine and "unmodified" not in mine
+    assert "thesis: 15.68 cm (reference is for the unmodified scene)" in plain(capsys, "equilibrium", str(other))
 
 
 # ---- item 2: `stability --height Z` is for the top that hovers at Z

@@ -35,8 +35,8 @@ class Page(HTMLParser):
             v = a.get(key)
             if v is not None and not v.startswith(("data:", "#")):
                 self.external.append(f"{tag} {key}={v}")
-        if tag in ("script", "link", "iframe", "object", "embed"):
-            self.external.append(tag)
+        if tag in ("link", "iframe", "object", "embed") or (tag == "script" and "src" in a):
+            self.external.append(tag)      # an inline script (the animation's) refers to nothing
 
     def handle_data(self, data):
         self.text.append(data)
