@@ -19,7 +19,7 @@ def run():
 
 def test_the_api_returns_the_samples(run):
     tr = run.trajectory
-    assert list(tr)[:4] == ["t", "x", "y", "z"] and list(tr)[-4:] == ["energy", "L_z", "L_n", "tilt"]
+    assert list(tr)[:4] == ["t", "x", "y", "z"] and list(tr)[-5:] == ["energy", "L_z", "L_n", "tilt", "spin"]
     assert tr["t"][0] == 0.0 and tr["t"][-1] == pytest.approx(0.2)
     assert len(tr["t"]) == 301                   # n_out intervals and the start
     assert tr["tilt"][0] == pytest.approx(0.01, rel=1e-12)
