@@ -203,6 +203,17 @@ def test_simulate_animate_writes_an_offline_page_and_save_has_the_spin(tmp_path)
     assert abs(table[0, -1] - 1000) < 1e-9
 
 
+def test_animate_gif_has_the_frames(tmp_path, monkeypatch):
+    """--animate FILE.gif (Pillow): a GIF of the run's frames (few here: the test stays quick)."""
+    from PIL import Image
+    from levitron.runtime.simulate import animation_video
+    monkeypatch.setattr(animation_video, "VIDEO_FRAMES", 6)
+    gif = tmp_path / "run.gif"
+    _json(["simulate", "thesis_stable", "--spin", "1000", "--t-end", "1", "--n-out", "100", "--animate", str(gif)])
+    with Image.open(gif) as im:
+        assert im.format == "GIF" and im.n_frames == 6
+
+
 def test_animate_refuses_another_suffix(tmp_path, capsys):
     assert cli.main(["simulate", "thesis_stable", "--spin", "1000", "--animate", str(tmp_path / "a.txt")]) == 2
     err = capsys.readouterr().err.strip()
