@@ -133,3 +133,21 @@ def test_a_figure_the_scene_cannot_have_is_named_not_drawn(tmp_path, capsys):
     assert code == 0
     assert set(r["not_drawn"]) == {"3.8"} and "full model" in r["not_drawn"]["3.8"]
     assert len(r["files"]) == len(list(tmp_path.iterdir())) == 4 + 3
+
+
+def test_figure_3_4_draws_a_separatrix_only_through_an_unstable_equilibrium(ring_magnet_model, tmp_path,
+                                                                            legend_texts):
+    """Issue 28: the dashed separatrix is the energy of the unstable equilibrium below z_s; the solid
+    cylinder magnet (ring_magnet with r_in = 0: one root, vertically stable) has none, and gets none."""
+    from levitron.runtime.model.load import load_model
+    from levitron.runtime.model.scenes import load_scene as load_with
+    from levitron.runtime.physics import equilibrium as eqm
+    from levitron.runtime.report import figures
+    figures.figure_3_4(ring_magnet_model, tmp_path / "with.png")
+    assert any("separatrix" in t for t in legend_texts)
+    legend_texts.clear()
+    solid = load_model(load_with("ring_magnet", ["plate.r_in=0"]), ["plate.r_in=0"])
+    assert [e.vertically_stable for e in eqm.equilibria_of(solid).equilibria] == [True]
+    figures.figure_3_4(solid, tmp_path / "without.png")
+    assert legend_texts and not any("separatrix" in t or "unstable" in t for t in legend_texts), legend_texts
+    assert any("U(z_s / 2)" in t for t in legend_texts)

@@ -265,3 +265,26 @@ def test_the_animation_plays_offline(which, request, tmp_path):
     if which == "dimensionless":
         text = _text(re.sub(r'<pre class="toml".*?</pre>', "", dom, flags=re.S))   # the author's TOML
         assert "time units" in text and si_units(text) == [], si_units(text)[:10]
+
+
+def test_the_setup_is_drawn_to_scale_with_its_dimensions():
+    """The cut through the axis (runtime/report/setup_drawing.py): the ring magnet's 12 cm, its 6 cm
+    hole and 2 cm thickness, the top at z_s, the band and z_c, all to one scale (the drawn widths
+    of the base and of the top are in the ratio of their sizes)."""
+    from levitron.derive.scene import load_scene as load
+    from levitron.runtime.model.load import load_model
+    from levitron.runtime.report.setup_drawing import drawing
+    from levitron.runtime.simulate.setup_shape import setup_of, top_disc
+    model = load_model(load("ring_magnet"))
+    setup = setup_of(model, bands=True)
+    svg = drawing(setup, _units(model.scene))
+    for text in ("diameter 12 cm, hole 6 cm, thickness 2 cm", "hover height z_s = 7.047 cm", "stable band",
+                 "z_c = 6.529 cm"):
+        assert text in svg, text
+    r, h = top_disc(0.0182, 2.2e-6, 1.32e-6)
+    assert abs(0.5 * 0.0182 * r * r - 1.32e-6) < 1e-18                      # C = m r^2 / 2
+    assert abs(0.0182 * (3 * r * r + h * h) / 12 - 2.2e-6) < 1e-18          # A = m (3 r^2 + h^2) / 12
+    widths = [float(w) for w in re.findall(r'<rect x="[^"]+" y="[^"]+" width="([^"]+)" height="[^"]+" '
+                                           r'fill="#(?:8a8f99|c0392b)"', svg)]
+    ring, top = widths[0], widths[-1]          # one side of the ring (r_out - r_in), the top's diameter
+    assert abs(ring / top - 0.03 / (2 * r)) < 0.01

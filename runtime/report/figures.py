@@ -189,7 +189,9 @@ def figure_3_4(model, path: Path, orbits: int = 7) -> Path:
     invariant set), one closed orbit per energy. The energies run from just above the bottom of
     the well U = m g z + mu Phi_1 at the vertically stable equilibrium z_s up to 95 % of the way to
     the barrier at the unstable equilibrium below it (the separatrix, dashed, from the energy
-    alone: p_z = +-sqrt(2 m (E - U(z))). Each orbit starts at z_s with p_z > 0 and is integrated
+    alone: p_z = +-sqrt(2 m (E - U(z))); without an unstable equilibrium below z_s, up to 95 % of
+    U(z_s / 2) - U(z_s), and no separatrix is drawn: there is none). Each orbit starts at z_s with
+    p_z > 0 and is integrated
     over one period and a half with the generated reduced Hamilton equations (DOP853, tol 1e-10);
     the spin (p_psi) does not enter z's motion and is 0."""
     from levitron.runtime.integrate import integrate
@@ -227,14 +229,16 @@ def figure_3_4(model, path: Path, orbits: int = 7) -> Path:
         t_end = 1.5 * T0 * (1 + math.log(1 / (1 - f)))
         r = integrate(part, x0, t_end, method="dop853", tol=1e-10, n_out=800)
         ax.plot(r.X[:, 0] * kz, r.X[:, 2] * kp, color=colours[k], lw=1.2,
-                label=f"E - U(z_s) = {sig(f, 2)} x barrier" if k in (0, orbits - 1) else None)
-    zz = np.linspace(z_lo, 5 * zs - 4 * z_lo, 1600)
-    Ez = np.array([U(v) for v in zz]) - U(zs)
-    pz = np.sqrt(np.clip(2 * m * (barrier - Ez), 0, None))
-    keep = Ez <= barrier
-    for sign in (1, -1):
-        ax.plot(zz[keep] * kz, sign * pz[keep] * kp, "k--", lw=0.8,
-                label="separatrix (energy of the unstable equilibrium)" if sign > 0 else None)
+                label=(f"E - U(z_s) = {sig(f, 2)} x " + ("barrier" if below else "(U(z_s / 2) - U(z_s))"))
+                if k in (0, orbits - 1) else None)
+    if below:          # a separatrix only where there is an unstable equilibrium to pass through
+        zz = np.linspace(z_lo, 5 * zs - 4 * z_lo, 1600)
+        Ez = np.array([U(v) for v in zz]) - U(zs)
+        pz = np.sqrt(np.clip(2 * m * (barrier - Ez), 0, None))
+        keep = Ez <= barrier
+        for sign in (1, -1):
+            ax.plot(zz[keep] * kz, sign * pz[keep] * kp, "k--", lw=0.8,
+                    label="separatrix (energy of the unstable equilibrium)" if sign > 0 else None)
     ax.plot([zs * kz], [0], "ko", ms=5, label=f"z_s = {u.length(zs)} (vertically stable)")
     ax.plot([z_lo * kz], [0], "kx", ms=6,
             label=f"{u.length(z_lo)} (unstable)" if below else None)

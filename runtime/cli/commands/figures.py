@@ -15,6 +15,7 @@ from pathlib import Path
 from levitron.runtime.report import figures as figures_stability
 
 from levitron.runtime.bench import solver_compare
+from levitron.runtime.ui import progress
 from levitron.runtime.ui.human import lines
 from levitron.runtime.cli.commands.common import model_of
 
@@ -28,6 +29,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--out", default="out/figures", help="folder for the PNG files")
     parser.add_argument("--quick", action="store_true",
                         help="fewer turns and steps in 3.2/3.3, a coarser map in 3.8")
+    parser.add_argument("--setup", action="store_true",
+                        help="also draw the set-up to scale (base, top, hover height, stable band, z_c) "
+                        "as <scene>_setup.html")
     parser.add_argument("--solvers", action="store_true",
                         help="draw the scene-independent 3.2/3.3 again even if the folder has them")
 
@@ -51,10 +55,26 @@ def run(args) -> dict:
     model = model_of(args)
     kept = None if args.solvers else _solver_figures_current(outdir, args.quick)
     written = []
-    if kept is None:
-        written += solver_compare.run(outdir, quick=args.quick)["files"]
+    if kept is None:      # the longest part in a new folder: its own progress line, not silence
+        with progress.stages("figures 3.2-3.3 (Euler against RK4, once for this folder)",
+                             ["solver comparison"]) as stage:
+            stage(0)
+            written += solver_compare.run(outdir, quick=args.quick)["files"]
     drawn, not_drawn = figures_stability.make_figures(outdir, model, args.scene, args.set, args.quick)
     scene_files = [str(p) for p in drawn]
+    if args.setup:        # the set-up to scale, as the report draws it (runtime/report/setup_drawing.py)
+        from levitron.runtime.report import setup_drawing
+        from levitron.runtime.simulate.setup_shape import setup_of
+        from levitron.runtime.ui.human import Units
+        name = model.scene.name
+        svg = setup_drawing.drawing(setup_of(model, bands=True), Units.of_scene(model.scene),
+                                    f"{name}: a cut through the axis")
+        path = outdir / f"{name}_setup.html"
+        tmp = path.with_name(f".{path.name}.tmp")
+        tmp.write_text(setup_drawing.page(svg, f"{name}: the set-up to scale", setup_drawing.NOTE),
+                       encoding="utf-8")
+        tmp.replace(path)
+        scene_files.append(str(path))
     return {"scene": model.scene.name, "files": written + scene_files, "scene_files": scene_files,
             "solver_files": written or kept, "solver_files_kept": kept is not None,
             "not_drawn": not_drawn}
