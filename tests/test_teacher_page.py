@@ -72,7 +72,16 @@ def test_air_report_has_the_flight_the_odds_and_the_trim(air):
     assert m[0] > m[1] > m[2]
     assert "12 degC" in text and "28 degC" in text
     assert "still floating at the run's end" not in text or "still up" in text
-    assert facts["animation"]["frames"] > 100
+    anim = facts["animation"]
+    assert anim["frames"] > 100
+    # time scaled so that a turn of the precession takes at least a second on the screen, 1-2-5
+    assert anim["precession"] is not None and anim["precession"] / 2 < anim["speed"] <= anim["precession"]
+    assert anim["speed"] in (1.0, 2.0, 5.0)
+
+
+def test_nice_floor():
+    from levitron.runtime.simulate.animation import nice_floor
+    assert [nice_floor(v) for v in (2.49, 1.0, 0.99, 7.3, 0.0123, 480.0)] == [2.0, 1.0, 0.5, 5.0, 0.01, 200.0]
 
 
 def test_air_report_names_the_thesis_at_first_use(air):

@@ -146,7 +146,7 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
                             f"energy {'balance residual' if air else 'drift'} {sig(run['energy_drift'], 2)}"))
             parts.append(_png(Path(run["plot"])))
             data = animation.frames(traj, run, setup, u)
-            facts["animation"] = {"frames": len(data["t"]), "speed": data["speed"]}
+            facts["animation"] = {"frames": len(data["t"]), "speed": data["speed"], "precession": data["precession"]}
             parts.insert(launch_at, "<h2>A launch to watch</h2>" + animation.fragment(
                 data, f"The typical launch below ({how}), played: spin {u.rate(spin)}, tilt "
                       f"{u.angle(LAUNCH_TILT)}."))
@@ -195,8 +195,8 @@ def _shown(v, unit: str, u: Units) -> str:
         return u.length(v)
     if unit == "kg":
         return u.mass(v)
-    if unit == "s":
-        return u.time(v)
+    if unit == "s":        # as written ("120 s", not "2 min 0 s"): a scene key, not an answer
+        return u.value(v, "s", 6)
     if not u.si:
         return u.value(v, unit, 6) if unit in SI_SYMBOLS or not unit else sig(v, 6)
     return f"{sig(v, 6)} {unit}".rstrip()

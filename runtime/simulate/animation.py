@@ -28,8 +28,8 @@ from levitron.runtime.ui.human import Units, sig
 
 MAX_FRAMES = 3000          # the page stays small (about 100 bytes a frame)
 SCREEN_FPS = 40            # frames per screen second the run is sampled for
-SCREEN_RUN = 40.0          # screen seconds the whole run would take at most, were it not for ...
-PRECESSION_ON_SCREEN = 1.0  # ... the precession, which takes at least this many screen seconds a turn
+SCREEN_RUN = 40.0          # screen seconds of a run without precession
+PRECESSION_ON_SCREEN = 1.0  # screen seconds a turn of the precession takes at least
 MARK_TURNS = 0.5           # turns a screen second of the rim mark at the launch
 SUFFIXES = (".html", ".htm", ".gif", ".mp4")
 
@@ -74,10 +74,9 @@ def frames(traj: dict, details: dict, setup: dict, u: Units) -> dict:
     w = np.asarray(traj["L_n"], float) / C
     T_prec = precession_period(t, x, y)
     span = float(t[-1] - t[0]) or 1.0
-    speed = span / SCREEN_RUN
-    if T_prec is not None:
-        speed = min(speed, T_prec / PRECESSION_ON_SCREEN)
-    speed = nice_floor(max(speed, span / (MAX_FRAMES / SCREEN_FPS) / 100))
+    # the precession at one turn per PRECESSION_ON_SCREEN screen seconds at least; without one the
+    # whole run in SCREEN_RUN screen seconds (the page's speed menu changes either)
+    speed = nice_floor(T_prec / PRECESSION_ON_SCREEN if T_prec is not None else span / SCREEN_RUN)
     n_want = min(MAX_FRAMES, max(2, int(span / speed * SCREEN_FPS) + 1))
     idx = np.unique(np.searchsorted(t, np.linspace(t[0], t[-1], n_want)).clip(0, len(t) - 1))
     n = axis_of(traj, coords, idx)
@@ -113,10 +112,11 @@ def frames(traj: dict, details: dict, setup: dict, u: Units) -> dict:
 
 def _notes(speed, slowdown, w0, T_prec, u: Units) -> list[str]:
     pace = ("real time" if speed == 1 else
-            f"{sig(speed, 3)} times faster than real time" if speed > 1 else f"slowed {sig(1 / speed, 3)} times")
+            f"{sig(speed, 3)} times faster than real time" if speed > 1 else
+            f"{sig(1 / speed, 3)} times slower than real time")
     per = u.time(speed)
     prec = f" (the top's centre turns once in {u.time(T_prec)})" if T_prec else ""
-    return [f"Time runs at {pace}: one second on the screen is {per} of the run{prec}.",
+    return [f"Time runs {'at ' if speed == 1 else ''}{pace}: one second on the screen is {per} of the run{prec}.",
             f"The mark on the rim turns {sig(slowdown, 3)} times slower than the top, whose spin "
             f"at the launch is {u.rate(w0)}: drawn at its true rate it would only flicker.",
             "Base, top and heights are drawn to scale; the trace on the horizontal plane is magnified "

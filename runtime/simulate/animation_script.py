@@ -57,7 +57,6 @@ SCRIPT = r"""function(root, D) {
   if (D.z_s) {
     var a = P(-ext, 0, D.z_s), b2 = P(ext, 0, D.z_s);
     el("line", {x1: a[0], y1: a[1], x2: b2[0], y2: b2[1], stroke: "#3a7", "stroke-dasharray": "4 4"});
-    txt(a[0] + 2, a[1] - 4, "hover height z_s = " + len(D.z_s), {"font-size": 11, fill: "#3a7"});
   }
   var shadow = el("ellipse", {fill: "rgba(0,0,0,0.15)"});
   var body = el("polygon", {fill: "#c0392b", stroke: "#7b241c"});
@@ -65,6 +64,11 @@ SCRIPT = r"""function(root, D) {
   var spoke = el("line", {stroke: "#fff", "stroke-width": 2});
   var dot = el("circle", {r: 3.5, fill: "#fff", stroke: "#222"});
   var axis = el("line", {stroke: "#111", "stroke-width": 1.5});
+  if (D.z_s) {         // over the top, with a white halo: the label stays readable where the top passes
+    var zl = P(-ext, 0, D.z_s);
+    txt(zl[0] + 2, zl[1] + 13, "hover height z_s = " + len(D.z_s),
+        {"font-size": 11, fill: "#3a7", stroke: "#fff", "stroke-width": 3, "paint-order": "stroke"});
+  }
   txt(10, 16, "the top over its base, to scale", {"font-weight": "bold"});
   // ---- the trace on the horizontal plane, magnified
   var TX = 570, TY = 118, TR = 95, rr = D.x.map(function (x, i) { return Math.hypot(x, D.y[i]); }).slice().sort(function (a, b) { return a - b; });
@@ -82,6 +86,7 @@ SCRIPT = r"""function(root, D) {
   function chart(y0, h, v, title, unit) {
     var lo = Math.min.apply(null, v), hi = Math.max.apply(null, v);
     if (title === "spin" && D.lower) { lo = Math.min(lo, D.lower); hi = Math.max(hi, Math.min(D.upper || hi, 1.02 * hi)); }
+    if (title === "spin" && hi - lo < 1e-3 * Math.abs(hi)) { lo = 0.95 * lo; hi = 1.05 * hi; }   // a steady spin
     if (hi - lo < 1e-12 * Math.max(1, Math.abs(hi))) { hi += 1e-9 + Math.abs(hi) * 1e-6; lo -= 1e-9 + Math.abs(lo) * 1e-6; }
     var pad = 0.08 * (hi - lo); lo -= pad; hi += pad;
     var X0 = 500, W = 385, c = {X0: X0, W: W, y0: y0, h: h, lo: lo, hi: hi};
