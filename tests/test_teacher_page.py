@@ -297,3 +297,45 @@ def test_the_setup_is_drawn_to_scale_with_its_dimensions():
                                            r'fill="#(?:8a8f99|c0392b)"', svg)]
     ring, top = widths[0], widths[-1]          # one side of the ring (r_out - r_in), the top's diameter
     assert abs(ring / top - 0.03 / (2 * r)) < 0.01
+
+
+def test_a_simulation_shows_its_animation_in_a_notebook():
+    """Study.simulate's Simulation: _repr_html_ is its repr and the animation (inline, offline)."""
+    import levitron as lev
+    sim = lev.load("thesis_stable").simulate(1000.0, t_end=1.0)
+    page = sim._repr_html_()
+    assert page.startswith("<pre>Simulation(") and '<div class="levitron-animation"' in page
+    assert "<script>" in page and not re.search(r'\b(src|href)="(?!data:|#)', page)
+    assert len(page) < 400_000
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_spelling_never_changes_the_hash(seed):
+    """Random nested tables: writing every integral number as a float (200 -> 200.0) keeps the
+    canonical form; changing one number's value changes it."""
+    from levitron.derive.inputs import spelled_alike
+    rng = np.random.default_rng(seed)
+
+    def table(depth):
+        out = {}
+        for k in range(int(rng.integers(1, 5))):
+            kind = rng.integers(0, 4) if depth < 2 else rng.integers(0, 3)
+            out[f"k{k}"] = (int(rng.integers(-10**6, 10**6)) if kind == 0 else float(rng.normal()) if kind == 1
+                            else [int(rng.integers(0, 9)), float(rng.integers(0, 9))] if kind == 2
+                            else table(depth + 1))
+        return out
+
+    def as_floats(node):
+        if isinstance(node, dict):
+            return {k: as_floats(v) for k, v in node.items()}
+        if isinstance(node, list):
+            return [as_floats(v) for v in node]
+        return float(node) if isinstance(node, int) and not isinstance(node, bool) else node
+
+    for _ in range(50):
+        data = table(0)
+        dump = lambda d: json.dumps(spelled_alike(d), sort_keys=True)  # noqa: E731
+        assert dump(data) == dump(as_floats(data))
+        bumped = dict(data, extra=1)
+        assert dump(bumped) != dump(dict(data, extra=1.5))
+    assert spelled_alike(True) is True and spelled_alike(2.0 ** 60) == 2.0 ** 60
