@@ -339,3 +339,13 @@ def test_spelling_never_changes_the_hash(seed):
         bumped = dict(data, extra=1)
         assert dump(bumped) != dump(dict(data, extra=1.5))
     assert spelled_alike(True) is True and spelled_alike(2.0 ** 60) == 2.0 ** 60
+
+
+def test_launch_histogram_labels_its_censored_bar(tmp_path, legend_texts):
+    """`launch --out`: the runs still up at the run's end are a bar of their own, labelled with
+    their count, and the axis ends just past the run length."""
+    r = _json(["launch", "thesis_air", "--n", "12", "--t-end", "20", "--out", str(tmp_path / "h.png")])
+    up = r["flight_time"]["censored"]
+    assert 0 < up <= 12
+    assert f"still floating at the run's end ({up})" in legend_texts
+    assert (tmp_path / "h.png").stat().st_size > 10_000

@@ -79,7 +79,9 @@ def histogram(odds: dict, path: Path, u: Units, scene: str) -> Path:
     ax.set_xlim(0, t_end + 2 * width)
     ax.set_xlabel(f"flight time ({tu})")
     ax.set_ylabel("launches")
-    ax.set_title(f"{scene}: flight times of {odds['n']} launches", fontsize="medium")
+    lo, hi = odds["probability_ci95"]
+    ax.set_title(f"{scene}: {sig(100 * odds['probability'], 3)} % of {odds['n']} launches float "
+                 f"(95 % interval {sig(100 * lo, 3)}-{sig(100 * hi, 3)} %)", fontsize="medium")
     ax.legend(loc="upper left", fontsize="small")
     fig.tight_layout()
     return save_figure(fig, path)
