@@ -141,8 +141,10 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
             parts.append("<h2>A typical launch</h2>")
             parts.append(_p(f"spin {u.rate(spin)} (the geometric mean of the interval), tilt "
                             f"{u.angle(LAUNCH_TILT)}, {how}: "
-                            f"{'levitating' if run['levitating'] else run['status']} "
-                            f"for {u.time(run['t_survived'])}; largest tilt {u.angle(run['max_tilt'])}, "
+                            + (f"floats {u.time(run['t_survived'])}, then falls" if air and run["flight"]["fell"]
+                               else f"{'levitating' if run['levitating'] else run['status']} for "
+                               f"{u.time(run['t_survived'])}")
+                            + f"; largest tilt {u.angle(run['max_tilt'])}, "
                             f"energy {'balance residual' if air else 'drift'} {sig(run['energy_drift'], 2)}"))
             parts.append(_png(Path(run["plot"])))
             data = animation.frames(traj, run, setup, u)

@@ -22,7 +22,8 @@ def scene_text(scene) -> str | None:
 
 def command(provenance: dict | None, scene) -> str:
     """The footer's command: the page's own command with the scene named by the saved file
-    `<name>.toml` (the overrides and --temperature kept as given)."""
+    `<name>.toml` and the page written beside it as `<name>.html` (the overrides and --temperature
+    kept as given)."""
     name = f"{scene.name}.toml"
     if provenance is None:
         return f"levitron report {shlex.quote(name)} --out {shlex.quote(scene.name + '.html')}"
@@ -32,6 +33,8 @@ def command(provenance: dict | None, scene) -> str:
         if token in given or token.endswith(".toml"):
             argv[i] = name
             break
+    if "--out" in argv[:-1]:        # the page beside the saved file, not over this one
+        argv[argv.index("--out") + 1] = f"{scene.name}.html"
     return shlex.join(argv)
 
 
