@@ -154,8 +154,10 @@ def check_path(path) -> Path:
     if p.suffix.lower() not in SUFFIXES:
         raise UserError(f"--animate {path}: give a file ending in .html (a page that plays offline), "
                         ".gif or .mp4")
-    if p.is_dir() or not p.parent.is_dir():
-        raise UserError(f"--animate {path}: give a file name in an existing folder")
+    if p.is_dir():
+        raise UserError(f"--animate {path} is a folder: give a file name in it, e.g. {p / 'launch.html'}")
+    if any(q.exists() and not q.is_dir() for q in p.parents):
+        raise UserError(f"--animate {path}: a part of its folder is a file, not a folder: save elsewhere")
     if p.suffix.lower() == ".mp4":
         from matplotlib import animation
         if not animation.writers.is_available("ffmpeg"):
@@ -170,6 +172,10 @@ def write(path, data: dict, title: str) -> Path:
     import os
     import secrets
     p = check_path(path)
+    try:
+        p.parent.mkdir(parents=True, exist_ok=True)     # as --plot and report --out do
+    except OSError as exc:
+        raise UserError(f"--animate {path}: cannot create its folder ({exc.strerror or exc})") from None
     tmp = p.with_name(f".{p.stem}.{os.getpid()}-{secrets.token_hex(4)}{p.suffix}")
     try:
         if p.suffix.lower() in (".html", ".htm"):
