@@ -349,3 +349,22 @@ def test_launch_histogram_labels_its_censored_bar(tmp_path, legend_texts):
     assert 0 < up <= 12
     assert f"still floating at the run's end ({up})" in legend_texts
     assert (tmp_path / "h.png").stat().st_size > 10_000
+
+
+def test_the_packed_frames_round_trip():
+    """animation.pack/unpack: the page's whole numbers give back the run's centre and axis to the
+    quantum (1/30000 of the largest excursion; 1e-5 in n) and the rim mark lies on the disc's rim
+    plane (perpendicular to n, unit length)."""
+    from levitron.runtime.simulate import animation
+    rng = np.random.default_rng(4)
+    x, y, dz = rng.normal(size=(3, 50)) * np.array([[3e-4], [2e-4], [1e-5]])
+    n = rng.normal(size=(50, 3)) * [0.05, 0.05, 0] + [0, 0, 1]
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    phi = np.linspace(0, 40, 50)
+    data = {"pack": animation.pack(x, y, dz, n, phi), "z_s": 0.1}
+    back = animation.unpack(data)
+    assert np.max(np.abs(back["x"] - x)) <= 0.5 * data["pack"]["q_xy"] * (1 + 1e-9)
+    assert np.max(np.abs(back["z"] - 0.1 - dz)) <= 0.5 * data["pack"]["q_z"] * (1 + 1e-9) + 1e-15
+    assert np.max(np.abs(back["n"] - n)) < 2e-5
+    m = back["mark"]
+    assert np.allclose(np.linalg.norm(m, axis=1), 1) and np.max(np.abs(np.sum(m * back["n"], axis=1))) < 1e-12

@@ -85,10 +85,6 @@ def frames(traj: dict, details: dict, setup: dict, u: Units) -> dict:
     w0 = abs(float(w[0])) or 1.0
     slowdown = max(1.0, w0 * speed / (2 * math.pi * MARK_TURNS))
     phi = turned[idx] / slowdown
-    e1 = np.array([1.0, 0.0, 0.0]) - n[:, :1] * n[:, 0:1]
-    e1 /= np.linalg.norm(e1, axis=1, keepdims=True)
-    e2 = np.cross(n, e1)
-    mark = np.cos(phi)[:, None] * e1 + np.sin(phi)[:, None] * e2
     fl = details.get("flight") or {}
     iv = fl.get("spin_interval")
     lo = iv[0] if iv else None
@@ -97,8 +93,7 @@ def frames(traj: dict, details: dict, setup: dict, u: Units) -> dict:
                        if u.si else (1.0, ""))
     fell = bool(fl.get("fell")) if fl else (details.get("levitating") is False)
     return {
-        "t": _short(t[idx]), "x": _short(x[idx]), "y": _short(y[idx]), "z": _short(z[idx]),
-        "n": [_short(n[:, i], 4) for i in range(3)], "mark": [_short(mark[:, i], 3) for i in range(3)],
+        "t": _short(t[idx]), "pack": pack(x[idx], y[idx], z[idx] - (details.get("z_s") or 0.0), n, phi),
         "w": _short(w[idx], 4), "speed": speed, "slowdown": slowdown, "precession": T_prec,
         "z_s": details.get("z_s"), "lower": lo, "upper": iv[1] if iv else None,
         "t_lower": float(t[below[0]]) if len(below) else None, "t_cross": fl.get("t_cross"),
@@ -108,6 +103,45 @@ def frames(traj: dict, details: dict, setup: dict, u: Units) -> dict:
         "time_unit": "s" if u.si else "time units", "rate_unit": "rad/s" if u.si else "rad/time",
         "notes": _notes(speed, slowdown, w0, T_prec, u),
     }
+
+
+PACK_STEPS = 30000         # the frames' lengths and axis as whole numbers of a quantum: max / PACK_STEPS
+
+
+def _ints(a: np.ndarray, q: float) -> list[int]:
+    return [int(v) for v in np.round(a / q)]
+
+
+def pack(x, y, dz, n, phi) -> dict:
+    """The frames as short JSON: x, y (quantum q_xy), z - z_s (q_z) and the axis' nx, ny (q_n) as
+    whole numbers, nz only where the axis points below the horizon somewhere (else
+    sqrt(1 - nx^2 - ny^2)), and the rim mark's angle phi about n from e1 = e_x projected on the
+    disc's plane (rad, unwrapped, 2 decimals). unpack reverses it; the page's script decodes the same."""
+    def quantum(*arrays):
+        big = max(float(np.max(np.abs(a))) for a in arrays)
+        return big / PACK_STEPS if big > 0 else 1.0
+    q_xy, q_z, q_n = quantum(x, y), quantum(dz), 1e-5
+    out = {"q_xy": q_xy, "q_z": q_z, "q_n": q_n, "x": _ints(x, q_xy), "y": _ints(y, q_xy),
+           "dz": _ints(dz, q_z), "nx": _ints(n[:, 0], q_n), "ny": _ints(n[:, 1], q_n),
+           "nz": _ints(n[:, 2], q_n) if np.any(n[:, 2] < 0) else None,
+           "phi": [round(float(v), 2) for v in phi]}
+    return out
+
+
+def unpack(data: dict) -> dict:
+    """x, y, z (N,), the axis n (N, 3) and the rim mark's direction (N, 3) of the frames."""
+    k = data["pack"]
+    x, y = np.array(k["x"]) * k["q_xy"], np.array(k["y"]) * k["q_xy"]
+    z = (data["z_s"] or 0.0) + np.array(k["dz"]) * k["q_z"]
+    nx, ny = np.array(k["nx"]) * k["q_n"], np.array(k["ny"]) * k["q_n"]
+    nz = np.array(k["nz"]) * k["q_n"] if k["nz"] is not None else np.sqrt(np.clip(1 - nx ** 2 - ny ** 2, 0, None))
+    n = np.column_stack([nx, ny, nz])
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    e1 = np.array([1.0, 0.0, 0.0]) - n[:, :1] * n
+    e1 /= np.linalg.norm(e1, axis=1, keepdims=True)
+    e2 = np.cross(n, e1)
+    phi = np.array(k["phi"])
+    return {"x": x, "y": y, "z": z, "n": n, "mark": np.cos(phi)[:, None] * e1 + np.sin(phi)[:, None] * e2}
 
 
 def _notes(speed, slowdown, w0, T_prec, u: Units) -> list[str]:

@@ -8,6 +8,15 @@ SCRIPT = r"""function(root, D) {
   var NS = "http://www.w3.org/2000/svg", svg = root.querySelector("svg");
   var btn = root.querySelector("button"), sel = root.querySelector("select");
   var slider = root.querySelector("input"), label = root.querySelector("span");
+  (function () {           // the frames, packed as whole numbers (animation.py pack)
+    var K = D.pack;
+    function sc(a, q) { return a.map(function (v) { return v * q; }); }
+    D.x = sc(K.x, K.q_xy); D.y = sc(K.y, K.q_xy);
+    D.z = K.dz.map(function (v) { return (D.z_s || 0) + v * K.q_z; });
+    var nx = sc(K.nx, K.q_n), ny = sc(K.ny, K.q_n);
+    D.n = [nx, ny, K.nz ? sc(K.nz, K.q_n) : nx.map(function (v, i) { return Math.sqrt(Math.max(0, 1 - v * v - ny[i] * ny[i])); })];
+    D.phi = K.phi;
+  })();
   var N = D.t.length, T0 = D.t[0], T1 = D.t[N - 1], E = 0.35, ce = Math.cos(E), se = Math.sin(E);
   function el(tag, at, parent) {
     var e = document.createElementNS(NS, tag);
@@ -133,10 +142,11 @@ SCRIPT = r"""function(root, D) {
     var s = at(t), x = s.mix(D.x), y = s.mix(D.y), z = s.mix(D.z);
     var n = [s.mix(D.n[0]), s.mix(D.n[1]), s.mix(D.n[2])], nn = Math.hypot(n[0], n[1], n[2]);
     n = n.map(function (v) { return v / nn; });
-    var m = [s.mix(D.mark[0]), s.mix(D.mark[1]), s.mix(D.mark[2])];
     var e1 = [1 - n[0] * n[0], -n[0] * n[1], -n[0] * n[2]], l1 = Math.hypot(e1[0], e1[1], e1[2]);
     e1 = e1.map(function (v) { return v / l1; });
     var e2 = [n[1] * e1[2] - n[2] * e1[1], n[2] * e1[0] - n[0] * e1[2], n[0] * e1[1] - n[1] * e1[0]];
+    var ph = s.mix(D.phi), cp = Math.cos(ph), sp = Math.sin(ph);
+    var m = [cp * e1[0] + sp * e2[0], cp * e1[1] + sp * e2[1], cp * e1[2] + sp * e2[2]];
     var r = D.top_r, hh = Math.max(D.top_h, 0.2 * r) / 2, vis = (-n[1] * se + n[2] * ce) >= 0 ? 1 : -1;
     function circ(sg) { var o = []; for (var i = 0; i < 36; i++) { var a = 2 * Math.PI * i / 36, c = Math.cos(a), sn = Math.sin(a);
       o.push(P(x + sg * hh * n[0] + r * (c * e1[0] + sn * e2[0]), y + sg * hh * n[1] + r * (c * e1[1] + sn * e2[1]), z + sg * hh * n[2] + r * (c * e1[2] + sn * e2[2]))); } return o; }

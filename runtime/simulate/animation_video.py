@@ -43,9 +43,9 @@ def render(path: Path, data: dict, title: str) -> Path:
     style()
     t = np.asarray(data["t"])
     idx = np.unique(np.linspace(0, len(t) - 1, min(VIDEO_FRAMES, len(t))).astype(int))
-    X, Y, Z = (np.asarray(data[k]) for k in ("x", "y", "z"))
-    N = np.column_stack(data["n"])
-    M = np.column_stack(data["mark"])
+    from levitron.runtime.simulate.animation import unpack
+    frames = unpack(data)
+    X, Y, Z, N, M = (frames[k] for k in ("x", "y", "z", "n", "mark"))
     r, h = data["top_r"], max(data["top_h"], 0.2 * data["top_r"])
     ext = max([data["top_r"] * 3] + [max(b.get("r_out", 0), b.get("half_x", 0), b.get("half_y", 0))
                                      for b in data["base"]]) * 1.12
