@@ -121,7 +121,7 @@ def section(model, scene_ref: str, overrides, run: dict, u: Units, tmp: Path, pn
     out = ["<h2>The real launch: in air</h2>", _table(rows),
            f"<p class=\"answer\">Launch odds: {sig(100 * odds['probability'], 3)} % of {odds['n']} launches by "
            f"hand float at least {html.escape(u.time(odds['success_time']))} (95 % interval "
-           f"{sig(100 * lo, 3)}-{sig(100 * hi, 3)} %, Wilson).</p>",
+           f"{sig(100 * lo, 3)}-{sig(100 * hi, 3)} %, the score interval of Wilson 1927).</p>",
            f"<p class=\"note\">The launch spread used (seed {odds['seed']}): {html.escape('; '.join(spread))}. "
            "`levitron launch` runs more launches and takes other spreads.</p>",
            f"<p>What matters most: {html.escape('; '.join(ranked))}.</p>" if ranked else "",

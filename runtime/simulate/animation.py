@@ -150,7 +150,9 @@ def _notes(speed, slowdown, w0, T_prec, u: Units) -> list[str]:
             f"{sig(1 / speed, 3)} times slower than real time")
     per = u.time(speed)
     prec = f" (the top's centre turns once in {u.time(T_prec)})" if T_prec else ""
-    return [f"Time runs {'at ' if speed == 1 else ''}{pace}: one second on the screen is {per} of the run{prec}.",
+    head = (f"Time runs {'at ' if speed == 1 else ''}{pace}: one second on the screen is {per} of the run"
+            if u.si else f"One second on the screen is {per} of the run")    # a scene's time unit is no clock's
+    return [f"{head}{prec}.",
             f"The mark on the rim turns {sig(slowdown, 3)} times slower than the top, whose spin "
             f"at the launch is {u.rate(w0)}: drawn at its true rate it would only flicker.",
             "Base, top and heights are drawn to scale; the trace on the horizontal plane is magnified "

@@ -171,7 +171,7 @@ SCRIPT = r"""function(root, D) {
      "off the axis " + len(Math.hypot(x, y)), "tilt " + fmt(tilt) + " deg"].forEach(function (line, j) {
       var ts = document.createElementNS(NS, "tspan"); ts.setAttribute("x", 690); ts.setAttribute("dy", j ? 18 : 0); ts.textContent = line; read.appendChild(ts); });
     slider.value = Math.round(1000 * (t - T0) / ((T1 - T0) || 1));
-    label.textContent = "t = " + fmt(t) + " of " + fmt(T1) + " " + D.time_unit + " (x" + fmt(D.speed * +sel.value) + " real time)";
+    label.textContent = "t = " + fmt(t) + " of " + fmt(T1) + " " + D.time_unit + (D.si ? " (x" + fmt(D.speed * +sel.value) + " real time)" : " (" + fmt(D.speed * +sel.value) + " " + D.time_unit + " a second)");
   }
   var playing = true, t = T0, last = performance.now(), hold = 0;
   function tick() {        // a timer, not requestAnimationFrame: it also runs in a headless browser's virtual time
