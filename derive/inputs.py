@@ -15,7 +15,7 @@ from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
 from . import plates
-from .scene import FRICTION_KEYS, TEMPERATURE_KEY
+from .scene import FRICTION_KEYS, TEMPERATURE_KEY, spelled_alike
 
 DERIVE_DIR = Path(__file__).resolve().parent
 
@@ -76,22 +76,6 @@ def structure(data: dict) -> dict:
     if any(k in d.get("top", {}) for k in FRICTION_KEYS):   # air friction: the full model's form
         out["friction"] = True
     return out
-
-
-EXACT_INT = 2 ** 53       # every integer below this is a double exactly
-
-
-def spelled_alike(node):
-    """The data with every number written one way: a float with an integral value (200.0) as the
-    integer (200), so that how a number is spelled in the TOML never makes another scene (the
-    input hash here, the scene hash of derive/scene.py). Booleans stay booleans."""
-    if isinstance(node, dict):
-        return {k: spelled_alike(v) for k, v in node.items()}
-    if isinstance(node, list):
-        return [spelled_alike(v) for v in node]
-    if isinstance(node, float) and node.is_integer() and abs(node) < EXACT_INT:
-        return int(node)
-    return node
 
 
 def input_hash(data: dict) -> str:

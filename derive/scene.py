@@ -154,13 +154,28 @@ class Scene:
         return dict(self.data["field"])
 
     def canonical(self) -> str:
-        """The scene as canonical JSON (sorted keys, numbers spelled one way: derive/inputs.py
-        spelled_alike, so that 200 and 200.0 are one scene)."""
-        from .inputs import spelled_alike
+        """The scene as canonical JSON (sorted keys, numbers spelled one way: spelled_alike, so
+        that 200 and 200.0 are one scene)."""
         return json.dumps(spelled_alike(self.data), sort_keys=True, separators=(",", ":"))
 
     def scene_hash(self) -> str:
         return hashlib.sha256(self.canonical().encode()).hexdigest()
+
+
+EXACT_INT = 2 ** 53       # every integer below this is a double exactly
+
+
+def spelled_alike(node):
+    """The data with every number written one way: a float with an integral value (200.0) as the
+    integer (200), so that how a number is spelled in the TOML never makes another scene (the
+    input hash here, the scene hash of derive/scene.py). Booleans stay booleans."""
+    if isinstance(node, dict):
+        return {k: spelled_alike(v) for k, v in node.items()}
+    if isinstance(node, list):
+        return [spelled_alike(v) for v in node]
+    if isinstance(node, float) and node.is_integer() and abs(node) < EXACT_INT:
+        return int(node)
+    return node
 
 
 _CONTROL = re.compile(r"[\x00-\x08\x0a-\x1f\x7f]")   # tab allowed

@@ -313,7 +313,7 @@ def test_a_simulation_shows_its_animation_in_a_notebook():
 def test_spelling_never_changes_the_hash(seed):
     """Random nested tables: writing every integral number as a float (200 -> 200.0) keeps the
     canonical form; changing one number's value changes it."""
-    from levitron.derive.inputs import spelled_alike
+    from levitron.derive.scene import spelled_alike
     rng = np.random.default_rng(seed)
 
     def table(depth):
