@@ -218,7 +218,7 @@ def write(path, data: dict, title: str) -> Path:
             tmp.write_text(page(data, title), encoding="utf-8")
         else:
             from levitron.runtime.simulate.animation_video import render
-            render(tmp, data, title)
+            render(tmp, data, unpack(data), title)
         os.replace(tmp, p)
     except OSError as exc:
         raise UserError(f"--animate {path}: cannot write it ({exc.strerror or exc}); choose another path") from None

@@ -34,8 +34,8 @@ def _disc(c, n, r, h):
     return P[ConvexHull(P).vertices]
 
 
-def render(path: Path, data: dict, title: str) -> Path:
-    """Write the video to path (its suffix picks the writer)."""
+def render(path: Path, data: dict, frames: dict, title: str) -> Path:
+    """Write the video to path (its suffix picks the writer); frames: animation.unpack(data)."""
     from matplotlib import animation
     from matplotlib.patches import Ellipse, Polygon
     from levitron.runtime.ui.plotting import pyplot, style
@@ -43,8 +43,6 @@ def render(path: Path, data: dict, title: str) -> Path:
     style()
     t = np.asarray(data["t"])
     idx = np.unique(np.linspace(0, len(t) - 1, min(VIDEO_FRAMES, len(t))).astype(int))
-    from levitron.runtime.simulate.animation import unpack
-    frames = unpack(data)
     X, Y, Z, N, M = (frames[k] for k in ("x", "y", "z", "n", "mark"))
     r, h = data["top_r"], max(data["top_h"], 0.2 * data["top_r"])
     ext = max([data["top_r"] * 3] + [max(b.get("r_out", 0), b.get("half_x", 0), b.get("half_y", 0))
