@@ -245,19 +245,10 @@ class Study:
         the options success_time (s), t_end (s) default to the table's too, as on the command line
         (else 1000 launches, seed 0); options also integrator, tol, workers, scheduler. The same
         seed gives the same verdicts serially, with processes and on dask."""
-        from levitron.runtime.scan.launch_odds import LAUNCH_OPTIONS, monte_carlo, table_settings
-        unknown = sorted(set(options) - set(LAUNCH_OPTIONS))
-        if unknown:
-            raise UserError(f"launch: unknown option {unknown[0]!r}: use {', '.join(LAUNCH_OPTIONS)}")
-        given, table = table_settings(self.scene.data.get("launch", {}))
-        given.update(inputs or {})
-        for key in ("success_time", "t_end"):
-            if key in table:
-                options.setdefault(key, table[key])
-        n = table.get("n", 1000) if n is None else n
-        seed = table.get("seed", 0) if seed is None else seed
+        from levitron.runtime.scan.launch_odds import Request
+        request = Request.of(self.scene.data.get("launch", {}), inputs, n=n, seed=seed, **options)
         ref = str(Path(self.scene.path).resolve()) if self.scene.path else self.scene.name
-        out = monte_carlo(self.model, ref, self.overrides, given, n=n, seed=seed, quiet=True, **options)
+        out = request.run(self.model, ref, self.overrides, quiet=True)
         return LaunchOdds(out["probability"], tuple(out["probability_ci95"]), out["n"],
                           out["success_time"], {k: out["flight_time"][k] for k in ("median", "q1", "q3")},
                           [(e["input"], e["effect"]) for e in out["ranking"]], out, self.units)

@@ -197,8 +197,9 @@ def test_launch_reads_the_scene_table_and_flags(tmp_path, capsys):
     assert main(["launch", str(scene), "--json", "--seed", "5"]) == 0
     import json
     r = json.loads(capsys.readouterr().out)
-    assert r["n"] == 6 and r["t_end"] == 2.0 and r["inputs"]["spin"] == "normal:1000,50"
+    assert r["n"] == 6 and r["t_end"] == 2.0 and r["inputs"]["spin"] == "normal:1000.0,50.0"
     assert r["inputs"]["tilt"] == "0.01" and r["seed"] == 5
+    assert "spin" not in r["defaulted"] and "offset" in r["defaulted"]
     lo, hi = r["probability_ci95"]
     assert lo <= r["probability"] <= hi
 
@@ -208,7 +209,7 @@ def test_launch_reads_the_scene_table_and_flags(tmp_path, capsys):
     (["--tilt", "gamma:1,2"], "unknown distribution"),
     (["--spin", "uniform:2,1"], "reversed"),
     (["--n", "0"], "--n 0"),
-    (["--mass", "normal:0,0.5"], "non-positive"),
+    (["--mass", "rel:normal:0,0.5"], "non-positive"),
     (["--temperature", "-300"], "absolute zero"),
     (["--success-time", "5", "--t-end", "2"], "longer than"),
 ])

@@ -68,7 +68,7 @@ HOSTILE = [
     Case("launch-spin-normal-one-number", L + " --spin normal:1000", r"two numbers"),
     Case("launch-spin-uniform-reversed", L + " --spin uniform:2000,1000", r"reversed"),
     Case("launch-tilt-inf", L + " --tilt inf", r"tilt.*not finite"),
-    Case("launch-mass-minus-1", L + " --mass -1", r"mass non-positive"),
+    Case("launch-mass-minus-1", L + " --mass rel:-1", r"mass non-positive"),
     Case("launch-success-time-nan", L + " --success-time nan", r"--success-time"),
     Case("launch-t-end-zero", "launch thesis_air --n 4 --t-end 0", r"^levitron launch: error: --t-end"),   # fixed
     Case("launch-t-end-inf", "launch thesis_air --n 4 --t-end inf", r"error: --t-end"),                   # fixed

@@ -7,9 +7,12 @@ scene declares it, derive/friction.py) from a launch drawn from distributions:
     tilt          the tilt of the axis (rad), towards tilt_azimuth (rad from +x towards +y)
     offset        the horizontal offset of the centre of mass along x (m)
     velocity      the initial horizontal velocity along y (m/s), p_y = m v
-    mass          the relative deviation of the top's mass (washers, manufacture): m (1 + d)
-    strength      the relative deviation of the magnets' strength: mu (1 + d) (thesis 2.2.1: only
-                  the product of the top's moment and the plate's strength enters the dynamics)
+    mass          the top's mass (washers, manufacture), sampled as m (1 + d): given as the mass
+                  in kg ("normal:0.0515,0.0001") or as a relative spread that says so
+                  ("rel:normal:0,0.002", "rel:0.2%"; parse_input)
+    strength      the magnets' strength, sampled as mu (1 + d) (thesis 2.2.1: only the product of
+                  the top's moment and the plate's strength enters the dynamics): a factor
+                  ("normal:1,0.005") or relative ("rel:0.5%")
     temperature   the magnets' temperature (degC), through the scene's temperature coefficients
 
 Each is "normal:MEAN,SD", "uniform:LO,HI" or a number (fixed), given by a flag or the scene's
@@ -110,6 +113,51 @@ def parse_dist(name: str, spec) -> Dist:
     if kind == "uniform" and b < a:
         raise UserError(f"launch {name} = {text!r}: the range {a:g},{b:g} is reversed; give LO <= HI")
     return Dist(kind, a, b)
+
+
+REL = "rel:"          # a relative spread of mass or strength says so: rel:normal:0,0.002, rel:0.2%
+RELATIVE = ("mass", "strength")
+
+
+def parse_input(name: str, spec, reference: float = 1.0) -> Dist:
+    """One input's spec -> the Dist monte_carlo samples. Mass and strength are sampled as relative
+    deviations d (m (1 + d), mu (1 + d)) but given either way, and the spelling says which:
+    "rel:normal:0,0.002", "rel:uniform:-0.01,0.01", "rel:0.2%" (normal, sd 0.2 %) or "rel:-0.001"
+    are relative; "normal:0.02135,0.0002" is the mass itself in kg (reference: the scene's mass)
+    and "normal:1,0.005" the magnets' strength as a factor (reference 1). An absolute spec whose
+    centre is not within a factor 2 of the reference is refused with the relative spelling: a
+    mass spread given as a deviation (normal:0,0.002) is not silently a 0 kg top."""
+    if name not in RELATIVE:
+        return parse_dist(name, spec)
+    text = spec.strip() if isinstance(spec, str) else spec
+    if isinstance(text, str) and text.lower().startswith(REL):
+        body = text[len(REL):].strip()
+        if body.endswith("%"):
+            try:
+                sd = float(body[:-1]) / 100
+            except ValueError:
+                raise UserError(f"launch {name} = {spec!r}: write rel:SD% with a number, e.g. rel:0.2%") from None
+            return parse_dist(name, f"normal:0,{sd!r}")
+        return parse_dist(name, body)
+    d = parse_dist(name, spec)
+    centre = 0.5 * (d.a + d.b) if d.kind == "uniform" else d.a
+    what = "the mass in kg" if name == "mass" else "the magnets' strength as a factor (1 = the scene's)"
+    if not (0.5 * reference < centre < 2 * reference):
+        flag = f"--{name}"
+        raise UserError(f"launch {name} = {spec!r} reads as {what}, centred at {centre:g}, not near "
+                        f"{reference:g}: a relative spread says so, e.g. {flag} rel:normal:0,0.002 or "
+                        f"{flag} rel:0.2%")
+    if d.kind == "uniform":
+        return Dist("uniform", d.a / reference - 1, d.b / reference - 1)
+    return Dist(d.kind, d.a / reference - 1, d.b / reference)
+
+
+def spec_text(name: str, d: Dist) -> str:
+    """The spec that parse_input reads back as d, at full precision (mass, strength: relative)."""
+    r = repr
+    body = {"normal": f"normal:{r(d.a)},{r(d.b)}", "uniform": f"uniform:{r(d.a)},{r(d.b)}",
+            "fixed": r(d.a)}[d.kind]
+    return REL + body if name in RELATIVE else body
 
 
 def wilson(k: int, n: int, z: float = Z95) -> tuple[float, float]:
@@ -254,6 +302,53 @@ def table_settings(table: Mapping) -> tuple[dict, dict]:
 
 # the keyword options of monte_carlo beyond the inputs (the API's launch(**options) takes these)
 LAUNCH_OPTIONS = ("success_time", "t_end", "integrator", "tol", "workers", "scheduler")
+DEFAULT_N = 1000
+DEFAULT_SEED = 0
+
+
+@dataclass(frozen=True)
+class Request:
+    """One launch Monte Carlo as asked (flags or API arguments over the scene's [launch] table, over
+    the defaults): what `launch`, `optimize --maximize launch-odds` and `trim` all run, so that a
+    design's odds are the odds `launch` gives at the same scene keys. given: input name -> spec
+    (inputs not given take `defaults`); defaulted: the inputs left to `defaults`."""
+    given: Mapping[str, object]
+    n: int = DEFAULT_N
+    seed: int = DEFAULT_SEED
+    success_time: float | None = None
+    t_end: float | None = None
+    integrator: str = DEFAULT
+    tol: float = 1e-8
+    workers: int = 1
+    scheduler: str | None = None
+
+    @classmethod
+    def of(cls, table: Mapping, given: Mapping[str, object] | None = None, **options) -> Request:
+        """The request from the scene's [launch] table and the caller's inputs and options (None:
+        not given); the caller's win, then the table's, then the defaults."""
+        inputs, settings = table_settings(table)
+        if given is not None and not isinstance(given, Mapping):
+            raise UserError(f"launch inputs = {given!r} must map input names to distributions, e.g. "
+                            "{'spin': 'normal:1000,100'}")
+        inputs.update(given or {})
+        chosen = {k: v for k, v in options.items() if v is not None}
+        unknown = sorted(set(chosen) - set(LAUNCH_OPTIONS) - {"n", "seed"})
+        if unknown:
+            raise UserError(f"launch: unknown option {unknown[0]!r}: use {', '.join(LAUNCH_OPTIONS)}")
+        for key in ("n", "seed", "success_time", "t_end"):
+            if key not in chosen and key in settings:
+                chosen[key] = settings[key]
+        return cls(inputs, **chosen)
+
+    def with_seed(self, seed: int) -> Request:
+        return Request(self.given, self.n, int(seed), self.success_time, self.t_end, self.integrator,
+                       self.tol, self.workers, self.scheduler)
+
+    def run(self, model, scene_ref: str, overrides, quiet: bool = False) -> dict:
+        """monte_carlo of this request on (model, its scene reference and overrides)."""
+        return monte_carlo(model, scene_ref, overrides, self.given, n=self.n, seed=self.seed,
+                           success_time=self.success_time, t_end=self.t_end, integrator=self.integrator,
+                           tol=self.tol, workers=self.workers, scheduler=self.scheduler, quiet=quiet)
 
 
 def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n: int = 1000,
@@ -277,7 +372,8 @@ def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n
     z_s = hover_height(model)
     interval = stability_of(model, z_s=z_s).spin_interval
     dists = defaults(model, interval, z_s)
-    dists.update({k: parse_dist(k, v) for k, v in given.items()})
+    reference = {"mass": model.param("m"), "strength": 1.0}
+    dists.update({k: parse_input(k, v, reference.get(k, 1.0)) for k, v in given.items()})
     if "spin" not in dists:
         raise UserError("the scene's top has no spin interval of linear stability at its hover height, "
                         "so there is no default spin: pass --spin normal:MEAN,SD")
@@ -290,7 +386,7 @@ def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n
         d = dists[key]
         low = d.a - 8 * d.b if d.kind == "normal" else d.a
         if low <= -1:
-            raise UserError(f"--{key} {d.text()} makes the {key} non-positive (a relative deviation "
+            raise UserError(f"--{key} {spec_text(key, d)} makes the {key} non-positive (a relative deviation "
                             f"reaches {low:g} <= -1): give a smaller spread")
     if dists["temperature"].kind != "fixed" or dists["temperature"].a != model.scene.data.get("temperature", 20.0):
         d = dists["temperature"]
@@ -328,7 +424,10 @@ def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n
         raise UserError(f"launch runs adaptive C integrators only (dop853, vern9, auto), not {integrator!r}")
     plan = Plan(scene_ref, tuple(overrides), tuple((k, dists[k]) for k in INPUTS), int(n), int(seed),
                 float(t_end), method, float(tol))
-    n_chunks = max(1, workers) * 4 if (workers > 1 or scheduler) else 1
+    workers = min(workers, runners.usable_cores())     # more processes than cores only queue
+    # serial runs go in chunks of ~20 launches too, so that the progress bar moves (the verdicts do
+    # not depend on the chunking: each launch is its own run, test_launch_odds)
+    n_chunks = max(1, workers) * 4 if (workers > 1 or scheduler) else max(1, min(50, plan.n // 20))
     chunks = runners.split(list(range(plan.n)), n_chunks)
     runners.remember(plan, model)
     if scheduler:
@@ -341,10 +440,11 @@ def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n
         results = runners.run_processes(plan, chunks, workers, quiet, fn=run_chunk, what="launch")
     else:
         results = runners.run_serial(plan, chunks, quiet, fn=run_chunk, what="launch")
-    return summarize(plan, results, success_time, interval, z_s, tau)
+    return summarize(plan, results, success_time, interval, z_s, tau, given)
 
 
-def summarize(plan: Plan, results, success_time: float, interval, z_s: float, tau) -> dict:
+def summarize(plan: Plan, results, success_time: float, interval, z_s: float, tau,
+              given=()) -> dict:
     """The answer (docs/contract.md `launch`) from the chunks' points."""
     pts = sorted((p for r in results for p in r["points"]), key=lambda p: p["i"])
     t = np.array([p["t"] for p in pts])
@@ -362,7 +462,8 @@ def summarize(plan: Plan, results, success_time: float, interval, z_s: float, ta
                         "values": t.tolist()},
         "outcomes": {s: status.count(s) for s in sorted(set(status))},
         "ranking": effects(S, ok, dists),
-        "inputs": {name: d.text() for name, d in plan.dists},
+        "inputs": {name: spec_text(name, d) for name, d in plan.dists},
+        "defaulted": sorted(set(INPUTS) - set(given)),
         "z_s": z_s, "spin_interval": list(interval) if interval else None,
         "spin_decay_time": tau, "integrator": plan.integrator, "tol": plan.tol,
         "verdicts": ok.tolist(),

@@ -16,45 +16,72 @@ HELP = ("launch odds by Monte Carlo: the probability (a 95 percent Wilson interv
 EXAMPLE = "levitron launch thesis_air --n 200 --t-end 60 --workers 2 --out out/launch.png"
 
 
-def add_arguments(parser) -> None:
+# what --help says of each input's default (launch_odds.defaults: scaled to the scene)
+DEFAULT_TEXT = {"spin": "normal about the geometric mean of the stable interval, sd 10 %%",
+                "tilt": "uniform:0,0.02 rad", "tilt_azimuth": "uniform:0,2pi rad",
+                "offset": "normal:0,(1 %% of z_s) m", "velocity": "normal:0,(1 %% of sqrt(g z_s)) m/s",
+                "mass": "a relative sd of 0.2 %%", "strength": "a relative sd of 0.5 %%",
+                "temperature": "the scene's temperature, degC"}
+
+
+def add_launch_arguments(parser) -> None:
+    """Every flag of a launch Monte Carlo (launch, optimize --maximize launch-odds, trim): the
+    inputs' distributions, n, seed, the success criterion, the integrator and the workers."""
     for name in mc.INPUTS:
         flag = "--" + name.replace("_", "-")
         if flag == "--temperature":          # the common --temperature sets the scene's own
             flag = "--temperature-spread"
+        unit = {"mass": "the mass in kg, or rel:... a relative spread, e.g. rel:normal:0,0.002 or rel:0.2%%",
+                "strength": "a factor on the magnets, e.g. normal:1,0.005, or rel:... relative, e.g. rel:0.5%%",
+                }.get(name, mc.INPUT_UNITS[name])
         parser.add_argument(flag, dest=f"dist_{name}", default=None, metavar="DIST",
-                            help=f"{name}: normal:MEAN,SD, uniform:LO,HI or a number "
-                                 "(default: the scene's [launch] table, else runtime/scan/launch_odds.py's)")
-    parser.add_argument("--n", type=int, default=None, help="number of launches (default 1000)")
-    parser.add_argument("--seed", type=int, default=None, help="seed of the sampler (default 0)")
+                            help=f"{name} ({unit}): normal:MEAN,SD, uniform:LO,HI or a number (default: "
+                                 f"the scene's [launch] table, else {DEFAULT_TEXT[name]})")
+    parser.add_argument("--n", type=int, default=None,
+                        help=f"number of launches (default: [launch] n, else {mc.DEFAULT_N})")
+    parser.add_argument("--seed", type=int, default=None,
+                        help=f"seed of the sampler (default: [launch] seed, else {mc.DEFAULT_SEED})")
     parser.add_argument("--success-time", type=float, default=None, metavar="T",
-                        help="success: floating at least T s (default: the run length; in air tau/2)")
+                        help="success: floating at least T s (default: --t-end; in air half the spin "
+                             "decay time; else 3 slow periods)")
     parser.add_argument("--t-end", type=float, default=None, metavar="T",
                         help="run length of each launch, s (default: the success time)")
     parser.add_argument("--integrator", default="auto", metavar="NAME", help="dop853, vern9 or auto")
     parser.add_argument("--tol", type=float, default=1e-8, help="tolerance (default 1e-8)")
-    parser.add_argument("--workers", type=int, default=1, metavar="N", help="local worker processes")
+    parser.add_argument("--workers", type=int, default=1, metavar="N",
+                        help="local worker processes (default 1: serial; at most the usable cores)")
     parser.add_argument("--scheduler", default=None, metavar="ADDRESS", help="a dask scheduler")
-    parser.add_argument("--out", default=None, metavar="FILE.png", help="draw the flight-time histogram")
 
 
-def run(args) -> dict:
+def launch_request(args, scene) -> mc.Request:
+    """The launch Monte Carlo the flags ask for, over the scene's [launch] table."""
     if args.workers is None or args.workers < 1:
         raise UserError(f"--workers {args.workers} must be at least 1 (1 = serial)")
     if args.scheduler is not None and args.workers != 1:
         raise UserError("pass either --workers N (local processes) or --scheduler ADDRESS (dask), not both")
+    given = {k: getattr(args, f"dist_{k}") for k in mc.INPUTS if getattr(args, f"dist_{k}") is not None}
+    return mc.Request.of(scene.data.get("launch", {}), given, n=args.n, seed=args.seed,
+                         success_time=args.success_time, t_end=args.t_end, integrator=args.integrator,
+                         tol=args.tol, workers=args.workers, scheduler=args.scheduler)
+
+
+def scene_ref(scene, args) -> str:
+    """What workers reload the scene from: its file's absolute path, else the name given."""
+    return str(Path(scene.path).resolve()) if scene.path is not None else args.scene
+
+
+def add_arguments(parser) -> None:
+    add_launch_arguments(parser)
+    parser.add_argument("--out", default=None, metavar="FILE.png", help="draw the flight-time histogram")
+
+
+def run(args) -> dict:
     if args.out is not None:
         check_plot_path(args.out, "--out")
     scene = scene_of(args)
-    given, table = mc.table_settings(scene.data.get("launch", {}))
-    given.update({k: getattr(args, f"dist_{k}") for k in mc.INPUTS if getattr(args, f"dist_{k}") is not None})
-    pick = lambda flag, key, default: flag if flag is not None else table.get(key, default)  # noqa: E731
+    request = launch_request(args, scene)
     model = model_of(args)
-    ref = str(Path(scene.path).resolve()) if scene.path is not None else args.scene
-    out = mc.monte_carlo(model, ref, args.set, given, n=pick(args.n, "n", 1000),
-                         seed=pick(args.seed, "seed", 0),
-                         success_time=pick(args.success_time, "success_time", None),
-                         t_end=pick(args.t_end, "t_end", None), integrator=args.integrator,
-                         tol=args.tol, workers=args.workers, scheduler=args.scheduler, quiet=args.quiet)
+    out = request.run(model, scene_ref(scene, args), args.set, quiet=args.quiet)
     out["scene"] = scene.name
     if args.out:         # the report's histogram: the censored runs' bar labelled (runtime/report/real_launch.py)
         from levitron.runtime.report.real_launch import histogram
@@ -66,18 +93,28 @@ def run(args) -> dict:
 
 def launch_input(name: str, spec: str, u: Units) -> str:
     """One input's distribution (the JSON's spec, SI) in the scene's units: "spin 1122 rad/s, sd
-    112.2 rad/s (normal)", "tilt 0-0.02 rad (uniform)", "mass +0 %, sd 0.2 % (normal)", "temperature
-    20 degC"; a dimensionless scene's lengths and speeds bare."""
+    112.2 rad/s (normal)", "tilt 0-0.02 rad (uniform)", "mass +0 %, sd 0.2 % (normal)" (a relative
+    spread, rel:...), "temperature 20 degC"; a dimensionless scene's lengths and speeds bare."""
     si_unit = mc.INPUT_UNITS[name]
     show = {"m": u.length, "1": lambda v: f"{sig(100 * v, 3)} %",
             "degC": lambda v: f"{sig(v)} degC"}.get(si_unit, lambda v: u.value(v, si_unit))
-    d = mc.parse_dist(name, spec)
+    d = mc.parse_input(name, spec)
     if d.kind == "normal":
         mean = show(d.a) if si_unit != "1" else ("+" if d.a >= 0 else "") + show(d.a)
         return f"{name} {mean}, sd {show(d.b)} (normal)"
     if d.kind == "uniform":
         return f"{name} {show(d.a)} to {show(d.b)} (uniform)"
     return f"{name} {show(d.a)}"
+
+
+def launches_line(r: dict, u: Units, scene=None) -> str:
+    """The launches the odds are of, in one line, the defaults marked as such."""
+    shown = [k for k in r["inputs"] if k != "temperature" or _temperature_matters(r["inputs"][k], scene)]
+    given = [launch_input(k, r["inputs"][k], u) for k in shown if k not in r.get("defaulted", ())]
+    default = [launch_input(k, r["inputs"][k], u) for k in shown if k in r.get("defaulted", ())]
+    return "launches: " + "; ".join(filter(None, (
+        ", ".join(given),
+        f"{', '.join(default)} (defaults: set them with --spin, --tilt, ... or a [launch] table)" if default else "")))
 
 
 def _temperature_matters(spec: str, scene) -> bool:
@@ -108,8 +145,7 @@ def human(r: dict, scene=None) -> str:
         f" (runs of {u.time(r['t_end'])}{cens})",
         f"matters most: {'; '.join(rank)}" if rank else "no input has a spread",
         f"outcomes: {outcomes}",
-        "launches: " + ", ".join(launch_input(k, v, u) for k, v in r["inputs"].items()
-                                 if k != "temperature" or _temperature_matters(v, scene)),
+        launches_line(r, u, scene),
         f"seed {r['seed']}, {r['integrator']} at tol {sig(r['tol'], 2)}",
         u.note,
         f"histogram: {r['out']}" if r.get("out") else "")

@@ -14,7 +14,8 @@ from levitron.runtime.errors import UserError
 from levitron.runtime.ui.human import Units, lines, restate, sig
 from levitron.runtime.design.fit_height import fit_equilibrium_height
 from levitron.runtime.design.scene_keys import Vary
-from levitron.runtime.cli.commands.common import model_of
+from levitron.runtime.cli.commands import launch
+from levitron.runtime.cli.commands.common import model_of, scene_of
 
 NAME = "optimize"
 HELP = "design (maximise the spin range over scene keys) or fit scene keys to measurements"
@@ -24,8 +25,12 @@ EXAMPLE = ("levitron optimize thesis_stable --maximize spin-range --vary top.mas
 
 def add_arguments(parser) -> None:
     parser.add_argument("--maximize", metavar="OBJECTIVE", default=None,
-                        help="spin-range (sigma_hi - sigma_lo, rad/s), spin-ratio (sigma_hi/sigma_lo) "
-                             "or mass-window ((m_hi - m_lo)/m_hi of the stable band)")
+                        help="launch-odds (the probability that a launch by hand floats, as `levitron "
+                             "launch` gives it: its flags below), spin-range (sigma_hi - sigma_lo, rad/s), "
+                             "spin-ratio (sigma_hi/sigma_lo) or mass-window ((m_hi - m_lo)/m_hi of the "
+                             "stable band)")
+    parser.add_argument("--minimize", metavar="OBJECTIVE", default=None,
+                        help="refused: every objective is a quantity to maximise")
     parser.add_argument("--vary", action="append", default=[], metavar="KEY=LO:HI",
                         help="a scene key and its bounds, e.g. plate.hole=0.01:0.05 (repeatable, 1-3)")
     parser.add_argument("--constrain", action="append", default=[], metavar="EXPR",
@@ -43,9 +48,15 @@ def add_arguments(parser) -> None:
                         help="with --fit-height: the scene key to solve for, as --vary takes it "
                              "(e.g. plate.murho, top.moment, plate.remanence, top.mass; default: "
                              "the top's moment mu, which fits the product mu x strength)")
+    launch.add_launch_arguments(parser.add_argument_group(
+        "launch odds (--maximize launch-odds, and the odds the other objectives report in air)"))
 
 
 def run(args) -> dict:
+    if args.minimize is not None:
+        why = ("odds of falling are not a design goal" if args.minimize == "launch-odds"
+               else "the design objectives are quantities to maximise")
+        raise UserError(f"--minimize {args.minimize}: {why}; use --maximize {args.minimize}")
     modes = [m for m, v in (("--maximize", args.maximize), ("--fit", args.fit),
                             ("--fit-height", args.fit_height)) if v is not None]
     if len(modes) != 1:
@@ -68,11 +79,37 @@ def run(args) -> dict:
         rows = read_rows(args.fit)
         model = model_of(args)
         out = fit(model, rows, varies).as_dict()
+    elif args.maximize == "launch-odds":
+        from levitron.runtime.design.launch_design import maximize_launch_odds
+        if constraints:
+            raise UserError("--maximize launch-odds takes no --constrain: the odds already count a top "
+                            "that cannot hover or falls as a failure")
+        scene = scene_of(args)
+        request = launch.launch_request(args, scene)
+        model = model_of(args)
+        res = maximize_launch_odds(model, launch.scene_ref(scene, args), args.set, varies, request)
+        out = res.as_dict()
+        if args.write_scene:
+            from levitron.runtime.design.scene_keys import with_values
+            from levitron.runtime.design.scene_write import write_scene
+            note = (f"levitron optimize {model.scene.name} --maximize launch-odds: "
+                    + ", ".join(f"{k} = {v:.6g}" for k, v in res.optimum.items()))
+            out["written"] = str(write_scene(with_values(model.scene, res.optimum), args.write_scene, note))
     else:
         from levitron.runtime.design.optimize import optimize
         model = model_of(args)
         res = optimize(model, varies, args.maximize, constraints, args.grid)
         out = res.as_dict()
+        from levitron.runtime.design import launch_design
+        if launch_design.worth_the_launches(model):
+            scene = scene_of(args)
+            u = Units.of_scene(scene)
+            cost = launch_design.what_it_costs(
+                model, launch.scene_ref(scene, args), args.set, varies, launch.launch_request(args, scene),
+                res.optimum, args.maximize, lambda k, v: u.mass(v) if k == "top.mass" else sig(v, 6))
+            out.update({k: v for k, v in cost.items() if k != "warning"})
+            if "warning" in cost:
+                out["warnings"] = [*out["warnings"], cost["warning"]]
         if args.write_scene:
             from levitron.runtime.design.scene_write import write_scene
             note = (f"levitron optimize {model.scene.name} --maximize {args.maximize}: "
@@ -97,6 +134,8 @@ def human(r: dict, scene=None) -> str:
             f"solver: {r['solver_status']}, residual {u.value(r['residual_N'], 'N', 2)} "
             f"({r['objective']})",
             u.note)
+    if r.get("objective_name") == "launch-odds":
+        return lines(*launch_odds_lines(r, u), *_warnings(r, scene), u.note)
     status = f"solver: {r['solver_status']}, {r['iterations']} iterations"
     if "parameters" in r:
         fitted = ", ".join(f"{k} = {sig(v['value'], 6)} +- {sig(v['stderr'], 2)}"
@@ -121,7 +160,7 @@ def human(r: dict, scene=None) -> str:
         if r.get("scene_objective") is not None else "",
         f"verified: float route at the optimum, best of {ver['grid_points']} grid points "
         f"{sig(ver['grid_best'], 6) if ver.get('grid_best') is not None else 'none feasible'} {unit}".rstrip(),
-        status, *_warnings(r, scene),
+        status, *cost_lines(r, u), *_warnings(r, scene),
         f"scene written: {r['written']} (check it: levitron stability {r['written']})"
         if r.get("written") else "", u.note)
 
@@ -130,3 +169,40 @@ def _warnings(r: dict, scene=None) -> list[str]:
     """Every warning of the result in plain view, one a line."""
     u = Units.of_scene(scene) if scene is not None else Units(si=True)
     return [f"warning: {restate(w, u)}" for w in r.get("warnings") or []]
+
+
+def _pct(block: dict) -> str:
+    lo, hi = block["probability_ci95"]
+    return f"{sig(100 * block['probability'], 3)} % ({sig(100 * lo, 3)}-{sig(100 * hi, 3)} %)"
+
+
+def change_text(key: str, start: float, to: float, u: Units) -> str:
+    """"take 1.2 g off" / "add 0.3 g" for the top's mass; "set KEY from A to B" for any key."""
+    if key == "top.mass":
+        d = to - start
+        return f"take {u.mass(-d)} off" if d < 0 else f"add {u.mass(d)}"
+    return f"set {key} from {sig(start, 6)} to {sig(to, 6)}"
+
+
+def launch_odds_lines(r: dict, u: Units) -> list[str]:
+    """The launch-odds design in plain view: the advice and what it does to the odds."""
+    a, b = r["start_launch_odds"], r["launch_odds"]
+    advice = "; ".join(change_text(k, r["start"][k], v, u) for k, v in r["optimum"].items())
+    search = r["search"]
+    return [f"{advice}: odds {sig(100 * a['probability'], 3)} % -> {sig(100 * b['probability'], 3)} %",
+            "optimum: " + ", ".join(f"{k} = {u.mass(v) if k == 'top.mass' else sig(v, 6)}"
+                                    for k, v in r["optimum"].items())
+            + f": {_pct(b)} of {b['n']} launches float at least {u.time(r['success_time'])} (seed {b['seed']})",
+            f"as written: {_pct(a)} (the same seed)",
+            f"searched: {search['evaluations']} designs of {search['n']} launches each on common random "
+            f"numbers (seed {search['seed']}); decided on the fresh seed {b['seed']}"]
+
+
+def cost_lines(r: dict, u: Units) -> list[str]:
+    """What another objective's optimum costs in launches (scenes in air or with a [launch] table)."""
+    if "launch_odds" not in r:
+        return []
+    best = r["launch_odds_optimum"]
+    where = ", ".join(f"{k} = {u.mass(v) if k == 'top.mass' else sig(v, 6)}" for k, v in best["optimum"].items())
+    return [f"launch odds at this optimum: {_pct(r['launch_odds'])}; as written {_pct(r['start_launch_odds'])}; "
+            f"the launch-odds optimum ({where}) {_pct(best['launch_odds'])}"]

@@ -1,0 +1,261 @@
+"""Design by the launch odds: the scene keys at which a launch by hand floats most often (issue 26).
+
+The widest linear spin window (spin-range, thesis 3.3) sits next to a band edge, where a small
+spread in mass or strength puts the top outside the band: advice computed on the ideal top fails
+the person who follows it. This objective is the person's question itself, the probability of
+runtime/scan/launch_odds.py, estimated as `levitron launch` estimates it:
+
+1. **One launch spread for every design.** The request (flags over the scene's [launch] table over
+   the defaults) is resolved once, at the scene as written: the defaults that scale with the
+   scene (the spin about the middle of its interval, offsets with z_s) and the success time are
+   pinned there, because the hand that launches does not change with the washer. Mass and
+   strength enter as relative deviations, so a varied top.mass keeps its spread.
+2. **Common random numbers.** Every design point runs the same seed, hence the same draws: the
+   odds of two designs differ by the design, not by the sampling noise, and odds(x) is a
+   step function with small steps (one launch in n) that a grid can search.
+3. **Grid, then zoom.** GRID[k] points a key over the --vary box, then the same number over the
+   two grid cells around the best point, ZOOMS times. Where several points share the best odds
+   (a plateau: a spread small against the band gives 100 % over a range), the answer is the
+   middle of the plateau, the design farthest from both cliffs; for one key each edge of the
+   plateau is first bisected EDGE_STEPS times on the same draws.
+4. **Decide on fresh numbers.** The odds of the answer and of the start (the scene as written)
+   are estimated again with a fresh seed (seed + 1): the search picked the best of many noisy
+   values, so its own estimate is biased upwards; the fresh one is not, and carries its 95 %
+   Wilson interval.
+
+The cost is (GRID[k] (1 + ZOOMS) + 3) Monte Carlos of n launches (make bench: kind launch-design).
+"""
+from __future__ import annotations
+
+import itertools
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from levitron.runtime.design.scene_keys import Vary, key_value
+from levitron.runtime.errors import UserError
+from levitron.runtime.scan import launch_odds as mc
+
+GRID = {1: 7, 2: 5, 3: 3}       # points a key of each grid, by the number of keys
+ZOOMS = 2
+EDGE_STEPS = 5                  # bisections of each edge of a one-key plateau
+FRESH = 1                       # the deciding Monte Carlo's seed: the search's seed + FRESH
+HALF = 0.5                      # other objectives warn below this fraction of the launch-odds optimum
+
+
+def odds_dict(r: dict) -> dict:
+    """The JSON's launch_odds block of one Monte Carlo."""
+    return {"probability": r["probability"], "probability_ci95": list(r["probability_ci95"]),
+            "n": r["n"], "seed": r["seed"], "successes": r["successes"]}
+
+
+@dataclass
+class Pinned:
+    """The launch request resolved at the scene as written (module docstring, step 1)."""
+    request: mc.Request
+    start: dict                     # the Monte Carlo where it was pinned, search seed
+    at: dict | None = None          # where it was pinned: None (the scene as written) or keys -> values
+
+    @classmethod
+    def at_start(cls, model, scene_ref: str, overrides: Sequence[str], request: mc.Request,
+                 varies: Sequence[Vary]) -> Pinned:
+        """Pinned at the scene as written; where its top cannot hover there (or has no spin
+        interval for the default spin), at the box's middle, else its first grid point that can."""
+        keys = [v.key for v in varies]
+        if "top.mass" in keys and "mass" in request.given and \
+                not str(request.given["mass"]).strip().lower().startswith(mc.REL):
+            raise UserError("--vary top.mass moves the top's mass, so its spread must be relative: "
+                            "write --mass rel:normal:0,0.002 (or rel:0.2%)")
+        tries = [None, tuple(0.5 * (v.lo + v.hi) for v in varies),
+                 *_axes(varies, [(v.lo, v.hi) for v in varies], GRID[len(varies)])]
+        first = None
+        for x in tries:
+            try:
+                if x is None:
+                    start = request.run(model, scene_ref, overrides, quiet=True)
+                else:
+                    from levitron.runtime.scan.runners import model_for
+                    ov = _overrides(overrides, keys, x)
+                    start = request.run(model_for(scene_ref, ov), scene_ref, ov, quiet=True)
+            except UserError as exc:
+                first = first or exc
+                continue
+            pinned = mc.Request(dict(start["inputs"]), request.n, request.seed, start["success_time"],
+                                start["t_end"], request.integrator, request.tol, request.workers,
+                                request.scheduler)
+            return cls(pinned, start, None if x is None else dict(zip(keys, x)))
+        raise UserError(f"{first} (and at every point of the --vary box's grid): move or widen the box")
+
+
+def _overrides(overrides: Sequence[str], keys: Sequence[str], x) -> list[str]:
+    return [*overrides, *(f"{k}={float(v)!r}" for k, v in zip(keys, x))]
+
+
+def odds_at(scene_ref: str, overrides: Sequence[str], keys: Sequence[str], x, request: mc.Request) -> dict:
+    """The Monte Carlo of `request` at the scene keys x; a design where the top cannot hover (or
+    the run is refused) floats never: probability 0 with the reason."""
+    from levitron.runtime.scan.runners import model_for
+    ov = _overrides(overrides, keys, x)
+    try:
+        return request.run(model_for(scene_ref, ov), scene_ref, ov, quiet=True)
+    except UserError as exc:
+        return {"probability": 0.0, "probability_ci95": [0.0, 0.0], "n": request.n, "seed": request.seed,
+                "successes": 0, "reason": str(exc)}
+
+
+def _axes(varies: Sequence[Vary], box: Sequence[tuple[float, float]], n: int) -> list[tuple[float, ...]]:
+    return list(itertools.product(*(np.linspace(lo, hi, n) for lo, hi in box)))
+
+
+def _plateau(evaluated: dict) -> bool:
+    top = max(evaluated.values())
+    return sum(v >= top for v in evaluated.values()) > 1
+
+
+def plateau_middle(points: Sequence[tuple[tuple[float, ...], float]]) -> tuple[float, ...]:
+    """The middle of the points that share the best value (module docstring, step 3): for one key
+    the middle of their range, for more the best point nearest their mean."""
+    best = max(v for _, v in points)
+    top = [np.array(x) for x, v in points if v >= best]
+    if len(top[0]) == 1:
+        return (0.5 * float(min(top)[0] + max(top)[0]),)
+    mean = np.mean(top, axis=0)
+    return tuple(float(v) for v in min(top, key=lambda x: float(np.sum((x - mean) ** 2))))
+
+
+@dataclass
+class LaunchDesign:
+    """The launch-odds optimum (docs/contract.md `optimize --maximize launch-odds`)."""
+    optimum: dict[str, float]
+    start: dict[str, float]
+    launch_odds: dict
+    start_launch_odds: dict
+    search_odds: float
+    evaluations: list[dict]
+    inputs: dict[str, str]
+    success_time: float
+    t_end: float
+    seed: int
+    n: int
+    wall_s: float
+    warnings: list[str] = field(default_factory=list)
+
+    @property
+    def probability(self) -> float:
+        return self.launch_odds["probability"]
+
+    def as_dict(self) -> dict:
+        return {"objective": self.probability, "objective_name": "launch-odds", "objective_unit": "1",
+                "optimum": self.optimum, "start": self.start, "launch_odds": self.launch_odds,
+                "start_launch_odds": self.start_launch_odds, "warnings": self.warnings,
+                "search": {"method": "common random numbers on a grid, zoomed (runtime/design/launch_design.py)",
+                           "seed": self.seed, "n": self.n, "evaluations": len(self.evaluations),
+                           "best_search_odds": self.search_odds, "points": self.evaluations},
+                "inputs": self.inputs, "success_time": self.success_time, "t_end": self.t_end,
+                "solver_status": "grid search", "wall_s": self.wall_s}
+
+
+def maximize_launch_odds(model, scene_ref: str, overrides: Sequence[str], varies: Sequence[Vary],
+                         request: mc.Request, pinned: Pinned | None = None) -> LaunchDesign:
+    """The design of the module docstring over the --vary box."""
+    t0 = time.perf_counter()
+    if not 1 <= len(varies) <= 3:
+        raise UserError("--vary: give one to three keys for --maximize launch-odds")
+    keys = [v.key for v in varies]
+    pinned = pinned or Pinned.at_start(model, scene_ref, overrides, request, varies)
+    req = pinned.request
+    box = [(v.lo, v.hi) for v in varies]
+    n_axis = GRID[len(varies)]
+    evaluated: dict[tuple[float, ...], float] = {}
+    rows = []
+    for _ in range(ZOOMS + 1):
+        for x in _axes(varies, box, n_axis):
+            x = tuple(float(v) for v in x)
+            if x not in evaluated:
+                r = odds_at(scene_ref, overrides, keys, x, req)
+                evaluated[x] = r["probability"]
+                rows.append({**dict(zip(keys, x)), "probability": r["probability"],
+                             **({"reason": r["reason"]} if "reason" in r else {})})
+        best = plateau_middle(list(evaluated.items()))
+        if len(varies) == 1 and _plateau(evaluated):
+            break                       # 1 key, a plateau: its edges are bisected below
+        cells = [(hi - lo) / (n_axis - 1) for lo, hi in box]
+        box = [(max(v.lo, b - c), min(v.hi, b + c)) for v, b, c in zip(varies, best, cells)]
+
+    def run(x):
+        r = odds_at(scene_ref, overrides, keys, x, req)
+        evaluated[x] = r["probability"]
+        rows.append({**dict(zip(keys, x)), "probability": r["probability"]})
+        return r["probability"]
+    if len(varies) == 1 and _plateau(evaluated):
+        for _ in range(EDGE_STEPS):     # bisect each edge of the plateau on the same draws
+            top = max(evaluated.values())
+            xs = sorted(evaluated)
+            inside = [x for x in xs if evaluated[x] >= top]
+            for edge, step in ((inside[0], -1), (inside[-1], 1)):
+                k = xs.index(edge) + step
+                if 0 <= k < len(xs):
+                    mid = (0.5 * (edge[0] + xs[k][0]),)
+                    if mid not in evaluated:
+                        run(mid)
+        best = plateau_middle(list(evaluated.items()))
+    if best not in evaluated:            # a plateau's middle between grid points: run it too
+        if run(best) < max(evaluated.values()):
+            best = max(evaluated, key=evaluated.get)
+    if max(evaluated.values()) <= 0:
+        reasons = sorted({row["reason"] for row in rows if "reason" in row})
+        raise UserError("no launch floats anywhere in the --vary box"
+                        + (f" ({reasons[0]})" if reasons else "") + ": widen or move the box, or "
+                        "check the launch spread with `levitron launch`")
+    fresh = req.with_seed(req.seed + FRESH)
+    final = odds_at(scene_ref, overrides, keys, best, fresh)
+    start_x = [key_value(model.scene.data, k) for k in keys]
+    first = odds_at(scene_ref, overrides, keys, start_x, fresh)
+    warnings = []
+    for v, b in zip(varies, best):
+        span = v.hi - v.lo
+        if b <= v.lo + 1e-9 * span or b >= v.hi - 1e-9 * span:
+            warnings.append(f"{v.key} = {b:.6g} is at a bound of --vary {v.key}={v.lo:.10g}:{v.hi:.10g}: "
+                            "the box stopped the search, not the odds; widen --vary")
+    if pinned.at is not None:
+        where = ", ".join(f"{k} = {v:.6g}" for k, v in pinned.at.items())
+        warnings.append(f"the scene as written cannot be launched ({first.get('reason', 'no hover')}); "
+                        f"the launch spread's defaults are taken at {where}")
+    lo, hi = final["probability_ci95"]
+    if not lo <= evaluated[best] <= hi:
+        warnings.append(f"the search's odds {100 * evaluated[best]:.3g} % lie outside the fresh seed's "
+                        f"interval {100 * lo:.3g}-{100 * hi:.3g} %: raise --n")
+    return LaunchDesign(dict(zip(keys, best)), dict(zip(keys, map(float, start_x))), odds_dict(final),
+                        odds_dict(first), evaluated[best], rows, dict(req.given), req.success_time,
+                        req.t_end, req.seed, req.n, time.perf_counter() - t0, warnings)
+
+
+def what_it_costs(model, scene_ref: str, overrides: Sequence[str], varies: Sequence[Vary],
+                  request: mc.Request, optimum: dict[str, float], objective: str,
+                  unit_text) -> dict:
+    """Another objective's optimum in launches (issue 26): its odds and the start's (fresh seed),
+    the launch-odds optimum's, and a warning where the optimum floats less than HALF as often.
+    unit_text(key, value) -> the key's value in the scene's units, for the warning."""
+    keys = [v.key for v in varies]
+    pinned = Pinned.at_start(model, scene_ref, overrides, request, varies)
+    fresh = pinned.request.with_seed(pinned.request.seed + FRESH)
+    at_opt = odds_at(scene_ref, overrides, keys, [optimum[k] for k in keys], fresh)
+    best = maximize_launch_odds(model, scene_ref, overrides, varies, request, pinned)
+    out = {"launch_odds": odds_dict(at_opt), "start_launch_odds": best.start_launch_odds,
+           "launch_odds_optimum": {"optimum": best.optimum, "launch_odds": best.launch_odds}}
+    p, q = at_opt["probability"], best.probability
+    if p < HALF * q:
+        where = ", ".join(f"{k} = {unit_text(k, optimum[k])}" for k in keys)
+        there = ", ".join(f"{k} = {unit_text(k, v)}" for k, v in best.optimum.items())
+        out["warning"] = (f"the {objective} optimum ({where}) floats {100 * p:.3g} % of hand launches; "
+                          f"--maximize launch-odds gives {100 * q:.3g} % at {there}")
+    return out
+
+
+def worth_the_launches(model) -> bool:
+    """Whether a design's launches are worth counting: the scene has air friction or a [launch] table."""
+    from levitron.runtime.physics.friction import has_friction
+    return bool(model.scene.data.get("launch")) or (has_friction(model) and model.pvals()["k_spin"] > 0)
+
