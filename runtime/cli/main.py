@@ -17,6 +17,7 @@ import json
 import math
 import os
 import sys
+import textwrap
 import threading
 
 from levitron.runtime.ui import progress
@@ -60,6 +61,14 @@ def command_help(name: str) -> str:
     raise LookupError(f"{origin}: no HELP = '...' at the top level")
 
 
+class _HelpFormatter(argparse.RawDescriptionHelpFormatter):
+    """The help text wrapped between words only: a flag or an objective (spin-ratio, --success-time)
+    is never split at its hyphen, so what --help shows can be copied as it reads."""
+
+    def _split_lines(self, text, width):
+        return textwrap.wrap(" ".join(text.split()), width, break_on_hyphens=False)
+
+
 def build_parser(only: str | None = None, overview: bool = False) -> argparse.ArgumentParser:
     """The parser of every command, or with `only` of that one command alone (a one-shot command
     then imports only its own module: `levitron stability` loads no design, scan or report code).
@@ -76,7 +85,7 @@ def build_parser(only: str | None = None, overview: bool = False) -> argparse.Ar
         example = getattr(mod, "EXAMPLE", None)
         p = sub.add_parser(mod.NAME, help=mod.HELP, description=mod.HELP,
                            epilog=f"example:\n  {example}" if example else None,
-                           formatter_class=argparse.RawDescriptionHelpFormatter)
+                           formatter_class=_HelpFormatter)
         if getattr(mod, "MULTI_SCENE", False):
             p.add_argument("scenes", nargs="*", metavar="SCENE", help="scene names or .toml paths")
         else:

@@ -41,7 +41,7 @@ def _input_text(name: str, spec: str, u: Units) -> str:
     si_unit = mc.INPUT_UNITS[name]
     show = {"m": u.length, "1": lambda v: f"{sig(100 * v, 3)} %",
             "degC": lambda v: f"{sig(v)} degC"}.get(si_unit, lambda v: u.value(v, si_unit))
-    d = mc.parse_dist(name, spec)
+    d = mc.parse_input(name, spec)      # the JSON's inputs: mass and strength spelt relative (rel:)
     if d.kind == "normal":
         return f"{name}: {show(d.a)}, sd {show(d.b)} (normal)"
     if d.kind == "uniform":

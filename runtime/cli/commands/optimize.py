@@ -18,7 +18,7 @@ from levitron.runtime.cli.commands import launch
 from levitron.runtime.cli.commands.common import model_of, scene_of
 
 NAME = "optimize"
-HELP = "design (maximise the spin range over scene keys) or fit scene keys to measurements"
+HELP = "design (maximise the launch odds or the spin window over scene keys) or fit scene keys to measurements"
 EXAMPLE = ("levitron optimize thesis_stable --maximize spin-range --vary top.mass=0.0505:0.0524 "
            "--constrain 'stiffness>=0.5'")
 
