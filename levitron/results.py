@@ -134,7 +134,7 @@ class Simulation:
     rhs_evals; wall_s (s); final_state (the model's states, SI); details: every key of the
     command's JSON (in air also "flight": flight time, fall spin, the adiabatic t_cross);
     trajectory: the samples as data, {column: array}: t (s), the states (SI), energy (J), L_z,
-    L_n (kg m^2/s) and tilt (rad); `save(path)` writes them to .csv or .npz."""
+    L_n (kg m^2/s) and tilt (rad); `save(path)` writes them to .csv, .npz or .parquet."""
 
     levitating: bool | None
     t_survived: float
@@ -148,7 +148,7 @@ class Simulation:
     units: Units = field(default=_SI, repr=False, compare=False)   # how repr and message show numbers
 
     def save(self, path) -> str:
-        """Write the trajectory to a .csv or .npz file (runtime/simulate/trajectory_file.py)."""
+        """Write the trajectory to a .csv, .npz or .parquet file (runtime/simulate/trajectory_file.py)."""
         import numpy as np
 
         from levitron.runtime.simulate import trajectory_file
@@ -191,7 +191,10 @@ class Simulation:
 class LaunchOdds:
     """Launch odds by Monte Carlo (runtime/scan/launch_odds.py, docs/contract.md `launch`): probability of
     floating at least success_time (s), its 95 % Wilson interval, flight-time median and quartiles
-    (s), the inputs ranked by their effect on the success rate; details: every key of the JSON."""
+    (s), the inputs ranked by their effect on the success rate; details: every key of the JSON;
+    launches: every launch as data, {column: array of length n} (launch_odds.LAUNCH_UNITS: the
+    inputs as run, mass in kg and mu absolute, strength the factor 1 + d, z_s, verdict, floats,
+    flight_time), the table `levitron launch --save` writes; `save(path)` writes it too."""
 
     probability: float
     probability_ci95: tuple[float, float]
@@ -201,6 +204,12 @@ class LaunchOdds:
     ranking: list
     details: dict = field(repr=False, default_factory=dict)
     units: Units = field(default=_SI, repr=False, compare=False)   # how repr and message show numbers
+    launches: dict = field(repr=False, default_factory=dict, compare=False)
+
+    def save(self, path) -> str:
+        """Write the launches to a .csv, .npz or .parquet file (runtime/simulate/trajectory_file.py)."""
+        from levitron.runtime.simulate import trajectory_file
+        return str(trajectory_file.write_columns(path, self.launches, flag="save"))
 
     # a sample's verdict: its run ended normally, or it cannot hover (a launch that fails, no solver's)
     VERDICTS = NORMAL_ENDS + ("cannot_hover",)

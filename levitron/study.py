@@ -244,14 +244,16 @@ class Study:
         number (default: the scene's [launch] table, else the scene-scaled defaults); n, seed and
         the options success_time (s), t_end (s) default to the table's too, as on the command line
         (else 1000 launches, seed 0); options also integrator, tol, workers, scheduler. The same
-        seed gives the same verdicts serially, with processes and on dask."""
+        seed gives the same verdicts serially, with processes and on dask. The result's `launches`
+        holds every launch as arrays (its inputs as run, verdict, flight time)."""
         from levitron.runtime.scan.launch_odds import Request
         request = Request.of(self.scene.data.get("launch", {}), inputs, n=n, seed=seed, **options)
         ref = str(Path(self.scene.path).resolve()) if self.scene.path else self.scene.name
         out = request.run(self.model, ref, self.overrides, quiet=True)
+        table = out.pop("launches")
         return LaunchOdds(out["probability"], tuple(out["probability_ci95"]), out["n"],
                           out["success_time"], {k: out["flight_time"][k] for k in ("median", "q1", "q3")},
-                          [(e["input"], e["effect"]) for e in out["ranking"]], out, self.units)
+                          [(e["input"], e["effect"]) for e in out["ranking"]], out, self.units, table)
 
     @_in_scene_units
     def propagator(self, part: str = "reduced", integrator: str = "auto", tol: float = 1e-9,
