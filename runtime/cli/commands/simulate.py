@@ -100,7 +100,7 @@ def flight_line(r: dict, u: Units) -> str:
     else:
         head = (f"still floating after {u.time(r['t_survived'])} (the whole run), spin now "
                 f"{u.rate(fl['spin_final'])}")
-    taus = ", ".join(f"{k.removeprefix('k_')} {u.time(v)}" for k, v in fl["decay_times"].items() if v)
+    taus = ", ".join(f"{name} {u.time(v)}" for name, v in fl["decay_times"].items() if v)
     return lines(head, f"{limits}; {pred}" if pred else limits, above, f"air friction: decay times {taus}")
 
 
