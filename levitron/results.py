@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from levitron.runtime.errors import UserError
-from levitron.runtime.integrate.verdict import DOWN, UP
+from levitron.runtime.integrate.verdict import DOWN, NO_HOVER, UP
 from levitron.runtime.ui.human import Units, restate, sig
 
 _SI = Units(si=True)
@@ -256,7 +256,9 @@ class Simulations:
     t_survived (s), rhs_evals (without simulate's dense-output evaluations), steps, z_s (m, each
     launch's hover height), final_states (n, len(states)), SI; inputs: the launch columns
     {spin (rad/s), tilt (rad), offset (m), azimuth (rad), and any varied scene keys}; wall_s (s,
-    the whole call); details: t_end, integrator, tol, lanes (whether the lane variant ran)."""
+    the whole call); details: t_end, integrator, tol, lanes (whether the lane variant ran);
+    reason: per launch, why its top cannot hover (None where it can): such a launch is not run,
+    its status "no_hover_height", levitating False, t_survived 0, z_s and final state NaN."""
 
     levitating: np.ndarray
     untested: np.ndarray
@@ -271,6 +273,10 @@ class Simulations:
     wall_s: float
     details: dict = field(default_factory=dict)
     units: Units = field(default=_SI, repr=False, compare=False)   # how repr and message show numbers
+    reason: np.ndarray | None = None
+
+    # a launch's verdict: its run ended normally, or its top cannot hover (not run: no solver's failure)
+    VERDICTS = NORMAL_ENDS + (NO_HOVER,)
 
     def __len__(self) -> int:
         return int(self.status.size)
@@ -284,29 +290,39 @@ class Simulations:
 
     @property
     def success(self) -> bool:
-        """Every run ended normally: reached t_end, or stopped when the top left the box."""
-        return bool(np.all(np.isin(self.status, NORMAL_ENDS)))
+        """Every launch has its verdict: its run ended normally (reached t_end, or stopped when the
+        top left the box), or its top cannot hover."""
+        return bool(np.all(np.isin(self.status, self.VERDICTS)))
 
     @property
     def message(self) -> str:
         n = len(self)
-        bad = np.flatnonzero(~np.isin(self.status, NORMAL_ENDS))
+        bad = np.flatnonzero(~np.isin(self.status, self.VERDICTS))
         if bad.size:
             kinds = ", ".join(sorted(set(self.status[bad].tolist())))
             return (f"{bad.size} of {n} runs did not end normally ({kinds}; the first: launch "
                     f"{int(bad[0])})")
         lev = int(np.sum(self.levitating & ~self.untested))
-        text = (f"{n} runs ended normally; {lev} stayed up for the whole "
-                f"{_q(self.units, self.details.get('t_end', 0), 's')}")
+        no = np.flatnonzero(self.status == NO_HOVER)
+        ran = n - no.size
+        text = (f"{ran} runs ended normally; {lev} stayed up for the whole "
+                f"{_q(self.units, self.details.get('t_end'), 's')}") if ran else "no launch ran"
         if np.any(self.untested):
             text += f"; {int(np.sum(self.untested))} launched on the invariant set test nothing"
+        if no.size:
+            why = self.reason[no[0]] if self.reason is not None else None
+            text += (f"; {no.size} cannot hover (the first, launch {int(no[0])}: "
+                     f"{restate(why, self.units) if why else 'no stable hover height'})")
         return text
 
     def __repr__(self) -> str:
         n = len(self)
         lev = int(np.sum(self.levitating & ~self.untested))
         ts = self.t_survived
+        no = int(np.sum(self.status == NO_HOVER))
+        t_end = self.details.get("t_end")
         return (f"Simulations(n={n}, levitating={lev} of {n - int(np.sum(self.untested))} tested, "
                 f"t_survived={np.min(ts):.6g}-{np.max(ts):.6g} of "
-                f"{_q(self.units, self.details.get('t_end', float('nan')), 's')}, "
-                f"lanes={self.details.get('lanes')}, success={self.success})")
+                f"{_q(self.units, float('nan') if t_end is None else t_end, 's')}, "
+                + (f"cannot hover={no}, " if no else "")
+                + f"lanes={self.details.get('lanes')}, success={self.success})")
