@@ -160,6 +160,7 @@ def human(r: dict, scene=None) -> str:
     return lines(
         f"launch odds: {sig(100 * r['probability'], 3)}% of {r['n']} launches float at least "
         f"{u.time(r['success_time'])} (95% Wilson interval {sig(100 * lo, 3)}-{sig(100 * hi, 3)}%)",
+        *[f"warning: {w}" for w in r.get("warnings", [])],
         f"flight time: median {at(ft['median'])}, quartiles {at(ft['q1'])} - {at(ft['q3'])}"
         f" (runs of {u.time(r['t_end'])}{cens})",
         f"matters most: {'; '.join(rank)}" if rank else "no input has a spread",
