@@ -92,7 +92,7 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
     runtime/integrate/methods.py or "auto" (resolved from tol: the answer's `integrator` is the
     method that ran, `integrator_requested` the name asked for, `integrator_choice` auto's reason).
     tilt None: DEFAULT_TILT for the full model, 0 for the reduced one; t_end None: default_t_end.
-    save: write the samples to a .csv or .npz file (runtime/simulate/trajectory_file.py; `saved` names it);
+    save: write the samples to a .csv, .npz or .parquet file (runtime/simulate/trajectory_file.py; `saved` names it);
     trajectory: also return them as out["trajectory"] = {column: array} (not JSON: the API's)."""
     if save is not None:
         trajectory_file.check_path(save)

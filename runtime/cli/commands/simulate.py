@@ -41,7 +41,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--n-out", type=int, default=2000, help="number of output samples (default 2000)")
     parser.add_argument("--plot", default=None, metavar="FILE", help="draw height, radial offset and tilt to FILE.png")
     parser.add_argument("--save", default=None, metavar="FILE",
-                        help="write the samples (--n-out of them) to FILE.csv or FILE.npz: t, every state, "
+                        help="write the samples (--n-out of them) to FILE.csv, .npz or .parquet: t, every state, "
                         "energy, L_z, L_n, tilt and the spin omega_3")
     parser.add_argument("--animate", default=None, metavar="FILE",
                         help="an animation of the run: FILE.html (a page that plays offline), .gif or .mp4")
@@ -100,7 +100,7 @@ def flight_line(r: dict, u: Units) -> str:
     else:
         head = (f"still floating after {u.time(r['t_survived'])} (the whole run), spin now "
                 f"{u.rate(fl['spin_final'])}")
-    taus = ", ".join(f"{k.removeprefix('k_')} {u.time(v)}" for k, v in fl["decay_times"].items() if v)
+    taus = ", ".join(f"{name} {u.time(v)}" for name, v in fl["decay_times"].items() if v)
     return lines(head, f"{limits}; {pred}" if pred else limits, above, f"air friction: decay times {taus}")
 
 
