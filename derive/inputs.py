@@ -15,7 +15,7 @@ from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
 from . import plates
-from .scene import FRICTION_KEYS, TEMPERATURE_KEY, spelled_alike
+from .scene import FRICTION_KEYS, TEMPERATURE_KEY, TILT_KEYS_NAMES, spelled_alike
 
 DERIVE_DIR = Path(__file__).resolve().parent
 
@@ -68,6 +68,7 @@ def structure(data: dict) -> dict:
     with an accuracy target (field.tolerance), every number (the chosen order depends on them)."""
     d = copy.deepcopy(data)
     d.get("plate", {}).pop(TEMPERATURE_KEY.name, None)    # a runtime factor on mu (derive/scene.py)
+    tilted = any([d.get("plate", {}).pop(k, None) is not None for k in TILT_KEYS_NAMES])
     keep_numbers = "order" not in d.get("field", {})
     plate = d.get("plate")
     out = {"name": d.get("name"), "field": d.get("field"), "model": d.get("model"),
@@ -75,6 +76,8 @@ def structure(data: dict) -> dict:
            "decisions": plates.decisions(plate)}
     if any(k in d.get("top", {}) for k in FRICTION_KEYS):   # air friction: the full model's form
         out["friction"] = True
+    if tilted:                  # a base tilt: gravity along a tilted vector (derive/mechanics.py)
+        out["tilted"] = True
     return out
 
 

@@ -15,7 +15,7 @@ from .invariants import angular_momenta
 from .geometry import Plate
 from .mechanics import hamiltonian_system
 from .reduction import reduced_system
-from .symbols import PHYSICAL, Phi, X, Y, Z, abstract_field
+from .symbols import PHYSICAL, TILT, Phi, X, Y, Z, abstract_field
 
 
 @dataclass(frozen=True)
@@ -60,14 +60,18 @@ def _part_functions(prefix: str, state, rhs: sp.Matrix, H: sp.Expr, with_jac: bo
 
 
 def build_spec(scene_name: str, plate: Plate, order: int, coordinates: str, needs,
-               friction: bool = False) -> ModelSpec:
+               friction: bool = False, tilted: bool = False) -> ModelSpec:
     """The functions of a scene. With `friction`, the full model's momentum rows carry the
     generalised forces of air friction (derive/friction.py), its rates k_spin, k_tilt, k_trans
     close the parameter vector and `full_dissipation` (2F = -dH/dt) is emitted; without it the
-    model is the conservative one of thesis 2.3."""
+    model is the conservative one of thesis 2.3. With `tilted` (a base tilt, plate.tilt) gravity in
+    the full model is along a tilted vector (derive/mechanics.py) and base_tilt, base_tilt_azimuth
+    close the parameter vector; the reduced model does not exist then (derive/scene.py refuses it)."""
     rates = tuple(frictionmod.RATES) if friction else ()
     spec = ModelSpec(scene_name, plate, order, coordinates,
-                     tuple(PHYSICAL) + tuple(plate.symbols) + rates)
+                     tuple(PHYSICAL) + tuple(plate.symbols) + rates + (TILT if tilted else ()))
+    if tilted and "reduced" in needs:
+        raise ValueError("a tilted base has no reduced model (the axial symmetry is broken)")
     if "reduced" in needs:
         red = reduced_system(order)
         spec.parts["reduced"] = {"states": red.state_names, "equations": "thesis eq. 3.2.12"}
@@ -78,8 +82,10 @@ def build_spec(scene_name: str, plate: Plate, order: int, coordinates: str, need
         spec.field3d = sp.Matrix(plate.field3d(X, Y, Z))
         B3 = sp.ImmutableMatrix(abstract_field())
     if "full" in needs:
-        full = hamiltonian_system(coordinates, order, B3)
+        full = hamiltonian_system(coordinates, order, B3, tilted)
         what = f"full 12-D model, {coordinates} angles (thesis 2.3)"
+        if tilted:
+            what += " on a tilted base (gravity along a tilted vector, derive/mechanics.py)"
         equations = "thesis eqs. 2.3.9-2.3.16 (" + coordinates + ")"
         rhs = full.rhs
         if friction:

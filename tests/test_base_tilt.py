@@ -1,0 +1,117 @@
+"""A tilted base (issue 27, scene key plate.tilt): gravity along a tilted vector in the full model.
+
+The generated terms are checked against the hand form of derive/mechanics.py's docstring,
+U_tilt - U_level = m g (z (cos t - 1) - (x cos a + y sin a) sin t): the momentum rows gain
+m g sin t (cos a, sin a) and -m g (cos t - 1), in C and CasADi alike; at t = 0 the tilted model is
+the level one. A scene without the key keeps its model (its input hash is the committed one).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from levitron.derive.inputs import input_hash
+from levitron.derive.mechanics import hamiltonian_system
+from levitron.derive.scene import SceneError, load_scene
+from levitron.derive.symbols import X, Y, Z, base_tilt, base_tilt_azimuth, g, m
+
+TILT = ("plate.tilt=0.001",)
+
+
+@pytest.fixture(scope="module")
+def tilted(derived_model):
+    return derived_model("thesis_stable", *TILT)
+
+
+@pytest.fixture(scope="module")
+def level(derived_model):
+    return derived_model("thesis_stable")
+
+
+def random_states(part, rng, n=20):
+    for _ in range(n):
+        x = rng.uniform(-1, 1, part.nx) * np.array([0.01, 0.01, 0.01, 0.3, 0.3, 3,
+                                                     1e-3, 1e-3, 1e-3, 1e-5, 1e-5, 1e-3])
+        x[part.states.index("z")] += 0.1
+        yield x
+
+
+def test_the_symbolic_potential_is_the_hand_form():
+    level_sys = hamiltonian_system("tait-bryan", 2)
+    tilt_sys = hamiltonian_system("tait-bryan", 2, None, True)
+    t, a = base_tilt, base_tilt_azimuth
+    hand = m * g * (Z * (sp.cos(t) - 1) - (X * sp.cos(a) + Y * sp.sin(a)) * sp.sin(t))
+    assert sp.simplify(tilt_sys.U - level_sys.U - hand) == 0
+    assert sp.simplify(tilt_sys.H - level_sys.H - hand) == 0
+    assert tilt_sys.U.subs(t, 0) == level_sys.U
+
+
+@pytest.mark.parametrize("tilt,azimuth", [(0.001, 0.0), (0.3, 0.7), (1.2, -2.5)])
+def test_generated_tilt_terms_match_the_hand_form(tilted, tilt, azimuth):
+    pt = tilted.part("full")
+    p = tilted.with_params({"base_tilt": tilt, "base_tilt_azimuth": azimuth})
+    p0 = tilted.with_params({"base_tilt": 0.0})
+    mg = tilted.param("m") * tilted.param("g")
+    rng = np.random.default_rng(27)
+    for x in random_states(pt, rng):
+        want = np.zeros(pt.nx)
+        want[pt.index("p_x")] = mg * math.sin(tilt) * math.cos(azimuth)
+        want[pt.index("p_y")] = mg * math.sin(tilt) * math.sin(azimuth)
+        want[pt.index("p_z")] = -mg * (math.cos(tilt) - 1)
+        s = dict(zip(pt.states, x))
+        dU = mg * (s["z"] * (math.cos(tilt) - 1)
+                   - (s["x"] * math.cos(azimuth) + s["y"] * math.sin(azimuth)) * math.sin(tilt))
+        for backend in ("c", "casadi"):
+            got = pt.rhs(x, p, backend) - pt.rhs(x, p0, backend)
+            size = np.abs(pt.rhs(x, p, backend)) + np.abs(want) + 1e-300
+            assert np.all(np.abs(got - want) <= 1e-12 * size), (backend, got, want)
+            dH = pt.energy(x, p, backend) - pt.energy(x, p0, backend)
+            assert abs(dH - dU) <= 1e-12 * (abs(pt.energy(x, p, backend)) + abs(dU)), backend
+
+
+def test_at_zero_tilt_the_tilted_model_is_the_level_one(tilted, level):
+    pt, pl = tilted.part("full"), level.part("full")
+    assert pt.states == pl.states
+    p0 = tilted.with_params({"base_tilt": 0.0, "base_tilt_azimuth": 0.4})
+    rng = np.random.default_rng(3)
+    for x in random_states(pt, rng):
+        for backend in ("c", "casadi"):
+            a, b = pt.rhs(x, p0, backend), pl.rhs(x, None, backend)
+            assert np.all(np.abs(a - b) <= 4 * np.finfo(float).eps * (np.abs(b) + np.abs(a).max() * 1e-3))
+            assert np.allclose(pt.jac(x, p0, backend), pl.jac(x, None, backend), rtol=1e-13,
+                               atol=1e-13 * np.abs(pl.jac(x, None, backend)).max())
+
+
+def test_the_tilt_is_a_runtime_parameter_and_its_presence_structural():
+    base = load_scene("thesis_stable")
+    one = load_scene("thesis_stable", ["plate.tilt=0.001"])
+    two = load_scene("thesis_stable", ["plate.tilt=0.002", "plate.tilt_azimuth=1.0"])
+    assert input_hash(one.data) == input_hash(two.data)          # a --set needs no derivation
+    assert input_hash(one.data) != input_hash(base.data)
+    assert "base_tilt" not in base.params and not base.tilted
+    assert two.params["base_tilt"] == 0.002 and two.params["base_tilt_azimuth"] == 1.0
+
+
+def test_a_tilted_scene_has_no_reduced_model():
+    sc = load_scene("thesis_stable", ["plate.tilt=0.001"])       # it lists "reduced": dropped, said
+    assert sc.needs == ("full", "linear")
+    assert any("axial symmetry" in n for n in sc.notes)
+    with pytest.raises(SceneError, match="reduced model .* does not exist for a tilted base"):
+        load_scene("reduced_only", ["plate.tilt=0.001"])
+    with pytest.raises(SceneError, match="axial symmetry"):
+        load_scene("thesis_stable", ["plate.tilt=0.001", 'model.needs=["reduced"]'])
+
+
+@pytest.mark.parametrize("override,needle", [
+    ("plate.tilt_azimuth=0.5", "without plate.tilt"),
+    ("plate.tilt=-0.01", "0 <= tilt < pi/2"),
+    ("plate.tilt=2.0", "0 <= tilt < pi/2"),
+    ('plate.tilt="level"', "is not a number"),
+])
+def test_bad_tilt_keys_are_one_line(override, needle):
+    with pytest.raises(SceneError, match=needle) as exc:
+        load_scene("thesis_stable", [override])
+    assert "\n" not in str(exc.value)
