@@ -115,3 +115,59 @@ def test_bad_tilt_keys_are_one_line(override, needle):
     with pytest.raises(SceneError, match=needle) as exc:
         load_scene("thesis_stable", [override])
     assert "\n" not in str(exc.value)
+
+
+# ---------------------------------------------------------------- the equilibrium (issue 27)
+
+@pytest.fixture(scope="module")
+def tilted_top(tilted):
+    from levitron.runtime.physics import equilibrium as eqm
+    from levitron.runtime.physics.tilted_equilibrium import TiltedTop
+    P = tilted.pvals()
+    rep = eqm.survey(eqm.model_onaxis(tilted), eqm.scale_of(tilted)).report(P["m"], P["g"], P["mu"])
+    return TiltedTop(tilted, tilted.p, rep.stable[0].z)
+
+
+@pytest.mark.parametrize("tilt", [0.0, 1e-5, 1e-3, 1.5e-3])
+def test_the_equilibrium_is_the_adiabatic_potential_s_stationary_point(tilted_top, tilt):
+    """Hamilton's equations at rest (the axis along B) and grad(|mu||B| + m g h) = 0 are two
+    routes to one point (runtime/physics/tilted_equilibrium.py): they agree to rounding."""
+    top = tilted_top
+    for sigma in (500.0, 2000.0):
+        e = top.hamilton(tilt, sigma)
+        assert e.residual < 1e-12
+        r = top.adiabatic(tilt)
+        assert np.max(np.abs(e.position - r)) <= 1e-13 * top.z_level
+        B = top.model.field(e.position, top.params_at(tilt))
+        assert abs(e.axis @ B / np.linalg.norm(B) - 1) <= 1e-14      # the axis along the field
+        # the exact relative equilibrium: the full rhs moves zeta only (the top spins, nothing else)
+        d = top.model.part("full").rhs(e.state, top.params_at(tilt))
+        moving = [s for s, v in zip(e.states, d) if abs(v) > 1e-12 * max(abs(sigma), 1)]
+        assert moving == ["zeta"]
+    if tilt == 0.0:
+        assert np.max(np.abs(e.position - [0.0, 0.0, top.z_level])) <= 1e-12 * top.z_level
+
+
+def test_the_sideways_shift_is_the_linear_estimate_to_second_order(tilted_top):
+    """shift = m g sin(t) / k_r (k_r the level trap's lateral stiffness) up to O(t^2) relative: the
+    relative error grows 100-fold when the tilt grows 10-fold."""
+    top = tilted_top
+    mg = top.P["m"] * top.P["g"]
+    err = []
+    for t in (1e-5, 1e-4):
+        x = top.hamilton(t, 1000.0).position[0]
+        est = mg * math.sin(t) / top.lateral_stiffness()
+        err.append(x / est - 1)
+    assert 0 < err[0] < 1e-5
+    assert 90 < err[1] / err[0] < 110
+
+
+def test_the_thesis_stable_top_at_a_milliradian(tilted_top):
+    """The issue's first estimate (the adiabatic minimum of thesis_stable at 0.001 rad): 2.2 mm
+    downhill, 0.13 mm higher; at 0.0017 rad the equilibrium is gone."""
+    from levitron.runtime.physics.tilted_equilibrium import NoEquilibrium
+    e = tilted_top.hamilton(1e-3, 1000.0).as_dict(tilted_top.z_level)
+    assert round(e["downhill"] * 1e3, 1) == 2.2 and e["position"][1] == 0
+    assert round(e["rise"] * 1e3, 2) == 0.13
+    with pytest.raises(NoEquilibrium, match="ends near 0.0016"):
+        tilted_top.hamilton(1.7e-3, 1000.0)
