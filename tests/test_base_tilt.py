@@ -171,3 +171,51 @@ def test_the_thesis_stable_top_at_a_milliradian(tilted_top):
     assert round(e["rise"] * 1e3, 2) == 0.13
     with pytest.raises(NoEquilibrium, match="ends near 0.0016"):
         tilted_top.hamilton(1.7e-3, 1000.0)
+
+
+# ---------------------------------------------------------------- linear stability (issue 27)
+
+def test_at_zero_tilt_the_interval_is_today_s(tilted, level):
+    """The eigenvalue route at the tilted equilibrium (10x10, zeta and p_zeta dropped) at tilt 0
+    gives the level scene's interval: its eigen route to 1e-13, the discriminant to its bisection
+    tolerance; the equilibrium is the level one to 1e-12."""
+    from levitron.runtime.physics.stability import stability_of
+    got = stability_of(tilted, p=tilted.with_params({"base_tilt": 0.0}))
+    want = stability_of(level)
+    assert got.routes_agree and want.routes_agree
+    assert abs(got.z_s - want.z_s) <= 1e-12 * want.z_s
+    for a, b in zip(got.eigenvalues[0], want.eigenvalues[0]):
+        assert abs(a - b) <= 1e-13 * b
+    for a, b in zip(got.spin_interval, want.discriminant[0]):
+        assert abs(a - b) <= 1e-10 * b
+    assert got.equilibrium["offset"] == 0 and got.notes == []
+
+
+def test_a_tilt_narrows_the_interval_and_the_discriminant_says_it_does_not_apply(tilted, level):
+    from levitron.runtime.physics.stability import stability_of
+    lo0, hi0 = stability_of(level).spin_interval
+    prev = (lo0, hi0)
+    for t in (0.5e-3, 1e-3, 1.6e-3):
+        res = stability_of(tilted, p=tilted.with_params({"base_tilt": t}))
+        lo, hi = res.spin_interval
+        assert prev[0] >= lo > 0.99 * lo0 and hi < prev[1]          # the upper end falls first
+        assert res.discriminant == [] and "level apparatus only" in res.notes[0]
+        prev = (lo, hi)
+    res = stability_of(tilted, p=tilted.with_params({"base_tilt": 1.7e-3}))
+    assert res.spin_interval is None and "no equilibrium" in res.reason
+
+
+def test_stability_json_and_plain_view(capsys):
+    from levitron.runtime.cli.main import main
+    import json
+    assert main(["stability", "thesis_stable", "--set", "plate.tilt=0.001", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    e = out["equilibrium"]
+    assert len(e["position"]) == 3 and abs(np.linalg.norm(e["axis"]) - 1) < 1e-15
+    assert out["routes"]["discriminant"] is None and out["stiffness"] is None
+    assert main(["stability", "thesis_stable", "--set", "plate.tilt=0.001"]) == 0
+    text = capsys.readouterr().out
+    assert "the top hovers 2.2 mm off the centre, downhill, 0.13 mm higher" in text
+    assert main(["stability", "thesis_stable", "--set", "plate.tilt=0.001",
+                 "--set", "plate.tilt_azimuth=3.14159"]) == 0
+    assert "2.2 mm off the centre, downhill, 0.13 mm higher" in capsys.readouterr().out

@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -55,6 +55,8 @@ class StabilityResult:
     routes_agree: bool | None
     timings: dict
     mass: float | None = None        # kg: the top analysed (stability_of's `height`: the one hovering there)
+    notes: list = field(default_factory=list)
+    equilibrium: dict | None = None  # over a tilted base: position, axis (runtime/physics/tilted_stability.py)
 
     def as_dict(self) -> dict:
         def pair(iv):
@@ -80,6 +82,8 @@ class StabilityResult:
             "approximations": self.approximations,
             "reason": self.reason,
             "timings_s": self.timings,
+            **({"equilibrium": self.equilibrium} if self.equilibrium is not None else {}),
+            **({"notes": list(self.notes)} if self.notes else {}),
         }
 
 
@@ -197,7 +201,15 @@ def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
     z_s: an equilibrium height of that top, to skip the search. height: analyse instead the top
     that hovers at this height, of mass m(z) = -mu Phi_2(z) / g (thesis 3.3.2 solved for m; the
     stable band's rule, docs/contract.md); a UserError where no top hovers there (m(z) <= 0).
-    In air the friction rates are set to 0: the interval is the ideal top's (runtime/physics/friction.py)."""
+    In air the friction rates are set to 0: the interval is the ideal top's (runtime/physics/friction.py).
+    Over a tilted base (plate.tilt) the equilibrium is off the axis: runtime/physics/tilted_stability.py."""
+    if "base_tilt" in model.param_names:
+        if height is not None or z_s is not None:
+            raise UserError("--height analyses a top on the axis of a level base: over a tilted base "
+                            "(plate.tilt) give the mass (--set top.mass=...) instead")
+        from levitron.runtime.physics.tilted_stability import tilted_analysis
+        p = without_friction(model, model.with_params({} if mass is None else {"m": float(mass)}, p))
+        return tilted_analysis(model, p)
     if height is not None:
         if mass is not None or z_s is not None:
             raise ValueError("stability_of: height excludes mass and z_s")

@@ -7,6 +7,7 @@ with Hz and rpm beside.
 """
 from __future__ import annotations
 
+import math
 import time
 
 from levitron.runtime.ui.human import Units, lines, restate, sig
@@ -42,7 +43,8 @@ def run(args) -> dict:
     out["wall_s"] = wall
     # the vertical stiffness U'' = mu Phi_3(z_s) (thesis 3.3.3), N/m: what --constrain stiffness>=K
     # of `optimize` speaks of; it does not depend on the mass
-    out["stiffness"] = (model.param("mu") * float(model.onaxis(res.z_s)[3]) if res.z_s else None)
+    out["stiffness"] = (model.param("mu") * float(model.onaxis(res.z_s)[3])
+                        if res.z_s and res.equilibrium is None else None)
     return out
 
 
@@ -62,6 +64,19 @@ def _where(r: dict, u: Units) -> str:
         return f"at z_s = {u.length(r['z_s'])} for {u.top(r['mass'])}"
     return (f"at z = {u.length(r['z_s'])} (--height) for the top that hovers there, "
             f"of mass {u.mass(r['mass'])} (the scene's top is {u.mass(r['scene_mass'])})")
+
+
+def _equilibrium(e: dict, u: Units) -> str:
+    """Where the top hovers over a tilted base: off the centre (downhill or uphill), higher or
+    lower than over the level base (along the plate's axis)."""
+    rounding = 64 * 2.0 ** -52 * e["z_level"]      # what Newton's last step leaves
+    if e["offset"] <= rounding and abs(e["rise"]) <= rounding:
+        return "the top hovers on the axis, as over the level base"
+    side = "downhill" if e["downhill"] >= 0 else "uphill"
+    updown = "higher" if e["rise"] >= 0 else "lower"
+    return (f"the top hovers {u.length(e['offset'], 2)} off the centre, {side}, "
+            f"{u.length(abs(e['rise']), 2)} {updown} (base tilted {u.angle(e['tilt'])}; its axis "
+            f"{u.angle(math.acos(min(1.0, e['axis'][2])))} from the plate's)")
 
 
 def _interval(ivl, u: Units) -> str:
@@ -94,9 +109,10 @@ def human(r: dict, scene=None) -> str:
     more = r["all_intervals"].get("discriminant", [])[1:] if iv else []
     return lines(
         head,
+        _equilibrium(r["equilibrium"], u) if r.get("equilibrium") else "",
         _where(r, u),
         f"vertical stiffness there: U'' = mu Phi_3 = {u.value(r['stiffness'], 'N/m')} (thesis 3.3.3)"
         if r.get("stiffness") is not None else "",
         "further intervals: " + ", ".join(_interval(ivl, u) for ivl in more) if more else "",
         f"reason: {restate(r['reason'], u)}" if r.get("reason") else "",
-        approx, u.note)
+        approx, *(r.get("notes") or []), u.note)

@@ -1,0 +1,96 @@
+"""Linear stability of the spinning top over a tilted base (issue 27): route "eigenvalues" only.
+
+The relative equilibrium (runtime/physics/tilted_equilibrium.py) is off the axis with the axis
+tilted, so the ray polynomial of thesis 3.3.9-3.3.16 (route "discriminant", which rests on the
+axial symmetry) does not apply: it serves a level apparatus only. The eigenvalue route does: the
+generated Jacobian `full_jac` at the equilibrium, reduced by the top's own rotation (the cyclic
+zeta and its momentum p_zeta = C sigma, the spin, are dropped: zeta's column and p_zeta's row
+vanish), a 10x10 matrix whose eigenvalues all lie on the imaginary axis exactly where the top is
+linearly stable (runtime/physics/eigen_route.py `on_imaginary_axis`); the spin interval is scanned
+and bisected to its ends as the level eigen route does (`spin_intervals_eigen`). At tilt 0 the
+10x10 matrix is the level route's 8x8 transverse block beside the vertical (z, p_z) pair, so the
+interval is today's. No sympy here.
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from levitron.runtime.physics import equilibrium as eqm
+from levitron.runtime.physics.eigen_route import EPS, spin_intervals_eigen
+from levitron.runtime.physics.ray_algebra import RayCoefficients, spin_intervals_discriminant
+from levitron.runtime.physics.stability import StabilityResult, _approximations, relative_gap
+from levitron.runtime.physics.tilted_equilibrium import FIXED, NoEquilibrium, TiltedTop
+
+LEVEL_ONLY = ("the discriminant route (thesis 3.3.9-3.3.16) applies to a level apparatus only: its "
+              "ray polynomial rests on the axial symmetry, which the base's tilt breaks; the "
+              "interval is the eigenvalue route's")
+
+
+def reduced_jacobian(J: np.ndarray, states) -> np.ndarray:
+    """The Jacobian without zeta and p_zeta, after checking that zeta's column and p_zeta's row
+    vanish (zeta is cyclic) to rounding."""
+    states = list(states)
+    cut = [states.index(s) for s in FIXED]
+    keep = [i for i in range(len(states)) if i not in cut]
+    bound = len(states) * EPS * np.linalg.norm(J)
+    if np.abs(J[:, cut[0]]).max() > bound or np.abs(J[cut[1], :]).max() > bound:
+        raise ValueError("zeta is not cyclic in this model: the top's own rotation does not reduce")
+    return J[np.ix_(keep, keep)]
+
+
+def tilted_analysis(model, p: np.ndarray) -> StabilityResult:
+    """The StabilityResult at the relative equilibrium over the base tilted by p's base_tilt:
+    z_s the equilibrium's height, `equilibrium` its position and axis, the interval route
+    "eigenvalues" (module docstring); at tilt 0 route "discriminant" too, and routes_agree."""
+    timings = {}
+    P = model.pvals(p)
+    m, g, A, C, mu = P["m"], P["g"], P["A"], P["C"], P["mu"]
+    onaxis = eqm.model_onaxis(model, p)
+    t0 = time.perf_counter()
+    with eqm.naming_the_formula(model):
+        rep = eqm.survey(onaxis, eqm.scale_of(model, p)).report(m, g, mu)
+    timings["equilibria"] = time.perf_counter() - t0
+    approximations = _approximations(onaxis, rep.z_c, rep.max_mass, g, A, C)
+    tilt = P["base_tilt"]
+    if not rep.stable:
+        return StabilityResult(None, None, [], None, approximations,
+                               "on the level base: " + rep.no_hover_reason(m), None, timings,
+                               mass=m)
+    z_level = rep.stable[0].z
+    ph = np.asarray(onaxis(z_level), float)
+    level = spin_intervals_discriminant(RayCoefficients.from_physics(ph[1], ph[2], ph[3], m, A, C, mu))
+    sigma_scale = math.sqrt(abs(mu * ph[1]) / A) * A / C if ph[1] != 0 else 1.0
+    probes = [math.sqrt(a * b) for a, b in level if 0 < a and b < math.inf]
+    t0 = time.perf_counter()
+    top = TiltedTop(model, p, z_level)
+    try:
+        eq = top.hamilton(tilt, probes[0] if probes else sigma_scale)
+    except NoEquilibrium as exc:
+        return StabilityResult(None, None, [], None, approximations, str(exc), None, timings,
+                               mass=m, notes=[LEVEL_ONLY] if tilt else [])
+    timings["tilted_equilibrium"] = time.perf_counter() - t0
+    jfast = model.fast("full_jac", top.params_at(tilt))
+    n = len(eq.states)
+
+    def jac(sigma):
+        return reduced_jacobian(jfast(eq.at_spin(sigma)).reshape(n, n), eq.states)
+    t0 = time.perf_counter()
+    eig = spin_intervals_eigen(jac, sigma_scale, probes)
+    timings["eigenvalues"] = time.perf_counter() - t0
+    bounded = [iv for iv in eig if iv[1] < math.inf and iv[0] > 0]
+    reason = None
+    if not bounded:
+        reason = (f"on the base tilted by {tilt:.6g} rad no spin rate makes the top linearly stable "
+                  "at its equilibrium (eigenvalues of the generated Jacobian)")
+    elif len(bounded) > 1:
+        reason = f"{len(bounded)} disjoint spin intervals; spin_interval is the lowest"
+    disc = level if tilt == 0 else []
+    agree = relative_gap(disc, eig) <= 1e-6 if tilt == 0 else None
+    res = StabilityResult(float(eq.position[2]), bounded[0] if bounded else None, disc, eig,
+                          approximations, reason, agree, timings, mass=m,
+                          notes=[] if tilt == 0 else [LEVEL_ONLY])
+    res.equilibrium = eq.as_dict(z_level)
+    return res
