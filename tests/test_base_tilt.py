@@ -219,3 +219,35 @@ def test_stability_json_and_plain_view(capsys):
     assert main(["stability", "thesis_stable", "--set", "plate.tilt=0.001",
                  "--set", "plate.tilt_azimuth=3.14159"]) == 0
     assert "2.2 mm off the centre, downhill, 0.13 mm higher" in capsys.readouterr().out
+
+
+def test_the_interval_ends_against_simulations(tilted):
+    """Started beside the tilted equilibrium (1e-6 z_s sideways, 1e-5 rad in vartheta), the full
+    model in C stays within 20x the start 3 % inside each end of the eigen route's interval, and
+    leaves by more than 100x it 3 % outside, within 8 e-folding times of the fastest mode there."""
+    from levitron.runtime.integrate.run import integrate
+    from levitron.runtime.physics.stability import stability_of
+    from levitron.runtime.physics.tilted_equilibrium import TiltedTop
+    from levitron.runtime.physics.tilted_stability import reduced_jacobian
+    res = stability_of(tilted)
+    lo, hi = res.spin_interval
+    top = TiltedTop(tilted, tilted.p, res.equilibrium["z_level"])
+    eq = top.hamilton(1e-3, lo)
+    pt = tilted.part("full")
+    idx = [eq.states.index(k) for k in ("x", "y", "phi", "vartheta")]
+    size = np.array([top.z_level, top.z_level, 1.0, 1.0])
+    slowest = None
+    for sigma, stable in ((1.03 * lo, True), (0.97 * hi, True), (0.97 * lo, False), (1.03 * hi, False)):
+        x = eq.at_spin(sigma)
+        rate = max(np.linalg.eigvals(reduced_jacobian(pt.jac(x), eq.states)).real)
+        if not stable:
+            slowest = rate if slowest is None else min(slowest, rate)
+        x0 = x.copy()
+        x0[eq.states.index("x")] += 1e-6 * top.z_level
+        x0[eq.states.index("vartheta")] += 1e-5
+        t_end = 8 / (rate if not stable else 0.5)
+        run = integrate(pt, x0, t_end, method="dop853", tol=1e-10, n_out=400, max_steps=10**7)
+        assert run.ok
+        dev = np.max(np.abs(run.X[:, idx] - x[idx]) / size)
+        assert (dev < 20 * 1e-5) if stable else (dev > 100 * 1e-5), (sigma, dev)
+    assert slowest > 0.1
