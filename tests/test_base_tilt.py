@@ -251,3 +251,53 @@ def test_the_interval_ends_against_simulations(tilted):
         dev = np.max(np.abs(run.X[:, idx] - x[idx]) / size)
         assert (dev < 20 * 1e-5) if stable else (dev > 100 * 1e-5), (sigma, dev)
     assert slowest > 0.1
+
+
+# ---------------------------------------------------------------- how level (issue 27)
+
+def _adiabatic_fold(top):
+    """Where the adiabatic potential's stationary point ends (its Hessian singular): the second
+    route's fold, by continuation and bisection of its existence."""
+    from levitron.runtime.physics.tilted_equilibrium import NoEquilibrium
+    from levitron.runtime.physics.tilted_stability import _bisect
+
+    def exists(t):
+        try:
+            top.adiabatic(t)
+        except NoEquilibrium:
+            return False
+        return True
+    with pytest.raises(NoEquilibrium) as exc:
+        top.adiabatic(1.5)
+    return _bisect(exists, exc.value.reached, 1.01 * exc.value.reached + 1e-7)
+
+
+@pytest.mark.parametrize("name", ["thesis_stable", "ring_magnet"])
+def test_the_level_tolerance_is_the_fold_of_both_routes(derived_model, name):
+    """max_base_tilt (bisection of the eigen route's verdict) lies at the fold of the equilibrium
+    (Hamilton's route), which is the adiabatic potential's fold (the second route) to 1e-4."""
+    from levitron.runtime.physics.stability import stability_of
+    from levitron.runtime.physics.tilted_equilibrium import TiltedTop
+    from levitron.runtime.physics.tilted_stability import level_tolerance
+    model = derived_model(name, *TILT)
+    tol = level_tolerance(model, model.p)
+    top = TiltedTop(model, model.p, stability_of(model, p=model.with_params({"base_tilt": 0.0})).z_s)
+    fold = _adiabatic_fold(top)
+    assert abs(tol["fold_tilt"] - fold) <= 1e-4 * fold
+    assert tol["max_base_tilt"] <= tol["fold_tilt"] and tol["limited_by"] == "fold"
+    below = stability_of(model, p=model.with_params({"base_tilt": 0.999 * tol["max_base_tilt"]}))
+    above = stability_of(model, p=model.with_params({"base_tilt": 1.001 * tol["fold_tilt"]}))
+    assert below.spin_interval is not None and above.spin_interval is None
+
+
+def test_level_tolerance_on_the_command_line(capsys):
+    from levitron.runtime.cli.main import main
+    import json
+    assert main(["stability", "thesis_stable", "--set", "plate.tilt=0", "--level-tolerance",
+                 "--json"]) == 0
+    t = json.loads(capsys.readouterr().out)["level_tolerance"]
+    assert abs(t["height_difference"] - math.tan(t["max_base_tilt"]) * 0.1) < 1e-15
+    assert main(["stability", "thesis_stable", "--set", "plate.tilt=0", "--level-tolerance"]) == 0
+    assert "level to 0.0948 deg (0.001655 rad): 0.17 mm across 10 cm" in capsys.readouterr().out
+    assert main(["stability", "thesis_stable", "--level-tolerance"]) == 2
+    assert "--set plate.tilt=0" in capsys.readouterr().err

@@ -35,6 +35,7 @@ SPIN_MOMENTA = ("p_phi", "p_vartheta", "p_zeta")
 NEWTON_ITER = 40
 STEP_TOL = 1e-14                   # a Newton step below this (scaled) is converged
 MIN_FRACTION = 1e-7                # continuation steps below this fraction of the tilt: no equilibrium
+MAX_MOVE = 0.05                    # a continuation step moves no state by more than this of its scale
 
 
 @dataclass(frozen=True)
@@ -78,13 +79,14 @@ def gravity_height(xyz, tilt: float, azimuth: float):
             - (xyz[0] * math.cos(azimuth) + xyz[1] * math.sin(azimuth)) * math.sin(tilt))
 
 
-def newton(F: Callable, J: Callable, u0: np.ndarray, scale: np.ndarray) -> np.ndarray | None:
-    """Newton's method on F(u) = 0 from u0, steps measured in units of `scale`; None if it does not
-    converge in NEWTON_ITER steps (or a step is not finite)."""
+def newton(FJ: Callable, u0: np.ndarray, scale: np.ndarray) -> np.ndarray | None:
+    """Newton's method on F(u) = 0 from u0 (FJ(u) = (F, dF/du)), steps measured in units of
+    `scale`; None if it does not converge in NEWTON_ITER steps (or a step is not finite)."""
     u = np.array(u0, dtype=float)
     for _ in range(NEWTON_ITER):
+        F, J = FJ(u)
         try:
-            du = np.linalg.solve(J(u) * scale[None, :], -F(u)) * scale
+            du = np.linalg.solve(J * scale[None, :], -F) * scale
         except np.linalg.LinAlgError:
             return None
         if not np.all(np.isfinite(du)):
@@ -97,43 +99,45 @@ def newton(F: Callable, J: Callable, u0: np.ndarray, scale: np.ndarray) -> np.nd
 
 @dataclass(frozen=True)
 class Branch:
-    """F(u, t) = 0 along the tilt t: F, its Jacobian J = dF/du and dF/dt as callables (u, t)."""
+    """F(u, t) = 0 along the tilt t: at(u, t) -> (F, its Jacobian J = dF/du, dF/dt)."""
 
-    F: Callable
-    J: Callable
-    Ft: Callable
+    at: Callable
     scale: np.ndarray
 
     def tangent(self, u: np.ndarray, t: float) -> np.ndarray:
         """du/dt along the branch: J du/dt = -dF/dt."""
-        return np.linalg.solve(self.J(u, t) * self.scale[None, :], -self.Ft(u, t)) * self.scale
+        _, J, Ft = self.at(u, t)
+        return np.linalg.solve(J * self.scale[None, :], -Ft) * self.scale
 
     def solve(self, t: float, guess: np.ndarray) -> np.ndarray | None:
-        return newton(lambda u: self.F(u, t), lambda u: self.J(u, t), guess, self.scale)
+        return newton(lambda u: self.at(u, t)[:2], guess, self.scale)
 
 
-def continued(branch: Branch, u0: np.ndarray, tilt: float,
-              steps: int = 4) -> tuple[np.ndarray | None, float]:
-    """Follow the branch from t = 0 (near u0) to `tilt`: Euler predictor along the tangent, Newton
-    corrector. A step is accepted only where the correction is under half the predicted change
-    (on a smooth branch it is of second order in the step), else halved: so Newton never jumps to
-    another branch, and at a fold (det J = 0, the tangent unbounded) the steps shrink to nothing.
-    Returns (the solution at `tilt` or None, the largest tilt reached on the branch)."""
-    u = branch.solve(0.0, np.array(u0, dtype=float))
+def continued(branch: Branch, u0: np.ndarray, tilt: float, steps: int = 4,
+              t0: float = 0.0) -> tuple[np.ndarray | None, float]:
+    """Follow the branch from t0 (default 0; u0 near its point there) to `tilt`: Euler predictor
+    along the tangent, Newton corrector. A step predicts a move of at most MAX_MOVE of each
+    state's scale, and is accepted only where the correction is under half the predicted move
+    (on a smooth branch it is of second order in the step), else halved: so Newton never jumps
+    to another branch, and at a fold (det J = 0, the tangent unbounded) the steps shrink to
+    nothing. Returns (the solution at `tilt` or None, the largest tilt reached on the branch)."""
+    u = branch.solve(t0, np.array(u0, dtype=float))
     if u is None:
-        return None, 0.0
-    t, h = 0.0, tilt / steps
+        return None, t0
+    t, h = t0, (tilt - t0) / steps
     while t < tilt:
         h = min(h, tilt - t)
         try:
-            step = branch.tangent(u, t) * h
+            rate = branch.tangent(u, t)
         except np.linalg.LinAlgError:
             return None, t
+        h = min(h, MAX_MOVE / max(np.max(np.abs(rate / branch.scale)), 1e-300))
+        step = rate * h
         got = branch.solve(t + h, u + step)
         size = np.max(np.abs(step / branch.scale))
         if got is None or np.max(np.abs((got - u - step) / branch.scale)) > 0.5 * size:
             h /= 2
-            if h < MIN_FRACTION * tilt:
+            if h < MIN_FRACTION * max(tilt, 1e-300):
                 return None, t
             continue
         t, u = t + h, got
@@ -174,18 +178,18 @@ class TiltedTop:
         grad, hess = ca.gradient(V, r), ca.hessian(V, r)[0]
         self._V = ca.Function("V", [r, pp], [V, grad, hess, ca.jacobian(grad, pp[it])])
         self._axis = model.casadi("full_axis")
+        self._known: list = []          # (tilt, solved states / _per_spin) on the branch: warm starts
 
     def params_at(self, tilt: float) -> np.ndarray:
         return self.model.with_params({"base_tilt": tilt}, self.p)
 
     def _branch(self, fn, fixed, scale: np.ndarray) -> Branch:
         """The Branch of fn(u[, fixed], p) -> (F, dF/du, dF/dt) along the tilt."""
-        def at(u, t, k):
+        def at(u, t):
             args = (u, self.params_at(t)) if fixed is None else (u, fixed, self.params_at(t))
-            out = np.asarray(fn(*args)[k], float)
-            return out.ravel() if k != 1 else out
-        return Branch(lambda u, t: at(u, t, 0), lambda u, t: at(u, t, 1), lambda u, t: at(u, t, 2),
-                      scale)
+            F, J, Ft = (np.asarray(v, float) for v in fn(*args))
+            return F.ravel(), J, Ft.ravel()
+        return Branch(at, scale)
 
     # ---- route "Hamilton"
     def _scales(self, sigma: float) -> np.ndarray:
@@ -204,9 +208,13 @@ class TiltedTop:
         level = np.zeros(len(self.states))
         level[self.states.index("z")] = self.z_level
         level[self.states.index("p_zeta")] = fixed[1]
-        u, reached = continued(self._branch(self._F, fixed, self._scales(sigma)), level[self.free], tilt)
+        t0, u0 = max(((t, u) for t, u in self._known if t <= tilt), key=lambda tu: tu[0],
+                     default=(0.0, level[self.free] / self._per_spin(sigma)))
+        u, reached = continued(self._branch(self._F, fixed, self._scales(sigma)), u0 * self._per_spin(sigma),
+                               tilt, t0=t0)
         if u is None:
             raise NoEquilibrium(tilt, reached)
+        self._known.append((tilt, u / self._per_spin(sigma)))
         x = level.copy()
         x[self.free] = u
         pt = self.params_at(tilt)
@@ -215,6 +223,11 @@ class TiltedTop:
         axis = np.asarray(self._axis(x, pt), float).ravel()
         return TiltedEquilibrium(tilt, self.P["base_tilt_azimuth"], sigma, x, self.states, axis,
                                  float(np.max(np.abs(res) / rhs_scale)))
+
+    def _per_spin(self, sigma: float) -> np.ndarray:
+        """The factor of each solved state in sigma: the angular momenta scale with it, the rest
+        not (TiltedEquilibrium.at_spin); the branch points found are kept divided by it."""
+        return np.array([sigma if self.states[i] in SPIN_MOMENTA else 1.0 for i in self.free])
 
     def _rhs_scales(self, sigma: float) -> np.ndarray:
         """The size of each solved row's terms: velocities L/T, forces m g, torques C sigma / T."""

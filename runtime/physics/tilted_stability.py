@@ -22,7 +22,7 @@ from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.physics.eigen_route import EPS, spin_intervals_eigen
 from levitron.runtime.physics.ray_algebra import RayCoefficients, spin_intervals_discriminant
 from levitron.runtime.physics.stability import StabilityResult, _approximations, relative_gap
-from levitron.runtime.physics.tilted_equilibrium import FIXED, NoEquilibrium, TiltedTop
+from levitron.runtime.physics.tilted_equilibrium import FIXED, MIN_FRACTION, NoEquilibrium, TiltedTop
 
 LEVEL_ONLY = ("the discriminant route (thesis 3.3.9-3.3.16) applies to a level apparatus only: its "
               "ray polynomial rests on the axial symmetry, which the base's tilt breaks; the "
@@ -41,10 +41,11 @@ def reduced_jacobian(J: np.ndarray, states) -> np.ndarray:
     return J[np.ix_(keep, keep)]
 
 
-def tilted_analysis(model, p: np.ndarray) -> StabilityResult:
+def tilted_analysis(model, p: np.ndarray, top: TiltedTop | None = None) -> StabilityResult:
     """The StabilityResult at the relative equilibrium over the base tilted by p's base_tilt:
     z_s the equilibrium's height, `equilibrium` its position and axis, the interval route
-    "eigenvalues" (module docstring); at tilt 0 route "discriminant" too, and routes_agree."""
+    "eigenvalues" (module docstring); at tilt 0 route "discriminant" too, and routes_agree.
+    top: a TiltedTop of the same model and parameters (but the tilt) to reuse its branch points."""
     timings = {}
     P = model.pvals(p)
     m, g, A, C, mu = P["m"], P["g"], P["A"], P["C"], P["mu"]
@@ -65,7 +66,7 @@ def tilted_analysis(model, p: np.ndarray) -> StabilityResult:
     sigma_scale = math.sqrt(abs(mu * ph[1]) / A) * A / C if ph[1] != 0 else 1.0
     probes = [math.sqrt(a * b) for a, b in level if 0 < a and b < math.inf]
     t0 = time.perf_counter()
-    top = TiltedTop(model, p, z_level)
+    top = TiltedTop(model, p, z_level) if top is None else top
     try:
         eq = top.hamilton(tilt, probes[0] if probes else sigma_scale)
     except NoEquilibrium as exc:
@@ -94,3 +95,58 @@ def tilted_analysis(model, p: np.ndarray) -> StabilityResult:
                           notes=[] if tilt == 0 else [LEVEL_ONLY])
     res.equilibrium = eq.as_dict(z_level)
     return res
+
+
+TILT_RTOL = 1e-6        # the bisection of the largest tilt stops at this relative width
+
+
+def _bisect(ok, lo: float, hi: float) -> float:
+    """The largest t in [lo, hi] with ok(t), ok(lo) true and ok(hi) false, to TILT_RTOL of hi."""
+    while hi - lo > TILT_RTOL * hi:
+        mid = (lo + hi) / 2
+        lo, hi = (mid, hi) if ok(mid) else (lo, mid)
+    return lo
+
+
+FOLD_NEAR = 1e-3        # max_base_tilt this close (relative) to the fold: limited by the fold
+
+
+def level_tolerance(model, p: np.ndarray) -> dict:
+    """How level the base must be (issue 27): `max_base_tilt` (rad), the largest tilt at which a
+    stable spin interval still exists, to TILT_RTOL; `fold_tilt` (rad), where the equilibrium
+    itself is gone (the branch from the level one turns back; None if it reaches pi/2);
+    `limited_by`: "fold" when max_base_tilt is within FOLD_NEAR of it, else "instability" (the
+    equilibrium exists, but no spin stabilises it). The fold: continuing the equilibrium towards
+    pi/2 stops there (runtime/physics/tilted_equilibrium.py), then bisection of its existence; if
+    the top is stable at the fold, that is the answer, else bisection of `tilted_analysis`'s
+    verdict below it. All None where the level top has no interval."""
+    P = model.pvals(p)
+    none = {"max_base_tilt": None, "fold_tilt": None, "limited_by": None,
+            "tilt_azimuth": P["base_tilt_azimuth"]}
+    res0 = tilted_analysis(model, model.with_params({"base_tilt": 0.0}, p))
+    if res0.spin_interval is None:
+        return none
+    top = TiltedTop(model, p, res0.equilibrium["z_level"])
+    sigma = math.sqrt(res0.spin_interval[0] * res0.spin_interval[1])
+
+    def exists(t):
+        try:
+            top.hamilton(t, sigma)
+        except NoEquilibrium:
+            return False
+        return True
+
+    def stable(t):
+        return tilted_analysis(model, model.with_params({"base_tilt": t}, p), top).spin_interval is not None
+    far = 0.999 * math.pi / 2
+    try:
+        top.hamilton(far, sigma)
+        fold = None
+    except NoEquilibrium as exc:
+        hi = min(far, 1.01 * exc.reached + MIN_FRACTION * far)
+        fold = _bisect(exists, exc.reached, hi) if not exists(hi) else hi
+    end = far if fold is None else fold
+    best = end if stable(end) else _bisect(stable, 0.0, end)
+    near = fold is not None and fold - best <= FOLD_NEAR * fold
+    return {**none, "max_base_tilt": float(best), "fold_tilt": None if fold is None else float(fold),
+            "limited_by": "fold" if near else ("instability" if best < end else None)}
