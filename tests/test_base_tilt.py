@@ -301,3 +301,15 @@ def test_level_tolerance_on_the_command_line(capsys):
     assert "level to 0.0948 deg (0.001655 rad): 0.17 mm across 10 cm" in capsys.readouterr().out
     assert main(["stability", "thesis_stable", "--level-tolerance"]) == 2
     assert "--set plate.tilt=0" in capsys.readouterr().err
+
+
+def test_simulate_over_a_tilted_base_starts_at_its_equilibrium_and_stays(tilted):
+    """Unperturbed (tilt 0, offset 0) the run starts at the tilted relative equilibrium and stays
+    there for 2 s: its radial offset and height are the equilibrium's throughout (to 1e-9 z_s)."""
+    from levitron.runtime.physics.stability import stability_of
+    from levitron.runtime.simulate import run as sim
+    e = stability_of(tilted).equilibrium
+    out = sim.simulate(tilted, spin=1000.0, tilt=0.0, t_end=2.0, tol=1e-12)
+    assert out["t_survived"] == 2.0 and "equilibrium there" in out["note"]
+    assert abs(out["max_radial_offset"] - e["offset"]) <= 1e-9 * e["z_level"]
+    assert abs(out["max_height_deviation"] - e["rise"]) <= 1e-9 * e["z_level"]

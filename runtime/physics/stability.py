@@ -202,9 +202,11 @@ def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
     that hovers at this height, of mass m(z) = -mu Phi_2(z) / g (thesis 3.3.2 solved for m; the
     stable band's rule, docs/contract.md); a UserError where no top hovers there (m(z) <= 0).
     In air the friction rates are set to 0: the interval is the ideal top's (runtime/physics/friction.py).
-    Over a tilted base (plate.tilt) the equilibrium is off the axis: runtime/physics/tilted_stability.py."""
+    Over a tilted base (plate.tilt) the equilibrium is off the axis and found there
+    (runtime/physics/tilted_stability.py, route "eigenvalues" only): a z_s given (a level hover
+    height) and eigen are not used."""
     if "base_tilt" in model.param_names:
-        if height is not None or z_s is not None:
+        if height is not None:
             raise UserError("--height analyses a top on the axis of a level base: over a tilted base "
                             "(plate.tilt) give the mass (--set top.mass=...) instead")
         from levitron.runtime.physics.tilted_stability import tilted_analysis
