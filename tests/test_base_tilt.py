@@ -313,3 +313,13 @@ def test_simulate_over_a_tilted_base_starts_at_its_equilibrium_and_stays(tilted)
     assert out["t_survived"] == 2.0 and "equilibrium there" in out["note"]
     assert abs(out["max_radial_offset"] - e["offset"]) <= 1e-9 * e["z_level"]
     assert abs(out["max_height_deviation"] - e["rise"]) <= 1e-9 * e["z_level"]
+
+
+def test_the_api_and_the_equilibrium_command_over_a_tilted_base(capsys):
+    import levitron as lev
+    from levitron.runtime.cli.main import main
+    st = lev.load("thesis_stable", {"plate.tilt": 0.001}).stability()
+    assert st.stiffness is None and st.equilibrium["downhill"] > 0
+    assert st.z_s == st.equilibrium["position"][2] > st.equilibrium["z_level"]
+    assert main(["equilibrium", "thesis_stable", "--set", "plate.tilt=0.001"]) == 0
+    assert "these are the level base's equilibria on the axis" in capsys.readouterr().out
