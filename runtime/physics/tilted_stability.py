@@ -21,7 +21,7 @@ import numpy as np
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.physics.eigen_route import EPS, spin_intervals_eigen
 from levitron.runtime.physics.ray_algebra import RayCoefficients, spin_intervals_discriminant
-from levitron.runtime.physics.stability import StabilityResult, _approximations, relative_gap
+from levitron.runtime.physics.stability_result import StabilityResult, approximations_at_z_c, relative_gap
 from levitron.runtime.physics.tilted_equilibrium import FIXED, MIN_FRACTION, NoEquilibrium, TiltedTop
 
 LEVEL_ONLY = ("the discriminant route (thesis 3.3.9-3.3.16) applies to a level apparatus only: its "
@@ -54,7 +54,7 @@ def tilted_analysis(model, p: np.ndarray, top: TiltedTop | None = None) -> Stabi
     with eqm.naming_the_formula(model):
         rep = eqm.survey(onaxis, eqm.scale_of(model, p)).report(m, g, mu)
     timings["equilibria"] = time.perf_counter() - t0
-    approximations = _approximations(onaxis, rep.z_c, rep.max_mass, g, A, C)
+    approximations = approximations_at_z_c(onaxis, rep.z_c, rep.max_mass, g, A, C)
     tilt = P["base_tilt"]
     if not rep.stable:
         return StabilityResult(None, None, [], None, approximations,

@@ -45,7 +45,7 @@ def run(args) -> dict:
     out["eigen_source"] = ("full_jac (generated)" if model.has_function("full_jac")
                            and "p_zeta" in model.part("full").states
                            else "transverse_matrix (8-D)")
-    if args.level_tolerance:
+    if getattr(args, "level_tolerance", False):     # (a Namespace built by hand may lack it)
         if "base_tilt" not in model.param_names:
             raise UserError("--level-tolerance needs the model of a tilted base: add "
                             "--set plate.tilt=0 (or the scene's plate.tilt)")
