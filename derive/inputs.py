@@ -76,8 +76,11 @@ def structure(data: dict) -> dict:
            "decisions": plates.decisions(plate)}
     if any(k in d.get("top", {}) for k in FRICTION_KEYS):   # air friction: the full model's form
         out["friction"] = True
-    if tilted:                  # a base tilt: gravity along a tilted vector (derive/mechanics.py)
+    offset = "moment_offset" in d.get("top", {})     # the moment at r + d n (derive/mechanics.py)
+    if tilted or offset:        # a base tilt (an offset magnet's model has one too): derive/scene.py
         out["tilted"] = True
+    if offset:
+        out["offset"] = True
     return out
 
 

@@ -74,6 +74,10 @@ TOP_KEYS = (
     Key("translation_decay_time", "s", "air friction: the e-folding time of the velocity of the "
         "centre of mass of a free top (default: none)"),
     TEMPERATURE_KEY,
+    Key("moment_offset", "m", "the magnet's centre along the symmetry axis from the centre of mass "
+        "(positive towards the moment's end of the axis n; default: none, the magnet at the centre "
+        "of mass): the moment feels the field at r + d n (derive/mechanics.py); the scene then "
+        "has no reduced model"),
 )
 
 # The base's tilt (issue 27): keys of [plate] that every plate kind takes; they put gravity along a
@@ -154,8 +158,15 @@ class Scene:
 
     @property
     def tilted(self) -> bool:
-        """The scene declares a base tilt (plate.tilt, issue 27): gravity along a tilted vector."""
-        return any(k in self.data["plate"] for k in TILT_KEYS_NAMES)
+        """The full model has a base tilt's terms (gravity along a tilted vector, parameters
+        base_tilt, base_tilt_azimuth): the scene declares plate.tilt, or top.moment_offset (an
+        imperfect apparatus gets both, so that one route serves it: runtime/physics/tilted_*)."""
+        return any(k in self.data["plate"] for k in TILT_KEYS_NAMES) or self.offset
+
+    @property
+    def offset(self) -> bool:
+        """The scene declares top.moment_offset: the moment at r + d n in the full model."""
+        return "moment_offset" in self.data["top"]
 
     @property
     def coordinates(self) -> str:
@@ -433,7 +444,8 @@ def validate(data: dict, path: Path | None = None) -> Scene:
     model = data["model"]
     check_keys(model, _names(MODEL_KEYS), "model")
     tilt = base_tilt(data["plate"])
-    needs = model.setdefault("needs", ["reduced", "full", "linear"] if not tilt else ["full", "linear"])
+    offset = magnet_offset(top)
+    needs = model.setdefault("needs", ["full", "linear"] if tilt or offset else ["reduced", "full", "linear"])
     if not isinstance(needs, list) or not needs or any(n not in NEEDS for n in needs):
         raise SceneError(f"model.needs = {needs!r}: give a non-empty list drawn from {list(NEEDS)}")
     if tilt and "reduced" in needs:
@@ -444,6 +456,13 @@ def validate(data: dict, path: Path | None = None) -> Scene:
         needs = [n for n in needs if n != "reduced"]
         notes.append("plate.tilt: no reduced model (the tilt breaks the axial symmetry the 4-D "
                      "model rests on): the full model only")
+    if offset and "reduced" in needs:
+        if "full" not in needs:
+            raise SceneError("top.moment_offset is modelled in the full model only (the reduced "
+                             "model of thesis 3.2.12 is not derived with it); give model.needs = "
+                             "[\"full\", \"linear\"] or remove top.moment_offset")
+        needs = [n for n in needs if n != "reduced"]
+        notes.append("top.moment_offset: modelled in the full model only (no reduced model)")
     if "linear" in needs and "full" not in needs:
         raise SceneError("model.needs has 'linear' without 'full': the linearisation is that of the "
                          "full model; add \"full\"")
@@ -464,7 +483,8 @@ def validate(data: dict, path: Path | None = None) -> Scene:
     params = {"m": m, "g": g, "A": A, "C": C, "mu": float(mu) * temp[0] * temp[1]}
     params.update({f"plate_{k}": float(v) for k, v in resolved.items()})
     params.update(friction_rates(top, model["needs"]))
-    params.update(tilt)
+    params.update(tilt or ({"base_tilt": 0.0, "base_tilt_azimuth": 0.0} if offset else {}))
+    params.update(offset)
     if data.get("temperature", T_REF) != T_REF:
         notes.append(f"at {data['temperature']:g} degC: plate field x {temp[0]:.6g}, top moment x "
                      f"{temp[1]:.6g} of their {T_REF:g} degC values")
@@ -485,6 +505,14 @@ def base_tilt(plate: dict) -> dict[str, float]:
                          "pi/2 (its direction is plate.tilt_azimuth)")
     az = number(plate, "tilt_azimuth", "plate", default=0.0)
     return {"base_tilt": tilt, "base_tilt_azimuth": az}
+
+
+def magnet_offset(top: dict) -> dict[str, float]:
+    """{moment_offset} (m) from top.moment_offset, or {} when not given (derive/spec.py refuses
+    it over a plate without axial symmetry)."""
+    if "moment_offset" not in top:
+        return {}
+    return {"moment_offset": number(top, "moment_offset", "top")}
 
 
 def temperature_factors(data: dict) -> tuple[float, float]:

@@ -16,6 +16,9 @@ PHYSICAL = (m, g, A, C, mu)
 # parameter vector of a scene that declares them (after the plate's and the friction's).
 base_tilt, base_tilt_azimuth = sp.symbols("base_tilt base_tilt_azimuth", real=True)
 TILT = (base_tilt, base_tilt_azimuth)
+# The magnet's centre along the axis from the centre of mass (scene key top.moment_offset; the
+# moment sits at r + d n, derive/mechanics.py): after the tilt's in the parameter vector.
+moment_offset = sp.Symbol("moment_offset", real=True)
 
 
 class Phi(sp.Function):

@@ -199,7 +199,7 @@ def test_a_tilt_narrows_the_interval_and_the_discriminant_says_it_does_not_apply
         res = stability_of(tilted, p=tilted.with_params({"base_tilt": t}))
         lo, hi = res.spin_interval
         assert prev[0] >= lo > 0.99 * lo0 and hi < prev[1]          # the upper end falls first
-        assert res.discriminant == [] and "level apparatus only" in res.notes[0]
+        assert res.discriminant == [] and "level, aligned apparatus only" in res.notes[0]
         prev = (lo, hi)
     res = stability_of(tilted, p=tilted.with_params({"base_tilt": 1.7e-3}))
     assert res.spin_interval is None and "no equilibrium" in res.reason
@@ -221,19 +221,19 @@ def test_stability_json_and_plain_view(capsys):
     assert "2.2 mm off the centre, downhill, 0.13 mm higher" in capsys.readouterr().out
 
 
-def test_the_interval_ends_against_simulations(tilted):
-    """Started beside the tilted equilibrium (1e-6 z_s sideways, 1e-5 rad in vartheta), the full
-    model in C stays within 20x the start 3 % inside each end of the eigen route's interval, and
-    leaves by more than 100x it 3 % outside, within 8 e-folding times of the fastest mode there."""
+def interval_ends_against_simulations(model, tilt):
+    """Started beside the equilibrium (1e-6 z_s sideways, 1e-5 rad in vartheta), the full model in
+    C stays within 20x the start 3 % inside each end of the eigen route's interval, and leaves by
+    more than 100x it 3 % outside, within 8 e-folding times of the fastest mode there."""
     from levitron.runtime.integrate.run import integrate
     from levitron.runtime.physics.stability import stability_of
     from levitron.runtime.physics.tilted_equilibrium import TiltedTop
     from levitron.runtime.physics.tilted_stability import reduced_jacobian
-    res = stability_of(tilted)
+    res = stability_of(model)
     lo, hi = res.spin_interval
-    top = TiltedTop(tilted, tilted.p, res.equilibrium["z_level"])
-    eq = top.hamilton(1e-3, lo)
-    pt = tilted.part("full")
+    top = TiltedTop(model, model.p, res.equilibrium["z_level"] + model.pvals().get("moment_offset", 0.0))
+    eq = top.hamilton(tilt, lo)
+    pt = model.part("full")
     idx = [eq.states.index(k) for k in ("x", "y", "phi", "vartheta")]
     size = np.array([top.z_level, top.z_level, 1.0, 1.0])
     slowest = None
@@ -251,6 +251,10 @@ def test_the_interval_ends_against_simulations(tilted):
         dev = np.max(np.abs(run.X[:, idx] - x[idx]) / size)
         assert (dev < 20 * 1e-5) if stable else (dev > 100 * 1e-5), (sigma, dev)
     assert slowest > 0.1
+
+
+def test_the_interval_ends_against_simulations(tilted):
+    interval_ends_against_simulations(tilted, 1e-3)
 
 
 # ---------------------------------------------------------------- how level (issue 27)
@@ -323,3 +327,59 @@ def test_the_api_and_the_equilibrium_command_over_a_tilted_base(capsys):
     assert st.z_s == st.equilibrium["position"][2] > st.equilibrium["z_level"]
     assert main(["equilibrium", "thesis_stable", "--set", "plate.tilt=0.001"]) == 0
     assert "these are the level base's equilibria on the axis" in capsys.readouterr().out
+
+
+# ---------------------------------------------------------------- a magnet off the centre of mass
+
+OFFSET = ("top.moment_offset=0.005",)
+
+
+@pytest.fixture(scope="module")
+def offset(derived_model):
+    return derived_model("thesis_stable", *OFFSET)
+
+
+def test_the_offset_magnet_s_energy_is_the_hand_form(offset):
+    """At rest the generated energy is U = m g z - mu n.B(r + d n), with n and B the generated
+    full_axis and field (thesis eq. 2.2.1 at the magnet's centre); the rhs is -dH/dq, dH/dp of the
+    generated energy by CasADi's differentiation (the lowered Phi_k at r + d n)."""
+    import casadi as ca
+    pt = offset.part("full")
+    P = offset.pvals()
+    xs, ps = ca.SX.sym("x", pt.nx), ca.SX.sym("p", offset.p.size)
+    dH = ca.Function("dH", [xs, ps], [ca.jacobian(offset.casadi("full_energy")(xs, ps), xs)])
+    rng = np.random.default_rng(5)
+    for x in random_states(pt, rng):
+        rest = x.copy()
+        rest[6:] = 0
+        n = offset.call("full_axis", rest)
+        B = offset.field(rest[:3] + P["moment_offset"] * n)
+        U = P["m"] * P["g"] * rest[2] - P["mu"] * n @ B
+        assert abs(pt.energy(rest) - U) <= 1e-14 * (P["m"] * P["g"] * rest[2] + abs(P["mu"] * n @ B))
+        g = np.asarray(dH(x, offset.p)).ravel()
+        want = np.concatenate([g[6:], -g[:6]])
+        got = pt.rhs(x)
+        assert np.all(np.abs(got - want) <= 1e-11 * (np.abs(want) + np.abs(want).max() * 1e-6))
+
+
+def test_the_offset_top_hovers_with_its_magnet_where_the_centred_one_does(offset, level):
+    from levitron.runtime.physics.stability import stability_of
+    res, ref = stability_of(offset), stability_of(level)
+    assert abs(res.z_s + 0.005 - ref.z_s) <= 1e-12 * ref.z_s
+    assert res.equilibrium["offset"] == 0 and res.discriminant == []
+    assert "aligned apparatus only" in res.notes[0]
+    lo, hi = res.spin_interval
+    assert lo < ref.spin_interval[0] and hi < ref.spin_interval[1]
+
+
+def test_the_offset_interval_ends_against_simulations(offset):
+    interval_ends_against_simulations(offset, 0.0)
+
+
+def test_the_offset_is_a_runtime_parameter():
+    one = load_scene("thesis_stable", ["top.moment_offset=0.005"])
+    two = load_scene("thesis_stable", ["top.moment_offset=-0.001", "plate.tilt=0.001"])
+    assert input_hash(one.data) == input_hash(two.data)
+    assert one.params["base_tilt"] == 0 and one.needs == ("full", "linear")
+    with pytest.raises(SceneError, match="full model only"):
+        load_scene("reduced_only", ["top.moment_offset=0.001"])
