@@ -448,21 +448,17 @@ def validate(data: dict, path: Path | None = None) -> Scene:
     needs = model.setdefault("needs", ["full", "linear"] if tilt or offset else ["reduced", "full", "linear"])
     if not isinstance(needs, list) or not needs or any(n not in NEEDS for n in needs):
         raise SceneError(f"model.needs = {needs!r}: give a non-empty list drawn from {list(NEEDS)}")
-    if tilt and "reduced" in needs:
-        if "full" not in needs:
-            raise SceneError("plate.tilt breaks the axial symmetry: the 4-D reduced model (thesis "
-                             "3.2.12, the top on the axis) does not exist for a tilted base; give "
-                             "model.needs = [\"full\", \"linear\"] or remove plate.tilt")
-        needs = [n for n in needs if n != "reduced"]
-        notes.append("plate.tilt: no reduced model (the tilt breaks the axial symmetry the 4-D "
-                     "model rests on): the full model only")
-    if offset and "reduced" in needs:
-        if "full" not in needs:
-            raise SceneError("top.moment_offset is modelled in the full model only (the reduced "
-                             "model of thesis 3.2.12 is not derived with it); give model.needs = "
-                             "[\"full\", \"linear\"] or remove top.moment_offset")
-        needs = [n for n in needs if n != "reduced"]
-        notes.append("top.moment_offset: modelled in the full model only (no reduced model)")
+    for key, given, why in (
+            ("plate.tilt", tilt, "breaks the axial symmetry: the 4-D reduced model (thesis 3.2.12, "
+             "the top on the axis) does not exist for a tilted base"),
+            ("top.moment_offset", offset, "is modelled in the full model only: the reduced model "
+             "(thesis 3.2.12) is not derived with it")):
+        if given and "reduced" in needs:
+            if "full" not in needs:
+                raise SceneError(f"{key} {why}; give model.needs = [\"full\", \"linear\"] or "
+                                 f"remove {key}")
+            needs = [n for n in needs if n != "reduced"]
+            notes.append(f"{key}: no reduced model (it {why.split(': ')[0]}): the full model only")
     if "linear" in needs and "full" not in needs:
         raise SceneError("model.needs has 'linear' without 'full': the linearisation is that of the "
                          "full model; add \"full\"")
