@@ -148,13 +148,16 @@ def continued(branch: Branch, u0: np.ndarray, tilt: float, steps: int = 4,
 class TiltedTop:
     """The generated full model of a tilted scene at parameters p, wrapped for the two routes."""
 
-    def __init__(self, model, p: np.ndarray, z_level: float):
+    def __init__(self, model, p: np.ndarray, z_magnet: float):
+        """z_magnet: the level equilibrium's height of the magnet, the on-axis finder's
+        (runtime/physics/equilibrium.py); the centre of mass sits top.moment_offset below it."""
         import casadi as ca
         if "p_zeta" not in model.part("full").states:
             raise UserError(f"scene '{model.scene.name}': the equilibrium over a tilted base is found "
                             "in Tait-Bryan angles: set model.coordinates = \"tait-bryan\"")
-        self.model, self.p, self.z_level = model, np.asarray(p, float), z_level
+        self.model, self.p = model, np.asarray(p, float)
         self.P = model.pvals(self.p)
+        self.z_level = z_magnet - self.P.get("moment_offset", 0.0)
         part = model.part("full")
         self.states = tuple(part.states)
         self.free = [i for i, s in enumerate(self.states) if s not in FIXED]

@@ -24,9 +24,9 @@ from levitron.runtime.physics.ray_algebra import RayCoefficients, spin_intervals
 from levitron.runtime.physics.stability_result import StabilityResult, approximations_at_z_c, relative_gap
 from levitron.runtime.physics.tilted_equilibrium import FIXED, MIN_FRACTION, NoEquilibrium, TiltedTop
 
-LEVEL_ONLY = ("the discriminant route (thesis 3.3.9-3.3.16) applies to a level apparatus only: its "
-              "ray polynomial rests on the axial symmetry, which the base's tilt breaks; the "
-              "interval is the eigenvalue route's")
+LEVEL_ONLY = ("the discriminant route (thesis 3.3.9-3.3.16) applies to a level, aligned apparatus "
+              "only: its ray polynomial rests on the axial symmetry (which the base's tilt breaks) "
+              "and on the magnet at the centre of mass; the interval is the eigenvalue route's")
 
 
 def reduced_jacobian(J: np.ndarray, states) -> np.ndarray:
@@ -56,6 +56,7 @@ def tilted_analysis(model, p: np.ndarray, top: TiltedTop | None = None) -> Stabi
     timings["equilibria"] = time.perf_counter() - t0
     approximations = approximations_at_z_c(onaxis, rep.z_c, rep.max_mass, g, A, C)
     tilt = P["base_tilt"]
+    aligned = tilt == 0 and P.get("moment_offset", 0.0) == 0   # the discriminant route applies
     if not rep.stable:
         return StabilityResult(None, None, [], None, approximations,
                                "on the level base: " + rep.no_hover_reason(m), None, timings,
@@ -71,7 +72,7 @@ def tilted_analysis(model, p: np.ndarray, top: TiltedTop | None = None) -> Stabi
         eq = top.hamilton(tilt, probes[0] if probes else sigma_scale)
     except NoEquilibrium as exc:
         return StabilityResult(None, None, [], None, approximations, str(exc), None, timings,
-                               mass=m, notes=[LEVEL_ONLY] if tilt else [])
+                               mass=m, notes=[] if aligned else [LEVEL_ONLY])
     timings["tilted_equilibrium"] = time.perf_counter() - t0
     jfast = model.fast("full_jac", top.params_at(tilt))
     n = len(eq.states)
@@ -88,12 +89,12 @@ def tilted_analysis(model, p: np.ndarray, top: TiltedTop | None = None) -> Stabi
                   "at its equilibrium (eigenvalues of the generated Jacobian)")
     elif len(bounded) > 1:
         reason = f"{len(bounded)} disjoint spin intervals; spin_interval is the lowest"
-    disc = level if tilt == 0 else []
-    agree = relative_gap(disc, eig) <= 1e-6 if tilt == 0 else None
+    disc = level if aligned else []
+    agree = relative_gap(disc, eig) <= 1e-6 if aligned else None
     res = StabilityResult(float(eq.position[2]), bounded[0] if bounded else None, disc, eig,
                           approximations, reason, agree, timings, mass=m,
-                          notes=[] if tilt == 0 else [LEVEL_ONLY])
-    res.equilibrium = eq.as_dict(z_level)
+                          notes=[] if aligned else [LEVEL_ONLY])
+    res.equilibrium = eq.as_dict(top.z_level)
     return res
 
 
@@ -126,7 +127,7 @@ def level_tolerance(model, p: np.ndarray) -> dict:
     res0 = tilted_analysis(model, model.with_params({"base_tilt": 0.0}, p))
     if res0.spin_interval is None:
         return none
-    top = TiltedTop(model, p, res0.equilibrium["z_level"])
+    top = TiltedTop(model, p, res0.equilibrium["z_level"] + P.get("moment_offset", 0.0))
     sigma = math.sqrt(res0.spin_interval[0] * res0.spin_interval[1])
 
     def exists(t):
