@@ -221,36 +221,67 @@ def test_stability_json_and_plain_view(capsys):
     assert "2.2 mm off the centre, downhill, 0.13 mm higher" in capsys.readouterr().out
 
 
-def interval_ends_against_simulations(model, tilt):
-    """Started beside the equilibrium (1e-6 z_s sideways, 1e-5 rad in vartheta), the full model in
-    C stays within 20x the start 3 % inside each end of the eigen route's interval, and leaves by
-    more than 100x it 3 % outside, within 8 e-folding times of the fastest mode there."""
+def deviation(model, eq, sigma: float, t_end: float) -> float:
+    """The largest excursion of (x, y, phi, vartheta), relative (z_s, z_s, 1, 1), of the full model
+    in C started beside the equilibrium eq at spin sigma (1e-6 z_s sideways, 1e-5 rad in vartheta)."""
     from levitron.runtime.integrate.run import integrate
+    pt = model.part("full")
+    z = eq.position[2]
+    idx = [eq.states.index(k) for k in ("x", "y", "phi", "vartheta")]
+    x = eq.at_spin(sigma)
+    x0 = x.copy()
+    x0[eq.states.index("x")] += 1e-6 * z
+    x0[eq.states.index("vartheta")] += 1e-5
+    run = integrate(pt, x0, t_end, method="dop853", tol=1e-10, n_out=400, max_steps=10**7,
+                    p=model.with_params({"base_tilt": eq.tilt}))
+    assert run.ok
+    return float(np.max(np.abs(run.X[:, idx] - x[idx]) / np.array([z, z, 1.0, 1.0])))
+
+
+def fastest_growth(model, eq, sigma: float) -> tuple[float, bool]:
+    """(the largest real part of the eigenvalues, the eigen route's verdict) at spin sigma."""
+    from levitron.runtime.physics.eigen_route import on_imaginary_axis
+    from levitron.runtime.physics.tilted_stability import reduced_jacobian
+    J = model.part("full").jac(eq.at_spin(sigma), model.with_params({"base_tilt": eq.tilt}))
+    J = reduced_jacobian(J, eq.states)
+    return float(max(np.linalg.eigvals(J).real)), on_imaginary_axis(J).stable
+
+
+def interval_ends_against_simulations(model, tilt):
+    """The full model in C stays within 20x its start (`deviation`) 3 % inside each end of the eigen
+    route's interval, and leaves by more than 100x it 3 % outside, within 8 e-folding times of
+    the fastest mode there."""
     from levitron.runtime.physics.stability import stability_of
     from levitron.runtime.physics.tilted_equilibrium import TiltedTop
-    from levitron.runtime.physics.tilted_stability import reduced_jacobian
     res = stability_of(model)
     lo, hi = res.spin_interval
     top = TiltedTop(model, model.p, res.equilibrium["z_level"] + model.pvals().get("moment_offset", 0.0))
     eq = top.hamilton(tilt, lo)
-    pt = model.part("full")
-    idx = [eq.states.index(k) for k in ("x", "y", "phi", "vartheta")]
-    size = np.array([top.z_level, top.z_level, 1.0, 1.0])
-    slowest = None
     for sigma, stable in ((1.03 * lo, True), (0.97 * hi, True), (0.97 * lo, False), (1.03 * hi, False)):
-        x = eq.at_spin(sigma)
-        rate = max(np.linalg.eigvals(reduced_jacobian(pt.jac(x), eq.states)).real)
-        if not stable:
-            slowest = rate if slowest is None else min(slowest, rate)
-        x0 = x.copy()
-        x0[eq.states.index("x")] += 1e-6 * top.z_level
-        x0[eq.states.index("vartheta")] += 1e-5
-        t_end = 8 / (rate if not stable else 0.5)
-        run = integrate(pt, x0, t_end, method="dop853", tol=1e-10, n_out=400, max_steps=10**7)
-        assert run.ok
-        dev = np.max(np.abs(run.X[:, idx] - x[idx]) / size)
+        rate, verdict = fastest_growth(model, eq, sigma)
+        assert verdict == stable and (stable or rate > 0.1)
+        dev = deviation(model, eq, sigma, 8 / (rate if not stable else 0.5))
         assert (dev < 20 * 1e-5) if stable else (dev > 100 * 1e-5), (sigma, dev)
-    assert slowest > 0.1
+
+
+def test_a_small_tilt_opens_a_gap_where_a_transverse_mode_meets_the_bounce(tilted):
+    """At 1e-4 rad the eigen route finds two intervals around the level system's crossing of a
+    transverse frequency with the bounce's (bounce_crossings); simulations agree: in the gap the
+    top leaves (100x within 8 e-folding times, ~120 s), on either side it stays (20 s)."""
+    from levitron.runtime.physics.stability import stability_of
+    from levitron.runtime.physics.tilted_equilibrium import TiltedTop
+    p = tilted.with_params({"base_tilt": 1e-4})
+    res = stability_of(tilted, p=p)
+    (lo, a), (b, hi) = res.eigenvalues[:2]
+    assert "couples a transverse mode to the bounce" in res.reason and 0 < b - a < 0.01 * a
+    eq = TiltedTop(tilted, p, res.equilibrium["z_level"]).hamilton(1e-4, lo)
+    gap = math.sqrt(a * b)
+    rate, verdict = fastest_growth(tilted, eq, gap)
+    assert not verdict and 0.01 < rate < 1
+    assert deviation(tilted, eq, gap, 8 / rate) > 100 * 1e-5
+    for sigma in (a - (b - a), math.sqrt(b * hi)):
+        assert fastest_growth(tilted, eq, sigma)[1]
+        assert deviation(tilted, eq, sigma, 20.0) < 20 * 1e-5, sigma
 
 
 def test_the_interval_ends_against_simulations(tilted):
@@ -383,3 +414,14 @@ def test_the_offset_is_a_runtime_parameter():
     assert one.params["base_tilt"] == 0 and one.needs == ("full", "linear")
     with pytest.raises(SceneError, match="full model only"):
         load_scene("reduced_only", ["top.moment_offset=0.001"])
+
+
+def test_the_plot_of_the_interval_against_the_tilt(tmp_path, capsys, legend_texts):
+    from levitron.runtime.cli.main import main
+    out = tmp_path / "tilt.png"
+    assert main(["stability", "thesis_stable", "--set", "plate.tilt=0", "--level-tolerance",
+                 "--plot", str(out)]) == 0
+    assert out.stat().st_size > 10_000 and f"plot: {out}" in capsys.readouterr().out
+    assert "level tolerance 0.0948 deg" in legend_texts
+    assert main(["stability", "thesis_stable", "--set", "plate.tilt=0", "--plot", str(out)]) == 2
+    assert "add --level-tolerance" in capsys.readouterr().err

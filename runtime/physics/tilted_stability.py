@@ -9,7 +9,15 @@ vanish), a 10x10 matrix whose eigenvalues all lie on the imaginary axis exactly 
 linearly stable (runtime/physics/eigen_route.py `on_imaginary_axis`); the spin interval is scanned
 and bisected to its ends as the level eigen route does (`spin_intervals_eigen`). At tilt 0 the
 10x10 matrix is the level route's 8x8 transverse block beside the vertical (z, p_z) pair, so the
-interval is today's. No sympy here.
+interval is today's.
+
+A tilt couples what the axial symmetry keeps apart: where, on the level base, a transverse mode's
+frequency crosses the vertical bounce's (sqrt(mu Phi_3 / m), thesis 3.3.3), the two may collide
+once the base is tilted, and a narrow band of instability opens inside the interval, of width
+about proportional to the tilt (thesis_stable: near 2727 rad/s, 1 rad/s wide at 1e-5 rad, 12 at
+1e-4). A scan on a grid would step over it; so the crossings are found on the level system
+(`bounce_crossings`) and probed, and the interval reported is the lowest of those found. Crossings
+of two transverse modes (coupled at second order in the tilt) are not probed. No sympy here.
 """
 from __future__ import annotations
 
@@ -19,7 +27,7 @@ import time
 import numpy as np
 
 from levitron.runtime.physics import equilibrium as eqm
-from levitron.runtime.physics.eigen_route import EPS, spin_intervals_eigen
+from levitron.runtime.physics.eigen_route import EPS, growth_rate, spin_intervals_eigen
 from levitron.runtime.physics.ray_algebra import RayCoefficients, spin_intervals_discriminant
 from levitron.runtime.physics.stability_result import StabilityResult, approximations_at_z_c, relative_gap
 from levitron.runtime.physics.tilted_equilibrium import FIXED, MIN_FRACTION, NoEquilibrium, TiltedTop
@@ -39,6 +47,38 @@ def reduced_jacobian(J: np.ndarray, states) -> np.ndarray:
     if np.abs(J[:, cut[0]]).max() > bound or np.abs(J[cut[1], :]).max() > bound:
         raise ValueError("zeta is not cyclic in this model: the top's own rotation does not reduce")
     return J[np.ix_(keep, keep)]
+
+
+CROSSING_GRID = 400     # spins on the level system's log grid where crossings are looked for
+
+
+def bounce_crossings(jac0, states, lo: float, hi: float) -> list[float]:
+    """The spins in [lo, hi] where a transverse frequency of the level system jac0(sigma) (the
+    reduced 10x10 Jacobian at tilt 0: (z, p_z) decoupled) equals the bounce's, by sign changes on
+    a log grid refined by bisection to adjacent doubles' width (module docstring)."""
+    states = [s for s in states if s not in FIXED]
+    vert = [states.index("z"), states.index("p_z")]
+    rest = [i for i in range(len(states)) if i not in vert]
+
+    def gaps(sigma):
+        J = jac0(sigma)
+        w_z = np.abs(np.linalg.eigvals(J[np.ix_(vert, vert)]).imag).max()
+        w = np.sort(np.abs(np.linalg.eigvals(J[np.ix_(rest, rest)]).imag))[::2]
+        return w - w_z
+    grid = np.geomspace(lo, hi, CROSSING_GRID)
+    vals = [gaps(s) for s in grid]
+    out = []
+    for i in range(1, len(grid)):
+        for k in np.nonzero(np.sign(vals[i - 1]) * np.sign(vals[i]) < 0)[0]:
+            a, b, fa = grid[i - 1], grid[i], vals[i - 1][k]
+            while b - a > 4 * EPS * b:
+                mid = 0.5 * (a + b)
+                if np.sign(gaps(mid)[k]) == np.sign(fa):
+                    a = mid
+                else:
+                    b = mid
+            out.append(0.5 * (a + b))
+    return sorted(out)
 
 
 def tilted_analysis(model, p: np.ndarray, top: TiltedTop | None = None) -> StabilityResult:
@@ -80,6 +120,17 @@ def tilted_analysis(model, p: np.ndarray, top: TiltedTop | None = None) -> Stabi
     def jac(sigma):
         return reduced_jacobian(jfast(eq.at_spin(sigma)).reshape(n, n), eq.states)
     t0 = time.perf_counter()
+    cross: list[float] = []
+    if tilt != 0 and probes and level[0][1] < math.inf:    # level: the crossings stay harmless
+        top0 = top.hamilton(0.0, probes[0])
+        j0 = model.fast("full_jac", top.params_at(0.0))
+
+        def jac0(sigma):
+            return reduced_jacobian(j0(top0.at_spin(sigma)).reshape(n, n), eq.states)
+        cross += bounce_crossings(jac0, eq.states, level[0][0] / 2, 2 * level[0][1])
+        # each crossing, and beside each gap it may open the stretches up to the level ends
+        ends = sorted(cross + [level[0][0] * (1 + 1e-6), level[0][1] * (1 - 1e-6)])
+        probes = probes + ends + [math.sqrt(a * b) for a, b in zip(ends, ends[1:])]
     eig = spin_intervals_eigen(jac, sigma_scale, probes)
     timings["eigenvalues"] = time.perf_counter() - t0
     bounded = [iv for iv in eig if iv[1] < math.inf and iv[0] > 0]
@@ -88,7 +139,12 @@ def tilted_analysis(model, p: np.ndarray, top: TiltedTop | None = None) -> Stabi
         reason = (f"on the base tilted by {tilt:.6g} rad no spin rate makes the top linearly stable "
                   "at its equilibrium (eigenvalues of the generated Jacobian)")
     elif len(bounded) > 1:
-        reason = f"{len(bounded)} disjoint spin intervals; spin_interval is the lowest"
+        (_, a), (b, _) = bounded[0], bounded[1]
+        rate = growth_rate(jac(math.sqrt(a * b)))
+        why = (", where the tilt couples a transverse mode to the bounce"
+               if any(a < c < b for c in cross) else "")
+        reason = (f"{len(bounded)} disjoint spin intervals; spin_interval is the lowest: between it "
+                  f"and the next ({a:.6g}-{b:.6g} rad/s{why}) a tilt grows by e every {1 / rate:.3g} s")
     disc = level if aligned else []
     agree = relative_gap(disc, eig) <= 1e-6 if aligned else None
     res = StabilityResult(float(eq.position[2]), bounded[0] if bounded else None, disc, eig,

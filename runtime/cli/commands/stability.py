@@ -14,6 +14,7 @@ from levitron.runtime.ui.human import Units, lines, restate, sig
 from levitron.runtime.physics.stability import stability_of
 from levitron.runtime.errors import UserError
 from levitron.runtime.physics.friction import without_friction
+from levitron.runtime.ui.plotting import check_plot_path
 from levitron.runtime.ui.validate import real
 from levitron.runtime.cli.commands.common import model_of
 
@@ -31,9 +32,18 @@ def add_arguments(parser) -> None:
                         help="also how level the base must be: the largest base tilt at which a "
                              "stable spin interval still exists (rad; needs the tilted model: "
                              "plate.tilt in the scene or --set plate.tilt=0)")
+    parser.add_argument("--plot", default=None, metavar="FILE",
+                        help="with --level-tolerance: draw the spin interval against the base's "
+                             "tilt up to the tolerance (.png, .pdf, .svg)")
 
 
 def run(args) -> dict:
+    plot = getattr(args, "plot", None)
+    if plot is not None:
+        check_plot_path(plot)
+        if not getattr(args, "level_tolerance", False):
+            raise UserError("--plot draws the spin interval against the base's tilt: add "
+                            "--level-tolerance")
     model = model_of(args)
     if args.height is not None:
         real(args.height, "--height", positive=True, unit="m (above the plate, z > 0)")
@@ -55,6 +65,9 @@ def run(args) -> dict:
         tol["height_difference"] = (None if tol["max_base_tilt"] is None
                                     else math.tan(tol["max_base_tilt"]) * tol["length"])
         out["level_tolerance"] = tol
+        if plot is not None and tol["max_base_tilt"] is not None:
+            from levitron.runtime.report.tilt_plot import draw
+            out["plot"] = str(draw(model, without_friction(model, model.p), tol, plot))
     out["wall_s"] = time.perf_counter() - t0
     # the vertical stiffness U'' = mu Phi_3(z_s) (thesis 3.3.3), N/m: what --constrain stiffness>=K
     # of `optimize` speaks of; it does not depend on the mass
@@ -142,4 +155,5 @@ def human(r: dict, scene=None) -> str:
         if r.get("stiffness") is not None else "",
         "further intervals: " + ", ".join(_interval(ivl, u) for ivl in more) if more else "",
         f"reason: {restate(r['reason'], u)}" if r.get("reason") else "",
-        approx, *(r.get("notes") or []), u.note)
+        approx, *(r.get("notes") or []), u.note,
+        f"plot: {r['plot']}" if r.get("plot") else "")
