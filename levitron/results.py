@@ -101,6 +101,7 @@ class Stability:
     routes_agree: bool | None
     mass: float | None = None
     units: Units = field(default=_SI, repr=False, compare=False)   # how repr and message show numbers
+    equilibrium: dict | None = None     # over a tilted base: position, axis, offset, ... (stability --json's)
 
     @property
     def success(self) -> bool:

@@ -174,15 +174,18 @@ class Study:
     @_in_scene_units
     def stability(self, height: float | None = None) -> Stability:
         """The spin interval at the hover height, by the exact route (thesis 3.3.9-3.3.16);
-        height (m): instead the top that hovers there, of mass m(z) = -mu Phi_2(z)/g (`mass`)."""
+        height (m): instead the top that hovers there, of mass m(z) = -mu Phi_2(z)/g (`mass`).
+        Over a tilted base (plate.tilt) by the eigenvalue route at the equilibrium off the axis
+        (`equilibrium`: position, axis; stiffness None)."""
         h = None if height is None else arg.number(height, "height")
         res = stability_of(self.model, height=h)
         k = None
-        if res.z_s is not None:
+        if res.z_s is not None and res.equilibrium is None:
             P = self.model.pvals()
             k = P["mu"] * float(self.model.onaxis(res.z_s)[3])
         return Stability(res.z_s, k, None if res.spin_interval is None else tuple(res.spin_interval),
-                         res.reason and arg.api_words(res.reason), res.routes_agree, res.mass, self.units)
+                         res.reason and arg.api_words(res.reason), res.routes_agree, res.mass, self.units,
+                         res.equilibrium)
 
     @_in_scene_units
     def simulate(self, spin: float, **options) -> Simulation:

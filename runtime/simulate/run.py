@@ -59,7 +59,7 @@ from levitron.runtime.simulate.rotations import (  # noqa: F401
 from levitron.runtime.simulate.start import (  # noqa: F401
     DEFAULT_TILT, PERIODS, UNTESTED, Launch, coordinate_names, default_box, fastest_period,
     initial_state, launch, launch_state, launch_states, legendre_map, on_invariant_set, slow_period,
-    state_scales, time_scale, untested_reason, vertical_stiffness)
+    state_scales, tilted_start, time_scale, untested_reason, vertical_stiffness)
 
 FRICTION_T_END_TAUS = 5.0        # default run length with friction: 5 tau, the spin falls by e^5
 
@@ -125,6 +125,9 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
     if entry.fixed_step and h is None:
         h = default_step(T)
     x0 = initial_state(pt, z_s, spin, tilt, offset, p, azimuth)
+    tilted_note = None
+    if part == "full" and "base_tilt" in model.param_names:      # plate.tilt: start off the axis
+        x0, tilted_note = tilted_start(model, pt, z_s, spin, x0, p)
     if bx.excess(x0) > 0:
         raise UserError(f"the initial state is already outside the box (offset {offset} m vs half-width "
                         f"{bx.z_hi - z_s:.4g} m); pass a smaller --offset or a larger --box")
@@ -141,6 +144,8 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
     ps = Samples.of(pt, res, x0, p)
     out = summarize(pt, res, x0, p, z_s, bx, spin, tilt, offset, t_end, integrator, tol, h, plot, fl, ps)
     out["tilt_azimuth"] = azimuth
+    if tilted_note is not None:
+        out["note"] = tilted_note
     out["tilt_default"] = tilt_default and coordinates_of(pt) is not None
     if on_invariant_set(pt, tilt, offset):
         out["levitating"], out["untested"] = None, untested_reason(pt)

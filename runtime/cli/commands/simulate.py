@@ -4,7 +4,7 @@ from __future__ import annotations
 from levitron.runtime.errors import UserError
 from levitron.runtime.simulate import animation
 from levitron.runtime.simulate.start import linear_context
-from levitron.runtime.ui.human import Units, duration, lines, sig
+from levitron.runtime.ui.human import Units, duration, lines, restate, sig
 from levitron.runtime.integrate.methods import DEFAULT, FULL_MODEL_METHODS, lookup
 from levitron.runtime.integrate.verdict import stopped_early
 from levitron.runtime.ui.plotting import check_plot_path
@@ -151,6 +151,7 @@ def human(r: dict, scene=None) -> str:
         f"largest excursion: height {u.length(r['max_height_deviation'])}, radial "
         f"{u.length(r['max_radial_offset'])}, tilt {u.angle(r['max_tilt'])}",
         f"invariants, largest relative deviation over the run: {', '.join(inv)}",
+        restate(r["note"], u) if r.get("note") else "",
         f"integrator: {r['integrator']} ({r['backend']}"
         f"{', chosen by auto' if r.get('integrator_requested') == 'auto' else ''}), "
         f"{sig(r['rhs_evals'], 6)} rhs evaluations",
