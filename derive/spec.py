@@ -75,7 +75,7 @@ def build_spec(scene_name: str, plate: Plate, order: int, coordinates: str, need
                                           "reduced model on the invariant set (thesis 3.2.12)")
     B3 = None
     if not plate.axisymmetric:
-        spec.field3d = sp.Matrix(plate.field3d(X, Y, Z))
+        spec.field3d = plate.model_field(order, X, Y, Z)
         B3 = sp.ImmutableMatrix(abstract_field())
     if "full" in needs:
         full = hamiltonian_system(coordinates, order, B3)

@@ -10,7 +10,8 @@ MU0 / magpylib.mu_0 before the comparison (otherwise every point would differ by
 
 What is compared (the plate's top face in z = 0, its axis the z axis, docs/contract.md):
 - runtime/physics/plates (the exact fields `levitron field` and the expansion's error measure use)
-  against magpylib's Cuboid, Cylinder, CylinderSegment, Circle, Polyline and Collection, at points
+  against magpylib's Cuboid, Cylinder, CylinderSegment, Circle, Polyline and Collection (the square
+  with a hole: a Cuboid and a Cylinder of the opposite magnetisation), at points
   on the axis, off the axis near the plate, beside and inside the magnets, and far away;
 - the on-axis potential Phi_1..Phi_3 of each kind's sympy builder (what the reduced model, the
   equilibria and the stability analysis use; B_z = -Phi_1 on the axis) against magpylib's B_z and
@@ -89,6 +90,7 @@ def thin_current(table: dict) -> float:
 DISK = {"kind": "disk", "radius": 0.1, "murho": -0.0026}
 ANNULUS = {"kind": "annulus", "radius": 0.1, "hole": 0.03, "murho": -0.0026}
 THIN_RECT = {"kind": "rectangle", "side_x": 0.1, "side_y": 0.06, "murho": -0.002}
+THIN_HOLED = {**THIN_RECT, "hole": 0.02}     # a thin layer with a hole: its rim loop minus the hole's
 
 
 class Case:
@@ -119,6 +121,13 @@ CASES = {
                              "remanence": BR},
                             cuboid(0.1, 0.08, 0.02), 0.1, 0.02, True, ("box", (0.05, 0.04), 0.0, 0.02)),
     "rectangle-thin": Case(THIN_RECT, rect_polyline(0.1, 0.06, thin_current(THIN_RECT)), 0.1, 0.06, True),
+    "rectangle-holed": Case({"kind": "rectangle", "side": 0.1, "thickness": 0.02, "remanence": BR, "hole": 0.015},
+                            magpy.Collection(cuboid(0.1, 0.1, 0.02), cylinder(0.015, 0.02, -MAG)),
+                            0.1, 0.02, True, ("box", (0.05, 0.05), 0.0, 0.02)),
+    "rectangle-thin-holed": Case(THIN_HOLED, magpy.Collection(
+                                     rect_polyline(0.1, 0.06, thin_current(THIN_HOLED)),
+                                     magpy.current.Circle(diameter=0.04, current=-thin_current(THIN_HOLED))),
+                                 0.1, 0.04, True),
     "compound": Case({"kind": "compound", "parts": [
                           {"kind": "ring_magnet", "r_out": 0.06, "r_in": 0.03, "thickness": 0.02, "remanence": BR},
                           {"kind": "loop", "radius": 0.02, "current": -50.0}]},
