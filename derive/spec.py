@@ -106,5 +106,8 @@ def build_spec(scene_name: str, plate: Plate, order: int, coordinates: str, need
         B, what = fieldmod.field(order), f"expansion to order {order} (thesis eq. 2.2.7)"
     else:
         B, what = B3, f"exact 3-D field of the {plate.kind} plate (no expansion)"
+        if plate.axial is not None:
+            what = (f"exact 3-D field of the {plate.kind} plate's non-axisymmetric parts, its "
+                    f"axisymmetric parts' expansion to order {order} (thesis eq. 2.2.7)")
     spec.functions.append(Function("field", (X, Y, Z), tuple(B), (3,), f"B = -grad(phi), {what}"))
     return spec

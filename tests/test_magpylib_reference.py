@@ -11,7 +11,8 @@ MU0 / magpylib.mu_0 before the comparison (otherwise every point would differ by
 What is compared (the plate's top face in z = 0, its axis the z axis, docs/contract.md):
 - runtime/physics/plates (the exact fields `levitron field` and the expansion's error measure use)
   against magpylib's Cuboid, Cylinder, CylinderSegment, Circle, Polyline and Collection (the square
-  with a hole: a Cuboid and a Cylinder of the opposite magnetisation), at points
+  with a hole: a Cuboid and a Cylinder of the opposite magnetisation; a compound with a rectangle
+  part and a part of sign -1), at points
   on the axis, off the axis near the plate, beside and inside the magnets, and far away;
 - the on-axis potential Phi_1..Phi_3 of each kind's sympy builder (what the reduced model, the
   equilibria and the stability analysis use; B_z = -Phi_1 on the axis) against magpylib's B_z and
@@ -134,6 +135,15 @@ CASES = {
                      magpy.Collection(cylinder(0.06, 0.02), cylinder(0.03, 0.02, -MAG),
                                       magpy.current.Circle(diameter=0.04, current=-50.0)),
                      0.06, 0.02, True, ("round", 0.06, 0.03, 0.02)),
+    "compound-rectangle": Case({"kind": "compound", "parts": [
+                                    {"kind": "rectangle", "side_x": 0.1, "side_y": 0.08, "thickness": 0.02,
+                                     "remanence": BR},
+                                    {"kind": "ring_magnet", "r_out": 0.015, "thickness": 0.02, "remanence": BR,
+                                     "sign": -1},
+                                    {"kind": "loop", "radius": 0.02, "current": -50.0}]},
+                               magpy.Collection(cuboid(0.1, 0.08, 0.02), cylinder(0.015, 0.02, -MAG),
+                                                magpy.current.Circle(diameter=0.04, current=-50.0)),
+                               0.1, 0.02, True, ("box", (0.05, 0.04), 0.0, 0.02)),
 }
 
 

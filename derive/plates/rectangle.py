@@ -87,6 +87,5 @@ KIND = PlateKind(
                         "plate_hole is taken away", holed)),
     length_keys=("side_x", "side_y", "thickness", "hole"),
     units=STRENGTH_UNITS,
-    can_be_part=False,
     example='kind = "rectangle"\nside = 0.10\nthickness = 0.02\nremanence = 0.39',
 )

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from levitron.derive.plates.symmetry import symmetry
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.errors import UserError
 from levitron.runtime.physics.friction import without_friction
@@ -188,6 +189,19 @@ def _verdict(z_s: float, ph, mu: float, disc, eig, approximations, timings: dict
     return StabilityResult(z_s, interval, disc, eig, approximations, reason, agree, timings)
 
 
+def onaxis_refusal(model, p: np.ndarray | None = None) -> str | None:
+    """Why the spin interval from the on-axis potential (thesis 3.3, both routes here: the 8-D
+    transverse matrix and the full Jacobian probed inside the discriminant's intervals) does not
+    hold for this model's plate with parameters p, or None where it does: a plate of two-fold
+    symmetry (side_x != side_y) has an x^2 - y^2 part of the field (derive/plates/symmetry.py)."""
+    sym = symmetry(model.scene.data["plate"], model.pvals(p))
+    if sym.onaxis_stability:
+        return None
+    return (f"the plate has {sym.name} symmetry (side_x != side_y): the spin interval from the on-axis "
+            "potential (thesis 3.3) does not hold for it; make the rectangle square (side = ...) or "
+            "run the full model (`levitron simulate --spin ...`)")
+
+
 def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
                  z_s: float | None = None, height: float | None = None,
                  eigen: bool = True) -> StabilityResult:
@@ -197,7 +211,11 @@ def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
     z_s: an equilibrium height of that top, to skip the search. height: analyse instead the top
     that hovers at this height, of mass m(z) = -mu Phi_2(z) / g (thesis 3.3.2 solved for m; the
     stable band's rule, docs/contract.md); a UserError where no top hovers there (m(z) <= 0).
-    In air the friction rates are set to 0: the interval is the ideal top's (runtime/physics/friction.py)."""
+    In air the friction rates are set to 0: the interval is the ideal top's (runtime/physics/friction.py).
+    A UserError for a plate whose symmetry does not carry the analysis (`onaxis_refusal`)."""
+    why = onaxis_refusal(model, p)
+    if why is not None:
+        raise UserError(why)
     if height is not None:
         if mass is not None or z_s is not None:
             raise ValueError("stability_of: height excludes mass and z_s")

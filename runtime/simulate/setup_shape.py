@@ -41,9 +41,10 @@ def _part(table: dict) -> dict | None:
 
 
 def base_of(plate: dict) -> list[dict]:
-    """The base's outlines (a compound plate: one per part; an expression plate: none)."""
+    """The base's outlines (a compound plate: one per part, its compound parts' parts included; an
+    expression plate: none)."""
     if plate.get("kind") == "compound":
-        return [s for s in (_part(p) for p in plate.get("parts", [])) if s is not None]
+        return [s for p in plate.get("parts", []) for s in base_of(p)]
     one = _part(plate)
     return [one] if one is not None else []
 
