@@ -86,7 +86,7 @@ def build_spec(scene_name: str, plate: Plate, order: int, coordinates: str, need
         raise SceneError(f"top.moment_offset is modelled over axisymmetric plates only, not this "
                          f"{plate.kind} plate: remove it")
     if not plate.axisymmetric:
-        spec.field3d = sp.Matrix(plate.field3d(X, Y, Z))
+        spec.field3d = plate.model_field(order, X, Y, Z)
         B3 = sp.ImmutableMatrix(abstract_field())
     if "full" in needs:
         full = hamiltonian_system(coordinates, order, B3, tilted, offset)
@@ -121,5 +121,8 @@ def build_spec(scene_name: str, plate: Plate, order: int, coordinates: str, need
         B, what = fieldmod.field(order), f"expansion to order {order} (thesis eq. 2.2.7)"
     else:
         B, what = B3, f"exact 3-D field of the {plate.kind} plate (no expansion)"
+        if plate.axial is not None:
+            what = (f"exact 3-D field of the {plate.kind} plate's non-axisymmetric parts, its "
+                    f"axisymmetric parts' expansion to order {order} (thesis eq. 2.2.7)")
     spec.functions.append(Function("field", (X, Y, Z), tuple(B), (3,), f"B = -grad(phi), {what}"))
     return spec

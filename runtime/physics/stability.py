@@ -16,6 +16,7 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
+from levitron.derive.plates.symmetry import symmetry
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.errors import UserError
 from levitron.runtime.physics.friction import without_friction
@@ -124,6 +125,19 @@ def _verdict(z_s: float, ph, mu: float, disc, eig, approximations, timings: dict
     return StabilityResult(z_s, interval, disc, eig, approximations, reason, agree, timings)
 
 
+def onaxis_refusal(model, p: np.ndarray | None = None) -> str | None:
+    """Why the spin interval from the on-axis potential (thesis 3.3, both routes here: the 8-D
+    transverse matrix and the full Jacobian probed inside the discriminant's intervals) does not
+    hold for this model's plate with parameters p, or None where it does: a plate of two-fold
+    symmetry (side_x != side_y) has an x^2 - y^2 part of the field (derive/plates/symmetry.py)."""
+    sym = symmetry(model.scene.data["plate"], model.pvals(p))
+    if sym.onaxis_stability:
+        return None
+    return (f"the plate has {sym.name} symmetry (side_x != side_y): the spin interval from the on-axis "
+            "potential (thesis 3.3) does not hold for it; make the rectangle square (side = ...) or "
+            "run the full model (`levitron simulate --spin ...`)")
+
+
 def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
                  z_s: float | None = None, height: float | None = None,
                  eigen: bool = True) -> StabilityResult:
@@ -136,7 +150,8 @@ def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
     In air the friction rates are set to 0: the interval is the ideal top's (runtime/physics/friction.py).
     Over a tilted base (plate.tilt) the equilibrium is off the axis and found there
     (runtime/physics/tilted_stability.py, route "eigenvalues" only): a z_s given (a level hover
-    height) and eigen are not used."""
+    height) and eigen are not used. A UserError for a plate whose symmetry does not carry the
+    analysis (`onaxis_refusal`)."""
     if "base_tilt" in model.param_names:
         if height is not None:
             raise UserError("--height analyses a top on the axis of a level base: over a tilted base "
@@ -144,6 +159,9 @@ def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
         from levitron.runtime.physics.tilted_stability import tilted_analysis
         p = without_friction(model, model.with_params({} if mass is None else {"m": float(mass)}, p))
         return tilted_analysis(model, p)
+    why = onaxis_refusal(model, p)
+    if why is not None:
+        raise UserError(why)
     if height is not None:
         if mass is not None or z_s is not None:
             raise ValueError("stability_of: height excludes mass and z_s")

@@ -48,7 +48,7 @@ from levitron.runtime.integrate.verdict import no_verdict_reason, verdict
 from levitron.runtime.physics import friction as flight
 from levitron.runtime.simulate import trajectory_file
 from levitron.runtime.ui.human import Units
-from levitron.runtime.physics.stability import stability_of
+from levitron.runtime.physics.stability import onaxis_refusal, stability_of
 from levitron.runtime.simulate.invariants import (  # noqa: F401 (the run's pieces, by name: sim.X)
     Samples, angular_momentum_z, deviations, invariants, largest_deviation, rows_of, spin_momentum, spin_rate,
     tilt_of)
@@ -74,7 +74,8 @@ def default_t_end(model, part: str, p) -> float:
     if part == "full" and flight.has_friction(model) and pv["k_spin"] > 0:
         return FRICTION_T_END_TAUS / pv["k_spin"]
     z_s = hover_height(model, p)
-    iv = stability_of(model, p=p, z_s=z_s, eigen=False).spin_interval if part == "full" else None
+    iv = (stability_of(model, p=p, z_s=z_s, eigen=False).spin_interval
+          if part == "full" and onaxis_refusal(model, p) is None else None)
     return PERIODS * slow_period(model, pv["m"], z_s, None if iv is None else math.sqrt(iv[0] * iv[1]), p)
 
 
@@ -138,8 +139,9 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
     air = part == "full" and flight.has_friction(model)
     fl = None
     if air:
-        st = stability_of(model, p=p, z_s=z_s)    # the ideal top's interval at z_s (rates set to 0)
-        fl = flight.flight(model, pt, p, res, x0, spin, z_s, t_end, st.spin_interval,
+        # the ideal top's interval at z_s (rates set to 0); none where the plate's symmetry refuses it
+        iv = stability_of(model, p=p, z_s=z_s).spin_interval if onaxis_refusal(model, p) is None else None
+        fl = flight.flight(model, pt, p, res, x0, spin, z_s, t_end, iv,
                            lambda X: spin_rate(pt, X, pvals["C"], p))
     ps = Samples.of(pt, res, x0, p)
     out = summarize(pt, res, x0, p, z_s, bx, spin, tilt, offset, t_end, integrator, tol, h, plot, fl, ps)

@@ -266,7 +266,10 @@ def linear_context(model, p, z_s: float, spin: float) -> dict:
     after thesis 3.3.5 (1 / the largest real part of its eigenvalues): how long a tilt takes to
     grow by e. Near a critical spin that time is long, and a run shorter than it cannot show the
     fall."""
-    from levitron.runtime.physics.stability import stability_of
+    from levitron.runtime.physics.stability import onaxis_refusal, stability_of
+    why = onaxis_refusal(model, p)
+    if why is not None:              # a two-fold plate: linear theory on the axis says nothing here
+        return {"spin_interval": None, "inside": None, "e_folding_time": None, "refused": why}
     iv = stability_of(model, p=p, z_s=z_s, eigen=False).spin_interval
     inside = iv is not None and iv[0] <= spin <= iv[1]
     e_folding = None

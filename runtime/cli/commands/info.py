@@ -4,6 +4,7 @@ from __future__ import annotations
 import math
 
 from levitron.derive import plates
+from levitron.derive.plates.symmetry import symmetry
 from levitron.derive.scene import MU0
 
 from levitron.runtime.physics.friction import decay_times, friction_rates, has_friction
@@ -35,6 +36,7 @@ def run(args) -> dict:
         "parameters": params,
         "derived_parameters": derived,
         "notes": scene.notes,
+        "symmetry": symmetry(scene.data["plate"], params).as_dict(),
         "generated": str(model.folder),
         "input_hash": m.input_hash,
         "plate": m.plate, "coordinates": m.coordinates, "field_order": m.field_order,
@@ -101,5 +103,7 @@ def human(r: dict, scene=None) -> str:
         f"operations per call: {ops}",
         _taylor(r.get("taylor")),
         *[f"note: {restate(n, u)}" for n in r.get("notes") or []],
+        # an axisymmetric plate's symmetry goes without saying (the thesis's case)
+        f"symmetry: {r['symmetry']['summary']}" if r.get("symmetry", {}).get("name", "axial") != "axial" else "",
         f"generated: {r['generated']} (input hash {r['input_hash'][:12]})",
         u.note)

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from levitron.runtime.errors import UserError
 from levitron.runtime.simulate import animation
+from levitron.derive.plates.symmetry import symmetry
 from levitron.runtime.simulate.start import linear_context
 from levitron.runtime.ui.human import Units, duration, lines, restate, sig
 from levitron.runtime.integrate.methods import DEFAULT, FULL_MODEL_METHODS, lookup
@@ -112,6 +113,8 @@ def linear_line(r: dict, u: Units) -> str:
     if not lin:
         return ""
     spin, iv = u.value(r["spin"]["rad_s"], "rad/s"), lin["spin_interval"]
+    if lin.get("refused"):
+        return f"linear theory: none ({lin['refused'].split(': ')[0]})"
     if iv is None:
         return "linear theory: no spin holds this top at its hover height (`levitron stability` says why)"
     span = u.rate_span(*iv).split(" (")[0]
@@ -122,6 +125,14 @@ def linear_line(r: dict, u: Units) -> str:
     grow = ("" if te is None else f": a tilt grows by e every {u.time(te)} "
             f"({sig(r['t_end'] / te, 2)} e-foldings in this run)")
     return f"linear theory: {spin} lies {side} the stable interval {span}{grow}"
+
+
+def _not_conserved(name: str, scene) -> str:
+    """" (not conserved: ...)" for L_z over a plate without axial symmetry (derive/plates/symmetry.py)."""
+    if name != "L_z" or scene is None:
+        return ""
+    sym = symmetry(scene.data["plate"], scene.params)
+    return "" if "L_z" in sym.conserved else f" (not conserved by a plate of {sym.name} symmetry)"
 
 
 def human(r: dict, scene=None) -> str:
@@ -137,7 +148,8 @@ def human(r: dict, scene=None) -> str:
                f"L_n against exp(-t/tau) {sig(dev.get('L_n_decay'), 2)}"]
     else:
         inv = [f"energy {sig(r['energy_drift'], 2)}"]
-        inv += [f"{k} {sig(dev[k], 2)}" for k in ("L_z", "L_n") if dev.get(k) is not None]
+        inv += [f"{k} {sig(dev[k], 2)}{_not_conserved(k, scene)}" for k in ("L_z", "L_n")
+                if dev.get(k) is not None]
     azi = r.get("tilt_azimuth")
     toward = f" toward azimuth {u.angle(azi)}" if azi is not None else ""
     return lines(
