@@ -151,7 +151,8 @@ def test_the_symmetry_a_plate_leaves(table, name):
 
 def test_stability_refuses_a_two_fold_plate_in_one_line():
     table = {"kind": "rectangle", "side_x": 0.11, "side_y": 0.09, "thickness": 0.02, "remanence": 0.39}
-    model = SimpleNamespace(scene=SimpleNamespace(data={"plate": table}), pvals=lambda p=None: resolved(table))
+    model = SimpleNamespace(scene=SimpleNamespace(data={"plate": table}), pvals=lambda p=None: resolved(table),
+                            param_names=())      # a level base: no base_tilt parameter
     with pytest.raises(UserError) as info:
         st.stability_of(model)
     assert "two-fold" in str(info.value) and "\n" not in str(info.value)
