@@ -153,7 +153,8 @@ class Simulation:
 
         from levitron.runtime.simulate import trajectory_file
         names = list(self.trajectory)
-        return str(trajectory_file.write(path, names, np.column_stack([self.trajectory[n] for n in names])))
+        return str(trajectory_file.write(path, names, np.column_stack([self.trajectory[n] for n in names]),
+                                        "Simulation.save"))
 
     @property
     def status(self) -> str:

@@ -1,0 +1,89 @@
+"""The hostile runner the battery tests share (tests/test_battery3.py): the real command line in a
+subprocess, under the limits an adversary sets (a file-size limit, a umask, an injected SIGKILL,
+a time limit), and the checks every refusal must pass.
+
+    res = cli(["simulate", ...], cwd=tmp_path, fsize=200)    # RLIMIT_FSIZE 200 bytes
+    refused(res, r"--save")          # exit 2, one error line naming the flag, no traceback
+    aged(paths)                      # mtimes set back past the sweeps' one minute
+    dead_pid()                       # a pid whose process has exited (a killed owner)
+"""
+from __future__ import annotations
+
+import os
+import re
+import resource
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+ERROR = re.compile(r"^levitron[\w ]*: error: ", re.M)
+
+
+def _limits(fsize: int | None, umask: int | None):
+    def apply():
+        if fsize is not None:
+            resource.setrlimit(resource.RLIMIT_FSIZE, (fsize, fsize))
+        if umask is not None:
+            os.umask(umask)
+    return apply
+
+
+def cli(args, cwd: Path, env: dict | None = None, timeout: float = 300, fsize: int | None = None,
+        umask: int | None = None, code: str | None = None) -> subprocess.CompletedProcess:
+    """`levitron ARGS` (or `python -c CODE ARGS`) in a subprocess of its own session, with the
+    session's LEVITRON_CACHE unless `env` names another; killed with its group after `timeout`."""
+    full = dict(os.environ, PYTHONPATH=str(ROOT), **(env or {}))
+    full.pop("LEVITRON_DEBUG", None)
+    head = [sys.executable, "-c", code] if code is not None else [sys.executable, "-m",
+                                                                  "levitron.runtime.cli.main"]
+    proc = subprocess.Popen([*head, *map(str, args)], cwd=cwd, env=full, text=True,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, start_new_session=True,
+                            preexec_fn=_limits(fsize, umask))
+    try:
+        out, err = proc.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        out, err = proc.communicate()
+        raise AssertionError(f"`{' '.join(map(str, args))}` did not return within {timeout:g} s") from None
+    return subprocess.CompletedProcess(proc.args, proc.returncode, out, err)
+
+
+def error_lines(stderr: str) -> list[str]:
+    """The error lines of stderr (not the "levitron: ..." progress notes)."""
+    return [line for line in stderr.splitlines() if ERROR.match(line) or line.startswith("Traceback")
+            or (line.strip() and not line.startswith("levitron"))]
+
+
+def refused(res: subprocess.CompletedProcess, mention: str) -> str:
+    """The one error line of a refusal (exit 2, no traceback) that matches `mention`."""
+    assert "Traceback" not in res.stderr, res.stderr[-3000:]
+    assert res.returncode == 2, f"exit {res.returncode}\n{res.stdout[-1500:]}\n{res.stderr[-1500:]}"
+    errors = error_lines(res.stderr)
+    assert len(errors) == 1, res.stderr
+    assert re.search(mention, errors[0], re.I), f"{mention!r} not in: {errors[0]}"
+    return errors[0]
+
+
+def aged(paths, seconds: float = 120.0) -> None:
+    """Set the mtime of every path back by `seconds` (as if the sweeps' minute had passed)."""
+    t = time.time() - seconds
+    for p in paths:
+        os.utime(p, (t, t), follow_symlinks=False)
+
+
+def dead_pid() -> int:
+    """The pid of a process that has exited (the owner of a killed run's debris)."""
+    proc = subprocess.Popen(["true"])
+    proc.wait()
+    return proc.pid
+
+
+def alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    return True
