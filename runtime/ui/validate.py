@@ -61,3 +61,28 @@ def axis_values(values, label: str, max_points: int) -> np.ndarray:
     if not np.all(np.isfinite(arr)):
         raise UserError(f"{label}: every value must be finite (got {arr[~np.isfinite(arr)][0]})")
     return arr
+
+
+SD_CUT = 8      # a normal spread's range checked: mean +- SD_CUT sd (a draw beyond it has p < 1e-15)
+
+
+def spread_range(kind: str, a: float, b: float) -> tuple[float, float, str]:
+    """(lo, hi, how) of a launch spread (runtime/scan/launch_odds.py Dist: "fixed" a, "uniform"
+    a..b, "normal" mean a, sd b): the values its draws take, a normal's to SD_CUT sd; `how` says
+    so in a message ("" for the others)."""
+    if kind == "normal":
+        return a - SD_CUT * b, a + SD_CUT * b, f" (a normal spread is checked over its mean +- {SD_CUT} sd)"
+    return (a, b, "") if kind == "uniform" else (a, a, "")
+
+
+def temperature(data: dict, lo: float, hi: float, label: str) -> None:
+    """The one check of a magnets' temperature (degC), for --temperature, the scene key and every
+    launch spread alike: the scene reader's (derive/scene.py temperature_factors: above absolute
+    zero, and each magnet's remanence factor 1 + alpha (T - 20) positive), applied at both ends of
+    [lo, hi] (each factor is linear in T, so positive at both ends is positive between them)."""
+    from levitron.derive.scene import SceneError, temperature_factors
+    for T in (lo, hi):
+        try:
+            temperature_factors({**data, "temperature": float(T)})
+        except SceneError as exc:
+            raise UserError(f"{label}: {exc}") from None
