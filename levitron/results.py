@@ -218,7 +218,8 @@ class LaunchOdds:
     @property
     def message(self) -> str:
         lo, hi = self.probability_ci95
-        text = (f"{sig(100 * self.probability, 3)}% of {self.n} launches float at least "
+        decided = self.n - self.details.get("no_verdict", 0)     # the odds leave out the runs with no verdict
+        text = (f"{sig(100 * self.probability, 3)}% of {decided} launches float at least "
                 f"{_q(self.units, self.success_time, 's', '.4g')} (95% Wilson interval "
                 f"{sig(100 * lo, 3)}-{sig(100 * hi, 3)}%)")
         failed = self._failed()

@@ -154,3 +154,64 @@ def test_the_written_table_reads_back(tmp_path):
         names, back = trajectory_file.read(tmp_path / name)
         assert names == ["t", "x", "y"] and np.array_equal(back, table)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.csv", "b.npz", "c.NPZ"]
+
+
+# ---------------------------------------------------------------- one validation per quantity; no verdict, no odds
+
+AIR = ["launch", "thesis_air", "--n", "4", "--t-end", "0.05"]
+FACTOR = r"remanence factor .* is not positive"
+
+
+def _api(call: str, folder: Path):
+    return cli([], cwd=folder, code=API.format(call))
+
+
+def test_a_temperature_spread_takes_the_check_of_the_temperature(tmp_path):
+    """The launch spread's temperatures pass the one check of a temperature (derive/scene.py
+    temperature_factors, as --temperature does), at both ends of its range and from every source:
+    the flag, the [launch] table, the API. Before: 'launch --temperature-spread 1353.33' said
+    '100 % float' with the plate's remanence factor at -1.67; --temperature refused it."""
+    single = refused(cli(["equilibrium", "thesis_air", "--temperature", "1353.33"], cwd=tmp_path), FACTOR)
+    flag = refused(cli([*AIR, "--temperature-spread", "1353.33"], cwd=tmp_path), r"--temperature-spread 1353.33")
+    assert flag.split("error: ", 1)[1].split(": ", 1)[1] == single.split("error: ", 1)[1], "not the same check"
+    refused(cli([*AIR, "--temperature-spread", "uniform:20,1400"], cwd=tmp_path), FACTOR)
+    refused(cli([*AIR, "--temperature-spread", "normal:600,100"], cwd=tmp_path), FACTOR + r"|8 sd")
+    scene = tmp_path / "warm.toml"
+    scene.write_text((Path(__file__).resolve().parent.parent / "scenes" / "thesis_air.toml").read_text()
+                     + '\n[launch]\ntemperature = "uniform:20,1400"\n')
+    refused(cli(["launch", scene, "--n", "4", "--t-end", "0.05"], cwd=tmp_path), FACTOR)
+    refused(_api("lev.load('thesis_air').launch(n=4, t_end=0.05, inputs={'temperature': 'uniform:20,1400'})",
+                 tmp_path), FACTOR)
+    ok = cli([*AIR, "--temperature-spread", "uniform:10,30", "--json"], cwd=tmp_path)   # a sane spread runs
+    assert ok.returncode == 0, ok.stderr[-2000:]
+
+
+def test_runs_without_a_verdict_are_not_falls():
+    """The odds count successes among the runs with a verdict: a run that stopped early (step
+    budget) short of the success time is neither (before: a fall). Hand count: 10 runs, 3 reach
+    the success time (one of them by a run that stopped after it), 4 fell (left_box, cannot_hover),
+    3 stopped early before it: 3 / 7, Wilson of (3, 7)."""
+    from levitron.runtime.scan import launch_odds as mc
+    plan = mc.Plan("thesis_air", (), tuple((k, mc.Dist("normal", 1.0, 0.1)) for k in mc.INPUTS), 10, 0,
+                   2.0, "dop853", 1e-8)
+    pts = [("completed", 2.0), ("completed", 2.0), ("step_budget", 1.5), ("left_box", 0.3),
+           ("left_box", 0.0), ("cannot_hover", 0.0), ("left_box", 0.9), ("step_budget", 0.2),
+           ("nonfinite", 0.4), ("step_underflow", 0.1)]
+    r = mc.summarize(plan, [{"points": [{"i": i, "t": t, "status": s} for i, (s, t) in enumerate(pts)]}],
+                     1.0, None, 0.1, None)
+    assert (r["successes"], r["no_verdict"], r["n"]) == (3, 3, 10)
+    assert r["probability"] == 3 / 7 and r["probability_ci95"] == list(mc.wilson(3, 7))
+    assert r["verdicts"] == [True, True, True, False, False, False, False, None, None, None]
+
+
+def test_a_run_that_stops_early_gives_no_verdict(tmp_path):
+    """A step-budget run: simulate says 'no verdict', never 'still floating' (before: 'still
+    floating after 6.38 ms (the whole run)'); a launch whose every run stopped early gives no
+    odds (before: '0 % float')."""
+    args = ["--t-end", "0.01", "--set", "top.spin_decay_time=1e-7"]
+    res = cli(["simulate", "thesis_air", "--spin", "1122", *args], cwd=tmp_path)
+    assert res.returncode == 0, res.stderr[-2000:]
+    head = res.stdout.splitlines()[0]
+    assert head.startswith("no verdict: the run stopped early (step_budget)"), head
+    assert "still floating" not in res.stdout and "floats" not in res.stdout
+    refused(cli(["launch", "thesis_air", "--n", "4", *args], cwd=tmp_path), r"stopped early without a verdict")
