@@ -2,7 +2,7 @@
 subprocess, under the limits an adversary sets (a file-size limit, a umask, an injected SIGKILL,
 a time limit), and the checks every refusal must pass.
 
-    res = cli(["simulate", ...], cwd=tmp_path, fsize=200)    # RLIMIT_FSIZE 200 bytes
+    res = cli(["simulate", ...], cwd=tmp_path, fsize=200)    # RLIMIT_FSIZE 200 bytes (memory=, umask=)
     refused(res, r"--save")          # exit 2, one error line naming the flag, no traceback
     aged(paths)                      # mtimes set back past the sweeps' one minute
     dead_pid()                       # a pid whose process has exited (a killed owner)
@@ -22,8 +22,10 @@ ROOT = Path(__file__).resolve().parent.parent
 ERROR = re.compile(r"^levitron[\w ]*: error: ", re.M)
 
 
-def _limits(fsize: int | None, umask: int | None):
+def _limits(fsize: int | None, umask: int | None, memory: int | None):
     def apply():
+        if memory is not None:
+            resource.setrlimit(resource.RLIMIT_AS, (memory, memory))
         if fsize is not None:
             resource.setrlimit(resource.RLIMIT_FSIZE, (fsize, fsize))
         if umask is not None:
@@ -32,16 +34,18 @@ def _limits(fsize: int | None, umask: int | None):
 
 
 def cli(args, cwd: Path, env: dict | None = None, timeout: float = 300, fsize: int | None = None,
-        umask: int | None = None, code: str | None = None) -> subprocess.CompletedProcess:
+        umask: int | None = None, code: str | None = None, memory: int | None = None
+        ) -> subprocess.CompletedProcess:
     """`levitron ARGS` (or `python -c CODE ARGS`) in a subprocess of its own session, with the
-    session's LEVITRON_CACHE unless `env` names another; killed with its group after `timeout`."""
+    session's LEVITRON_CACHE unless `env` names another; killed with its group after `timeout`;
+    `fsize`, `memory`: RLIMIT_FSIZE and RLIMIT_AS in bytes; `umask`: the child's umask."""
     full = dict(os.environ, PYTHONPATH=str(ROOT), **(env or {}))
     full.pop("LEVITRON_DEBUG", None)
     head = [sys.executable, "-c", code] if code is not None else [sys.executable, "-m",
                                                                   "levitron.runtime.cli.main"]
     proc = subprocess.Popen([*head, *map(str, args)], cwd=cwd, env=full, text=True,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, start_new_session=True,
-                            preexec_fn=_limits(fsize, umask))
+                            preexec_fn=_limits(fsize, umask, memory))
     try:
         out, err = proc.communicate(timeout=timeout)
     except subprocess.TimeoutExpired:

@@ -215,3 +215,26 @@ def test_a_run_that_stops_early_gives_no_verdict(tmp_path):
     assert head.startswith("no verdict: the run stopped early (step_budget)"), head
     assert "still floating" not in res.stdout and "floats" not in res.stdout
     refused(cli(["launch", "thesis_air", "--n", "4", *args], cwd=tmp_path), r"stopped early without a verdict")
+
+
+# ---------------------------------------------------------------- every size a user can ask for is bounded
+
+DESIGN = ["optimize", "loop", "--maximize", "spin-ratio", "--vary", "top.mass=0.0197:0.0209",
+          "--constrain", "stiffness>=0.5"]
+THREE = ["--vary", "top.A=2e-6:2.4e-6", "--vary", "top.C=1.2e-6:1.4e-6"]
+SIZES = [
+    ("grid-1000000", [*DESIGN, "--grid", "1000000"], r"--grid 1000000 .*20000 .*--grid 20000 or fewer"),
+    ("grid-200-three-keys", [*DESIGN, *THREE, "--grid", "200"], r"--grid 200 with 3 keys .*--grid 27 or fewer"),
+    ("n-out-1e7", [*SIM, "--n-out", "10000000"], r"--n-out .*at most 1000000"),
+    ("launch-n-1e7", ["launch", "thesis_air", "--n", "10000000"], r"--n 10000000 .*1000000"),
+    ("fit-dev-zero", ["optimize", "thesis_stable", "--fit", "/dev/zero", "--vary", "plate.murho=-0.003:-0.0023"],
+     r"--fit /dev/zero: longer than 16 MB"),
+]
+
+
+@pytest.mark.parametrize("argv,mention", [c[1:] for c in SIZES], ids=[c[0] for c in SIZES])
+def test_every_size_has_a_bound_named_in_one_line(argv, mention, tmp_path):
+    """Refused at once, naming the flag and its limit, within 2 GB of address space (before: --grid
+    ran on past 120 s, --fit /dev/zero read until the memory ran out, --n-out named no flag)."""
+    res = cli(argv, cwd=tmp_path, timeout=60, memory=2 * 2**30)
+    refused(res, mention)
