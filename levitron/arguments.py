@@ -20,7 +20,7 @@ import numpy as np
 
 from levitron.runtime.errors import UserError
 
-__all__ = ["UserError", "Named", "api_words", "boxes", "choice", "names", "number", "plain", "scene_keys"]
+__all__ = ["UserError", "Named", "api_words", "bind", "boxes", "choice", "names", "number", "plain", "scene_keys"]
 
 
 def is_number(value) -> bool:
@@ -72,6 +72,23 @@ def choice(name, what: str, valid: Iterable[str]) -> str:
         hint = f"did you mean {near[0]!r}? " if near else ""
         raise UserError(f"{what} {name!r} is unknown: {hint}use one of {', '.join(valid)}")
     return name
+
+
+def bind(fn, args, kwargs, what: str) -> None:
+    """Check a call's arguments against `fn`'s signature: an unknown keyword or a wrong number of
+    arguments is a one-line UserError ("load: unknown argument 'overides': did you mean
+    'overrides'? ..."), not Python's TypeError."""
+    import inspect
+    sig = inspect.signature(fn)
+    try:
+        sig.bind(*args, **kwargs)
+    except TypeError as exc:
+        names = [n for n, p in sig.parameters.items() if p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD)
+                 and n != "self"]
+        for k in kwargs:
+            if k not in sig.parameters:
+                choice(k, f"{what}: argument", names)
+        raise UserError(f"{what}: {exc}; its arguments are {', '.join(names)}") from None
 
 
 class Named(dict):

@@ -6,6 +6,7 @@ a time limit), and the checks every refusal must pass.
     refused(res, r"--save")          # exit 2, one error line naming the flag, no traceback
     aged(paths)                      # mtimes set back past the sweeps' one minute
     dead_pid()                       # a pid whose process has exited (a killed owner)
+    children(pid), alive(pid)        # a process's live children (/proc), whether one still runs
 """
 from __future__ import annotations
 
@@ -85,9 +86,28 @@ def dead_pid() -> int:
     return proc.pid
 
 
-def alive(pid: int) -> bool:
+def _stat(pid: int) -> list[str] | None:
     try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    return True
+        text = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return None
+    return text[text.rindex(")") + 2:].split()         # state, ppid, ... (the name may hold spaces)
+
+
+def alive(pid: int) -> bool:
+    """Whether `pid` runs (a zombie that no one reaped has ended)."""
+    st = _stat(pid)
+    return st is not None and st[0] not in ("Z", "X")
+
+
+def children(pid: int) -> dict[int, str]:
+    """The live child processes of `pid`: {pid: command line}."""
+    out = {}
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit() and (st := _stat(int(entry.name))) is not None and int(st[1]) == pid \
+                and alive(int(entry.name)):
+            try:
+                out[int(entry.name)] = (entry / "cmdline").read_bytes().replace(b"\0", b" ").decode()
+            except OSError:
+                continue
+    return out

@@ -11,8 +11,10 @@ is swept by the next run.
 from __future__ import annotations
 
 import os
+import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -238,3 +240,85 @@ def test_every_size_has_a_bound_named_in_one_line(argv, mention, tmp_path):
     ran on past 120 s, --fit /dev/zero read until the memory ran out, --n-out named no flag)."""
     res = cli(argv, cwd=tmp_path, timeout=60, memory=2 * 2**30)
     refused(res, mention)
+
+
+# ---------------------------------------------------------------- child processes
+
+def test_workers_are_capped_and_die_with_their_parent(tmp_path):
+    """`launch --workers 12` starts at most the usable cores' workers (D11), and after a kill -9
+    of the command every child it started (the workers, multiprocessing's resource tracker) is
+    gone within seconds (before: they lived on for minutes, D9)."""
+    from hostile import alive, children
+    from levitron.runtime.scan.runners import usable_cores
+    env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parent.parent))
+    proc = subprocess.Popen([sys.executable, "-m", "levitron.runtime.cli.main", "launch", "thesis_air",
+                             "--n", "4000", "--t-end", "20", "--workers", "12"], cwd=tmp_path, env=env,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    seen: dict[int, str] = {}
+    try:
+        deadline, first = time.time() + 120, None
+        while time.time() < deadline and proc.poll() is None:
+            seen.update(children(proc.pid))
+            if first is None and any("spawn_main" in cmd for cmd in seen.values()):
+                first = time.time()            # the pool starts its workers at once: watch 3 s more
+            if first is not None and time.time() > first + 3:
+                break
+            time.sleep(0.1)
+        assert proc.poll() is None, "the launch ended before its workers were seen"
+        workers = [p for p, cmd in seen.items() if "spawn_main" in cmd]
+        assert 1 <= len(workers) <= usable_cores(), seen
+        proc.kill()
+        proc.wait()
+        deadline = time.time() + 15
+        while time.time() < deadline and any(alive(p) for p in seen):
+            time.sleep(0.2)
+        assert not [p for p in seen if alive(p)], f"left running after the kill: {seen}"
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        for p in seen:               # what this test started and a failure left behind
+            if alive(p):
+                os.kill(p, signal.SIGKILL)
+
+
+def test_a_script_without_the_main_guard_is_told_so(tmp_path):
+    """Worker processes import the user's script again: without `if __name__ == "__main__":` the
+    API's launch(workers=2) is refused in one line naming the guard, before any worker starts
+    (before: 299 traceback lines blaming memory); with the guard it runs (D10)."""
+    call = "print(lev.load('thesis_air').launch(n=4, t_end=0.05, workers=2).probability)"
+    bare = tmp_path / "bare.py"
+    bare.write_text(f"import levitron as lev\n{call}\n")
+    guarded = tmp_path / "guarded.py"
+    guarded.write_text(f"import levitron as lev\n\nif __name__ == '__main__':\n    {call}\n")
+    env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parent.parent))
+    res = subprocess.run([sys.executable, bare], cwd=tmp_path, env=env, capture_output=True, text=True,
+                         timeout=120, check=False)
+    assert res.returncode == 1 and len(res.stderr.splitlines()) < 40, res.stderr[-3000:]
+    last = res.stderr.splitlines()[-1]
+    assert "UserError: workers=2 starts worker processes" in last and '__name__ == "__main__"' in last, last
+    assert "memory" not in res.stderr
+    res = subprocess.run([sys.executable, guarded], cwd=tmp_path, env=env, capture_output=True, text=True,
+                         timeout=120, check=False)
+    assert res.returncode == 0 and 0 <= float(res.stdout) <= 1, res.stderr[-3000:]
+
+
+API_MISTAKES = [
+    ("lev.load('thesis_air', overides={'top.mass': 0.05})", r"'overides' is unknown: did you mean 'overrides'"),
+    ("lev.load('thesis_air').stability(0.1, 2)", r"Study.stability: too many positional"),
+    ("lev.load('thesis_air').equilibria(bands=True)", r"Study.equilibria: argument 'bands' is unknown"),
+    ("lev.load('thesis_air').launch(n=4, inputs='spin=1000')", r"inputs = 'spin=1000' must map"),
+    ("lev.load('thesis_air').launch(n=4, inputs=['spin'])", r"inputs = \['spin'\] must map"),
+    ("lev.load('thesis_stable').gradient('sigma_hi', ['top.mass'], 3)", r"Study.gradient: too many"),
+]
+
+
+@pytest.mark.parametrize("call,mention", API_MISTAKES, ids=[c[0].split(").")[-1][:30] for c in API_MISTAKES])
+def test_api_mistakes_are_one_line_user_errors(call, mention):
+    """A misspelt keyword or a wrong count of arguments is a levitron.UserError of one line, the
+    valid names listed (before: Python's TypeError, D12)."""
+    import re
+
+    import levitron as lev
+    with pytest.raises(lev.UserError) as exc:
+        eval(call, {"lev": lev})
+    assert "\n" not in str(exc.value) and re.search(mention, str(exc.value)), str(exc.value)
