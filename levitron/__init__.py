@@ -37,4 +37,5 @@ __getattr__, __dir__, __all__ = _lazy_surface(__name__, {
     "FitResult": "runtime.design.fit", "LaunchOdds": "results", "Propagator": "runtime.integrate.propagator",
     "ScanResult": "runtime.scan.stability_map",
     "SceneError": "derive.scene", "Simulation": "results", "Simulations": "results",
-    "Stability": "results", "Study": "study", "UserError": "runtime.errors", "load": "study"})
+    "Stability": "results", "Study": "study", "Trim": "results", "UserError": "runtime.errors",
+    "load": "study"})

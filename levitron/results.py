@@ -240,6 +240,41 @@ class LaunchOdds:
 
 
 @dataclass(frozen=True, repr=False)
+class Trim:
+    """The trim by the launch odds (runtime/design/trim.py, docs/contract.md `trim`): the mass to
+    set (kg), the change from the scene's, the masses that hover (the stable band), the launch
+    odds before and after (fresh seed, 95 % Wilson intervals) and at the widest spin window;
+    details: every key of the JSON (the spin limits of every mass, the design's search)."""
+
+    mass: float
+    advice: float
+    change: float
+    band_mass: tuple[float, float]
+    probability: float
+    start_probability: float
+    widest_window_mass: float
+    widest_window_probability: float
+    details: dict = field(repr=False, default_factory=dict)
+    units: Units = field(default=_SI, repr=False, compare=False)
+
+    @property
+    def success(self) -> bool:
+        """The search found launches that float (it raises UserError where none does)."""
+        return self.probability > 0
+
+    @property
+    def message(self) -> str:
+        d = self.change
+        how = f"take {self.units.mass(-d)} off" if d < 0 else f"add {self.units.mass(d)}"
+        return (f"{how}: launch odds {sig(100 * self.start_probability, 3)}% -> {sig(100 * self.probability, 3)}%"
+                f" (the widest spin window, at {self.units.mass(self.widest_window_mass)}: "
+                f"{sig(100 * self.widest_window_probability, 3)}%)")
+
+    def __repr__(self) -> str:
+        return f"Trim({self.message})"
+
+
+@dataclass(frozen=True, repr=False)
 class Simulations:
     """Many launches in one call of the C chunk driver (Study.simulate_many, runtime/scan/batch.py),
     each the run Study.simulate makes with the same options, as arrays of length n: levitating

@@ -24,7 +24,7 @@ from levitron.runtime.physics.stability import stability_of
 from levitron.runtime.ui.human import Units, restate
 
 from . import arguments as arg
-from .results import Equilibria, Equilibrium, LaunchOdds, Simulation, Simulations, Stability
+from .results import Equilibria, Equilibrium, LaunchOdds, Simulation, Simulations, Stability, Trim
 
 # Study.simulate's options: runtime.simulate.run.simulate's keywords, and the command line's names
 SIMULATE_OPTIONS = ("tilt", "offset", "t_end", "integrator", "tol", "box", "plot", "part", "h",
@@ -249,11 +249,29 @@ class Study:
         seed gives the same verdicts serially, with processes and on dask."""
         from levitron.runtime.scan.launch_odds import Request
         request = Request.of(self.scene.data.get("launch", {}), inputs, n=n, seed=seed, **options)
-        ref = str(Path(self.scene.path).resolve()) if self.scene.path else self.scene.name
-        out = request.run(self.model, ref, self.overrides, quiet=True)
+        out = request.run(self.model, self._ref(), self.overrides, quiet=True)
         return LaunchOdds(out["probability"], tuple(out["probability_ci95"]), out["n"],
                           out["success_time"], {k: out["flight_time"][k] for k in ("median", "q1", "q3")},
                           [(e["input"], e["effect"]) for e in out["ranking"]], out, self.units)
+
+    @_in_scene_units
+    def trim(self, n: int | None = None, seed: int | None = None,
+             inputs: Mapping[str, object] | None = None, **options) -> Trim:
+        """The mass to set so that most launches by hand float (runtime/design/trim.py): the
+        launch-odds design over top.mass in the stable band, the launches taken as Study.launch
+        takes them (n, seed, inputs, success_time, t_end, integrator, tol, workers, scheduler)."""
+        from levitron.runtime.design.trim import trim
+        from levitron.runtime.scan.launch_odds import Request
+        request = Request.of(self.scene.data.get("launch", {}), inputs, n=n, seed=seed, **options)
+        out = trim(self.model, self._ref(), self.overrides, request).as_dict()
+        w = out["widest_window"]
+        return Trim(out["mass"], out["advice"], out["change"], tuple(out["band_mass"]),
+                    out["launch_odds"]["probability"], out["start_launch_odds"]["probability"], w["mass"],
+                    w["launch_odds"]["probability"], out, self.units)
+
+    def _ref(self) -> str:
+        """What launch workers reload the scene from: its file's absolute path, else its name."""
+        return str(Path(self.scene.path).resolve()) if self.scene.path else self.scene.name
 
     @_in_scene_units
     def propagator(self, part: str = "reduced", integrator: str = "auto", tol: float = 1e-9,

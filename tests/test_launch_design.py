@@ -75,3 +75,14 @@ def test_the_widest_spin_window_warns_what_it_costs_in_launches(capsys):
     assert p < 0.5 * q
     assert any("--maximize launch-odds gives" in w for w in r["warnings"])
     assert set(r["start_launch_odds"]) >= {"probability", "probability_ci95", "n", "seed"}
+
+
+def test_the_launch_design_bench_runs_in_its_quick_mode(tmp_path, capsys):
+    """`levitron bench thesis_air --kind launch-design --quick` writes its table and plot (the
+    bench measures; this only checks that it runs)."""
+    assert main(["bench", "thesis_air", "--kind", "launch-design", "--quick", "--out", str(tmp_path), "--json"]) == 0
+    r = json.loads(capsys.readouterr().out)
+    row = r["rows"][0]
+    assert row["n"] == 6 and row["evaluations"] >= 7 and row["wall_s"] > 0
+    assert all((tmp_path / f).stat().st_size > 0 for f in ("launch_design.json", "launch_design.csv",
+                                                           "launch_design.png"))

@@ -38,6 +38,9 @@ KINDS = {k.name: k for k in (
          "reports/design"),
     Kind("launch", "levitron.runtime.bench.launch", "a long flight in air and a launch Monte Carlo",
          ("thesis_air",), "reports/launch"),
+    Kind("launch-design", "levitron.runtime.bench.launch_design", "wall time of a design by the launch "
+         "odds over the top's mass (300 launches an evaluation) on 1 and 2 workers, with the machine's load",
+         ("thesis_air",), "reports/launch_design"),
     Kind("functions", "levitron.runtime.bench.functions", "ns per call of every generated function",
          ("thesis_stable", "ring_magnet"), "reports/{scene}/functions"),
     Kind("startup", "levitron.runtime.bench.startup", "wall time of warm one-shot commands (--version, --help, "

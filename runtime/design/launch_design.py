@@ -89,6 +89,11 @@ class Pinned:
         raise UserError(f"{first} (and at every point of the --vary box's grid): move or widen the box")
 
 
+def key_text(key: str, value: float) -> str:
+    """A varied key's value in a warning (the JSON's SI; the plain view restates kg as g)."""
+    return f"{value:.6g} kg" if key == "top.mass" else f"{value:.6g}"
+
+
 def _overrides(overrides: Sequence[str], keys: Sequence[str], x) -> list[str]:
     return [*overrides, *(f"{k}={float(v)!r}" for k, v in zip(keys, x))]
 
@@ -141,6 +146,7 @@ class LaunchDesign:
     n: int
     wall_s: float
     warnings: list[str] = field(default_factory=list)
+    defaulted: list[str] = field(default_factory=list)     # the inputs no flag or [launch] table gave
 
     @property
     def probability(self) -> float:
@@ -153,13 +159,15 @@ class LaunchDesign:
                 "search": {"method": "common random numbers on a grid, zoomed (runtime/design/launch_design.py)",
                            "seed": self.seed, "n": self.n, "evaluations": len(self.evaluations),
                            "best_search_odds": self.search_odds, "points": self.evaluations},
-                "inputs": self.inputs, "success_time": self.success_time, "t_end": self.t_end,
+                "inputs": self.inputs, "defaulted": self.defaulted, "success_time": self.success_time,
+                "t_end": self.t_end,
                 "solver_status": "grid search", "wall_s": self.wall_s}
 
 
 def maximize_launch_odds(model, scene_ref: str, overrides: Sequence[str], varies: Sequence[Vary],
-                         request: mc.Request, pinned: Pinned | None = None) -> LaunchDesign:
-    """The design of the module docstring over the --vary box."""
+                         request: mc.Request, pinned: Pinned | None = None,
+                         where: str = "the --vary box") -> LaunchDesign:
+    """The design of the module docstring over the --vary box (`where`: what its messages call it)."""
     t0 = time.perf_counter()
     if not 1 <= len(varies) <= 3:
         raise UserError("--vary: give one to three keys for --maximize launch-odds")
@@ -206,9 +214,11 @@ def maximize_launch_odds(model, scene_ref: str, overrides: Sequence[str], varies
             best = max(evaluated, key=evaluated.get)
     if max(evaluated.values()) <= 0:
         reasons = sorted({row["reason"] for row in rows if "reason" in row})
-        raise UserError("no launch floats anywhere in the --vary box"
-                        + (f" ({reasons[0]})" if reasons else "") + ": widen or move the box, or "
-                        "check the launch spread with `levitron launch`")
+        raise UserError(f"no launch floats anywhere in {where}"
+                        + (f" ({reasons[0]})" if reasons else "") + ": "
+                        + ("widen or move the box, or " if where == "the --vary box" else "")
+                        + "check the launch spread with `levitron launch` (a steadier hand: smaller "
+                        "--mass, --strength or --tilt spreads)")
     fresh = req.with_seed(req.seed + FRESH)
     final = odds_at(scene_ref, overrides, keys, best, fresh)
     start_x = [key_value(model.scene.data, k) for k in keys]
@@ -217,10 +227,10 @@ def maximize_launch_odds(model, scene_ref: str, overrides: Sequence[str], varies
     for v, b in zip(varies, best):
         span = v.hi - v.lo
         if b <= v.lo + 1e-9 * span or b >= v.hi - 1e-9 * span:
-            warnings.append(f"{v.key} = {b:.6g} is at a bound of --vary {v.key}={v.lo:.10g}:{v.hi:.10g}: "
+            warnings.append(f"{v.key} = {key_text(v.key, b)} is at a bound of --vary {v.key}={v.lo:.10g}:{v.hi:.10g}: "
                             "the box stopped the search, not the odds; widen --vary")
     if pinned.at is not None:
-        where = ", ".join(f"{k} = {v:.6g}" for k, v in pinned.at.items())
+        where = ", ".join(f"{k} = {key_text(k, v)}" for k, v in pinned.at.items())
         warnings.append(f"the scene as written cannot be launched ({first.get('reason', 'no hover')}); "
                         f"the launch spread's defaults are taken at {where}")
     lo, hi = final["probability_ci95"]
@@ -229,7 +239,8 @@ def maximize_launch_odds(model, scene_ref: str, overrides: Sequence[str], varies
                         f"interval {100 * lo:.3g}-{100 * hi:.3g} %: raise --n")
     return LaunchDesign(dict(zip(keys, best)), dict(zip(keys, map(float, start_x))), odds_dict(final),
                         odds_dict(first), evaluated[best], rows, dict(req.given), req.success_time,
-                        req.t_end, req.seed, req.n, time.perf_counter() - t0, warnings)
+                        req.t_end, req.seed, req.n, time.perf_counter() - t0, warnings,
+                        list(pinned.start.get("defaulted", [])))
 
 
 def what_it_costs(model, scene_ref: str, overrides: Sequence[str], varies: Sequence[Vary],

@@ -12,5 +12,6 @@ COMMANDS = (
     "bench",
     "scan",
     "launch",
+    "trim",
     "report",
 )

@@ -135,7 +135,7 @@ def human(r: dict, scene=None) -> str:
             f"({r['objective']})",
             u.note)
     if r.get("objective_name") == "launch-odds":
-        return lines(*launch_odds_lines(r, u), *_warnings(r, scene), u.note)
+        return lines(*launch_odds_lines(r, u, scene), *warning_lines(r, scene), u.note)
     status = f"solver: {r['solver_status']}, {r['iterations']} iterations"
     if "parameters" in r:
         fitted = ", ".join(f"{k} = {sig(v['value'], 6)} +- {sig(v['stderr'], 2)}"
@@ -144,7 +144,7 @@ def human(r: dict, scene=None) -> str:
         return lines(f"fit: {fitted}",
                      f"chi2 {sig(r['objective'], 4)} with {r['dof']} degrees of freedom"
                      + (f"; largest residual {sig(worst, 3)} sigma" if worst is not None else ""),
-                     status, *_warnings(r, scene), u.note)
+                     status, *warning_lines(r, scene), u.note)
     best = ", ".join(f"{k} = {sig(v, 6)}" for k, v in r["optimum"].items())
     iv, band = r.get("spin_interval"), r.get("band")
     ver = r["verification"]
@@ -160,19 +160,21 @@ def human(r: dict, scene=None) -> str:
         if r.get("scene_objective") is not None else "",
         f"verified: float route at the optimum, best of {ver['grid_points']} grid points "
         f"{sig(ver['grid_best'], 6) if ver.get('grid_best') is not None else 'none feasible'} {unit}".rstrip(),
-        status, *cost_lines(r, u), *_warnings(r, scene),
+        status, *cost_lines(r, u), *warning_lines(r, scene),
         f"scene written: {r['written']} (check it: levitron stability {r['written']})"
         if r.get("written") else "", u.note)
 
 
-def _warnings(r: dict, scene=None) -> list[str]:
+def warning_lines(r: dict, scene=None) -> list[str]:
     """Every warning of the result in plain view, one a line."""
     u = Units.of_scene(scene) if scene is not None else Units(si=True)
     return [f"warning: {restate(w, u)}" for w in r.get("warnings") or []]
 
 
-def _pct(block: dict) -> str:
+def odds_text(block: dict) -> str:
     lo, hi = block["probability_ci95"]
+    if hi == 0:                         # odds_at: a design whose top cannot hover floats never
+        return "0 % (it cannot hover)"
     return f"{sig(100 * block['probability'], 3)} % ({sig(100 * lo, 3)}-{sig(100 * hi, 3)} %)"
 
 
@@ -184,7 +186,7 @@ def change_text(key: str, start: float, to: float, u: Units) -> str:
     return f"set {key} from {sig(start, 6)} to {sig(to, 6)}"
 
 
-def launch_odds_lines(r: dict, u: Units) -> list[str]:
+def launch_odds_lines(r: dict, u: Units, scene=None) -> list[str]:
     """The launch-odds design in plain view: the advice and what it does to the odds."""
     a, b = r["start_launch_odds"], r["launch_odds"]
     advice = "; ".join(change_text(k, r["start"][k], v, u) for k, v in r["optimum"].items())
@@ -192,8 +194,9 @@ def launch_odds_lines(r: dict, u: Units) -> list[str]:
     return [f"{advice}: odds {sig(100 * a['probability'], 3)} % -> {sig(100 * b['probability'], 3)} %",
             "optimum: " + ", ".join(f"{k} = {u.mass(v) if k == 'top.mass' else sig(v, 6)}"
                                     for k, v in r["optimum"].items())
-            + f": {_pct(b)} of {b['n']} launches float at least {u.time(r['success_time'])} (seed {b['seed']})",
-            f"as written: {_pct(a)} (the same seed)",
+            + f": {odds_text(b)} of {b['n']} launches float at least {u.time(r['success_time'])} (seed {b['seed']})",
+            f"as written: {odds_text(a)} (the same seed)",
+            launch.launches_line(r, u, scene),
             f"searched: {search['evaluations']} designs of {search['n']} launches each on common random "
             f"numbers (seed {search['seed']}); decided on the fresh seed {b['seed']}"]
 
@@ -204,5 +207,6 @@ def cost_lines(r: dict, u: Units) -> list[str]:
         return []
     best = r["launch_odds_optimum"]
     where = ", ".join(f"{k} = {u.mass(v) if k == 'top.mass' else sig(v, 6)}" for k, v in best["optimum"].items())
-    return [f"launch odds at this optimum: {_pct(r['launch_odds'])}; as written {_pct(r['start_launch_odds'])}; "
-            f"the launch-odds optimum ({where}) {_pct(best['launch_odds'])}"]
+    return [f"launch odds at this optimum: {odds_text(r['launch_odds'])}; "
+            f"as written {odds_text(r['start_launch_odds'])}; "
+            f"the launch-odds optimum ({where}) {odds_text(best['launch_odds'])}"]

@@ -1,0 +1,86 @@
+"""Trim by the launch odds: the mass to add or take off so that most launches by hand float (issue 26).
+
+The stable band (thesis 3.3: the heights z where the top of mass m(z) = -mu Phi_2(z)/g, eq. 3.3.2,
+has a spin interval of linear stability) fixes the masses that can hover at all, [m_lo, m_hi] at the
+scene's temperature. Inside it the linear spin window (sigma_lo, sigma_hi) of each mass (the
+discriminant route, thesis 3.3.15-3.3.19) is widest near an edge of the band, where a spread of
+0.2 % in mass or strength puts part of the launches outside the band: advice by the window alone
+fails there. The trim is therefore the launch-odds design (runtime/design/launch_design.py) over
+top.mass in the band, with the same launch spread as `levitron launch`; beside it, the window of
+every mass and the odds at the widest window, so the two pieces of advice can be compared.
+"""
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from levitron.runtime.design import launch_design as ld
+from levitron.runtime.design.scene_keys import Vary
+from levitron.runtime.errors import UserError
+from levitron.runtime.physics import equilibrium as eqm
+from levitron.runtime.physics.stability import stability_of
+from levitron.runtime.scan import launch_odds as mc
+
+LIMIT_POINTS = 41        # masses at which the spin window is drawn, the band's edges included
+
+
+@dataclass
+class Trim:
+    """The trim answer (docs/contract.md `trim`): masses in kg, rates in rad/s (SI, or scene units)."""
+    mass: float                        # the scene's top
+    band_mass: tuple[float, float]     # the masses that can hover (the stable band)
+    design: ld.LaunchDesign            # the launch-odds design over top.mass in the band
+    limits: list[dict]                 # [{mass, z_s, spin_interval}] across the band
+    widest: dict                       # the mass of the widest window, its window and its launch odds
+    warnings: list[str] = field(default_factory=list)
+
+    @property
+    def advice(self) -> float:
+        return self.design.optimum["top.mass"]
+
+    def as_dict(self) -> dict:
+        d = self.design
+        return {"mass": self.mass, "advice": self.advice, "change": self.advice - self.mass,
+                "band_mass": list(self.band_mass), "launch_odds": d.launch_odds,
+                "start_launch_odds": d.start_launch_odds, "widest_window": self.widest,
+                "spin_limits": self.limits, "inputs": d.inputs, "success_time": d.success_time,
+                "t_end": d.t_end, "design": d.as_dict(), "warnings": [*self.warnings, *d.warnings]}
+
+
+def spin_limits(model, masses: Sequence[float]) -> list[dict]:
+    """The spin interval of linear stability of each mass at its stable height (the discriminant
+    route; None where it has none): the curve the widest-window advice reads."""
+    out = []
+    for m in masses:
+        res = stability_of(model, mass=float(m), eigen=False)
+        iv = res.spin_interval
+        out.append({"mass": float(m), "z_s": res.z_s,
+                    "spin_interval": None if iv is None else [float(iv[0]), float(iv[1])]})
+    return out
+
+
+def trim(model, scene_ref: str, overrides: Sequence[str], request: mc.Request) -> Trim:
+    """The trim of the module docstring for the loaded model (its temperature and --set included)."""
+    band = eqm.equilibria_of(model, bands=True).stable_band
+    if band is None:
+        raise UserError(f"{model.scene.name}: no mass can hover over this plate (no stable band), so "
+                        "there is nothing to trim; `levitron equilibrium` says why")
+    lo, hi = band.mass
+    design = ld.maximize_launch_odds(model, scene_ref, overrides, [Vary("top.mass", lo, hi)], request,
+                                     where="the masses that hover (the stable band)")
+    limits = spin_limits(model, np.linspace(lo, hi, LIMIT_POINTS))
+    widths = [(r["spin_interval"][1] - r["spin_interval"][0]) if r["spin_interval"] else -np.inf
+              for r in limits]
+    k = int(np.argmax(widths))
+    widest = dict(limits[k])
+    pinned = design.inputs
+    fresh = mc.Request(dict(pinned), design.n, design.seed + ld.FRESH, design.success_time, design.t_end,
+                       request.integrator, request.tol, request.workers, request.scheduler)
+    widest["launch_odds"] = ld.odds_dict(ld.odds_at(scene_ref, overrides, ["top.mass"], [widest["mass"]], fresh))
+    warnings = []
+    if not lo <= model.param("m") <= hi:
+        warnings.append(f"the scene's top ({model.param('m'):.6g} kg) is outside the masses that can hover, "
+                        f"[{lo:.6g}, {hi:.6g}] kg: as written it does not float at all")
+    return Trim(model.param("m"), (lo, hi), design, limits, widest, warnings)
