@@ -7,15 +7,19 @@ a time limit), and the checks every refusal must pass.
     aged(paths)                      # mtimes set back past the sweeps' one minute
     dead_pid()                       # a pid whose process has exited (a killed owner)
     children(pid), alive(pid)        # a process's live children (/proc), whether one still runs
+    with http_imposter() as address: # a service that answers a dask client in HTTP
 """
 from __future__ import annotations
 
+import contextlib
 import os
 import re
 import resource
 import signal
+import socket
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -111,3 +115,36 @@ def children(pid: int) -> dict[int, str]:
             except OSError:
                 continue
     return out
+
+
+@contextlib.contextmanager
+def http_imposter():
+    """A local service that answers every connection with an HTTP reply at once (what a dask client
+    reads as a frame of an impossible length): yields its tcp:// address."""
+    server = socket.socket()
+    server.bind(("127.0.0.1", 0))
+    server.listen(8)
+    server.settimeout(0.2)
+    stop = threading.Event()
+
+    def serve():
+        conns = []
+        while not stop.is_set():
+            try:
+                conn, _ = server.accept()
+            except OSError:
+                continue
+            conn.sendall(b"HTTP/1.1 400 Bad Request\r\nContent-Type: text/html\r\nContent-Length: 20\r\n\r\n"
+                         b"<html>bad req</html>")
+            conns.append(conn)
+        for conn in conns:
+            conn.close()
+
+    th = threading.Thread(target=serve, daemon=True)
+    th.start()
+    try:
+        yield f"tcp://127.0.0.1:{server.getsockname()[1]}"
+    finally:
+        stop.set()
+        th.join(5)
+        server.close()

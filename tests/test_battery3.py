@@ -322,3 +322,61 @@ def test_api_mistakes_are_one_line_user_errors(call, mention):
     with pytest.raises(lev.UserError) as exc:
         eval(call, {"lev": lev})
     assert "\n" not in str(exc.value) and re.search(mention, str(exc.value)), str(exc.value)
+
+
+# ---------------------------------------------------------------- errors that name what to fix
+
+MESSAGES = [
+    ("report-out-empty", ["report", "thesis", "--out", ""], r"--out '': an empty value"),
+    ("report-out-dot", ["report", "thesis", "--out", "."], r"--out \. is a folder"),
+    ("figures-out-empty", ["figures", "thesis", "--out", ""], r"--out '': an empty value"),
+    ("figures-out-equals", ["figures", "thesis", "--out="], r"--out '': an empty value"),
+    ("scheduler-empty", ["launch", "thesis_air", "--n", "4", "--scheduler", ""], r"--scheduler ''"),
+    ("scene-empty", ["info", ""], r"empty argument '' .*give the scene"),
+    ("temperature-twice", ["equilibrium", "thesis", "--temperature", "30", "--set", "temperature=40"],
+     r"--temperature 30 and --set 'temperature=40' both"),
+]
+
+
+@pytest.mark.parametrize("argv,mention", [c[1:] for c in MESSAGES], ids=[c[0] for c in MESSAGES])
+def test_errors_name_what_to_fix(argv, mention, tmp_path):
+    """Empty values never mean a default or the current folder (D26; before: figures --out ''
+    wrote into the current folder, --scheduler '' ran serially, report --out '' and --out . exited 3,
+    D8), and two settings of one number are refused, not resolved silently (D22)."""
+    refused(cli(argv, cwd=tmp_path, timeout=120), mention)
+    assert list(tmp_path.iterdir()) == [], "something was written"
+
+
+def test_a_scheduler_that_answers_in_http_is_named(tmp_path):
+    """Before: 'not enough memory ... ask for less' on the command line, a raw _ArrayMemoryError in
+    the API (D7)."""
+    from hostile import http_imposter
+    with http_imposter() as address:
+        refused(cli([*AIR, "--scheduler", address], cwd=tmp_path, timeout=120), r"is not a dask scheduler")
+        refused(_api(f"lev.load('thesis_air').launch(n=4, t_end=0.05, scheduler={address!r})", tmp_path),
+                r"is not a dask scheduler")
+
+
+def test_a_killed_derive_child_says_so(tmp_path):
+    """`levitron derive` whose child is SIGKILLed says it was killed and that generated/ is as it
+    was (before: 'derive failed', D20)."""
+    marker = tmp_path / "marker"
+    res = cli(["derive", "thesis", "--force"], cwd=tmp_path, env={"LEVITRON_FAULT": f"derive.child:{marker}"})
+    assert marker.exists()
+    refused(res, r"derive of thesis was killed \(signal 9\).*generated/ holds the models as they were")
+
+
+def test_a_damaged_object_with_a_matching_stamp_is_rebuilt(tmp_path, seed_cache):
+    """A cached object whose content and stamp were both replaced (the stamp matches the junk)
+    fails the link: the objects are compiled again and the run works (before: every run failed
+    with a bare linker error, D15)."""
+    from levitron.runtime.model.cbuild import _stamp
+    cache = seed_cache(tmp_path / "cache")
+    obj = sorted((cache / "obj").glob("*.o"))[0]
+    junk = b"not an object file\n" * 50
+    obj.write_bytes(junk)
+    obj.with_name(obj.name + ".sha256").write_text(_stamp(junk))
+    res = cli(["equilibrium", "thesis", "--json"], cwd=tmp_path, env={"LEVITRON_CACHE": str(cache)})
+    assert res.returncode == 0, res.stderr[-2000:]
+    assert "linking the cached objects failed" in res.stderr
+    assert obj.read_bytes() != junk

@@ -260,6 +260,28 @@ def _with_provenance(args, result):
     return result
 
 
+def _refuse_empty(argv: list[str]) -> None:
+    """An empty value (`--out ''`, `--out=`, a scene '') is refused: it never silently means the
+    default or the current folder."""
+    for i, token in enumerate(argv[1:], start=1):
+        flag = token[:-1] if token.startswith("--") and token.endswith("=") else None
+        if token == "":
+            flag = argv[i - 1] if argv[i - 1].startswith("-") else None
+            if flag is None:
+                raise UserError(f"an empty argument '' after `levitron {argv[0]}`: give the scene (a name "
+                                "of scenes/ or a .toml path)")
+        if flag is not None:
+            raise UserError(f"{flag} '': an empty value; give one (see `levitron {argv[0]} --help`)")
+
+
+def _one_temperature(args) -> None:
+    """--temperature and --set temperature=... name one number twice: refused, not resolved."""
+    for text in args.set:
+        if text.split("=", 1)[0].strip() == "temperature":
+            raise UserError(f"--temperature {args.temperature:g} and --set '{text}' both set the temperature: "
+                            "pass one of them")
+
+
 def main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv == ["--version"]:       # without the command modules (numpy, casadi): ~0.1 s, not ~1 s
@@ -267,8 +289,13 @@ def main(argv=None) -> int:
     if not argv or argv[0] in ("-h", "--help"):     # the overview: no command module imported
         build_parser(overview=True).parse_args(argv)
     args = build_parser(argv[0] if argv else None).parse_args(argv)
-    if getattr(args, "temperature", None) is not None:     # one more --set, resolved by the scene
-        args.set = [*args.set, f"temperature={args.temperature!r}"]
+    try:
+        _refuse_empty(argv)
+        if getattr(args, "temperature", None) is not None:     # one more --set, resolved by the scene
+            _one_temperature(args)
+            args.set = [*args.set, f"temperature={args.temperature!r}"]
+    except UserError as exc:
+        return _report(args, exc)
     args._argv = argv
     from levitron.derive.scene import SceneError
     from levitron.runtime.model.cbuild import resolve_cache_env

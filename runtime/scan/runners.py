@@ -267,6 +267,10 @@ def dask_client(address: str, timeout: float | None = None):
         raise UserError(f"no dask scheduler answered at {address!r} within {wait:g} s (is it a "
                         "dask scheduler? another service accepts the connection but never answers "
                         "dask's handshake): give the address `dask scheduler` prints, or use --workers N")
+    if isinstance(box.get("error"), MemoryError):      # numpy's _ArrayMemoryError too
+        raise UserError(f"what answers at {address!r} is not a dask scheduler (its reply, read as "
+                        "dask's protocol, announced an impossible message size; an HTTP server?): give "
+                        "the address `dask scheduler` prints, or use --workers N")
     if "error" in box and not isinstance(box["error"], (OSError, TimeoutError, ValueError)):
         raise box["error"]
     if "error" in box:

@@ -19,11 +19,11 @@ def add_arguments(parser) -> None:
 
 
 def _check_out(path: Path) -> Path:
+    if path.is_dir() or not path.name:          # a folder ('.', '/', out/) before its suffix
+        raise UserError(f"--out {path} is a folder: give a file name in it, e.g. --out {path / 'report.html'}")
     if path.suffix.lower() not in (".html", ".htm"):
         raise UserError(f"--out {path}: the file name must end in .html, e.g. --out "
                         f"{path.with_suffix('.html')}")
-    if path.is_dir():
-        raise UserError(f"--out {path} is a folder: give a file name in it, e.g. --out {path / 'report.html'}")
     return path
 
 
