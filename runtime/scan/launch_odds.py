@@ -87,7 +87,10 @@ def parse_dist(name: str, spec) -> Dist:
     if isinstance(spec, bool):
         raise UserError(f"launch {name} = {spec!r} is not a distribution: {how}")
     if isinstance(spec, (int, float)):
-        value = float(spec)
+        try:
+            value = float(spec)
+        except OverflowError:             # an integer beyond any double (the API's 10**400)
+            value = math.inf
         if not math.isfinite(value):
             raise UserError(f"launch {name} = {spec} is not finite: {how}")
         return Dist("fixed", value)

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from levitron.runtime.errors import UserError
+from levitron.runtime.ui.validate import shown
 
 SUFFIXES = (".csv", ".npz")
 NAME_MAX = 255          # bytes of one file name (Linux, macOS)
@@ -25,6 +26,7 @@ def check_path(path, option: str = "--save") -> Path:
     if not isinstance(path, (str, os.PathLike)):
         raise UserError(f"{option} {path!r}: give a file name (text or a path) ending in .csv or .npz")
     p = Path(path)
+    path = shown(path)
     if p.suffix.lower() not in SUFFIXES:
         raise UserError(f"{option} {path}: give a file ending in {' or '.join(SUFFIXES)} (CSV or numpy's .npz)")
     if len(os.fsencode(p.name)) > NAME_MAX:
@@ -33,11 +35,11 @@ def check_path(path, option: str = "--save") -> Path:
     if p.is_dir():
         raise UserError(f"{option} {path} is a folder: give a file name ending in .csv or .npz")
     if not p.parent.exists():
-        raise UserError(f"{option} {path}: the folder {p.parent} does not exist: create it first")
+        raise UserError(f"{option} {path}: the folder {shown(p.parent)} does not exist: create it first")
     if not p.parent.is_dir():
-        raise UserError(f"{option} {path}: {p.parent} is a file, not a folder: save into a folder")
+        raise UserError(f"{option} {path}: {shown(p.parent)} is a file, not a folder: save into a folder")
     if not os.access(p.parent, os.W_OK):
-        raise UserError(f"{option} {path}: the folder {p.parent} is not writable: save elsewhere")
+        raise UserError(f"{option} {path}: the folder {shown(p.parent)} is not writable: save elsewhere")
     return p
 
 

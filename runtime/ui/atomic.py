@@ -74,7 +74,8 @@ def sweep(folder: Path, pattern: re.Pattern = _TMP, stale_after: float = STALE_A
 
 def _problem(option: str, path: Path, exc: OSError) -> UserError:
     why = exc.strerror or str(exc)
-    return UserError(f"{option} {path}: cannot write it ({why}); choose another path"
+    from levitron.runtime.ui.validate import shown
+    return UserError(f"{option} {shown(path)}: cannot write it ({why}); choose another path"
                      + (" or free some space" if exc.errno in _FULL else ""))
 
 

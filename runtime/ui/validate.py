@@ -86,3 +86,10 @@ def temperature(data: dict, lo: float, hi: float, label: str) -> None:
             temperature_factors({**data, "temperature": float(T)})
         except SceneError as exc:
             raise UserError(f"{label}: {exc}") from None
+
+
+def shown(text) -> str:
+    """A user's text (a path, a name) as a message shows it: as written, or quoted with its escapes
+    when it holds a newline or another control character (the message stays one line)."""
+    s = str(text)
+    return s if s.isprintable() else repr(s)
