@@ -26,6 +26,7 @@ CLASSES = {
     "one validation per quantity; no verdict, no odds": (
         "test_a_temperature_spread", "test_runs_without_a_verdict", "test_a_run_that_stops_early"),
     "every size bounded": ("test_every_size_has_a_bound",),
+    "numbers read one way": ("test_a_number_is_read_one_way",),
     "child processes die with their parent": ("test_workers_are_capped", "test_a_script_without"),
     "API arguments checked": ("test_api_mistakes",),
     "errors name what to fix": ("test_errors_name_what_to_fix", "test_a_scheduler_that_answers",

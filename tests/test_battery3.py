@@ -380,3 +380,24 @@ def test_a_damaged_object_with_a_matching_stamp_is_rebuilt(tmp_path, seed_cache)
     assert res.returncode == 0, res.stderr[-2000:]
     assert "linking the cached objects failed" in res.stderr
     assert obj.read_bytes() != junk
+
+
+NUMBER_TEXTS = [
+    ("spin-flag", [*SIM[:3], "{x}", *SIM[4:]], r"--spin: invalid float value"),
+    ("launch-n", ["launch", "thesis_air", "--n", "{i}"], r"--n: invalid int value"),
+    ("spread", [*AIR, "--spin", "normal:{x},100"], r"needs two numbers"),
+    ("vary", [*DESIGN[:5], "top.mass=0.0197:{m}", *DESIGN[6:]], r"--vary .*write KEY=LO:HI with numbers"),
+    ("at", ["field", "thesis", "--at", "0,0,{z}"], r"--at .* is not a point"),
+]
+SPELLINGS = {"underscore": {"x": "1_000", "i": "1_0", "m": "0.020_9", "z": "0.1_0"},
+             "arabic-digits": {"x": "\u0661\u0660\u0660\u0660", "i": "\u0661\u0660", "m": "\u0660.\u0662",
+                               "z": "\u0660.\u0661"}}
+
+
+@pytest.mark.parametrize("spelling", SPELLINGS)
+@pytest.mark.parametrize("argv,mention", [c[1:] for c in NUMBER_TEXTS], ids=[c[0] for c in NUMBER_TEXTS])
+def test_a_number_is_read_one_way(argv, mention, spelling, tmp_path):
+    """Every number typed as text is read as the fit's CSV cells are (runtime/ui/validate.py
+    number_text): '1_000' or Arabic-Indic digits are refused everywhere (before: Python's float()
+    took them in flags, spreads, --vary and --at, and the CSV reader refused them, D25)."""
+    refused(cli([a.format(**SPELLINGS[spelling]) for a in argv], cwd=tmp_path, timeout=120), mention)

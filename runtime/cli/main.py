@@ -99,8 +99,23 @@ def build_parser(only: str | None = None, overview: bool = False) -> argparse.Ar
         p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
         p.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
         mod.add_arguments(p)
+        for action in p._actions:        # every number flag read as runtime/ui/validate.py reads numbers
+            action.type = {float: _float, int: _int}.get(action.type, action.type)
         p.set_defaults(_run=mod.run, _module=mod)
     return ap
+
+
+def _float(text: str) -> float:
+    from levitron.runtime.ui.validate import number_text
+    return number_text(text)
+
+
+def _int(text: str) -> int:
+    from levitron.runtime.ui.validate import count_text
+    return count_text(text)
+
+
+_float.__name__, _int.__name__ = "float", "int"      # argparse's "invalid float value: '1_0'"
 
 
 def _clean(obj):

@@ -25,6 +25,7 @@ import numpy as np
 
 from levitron.runtime.physics import stability_casadi as sc
 from levitron.runtime.errors import UserError
+from levitron.runtime.ui.validate import number_text
 from levitron.runtime.design.scene_keys import KeyMap, Vary, key_value, with_values
 from levitron.runtime.ui import progress
 from levitron.runtime.ui.validate import real
@@ -97,11 +98,8 @@ def check_rows(rows, where: str = "--fit") -> list[Row]:
 
 
 def _number(text: str) -> float:
-    """float() of a CSV cell, but not Python's extensions of the number syntax: a '_' between
-    digits ("0.1_065" would be read as 0.1065) or non-ASCII digits; ValueError for those."""
-    if "_" in text or not text.isascii():
-        raise ValueError(text)
-    return float(text)
+    """A CSV cell's number (runtime/ui/validate.py number_text: no '_', ASCII digits only)."""
+    return number_text(text)
 
 
 def read_rows(path: str | Path) -> list[Row]:

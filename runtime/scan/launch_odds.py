@@ -44,7 +44,7 @@ from levitron.runtime.errors import UserError
 from levitron.runtime.physics.friction import has_friction
 from levitron.runtime.integrate.verdict import stopped_early
 from levitron.runtime.integrate.methods import DEFAULT, lookup, refuse_on_full_model, resolve
-from levitron.runtime.ui.validate import count, real, spread_range, temperature
+from levitron.runtime.ui.validate import count, number_text, real, spread_range, temperature
 
 INPUTS = ("spin", "tilt", "tilt_azimuth", "offset", "velocity", "mass", "strength", "temperature")
 # what each input's numbers are (the module docstring): the SI unit of its JSON numbers, "1" for a
@@ -100,14 +100,14 @@ def parse_dist(name: str, spec) -> Dist:
     kind, sep, args = text.partition(":")
     if not sep:
         try:
-            return parse_dist(name, float(text))
+            return parse_dist(name, number_text(text))
         except ValueError:
             raise UserError(f"launch {name} = {text!r} is not a distribution: {how}") from None
     kind = kind.strip().lower()
     if kind not in ("normal", "uniform"):
         raise UserError(f"launch {name}: unknown distribution {kind!r}: use normal or uniform ({how})")
     try:
-        a, b = (float(v) for v in args.split(","))
+        a, b = (number_text(v.strip()) for v in args.split(","))
     except ValueError:
         raise UserError(f"launch {name} = {text!r} needs two numbers after '{kind}:': {how}") from None
     if not (math.isfinite(a) and math.isfinite(b)):
@@ -138,7 +138,7 @@ def parse_input(name: str, spec, reference: float = 1.0) -> Dist:
         body = text[len(REL):].strip()
         if body.endswith("%"):
             try:
-                sd = float(body[:-1]) / 100
+                sd = number_text(body[:-1].strip()) / 100
             except ValueError:
                 raise UserError(f"launch {name} = {spec!r}: write rel:SD% with a number, e.g. rel:0.2%") from None
             return parse_dist(name, f"normal:0,{sd!r}")

@@ -93,3 +93,23 @@ def shown(text) -> str:
     when it holds a newline or another control character (the message stays one line)."""
     s = str(text)
     return s if s.isprintable() else repr(s)
+
+
+def number_text(text: str) -> float:
+    """The one reading of a number typed as text (a flag's value, a spread, a --vary box, a CSV
+    cell): float() without Python's extensions of the number syntax, which a TOML scene, a CSV
+    reader or a shell user does not mean: a '_' between digits ("0.1_065" read as 0.1065) or
+    non-ASCII digits ("١٢"); ValueError for those, as float() gives for any other non-number."""
+    if not isinstance(text, str):
+        raise ValueError(text)
+    if "_" in text or not text.isascii():
+        raise ValueError(text)
+    return float(text)
+
+
+def count_text(text: str) -> int:
+    """A whole number typed as text, read as number_text reads one: int() without '_' or
+    non-ASCII digits; ValueError otherwise."""
+    if not isinstance(text, str) or "_" in text or not text.isascii():
+        raise ValueError(text)
+    return int(text)
