@@ -110,7 +110,7 @@ class Named(dict):
 _FLAG_VALUE = re.compile(r"--([a-z][a-z0-9-]*) (-?(?:\d[\w.+-]*|\.\d[\w.+-]*)(?::[\w.+-]+)*)(?=[\s;,)]|$)")
 _FLAG_WORD = re.compile(r"--(part|integrator|axis|kind) ([a-z][\w-]*)")     # options whose values are names
 _FLAG = re.compile(r"--([a-z][a-z0-9-]*)")
-_API_NAME = {"set": "overrides"}
+_API_NAME = {"set": "overrides", "temperature-spread": "inputs['temperature']"}   # launch's spread: an input
 # the commands a runtime sentence sends a person to, as the Study methods that answer the same
 _API_METHOD = {"equilibrium": "Study.equilibria()", "stability": "Study.stability()",
                "simulate": "Study.simulate()", "scan": "Study.scan()", "launch": "Study.launch()",

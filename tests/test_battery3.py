@@ -309,19 +309,24 @@ API_MISTAKES = [
     ("lev.load('thesis_air').launch(n=4, inputs='spin=1000')", r"inputs = 'spin=1000' must map"),
     ("lev.load('thesis_air').launch(n=4, inputs=['spin'])", r"inputs = \['spin'\] must map"),
     ("lev.load('thesis_stable').gradient('sigma_hi', ['top.mass'], 3)", r"Study.gradient: too many"),
+    ("lev.load('thesis_air').launch(n='4')", r"^n '4' must be a whole number"),             # D30: the quotes kept
+    ("lev.load('thesis_air').launch(n=4, t_end=0.05, inputs={'temperature': 1400})",      # D17: the API's words
+     r"^inputs\['temperature'\] 1400: .*not positive"),
 ]
 
 
 @pytest.mark.parametrize("call,mention", API_MISTAKES, ids=[c[0].split(").")[-1][:30] for c in API_MISTAKES])
 def test_api_mistakes_are_one_line_user_errors(call, mention):
     """A misspelt keyword or a wrong count of arguments is a levitron.UserError of one line, the
-    valid names listed (before: Python's TypeError, D12)."""
+    valid names listed (before: Python's TypeError, D12); a text argument keeps its quotes (D30)
+    and no message names a command-line flag (D17)."""
     import re
 
     import levitron as lev
     with pytest.raises(lev.UserError) as exc:
         eval(call, {"lev": lev})
     assert "\n" not in str(exc.value) and re.search(mention, str(exc.value)), str(exc.value)
+    assert "--" not in str(exc.value), str(exc.value)
 
 
 # ---------------------------------------------------------------- errors that name what to fix

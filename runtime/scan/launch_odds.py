@@ -365,9 +365,9 @@ def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n
     from levitron.runtime.physics.equilibrium import hover_height
     from levitron.runtime.physics.stability import stability_of
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= MAX_N:
-        raise UserError(f"--n {n} must be a whole number of launches from 1 to {MAX_N}")
+        raise UserError(f"--n {n!r} must be a whole number of launches from 1 to {MAX_N}")
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise UserError(f"--seed {seed} must be a whole number >= 0")
+        raise UserError(f"--seed {seed!r} must be a whole number >= 0")
     if "full" not in model.parts:
         raise UserError("launch runs the full model: this scene's model.needs has no \"full\"; add it")
     unknown = sorted(set(given) - set(INPUTS))
