@@ -122,3 +122,11 @@ def write_bytes(path, data: bytes, option: str, mkdir: bool = False) -> Path:
     with output(path, option, mkdir) as tmp:
         tmp.write_bytes(data)
     return Path(path)
+
+
+@contextmanager
+def open_text(path, option: str, newline: str | None = None):
+    """A text file handle (UTF-8) on a temporary beside `path`, renamed over it when the block
+    succeeds (`output`): for writers that take a file, e.g. csv.writer."""
+    with output(path, option) as tmp, open(tmp, "w", encoding="utf-8", newline=newline) as fh:
+        yield fh
