@@ -22,7 +22,7 @@ FILES = ("test_battery3.py", "hostile.py")
 CLASSES = {
     "outputs whole (tmp + rename), mode, sweeps": (
         "test_a_write_that_fails", "test_a_kill_mid_write", "test_concurrent_saves", "test_debris_of_killed",
-        "test_generated_debris", "test_the_written_table"),
+        "test_generated_debris", "test_the_written_table", "test_every_write_of_the_runtime"),
     "one validation per quantity; no verdict, no odds": (
         "test_a_temperature_spread", "test_runs_without_a_verdict", "test_a_run_that_stops_early"),
     "every size bounded": ("test_every_size_has_a_bound",),
