@@ -448,3 +448,29 @@ def test_a_number_is_read_one_way(argv, mention, spelling, tmp_path):
     number_text): '1_000' or Arabic-Indic digits are refused everywhere (before: Python's float()
     took them in flags, spreads, --vary and --at, and the CSV reader refused them, D25)."""
     refused(cli([a.format(**SPELLINGS[spelling]) for a in argv], cwd=tmp_path, timeout=120), mention)
+
+
+def test_a_scene_with_a_byte_order_mark_is_named(tmp_path):
+    """A scene saved as UTF-8 with a BOM: the refusal names the BOM (before: 'not valid TOML (...
+    at line 1, column 1)', D19), on the command line and in the API."""
+    scene = tmp_path / "bom.toml"
+    thesis = Path(__file__).resolve().parent.parent / "scenes" / "thesis.toml"
+    scene.write_bytes(b"\xef\xbb\xbf" + thesis.read_bytes())
+    refused(cli(["info", scene], cwd=tmp_path), r"byte-order mark .*without a BOM")
+    refused(_api(f"lev.load({str(scene)!r})", tmp_path), r"byte-order mark")
+
+
+def test_the_energy_balance_of_a_slow_decay_is_the_friction_free_drift(tmp_path):
+    """With decay times of 1e12 s the run in air is the friction-free run (thesis_stable: the same
+    top and plate) to round-off, and its energy balance is that run's energy drift (relative to
+    the energy's terms when little is lost; before: 0.94, a ratio of two round-offs, D6)."""
+    import json
+    run = [*SIM[:3], "1122", "--t-end", "0.5", "--json"]
+    ideal = json.loads(cli(run, cwd=tmp_path).stdout)
+    slow = cli([run[0], "thesis_air", *run[2:], "--set", "top.spin_decay_time=1e12"], cwd=tmp_path)
+    air = json.loads(slow.stdout)
+    assert air["status"] == ideal["status"] == "completed"
+    for k, v in ideal["final_state"].items():
+        assert air["final_state"][k] == pytest.approx(v, rel=1e-9, abs=1e-12), k
+    assert air["energy_drift"] == pytest.approx(ideal["energy_drift"], rel=1e-2)
+    assert air["energy_drift"] < 1e-9

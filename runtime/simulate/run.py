@@ -184,9 +184,7 @@ def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, i
     H0 = pt.energy(x0, p)
     names = pt.model.param_names if hasattr(pt, "model") else []
     pv = dict(zip(names, p))
-    terms = abs(H0)
-    if names:
-        terms = max(terms, pv["m"] * abs(pv["g"]) * z_s + 0.5 * pv["C"] * spin ** 2)
+    terms = flight.energy_scale(pv, z_s, spin, H0) if names else abs(H0)
     drift = np.abs(H - H0) / terms
     z = X[:, s.index("z")]
     r = np.hypot(X[:, s.index("x")], X[:, s.index("y")]) if "x" in s else np.zeros(len(X))
