@@ -15,6 +15,7 @@ from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
 from . import plates
+from .plates.expression import Z_RANGE
 from .scene import FRICTION_KEYS, TEMPERATURE_KEY, spelled_alike
 
 DERIVE_DIR = Path(__file__).resolve().parent
@@ -68,6 +69,9 @@ def structure(data: dict) -> dict:
     with an accuracy target (field.tolerance), every number (the chosen order depends on them)."""
     d = copy.deepcopy(data)
     d.get("plate", {}).pop(TEMPERATURE_KEY.name, None)    # a runtime factor on mu (derive/scene.py)
+    for table in [d.get("plate", {}), *(d.get("plate", {}).get("parts") or [])]:
+        if isinstance(table, dict):
+            table.pop(Z_RANGE, None)          # an expression plate's search range: runtime only
     keep_numbers = "order" not in d.get("field", {})
     plate = d.get("plate")
     out = {"name": d.get("name"), "field": d.get("field"), "model": d.get("model"),

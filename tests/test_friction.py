@@ -173,6 +173,8 @@ def test_wilson_interval_matches_scipy():
         ci = binomtest(k, n).proportion_ci(confidence_level=0.95, method="wilson")
         assert mc.wilson(k, n) == pytest.approx((ci.low, ci.high), abs=1e-12)
     assert mc.wilson(5, 10) == pytest.approx((0.23659309, 0.76340691), abs=1e-8)   # Wilson 1927 form
+    assert [mc.wilson(0, n)[0] for n in (7, 200, 1000)] == [0.0] * 3       # exactly: "0 %", never 1.7e-16
+    assert [mc.wilson(n, n)[1] for n in (7, 200, 1000)] == [1.0] * 3
 
 
 def test_launch_is_the_same_serially_with_processes_and_on_dask(air):

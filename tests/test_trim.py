@@ -105,3 +105,10 @@ def test_no_band_is_refused_in_one_line(tmp_path, capsys):
     assert main(["trim", str(scene), *QUICK]) == 2
     err = [line for line in capsys.readouterr().err.splitlines() if "error" in line]   # (and a first derive's progress)
     assert len(err) == 1 and err[0].startswith("levitron trim: error: ") and "nothing to trim" in err[0], err
+
+
+def test_the_mass_window_over_the_tops_mass_is_refused(capsys):
+    """The band's masses do not depend on the top's mass (thesis 3.3.2: m(z) = -mu Phi_2(z)/g): a
+    mass-window design over top.mass would return any mass; it is refused, pointing to trim."""
+    assert main(["optimize", "thesis_stable", "--maximize", "mass-window", "--vary", "top.mass=0.05:0.052"]) == 2
+    assert "levitron trim" in capsys.readouterr().err

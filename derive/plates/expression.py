@@ -22,6 +22,21 @@ RESERVED_NAMES = frozenset(FUNCTIONS) | frozenset(CONSTANTS) | {"z", "abs", "Abs
 MAX_FORMULA = 2000   # characters (derive/expr_parse.py MAX_LENGTH)
 MAX_CALL_DEPTH = 6   # function calls nested in function calls (derive/expr_parse.py)
 _IDENT = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
+Z_RANGE = "z_range"   # [lo, hi]: the heights where the formula holds (a runtime search range, not derived)
+
+
+def z_range(table: dict, where: str) -> tuple[float, float] | None:
+    """table's z_range as (lo, hi) with 0 < lo < hi, or None where the scene states none."""
+    if Z_RANGE not in table:
+        return None
+    value = table[Z_RANGE]
+    how = f"write e.g. {Z_RANGE} = [0.02, 0.06] (heights in m where the formula holds, lo < hi)"
+    if not (isinstance(value, list) and len(value) == 2):
+        raise SceneError(f"{where}.{Z_RANGE} = {value!r} is not two heights: {how}")
+    lo, hi = (number({"v": v}, "v", f"{where}.{Z_RANGE}", positive=True) for v in value)
+    if not lo < hi:
+        raise SceneError(f"{where}.{Z_RANGE} = {value!r}: the range is empty or reversed: {how}")
+    return lo, hi
 
 
 def resolve(table: dict, ctx: Context) -> dict:
@@ -43,6 +58,7 @@ def resolve(table: dict, ctx: Context) -> dict:
             raise SceneError(f"{where}.params.{name}: not a usable name (letters, digits, '_', "
                              "starting with a letter; not z or a function name): rename it")
         out[name] = number(params, name, f"{where}.params")
+    z_range(table, where)
     return out
 
 
@@ -56,7 +72,10 @@ KIND = PlateKind(
           Key("bz", "T", "B_z on the axis instead (Phi0 = -integral of bz dz must have a closed "
               "form)"),
           Key("params", "", "table name = number: the formula's parameters (runtime parameters "
-              "plate_<name>)")),
+              "plate_<name>)"),
+          Key(Z_RANGE, "m", "[lo, hi]: the heights where the formula holds (optional; default: the "
+              "whole search, 1e-4 to 1e4 of the length scale 1); equilibria and bands are searched "
+              "inside it, and a band that ends at it says so: it is the formula's end, not physics")),
     resolve=resolve,
     example='kind = "expression"\nphi0 = "b*z/sqrt(z**2 + c**2)"\n\n[plate.params]\nb = 1.0\nc = 0.5',
 )

@@ -233,10 +233,6 @@ def maximize_launch_odds(model, scene_ref: str, overrides: Sequence[str], varies
         where = ", ".join(f"{k} = {key_text(k, v)}" for k, v in pinned.at.items())
         warnings.append(f"the scene as written cannot be launched ({first.get('reason', 'no hover')}); "
                         f"the launch spread's defaults are taken at {where}")
-    lo, hi = final["probability_ci95"]
-    if not lo <= evaluated[best] <= hi:
-        warnings.append(f"the search's odds {100 * evaluated[best]:.3g} % lie outside the fresh seed's "
-                        f"interval {100 * lo:.3g}-{100 * hi:.3g} %: raise --n")
     return LaunchDesign(dict(zip(keys, best)), dict(zip(keys, map(float, start_x))), odds_dict(final),
                         odds_dict(first), evaluated[best], rows, dict(req.given), req.success_time,
                         req.t_end, req.seed, req.n, time.perf_counter() - t0, warnings,

@@ -356,6 +356,10 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
     """Maximise `objective` over the varied scene keys (module docstring); verified."""
     t0 = time.perf_counter()
     check_objective(objective, constraints)
+    if objective == "mass-window" and any(v.key == "top.mass" for v in varies):
+        raise UserError("--maximize mass-window --vary top.mass: the masses that hover are the plate's, the "
+                        "top's moment, A and C (the band's rule, thesis 3.3.2), not the top's mass; vary a plate "
+                        "key such as plate.hole, or use `levitron trim` to choose the mass")
     if not 1 <= len(varies) <= 3:
         raise UserError("--vary: give one to three keys (the verification grid has n^k points)")
     n_grid = count(n_grid, "--grid", low=GRID_MIN)

@@ -20,6 +20,7 @@ from levitron.runtime.design import launch_design as ld
 from levitron.runtime.design.scene_keys import Vary
 from levitron.runtime.errors import UserError
 from levitron.runtime.physics import equilibrium as eqm
+from levitron.runtime.physics.bands import edge_note
 from levitron.runtime.physics.stability import stability_of
 from levitron.runtime.scan import launch_odds as mc
 
@@ -80,6 +81,9 @@ def trim(model, scene_ref: str, overrides: Sequence[str], request: mc.Request) -
                        request.integrator, request.tol, request.workers, request.scheduler)
     widest["launch_odds"] = ld.odds_dict(ld.odds_at(scene_ref, overrides, ["top.mass"], [widest["mass"]], fresh))
     warnings = []
+    note = edge_note(band, eqm.span_of(model) is not None)
+    if note:
+        warnings.append(f"the masses that hover, [{lo:.6g}, {hi:.6g}] kg: {note}")
     if not lo <= model.param("m") <= hi:
         warnings.append(f"the scene's top ({model.param('m'):.6g} kg) is outside the masses that can hover, "
                         f"[{lo:.6g}, {hi:.6g}] kg: as written it does not float at all")

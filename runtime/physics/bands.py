@@ -29,9 +29,12 @@ OnAxis = Callable[[float], Sequence[float]]
 class Band:
     z: tuple[float, float]
     mass: tuple[float, float]
+    # whether the low / high edge is the end of the searched heights (a formula's plate.z_range,
+    # else z_grid's), not a physical edge: the band may go on where the search does not look
+    at_search_end: tuple[bool, bool] = (False, False)
 
     def as_dict(self) -> dict:
-        return {"z": list(self.z), "mass": list(self.mass)}
+        return {"z": list(self.z), "mass": list(self.mass), "at_search_end": list(self.at_search_end)}
 
 
 def spin_stabilisable(phis: Sequence[float], g: float, A: float, C: float, mu: float) -> bool:
@@ -100,4 +103,27 @@ def bands_of(onaxis: OnAxis, zs: Sequence[float], rows: Sequence[Sequence[float]
     mass = lambda z: -mu * phis(z)[2] / g
     stable = _bands(lambda z: spin_stabilisable(phis(z), g, A, C, mu), mass, fine)
     adiabatic = _bands(lambda z: adiabatic_trap(phis(z), g, mu), mass, fine)
-    return stable, adiabatic
+    return _mark_ends(stable, zs[0], zs[-1]), _mark_ends(adiabatic, zs[0], zs[-1])
+
+
+def _mark_ends(bands: list[Band], lo: float, hi: float, rtol: float = 1e-9) -> list[Band]:
+    """The bands with at_search_end set where an edge is the search's first or last height."""
+    return [Band(b.z, b.mass, (b.z[0] <= lo * (1 + rtol), b.z[1] >= hi * (1 - rtol))) for b in bands]
+
+
+def edge_note(band: dict | Band | None, stated: bool) -> str:
+    """What an edge at the search's end is (Band.at_search_end): "" for a band whose edges are
+    physical; else which edge, and that it is the formula's stated range (plate.z_range) or the
+    height search's own end, not physics."""
+    if band is None:
+        return ""
+    ends = band["at_search_end"] if isinstance(band, dict) else band.at_search_end
+    which = [w for w, e in zip(("lower", "upper"), ends) if e]
+    if not which:
+        return ""
+    edge = " and ".join(which) + (" edges are" if len(which) == 2 else " edge is")
+    if stated:
+        return f"its {edge} the end of the formula's range, plate.z_range: not a physical edge"
+    return (f"its {edge} where the height search ends, not a physical edge: an expression plate states "
+            "where its formula holds with plate.z_range")
+

@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from levitron.derive import plates
-from levitron.derive.plates.expression import formulas
+from levitron.derive.plates.expression import formulas, z_range
 
 from levitron.runtime.physics import bands as _bands
 from levitron.runtime.errors import UserError
@@ -47,6 +47,7 @@ OnAxis = Callable[[float], Sequence[float]]  # z -> [Phi_0, Phi_1, ..., Phi_K], 
 EPS = float(np.finfo(float).eps)
 GRID_DECADES = (-4.0, 4.0)   # heights scale * 10^[-4, 4]
 GRID_PER_DECADE = 64
+SPAN_POINTS = 64             # at least this many grid cells across a stated plate.z_range
 MARGINAL_ULPS = 16           # a double root: |F(z_c)| <= 16 eps (|m g| + |mu Phi_2(z_c)|)
 
 # ------------------------------------------------------------------------ model adapters
@@ -60,6 +61,19 @@ def scale_of(model, p: np.ndarray | None = None) -> float:
     """THE length of a scene every height search scales with: the plate registry's length scale
     (derive.plates.length_scale) at the parameter values p, 1.0 for a plate without lengths."""
     return plates.length_scale(model.scene.data["plate"], params_of(model, p))
+
+
+def span_of(model) -> tuple[float, float] | None:
+    """The heights the scene says its plate's formula holds at (plate.z_range of an expression
+    plate, intersected over a compound plate's parts), or None: the whole search (z_grid)."""
+    plate = model.scene.data["plate"]
+    spans = [s for s in (z_range(t, "plate") for t in [plate, *(plate.get("parts") or [])]) if s]
+    if not spans:
+        return None
+    lo, hi = max(s[0] for s in spans), min(s[1] for s in spans)
+    if not lo < hi:
+        raise UserError(f"the parts' plate.z_range do not overlap ({spans}): give ranges that share heights")
+    return lo, hi
 
 
 def model_onaxis(model, p: np.ndarray | None = None) -> Callable[[float], np.ndarray]:
@@ -168,8 +182,12 @@ class NonFiniteModel(UserError):
     """The plate's on-axis functions are NaN or infinite at every sampled height."""
 
 
-def z_grid(scale: float) -> np.ndarray:
-    """The log grid of heights scale * 10^[-4, 4], GRID_PER_DECADE points a decade."""
+def z_grid(scale: float, span: tuple[float, float] | None = None) -> np.ndarray:
+    """The log grid of heights scale * 10^[-4, 4], GRID_PER_DECADE points a decade; with a span
+    (lo, hi) (a formula's plate.z_range) the same density from lo to hi, at least SPAN_POINTS."""
+    if span is not None:
+        lo, hi = span
+        return np.geomspace(lo, hi, max(round(math.log10(hi / lo) * GRID_PER_DECADE), SPAN_POINTS) + 1)
     lo, hi = GRID_DECADES
     return scale * np.logspace(lo, hi, round((hi - lo) * GRID_PER_DECADE) + 1)
 
@@ -346,12 +364,13 @@ class Survey:
         return EquilibriumReport(eqs, z_c, max_mass, sorted(self.singularities, key=lambda s: s.z))
 
 
-def survey(onaxis: OnAxis, scale: float) -> Survey:
+def survey(onaxis: OnAxis, scale: float, span: tuple[float, float] | None = None) -> Survey:
     """Sample the plate's on-axis functions, cut out their singular stretches, and find the zeros of
-    Phi_top .. Phi_3 level by level (see the module docstring; thesis 3.3.2-3.3.3)."""
+    Phi_top .. Phi_3 level by level (see the module docstring; thesis 3.3.2-3.3.3); only inside
+    span where a formula states where it holds (span_of)."""
     if not (scale > 0 and math.isfinite(scale)):
         raise UserError(f"the scene's length scale {scale} must be a positive number")
-    zs = [float(z) for z in z_grid(scale)]
+    zs = [float(z) for z in z_grid(scale, span)]
     width = _width(onaxis, zs)
     if width < 4:
         raise UserError(f"the model's onaxis gives Phi_0..Phi_{width - 1}: the equilibrium search "
@@ -403,9 +422,9 @@ def hover_mass(onaxis: OnAxis, g: float, mu: float, z: float) -> float:
 
 
 def analyse(onaxis: OnAxis, m: float, g: float, A: float, C: float, mu: float,
-            scale: float) -> EquilibriumReport:
+            scale: float, span: tuple[float, float] | None = None) -> EquilibriumReport:
     """Everything of thesis 3.3.1-3.3.3 and the bands (runtime/physics/bands.py) for one top and plate."""
-    sv = survey(onaxis, scale)
+    sv = survey(onaxis, scale, span)
     rep = sv.report(m, g, mu)
     rep.stable_bands, rep.adiabatic_bands = _bands.bands_of(
         onaxis, sv.zs, [sv.rows[z] for z in sv.zs], rep.z_c, g, A, C, mu)
@@ -417,11 +436,11 @@ def equilibria_of(model, p: np.ndarray | None = None, bands: bool = False) -> Eq
     default the scene's; thesis 3.3.2-3.3.3); with bands=True also the stable and adiabatic bands.
     A model whose on-axis functions are nowhere finite is a UserError naming the scene's formula."""
     P = params_of(model, p)
-    onaxis, scale = model_onaxis(model, p), scale_of(model, p)
+    onaxis, scale, span = model_onaxis(model, p), scale_of(model, p), span_of(model)
     with naming_the_formula(model):
         if bands:
-            return analyse(onaxis, P["m"], P["g"], P["A"], P["C"], P["mu"], scale)
-        return survey(onaxis, scale).report(P["m"], P["g"], P["mu"])
+            return analyse(onaxis, P["m"], P["g"], P["A"], P["C"], P["mu"], scale, span)
+        return survey(onaxis, scale, span).report(P["m"], P["g"], P["mu"])
 
 
 @contextmanager

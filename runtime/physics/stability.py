@@ -112,7 +112,8 @@ def _approximations(onaxis, z_c, max_mass, g, A, C) -> dict:
 def analyse(onaxis: Callable[[float], Sequence[float]], m: float, g: float, A: float, C: float,
             mu: float, scale: float, full_jac: Callable[[np.ndarray], np.ndarray] | None = None,
             states: Sequence[str] | None = None, z_s: float | None = None,
-            agree_rtol: float = 1e-6, eigen: bool = True) -> StabilityResult:
+            agree_rtol: float = 1e-6, eigen: bool = True,
+            span: tuple[float, float] | None = None) -> StabilityResult:
     """Spin interval of linear stability at the stable height, by both routes (thesis 3.3).
 
     z_s: the lowest vertically stable equilibrium (thesis 3.3.3; runtime/physics/equilibrium.py, the one
@@ -126,7 +127,7 @@ def analyse(onaxis: Callable[[float], Sequence[float]], m: float, g: float, A: f
     """
     timings = {}
     t0 = time.perf_counter()
-    rep = eqm.survey(onaxis, scale).report(m, g, mu)
+    rep = eqm.survey(onaxis, scale, span).report(m, g, mu)
     timings["equilibria"] = time.perf_counter() - t0
     approximations = _approximations(onaxis, rep.z_c, rep.max_mass, g, A, C)
     if z_s is None:
@@ -217,6 +218,6 @@ def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
         onaxis = eqm.model_onaxis(model, p)
     with eqm.naming_the_formula(model):
         res = analyse(onaxis, P["m"], P["g"], P["A"], P["C"], P["mu"], eqm.scale_of(model, p),
-                      full_jac, states, z_s=z_s, eigen=eigen)
+                      full_jac, states, z_s=z_s, eigen=eigen, span=eqm.span_of(model))
     res.mass = P["m"]
     return res

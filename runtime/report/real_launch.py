@@ -23,6 +23,7 @@ def mass_windows(model) -> list[dict]:
     """The stable band's mass window at the scene's temperature T and at T -/+ TEMPERATURE_STEP
     (mu scaled by launch_odds.temperature_factor)."""
     from levitron.runtime.physics import equilibrium as eqm
+    from levitron.runtime.physics.bands import edge_note
     from levitron.runtime.scan.launch_odds import temperature_factor
     from levitron.derive.scene import T_REF
     T0 = float(model.scene.data.get("temperature", T_REF))
@@ -32,7 +33,8 @@ def mass_windows(model) -> list[dict]:
         f = temperature_factor(model, T0 + dT)
         band = eqm.equilibria_of(model, model.with_params({"mu": mu * f}), bands=True).stable_band
         out.append({"temperature": T0 + dT, "factor": f, "mass": list(band.mass) if band else None,
-                    "z": list(band.z) if band else None})
+                    "z": list(band.z) if band else None,
+                    "note": edge_note(band, eqm.span_of(model) is not None)})
     return out
 
 
@@ -132,7 +134,8 @@ def section(model, scene_ref: str, overrides, run: dict, u: Units, tmp: Path, pn
            png(histogram(odds, tmp / "odds.png", u, model.scene.name)),
            "<h3>The masses that hover, and the temperature</h3>",
            _table([(f"{sig(w['temperature'], 3)} degC" + (" (the scene's)" if i == 1 else ""),
-                    f"mass {span(*w['mass'], u.mass)}, heights {u.length_span(*w['z'])}" if w["mass"]
+                    f"mass {span(*w['mass'], u.mass)}, heights {u.length_span(*w['z'])}"
+                    + (f" ({w['note']})" if w["note"] else "") if w["mass"]
                     else "no stable band") for i, w in enumerate(windows)]),
            "<p class=\"note\">The magnets weaken as they warm (the scene's temperature coefficients); the "
            "masses that hover move with them: trim the top with washers at the temperature it flies in.</p>"]

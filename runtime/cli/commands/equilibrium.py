@@ -8,6 +8,7 @@ from __future__ import annotations
 import time
 
 from levitron.runtime.physics import equilibrium as eqm
+from levitron.runtime.physics.bands import edge_note
 from levitron.runtime.ui.human import Units, lines, restate, span
 from levitron.runtime.ui.reference import MODIFIED, stated
 from levitron.runtime.ui.plotting import check_plot_path
@@ -52,6 +53,7 @@ def run(args) -> dict:
                           "the exact band, never instead",
         "reason": "; ".join(reasons) if reasons else None,
         "length_scale": eqm.scale_of(model),
+        "z_range": list(eqm.span_of(model) or ()) or None,
         "reference": {"z_stable": stated(model.scene, "z_stable")},
         "wall_s": wall,
     }
@@ -100,6 +102,8 @@ def human(r: dict, scene=None) -> str:
     band_line = "stable_band: none (no height where a spin can stabilise the top)"
     if band:
         band_line = (f"stable_band: z {u.length_span(*band['z'])}, mass {span(*band['mass'], u.mass)}")
+        note = edge_note(band, r.get("z_range") is not None)
+        band_line += f" ({note})" if note else ""
         if adia:
             band_line += f"   (Berry-Simon's adiabatic band: {u.length_span(*adia['z'])})"
     poles = [f"{s['kind']} at {u.length(s['z'])}" + (f"-{u.length(s['z_end'])}" if s.get("z_end") not in
