@@ -30,7 +30,8 @@ CLASSES = {
     "child processes die with their parent": ("test_workers_are_capped", "test_a_script_without"),
     "API arguments checked": ("test_api_mistakes",),
     "errors name what to fix": ("test_errors_name_what_to_fix", "test_a_scheduler_that_answers",
-                                "test_a_killed_derive_child", "test_a_damaged_object", "test_a_scene_with_a_byte"),
+                                "test_a_killed_derive_child", "test_a_damaged_object", "test_a_scene_with_a_byte",
+                                "test_a_formula_that_is_one_over_zero"),
     "the energy balance measures the run": ("test_the_energy_balance",),
 }
 

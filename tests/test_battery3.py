@@ -474,3 +474,16 @@ def test_the_energy_balance_of_a_slow_decay_is_the_friction_free_drift(tmp_path)
         assert air["final_state"][k] == pytest.approx(v, rel=1e-9, abs=1e-12), k
     assert air["energy_drift"] == pytest.approx(ideal["energy_drift"], rel=1e-2)
     assert air["energy_drift"] < 1e-9
+
+
+def test_a_formula_that_is_one_over_zero_is_named_not_judged(tmp_path):
+    """phi0 = b z / (sin^2 z + cos^2 z - 1) is 1/0 at every height, its derivatives came out 0:
+    refused naming the formula and the non-finite potential, not 'the field cannot hold a top'
+    (a physics verdict; e17 of the second battery), and the API's functions() gives a UserError,
+    not casadi's RuntimeError."""
+    from test_reliability import expression_scene
+    scene = tmp_path / "e17.toml"
+    scene.write_text(expression_scene("b*z/(sin(z)**2+cos(z)**2-1)", {"b": 0.01}, name="e17"))
+    for command in ("equilibrium", "stability"):
+        refused(cli([command, scene], cwd=tmp_path), r"phi0 = .*Phi_0 is not finite .*divides by zero")
+    refused(_api(f"lev.load({str(scene)!r}).functions()", tmp_path), r"z_s function cannot be built")
