@@ -62,7 +62,8 @@ def _render(scene: Scene) -> dict[str, bytes]:
     ihash = input_hash(scene.data)
     plate = build_plate(scene.data["plate"])
     order, order_info = field_order(scene)
-    spec = build_spec(scene.name, plate, order, scene.coordinates, scene.needs, scene.friction)
+    spec = build_spec(scene.name, plate, order, scene.coordinates, scene.needs, scene.friction,
+                      scene.tilted, scene.offset)
     lowered = [lower(f, spec) for f in spec.functions]
     tapes = taylor_tapes(lowered)
     params = [str(s) for s in spec.params]

@@ -111,7 +111,8 @@ def choose_order(scene_or_plate, tolerance: float, radius: float, z_range=None,
     `radius` of the axis over the heights `z_range` (default: around the equilibria); returns
     (order, measured error). Called by derive/build.py as choose_order(scene, tolerance, radius).
 
-    A non-axisymmetric plate (rectangle) has its exact field in the model: order 2, error 0.
+    A non-axisymmetric plate (rectangle) has its exact field in the model: order 2, error 0; one
+    with axisymmetric parts besides (a hole, a compound's rings) gets the order of their expansion.
     Raises SceneError when even order MAX_ORDER misses the target (the expansion's radius of
     convergence at height z is the distance to the plate's complex singularities, ~z)."""
     if isinstance(scene_or_plate, Scene):
@@ -122,12 +123,16 @@ def choose_order(scene_or_plate, tolerance: float, radius: float, z_range=None,
         scene, plate = None, scene_or_plate
         if params is None:
             raise ValueError("choose_order(plate, ...) needs params (name -> SI value)")
-    if plate.field3d is not None:
+    if plate.field3d is not None and plate.axial is None:
         return 2, 0.0
     if z_range is None:
         if scene is None:
             raise ValueError("choose_order(plate, ...) needs z_range")
         z_range = default_heights(scene, _numeric_phis(plate, params, 2))
+    if plate.field3d is not None:
+        # the exact field of the non-axisymmetric parts is in the model: the order is that of the
+        # axial parts' expansion, judged on their field alone (stricter than on the whole plate's)
+        plate = Plate(plate.kind, plate.axial(0), plate.symbols, plate.axial)
     errors = order_errors(plate, params, radius, z_range)
     for order in sorted(errors):
         if errors[order] <= tolerance:

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from . import plates
 from .plates.expression import Z_RANGE
-from .scene import FRICTION_KEYS, TEMPERATURE_KEY, spelled_alike
+from .scene import FRICTION_KEYS, TEMPERATURE_KEY, TILT_KEYS_NAMES, spelled_alike
 
 DERIVE_DIR = Path(__file__).resolve().parent
 
@@ -72,6 +72,7 @@ def structure(data: dict) -> dict:
     for table in [d.get("plate", {}), *(d.get("plate", {}).get("parts") or [])]:
         if isinstance(table, dict):
             table.pop(Z_RANGE, None)          # an expression plate's search range: runtime only
+    tilted = any([d.get("plate", {}).pop(k, None) is not None for k in TILT_KEYS_NAMES])
     keep_numbers = "order" not in d.get("field", {})
     plate = d.get("plate")
     out = {"name": d.get("name"), "field": d.get("field"), "model": d.get("model"),
@@ -79,6 +80,11 @@ def structure(data: dict) -> dict:
            "decisions": plates.decisions(plate)}
     if any(k in d.get("top", {}) for k in FRICTION_KEYS):   # air friction: the full model's form
         out["friction"] = True
+    offset = "moment_offset" in d.get("top", {})     # the moment at r + d n (derive/mechanics.py)
+    if tilted or offset:        # a base tilt (an offset magnet's model has one too): derive/scene.py
+        out["tilted"] = True
+    if offset:
+        out["offset"] = True
     return out
 
 

@@ -3,6 +3,12 @@
 L = T - U with T from derive/kinematics.py (thesis eq. 2.1.14) and the potential energy
 U = m g z - mu n.B(r) (thesis eq. 2.2.1, with n the symmetry axis in space components; see
 docs/errata.md for why n = R_bs e_z and not the thesis's R e_z).
+On a tilted base (scene key plate.tilt, issue 27) gravity is no longer along -e_z of the plate's
+frame: g_vec = g (sin t cos a, sin t sin a, -cos t) with t the tilt and a its azimuth (the downhill
+direction), so m g z becomes -m g_vec.r = m g (z cos t - (x cos a + y sin a) sin t); t = 0 gives
+thesis eq. 2.2.1 back. The axial symmetry is broken (L_z is no longer conserved), L.n still is.
+A magnet whose centre sits a distance d along the axis from the centre of mass (scene key
+top.moment_offset) feels the field at r + d n: U = m g z - mu n.B(r + d n); d = 0 gives eq. 2.2.1.
 The momenta p = dL/dqdot (thesis eqs. 2.3.2-2.3.7) are solved for the velocities (2.3.8), and
 H = p.qdot - L (2.3.9) is formed by that actual Legendre transform; Hamilton's equations
 qdot = dH/dp, pdot = -dH/dq (2.3.10-2.3.16) follow by differentiation.
@@ -16,7 +22,7 @@ import sympy as sp
 
 from . import field as fieldmod
 from .kinematics import ROTATIONS, Rotation, kinetic_energy
-from .symbols import X, Y, Z, g, m, mu
+from .symbols import X, Y, Z, base_tilt, base_tilt_azimuth, g, m, moment_offset, mu
 from .trig import trig_reduce
 
 
@@ -52,9 +58,22 @@ class HamiltonianSystem:
         return [str(v) for v in self.state]
 
 
-def potential_energy(rot: Rotation, B: sp.Matrix) -> sp.Expr:
-    """U = m g z - mu n.B (thesis eq. 2.2.1 with n = R_bs e_z)."""
-    return m * g * Z - mu * (rot.n.T * B)[0, 0]
+def gravity_height(tilted: bool = False) -> sp.Expr:
+    """-g_vec.r / g: the height in the field of gravity, z on a level base (thesis eq. 2.2.1), and
+    z cos t - (x cos a + y sin a) sin t on a base tilted by t towards azimuth a (module docstring)."""
+    if not tilted:
+        return Z
+    t, a = base_tilt, base_tilt_azimuth
+    return Z * sp.cos(t) - (X * sp.cos(a) + Y * sp.sin(a)) * sp.sin(t)
+
+
+def potential_energy(rot: Rotation, B: sp.Matrix, tilted: bool = False, offset: bool = False) -> sp.Expr:
+    """U = m g z - mu n.B (thesis eq. 2.2.1 with n = R_bs e_z); on a tilted base z is
+    `gravity_height`; with `offset` B is taken at the magnet's centre r + d n (module docstring)."""
+    if offset:
+        d, n = moment_offset, rot.n
+        B = B.xreplace({X: X + d * n[0], Y: Y + d * n[1], Z: Z + d * n[2]})
+    return m * g * gravity_height(tilted) - mu * (rot.n.T * B)[0, 0]
 
 
 def legendre(L: sp.Expr, q, qdot, p, keep: str = "cos") -> tuple[sp.Matrix, sp.Matrix, sp.Expr]:
@@ -88,11 +107,14 @@ def _quadratic_form(H: sp.Expr, p, simp) -> sp.Expr:
 
 @lru_cache(maxsize=None)
 def hamiltonian_system(coords: str = "tait-bryan", order: int = 2,
-                       B: sp.ImmutableMatrix | None = None) -> HamiltonianSystem:
+                       B: sp.ImmutableMatrix | None = None,
+                       tilted: bool = False, offset: bool = False) -> HamiltonianSystem:
     """The full model in `coords` ("tait-bryan" or "euler-zxz").
 
     The field is the axisymmetric expansion to `order` (thesis eq. 2.2.7, Phi_k kept abstract) unless
     an exact 3-D field B(x, y, z) is given (a plate without axial symmetry, e.g. a rectangle).
+    `tilted`: gravity along the tilted vector of the module docstring (parameters base_tilt,
+    base_tilt_azimuth); `offset`: the moment at r + d n (parameter moment_offset).
     """
     rot = ROTATIONS[coords]()
     pos = (X, Y, Z)
@@ -101,7 +123,7 @@ def hamiltonian_system(coords: str = "tait-bryan", order: int = 2,
     qdot = tuple(vel) + tuple(rot.rates)
     p = tuple(sp.Symbol(f"p_{v}", real=True) for v in q)
     T = kinetic_energy(rot, vel)
-    U = potential_energy(rot, fieldmod.field(order) if B is None else sp.Matrix(B))
+    U = potential_energy(rot, fieldmod.field(order) if B is None else sp.Matrix(B), tilted, offset)
     L = T - U
     momenta, qdot_of_p, H = legendre(L, q, qdot, p, rot.keep)
     rhs = sp.Matrix([sp.diff(H, pi) for pi in p] + [-sp.diff(H, qi) for qi in q])

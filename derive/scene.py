@@ -74,7 +74,23 @@ TOP_KEYS = (
     Key("translation_decay_time", "s", "air friction: the e-folding time of the velocity of the "
         "centre of mass of a free top (default: none)"),
     TEMPERATURE_KEY,
+    Key("moment_offset", "m", "the magnet's centre along the symmetry axis from the centre of mass "
+        "(positive towards the moment's end of the axis n; default: none, the magnet at the centre "
+        "of mass): the moment feels the field at r + d n (derive/mechanics.py); the scene then "
+        "has no reduced model"),
 )
+
+# The base's tilt (issue 27): keys of [plate] that every plate kind takes; they put gravity along a
+# tilted vector in the full model (derive/mechanics.py), as runtime parameters base_tilt and
+# base_tilt_azimuth (their values never change the generated code; their presence does).
+TILT_KEYS = (
+    Key("tilt", "rad", "the base's tilt from level (0 <= tilt < pi/2): gravity in the plate's frame is "
+        "g (sin tilt cos az, sin tilt sin az, -cos tilt), az = tilt_azimuth; breaks the axial "
+        "symmetry, so the scene has no reduced model (derive/mechanics.py)"),
+    Key("tilt_azimuth", "rad", "the downhill direction in the plate's frame, from +x towards +y "
+        "(default 0: downhill is +x, the base tilted about the y axis); needs tilt"),
+)
+TILT_PARAMS = {"tilt": "base_tilt", "tilt_azimuth": "base_tilt_azimuth"}
 
 # decay-time key of [top] -> the runtime parameter it sets, the rate 1 / tau (0 where not given)
 FRICTION_KEYS = {"spin_decay_time": "k_spin", "tilt_decay_time": "k_tilt",
@@ -105,6 +121,7 @@ MODEL_KEYS = (
     Key("coordinates", "", f"angles of the full model, one of {list(COORDINATES)} (default "
         "\"tait-bryan\", regular at the upright top; \"euler-zxz\" as in the thesis)"),
 )
+TILT_KEYS_NAMES = tuple(k.name for k in TILT_KEYS)
 _NAME = re.compile(r"[A-Za-z0-9_-]+\Z")
 MAX_NAME = 100     # characters: <name>-<hash> and .<name>.new-<pid>-* must fit a file name (255)
 
@@ -138,6 +155,18 @@ class Scene:
     def friction(self) -> bool:
         """The scene declares air friction (a decay time in [top]): its full model is dissipative."""
         return any(k in self.data["top"] for k in FRICTION_KEYS)
+
+    @property
+    def tilted(self) -> bool:
+        """The full model has a base tilt's terms (gravity along a tilted vector, parameters
+        base_tilt, base_tilt_azimuth): the scene declares plate.tilt, or top.moment_offset (an
+        imperfect apparatus gets both, so that one route serves it: runtime/physics/tilted_*)."""
+        return any(k in self.data["plate"] for k in TILT_KEYS_NAMES) or self.offset
+
+    @property
+    def offset(self) -> bool:
+        """The scene declares top.moment_offset: the moment at r + d n in the full model."""
+        return "moment_offset" in self.data["top"]
 
     @property
     def coordinates(self) -> str:
@@ -387,8 +416,8 @@ def validate(data: dict, path: Path | None = None) -> Scene:
     moment = number(top, "moment", "top", nonzero=True, required=False)
 
     temp = temperature_factors(data)
-    resolved = plates.resolve({k: v for k, v in data["plate"].items() if k != TEMPERATURE_KEY.name},
-                              moment)
+    resolved = plates.resolve({k: v for k, v in data["plate"].items()
+                               if k != TEMPERATURE_KEY.name and k not in TILT_KEYS_NAMES}, moment)
     notes = []
     mu = resolved.pop("mu", moment)
     if resolved.pop("moment_nominal", None) is not None:
@@ -414,9 +443,22 @@ def validate(data: dict, path: Path | None = None) -> Scene:
 
     model = data["model"]
     check_keys(model, _names(MODEL_KEYS), "model")
-    needs = model.setdefault("needs", ["reduced", "full", "linear"])
+    tilt = base_tilt(data["plate"])
+    offset = magnet_offset(top)
+    needs = model.setdefault("needs", ["full", "linear"] if tilt or offset else ["reduced", "full", "linear"])
     if not isinstance(needs, list) or not needs or any(n not in NEEDS for n in needs):
         raise SceneError(f"model.needs = {needs!r}: give a non-empty list drawn from {list(NEEDS)}")
+    for key, given, why in (
+            ("plate.tilt", tilt, "breaks the axial symmetry: the 4-D reduced model (thesis 3.2.12, "
+             "the top on the axis) does not exist for a tilted base"),
+            ("top.moment_offset", offset, "is modelled in the full model only: the reduced model "
+             "(thesis 3.2.12) is not derived with it")):
+        if given and "reduced" in needs:
+            if "full" not in needs:
+                raise SceneError(f"{key} {why}; give model.needs = [\"full\", \"linear\"] or "
+                                 f"remove {key}")
+            needs = [n for n in needs if n != "reduced"]
+            notes.append(f"{key}: no reduced model (it {why.split(': ')[0]}): the full model only")
     if "linear" in needs and "full" not in needs:
         raise SceneError("model.needs has 'linear' without 'full': the linearisation is that of the "
                          "full model; add \"full\"")
@@ -437,10 +479,36 @@ def validate(data: dict, path: Path | None = None) -> Scene:
     params = {"m": m, "g": g, "A": A, "C": C, "mu": float(mu) * temp[0] * temp[1]}
     params.update({f"plate_{k}": float(v) for k, v in resolved.items()})
     params.update(friction_rates(top, model["needs"]))
+    params.update(tilt or ({"base_tilt": 0.0, "base_tilt_azimuth": 0.0} if offset else {}))
+    params.update(offset)
     if data.get("temperature", T_REF) != T_REF:
         notes.append(f"at {data['temperature']:g} degC: plate field x {temp[0]:.6g}, top moment x "
                      f"{temp[1]:.6g} of their {T_REF:g} degC values")
     return Scene(name=name, path=path, data=data, params=params, notes=notes, field_factor=temp[0])
+
+
+def base_tilt(plate: dict) -> dict[str, float]:
+    """{base_tilt, base_tilt_azimuth} (rad) from the TILT_KEYS of [plate], or {} when neither is
+    given (a level base: the model without the tilt's terms)."""
+    if not any(k in plate for k in TILT_KEYS_NAMES):
+        return {}
+    if "tilt" not in plate:
+        raise SceneError("plate.tilt_azimuth without plate.tilt: give the tilt (rad) too, e.g. "
+                         "plate.tilt = 0.001")
+    tilt = number(plate, "tilt", "plate")
+    if not 0 <= tilt < math.pi / 2:
+        raise SceneError(f"plate.tilt = {tilt:g} rad: give the base's tilt from level, 0 <= tilt < "
+                         "pi/2 (its direction is plate.tilt_azimuth)")
+    az = number(plate, "tilt_azimuth", "plate", default=0.0)
+    return {"base_tilt": tilt, "base_tilt_azimuth": az}
+
+
+def magnet_offset(top: dict) -> dict[str, float]:
+    """{moment_offset} (m) from top.moment_offset, or {} when not given (derive/spec.py refuses
+    it over a plate without axial symmetry)."""
+    if "moment_offset" not in top:
+        return {}
+    return {"moment_offset": number(top, "moment_offset", "top")}
 
 
 def temperature_factors(data: dict) -> tuple[float, float]:

@@ -12,10 +12,11 @@ import sympy as sp
 from . import field as fieldmod
 from . import friction as frictionmod
 from .invariants import angular_momenta
+from .checks import SceneError
 from .geometry import Plate
 from .mechanics import hamiltonian_system
 from .reduction import reduced_system
-from .symbols import PHYSICAL, Phi, X, Y, Z, abstract_field
+from .symbols import PHYSICAL, TILT, Phi, X, Y, Z, abstract_field, moment_offset
 
 
 @dataclass(frozen=True)
@@ -60,26 +61,40 @@ def _part_functions(prefix: str, state, rhs: sp.Matrix, H: sp.Expr, with_jac: bo
 
 
 def build_spec(scene_name: str, plate: Plate, order: int, coordinates: str, needs,
-               friction: bool = False) -> ModelSpec:
+               friction: bool = False, tilted: bool = False, offset: bool = False) -> ModelSpec:
     """The functions of a scene. With `friction`, the full model's momentum rows carry the
     generalised forces of air friction (derive/friction.py), its rates k_spin, k_tilt, k_trans
     close the parameter vector and `full_dissipation` (2F = -dH/dt) is emitted; without it the
-    model is the conservative one of thesis 2.3."""
+    model is the conservative one of thesis 2.3. With `tilted` (a base tilt, plate.tilt) gravity in
+    the full model is along a tilted vector (derive/mechanics.py) and base_tilt, base_tilt_azimuth
+    close the parameter vector; the reduced model does not exist then (derive/scene.py refuses it).
+    With `offset` (top.moment_offset) the full model's moment sits at r + d n, and moment_offset
+    comes last; derive/scene.py gives such a scene no reduced model either (it is not derived)."""
     rates = tuple(frictionmod.RATES) if friction else ()
     spec = ModelSpec(scene_name, plate, order, coordinates,
-                     tuple(PHYSICAL) + tuple(plate.symbols) + rates)
+                     tuple(PHYSICAL) + tuple(plate.symbols) + rates + (TILT if tilted else ())
+                     + ((moment_offset,) if offset else ()))
+    if (tilted or offset) and "reduced" in needs:
+        raise ValueError("a tilted base or an offset magnet has no reduced model here")
     if "reduced" in needs:
         red = reduced_system(order)
         spec.parts["reduced"] = {"states": red.state_names, "equations": "thesis eq. 3.2.12"}
         spec.functions += _part_functions("reduced", red.state, red.rhs, red.H, True,
                                           "reduced model on the invariant set (thesis 3.2.12)")
     B3 = None
+    if offset and not plate.axisymmetric:
+        raise SceneError(f"top.moment_offset is modelled over axisymmetric plates only, not this "
+                         f"{plate.kind} plate: remove it")
     if not plate.axisymmetric:
-        spec.field3d = sp.Matrix(plate.field3d(X, Y, Z))
+        spec.field3d = plate.model_field(order, X, Y, Z)
         B3 = sp.ImmutableMatrix(abstract_field())
     if "full" in needs:
-        full = hamiltonian_system(coordinates, order, B3)
+        full = hamiltonian_system(coordinates, order, B3, tilted, offset)
         what = f"full 12-D model, {coordinates} angles (thesis 2.3)"
+        if tilted:
+            what += " on a tilted base (gravity along a tilted vector, derive/mechanics.py)"
+        if offset:
+            what += ", the magnet's centre off the centre of mass along the axis"
         equations = "thesis eqs. 2.3.9-2.3.16 (" + coordinates + ")"
         rhs = full.rhs
         if friction:
@@ -106,5 +121,8 @@ def build_spec(scene_name: str, plate: Plate, order: int, coordinates: str, need
         B, what = fieldmod.field(order), f"expansion to order {order} (thesis eq. 2.2.7)"
     else:
         B, what = B3, f"exact 3-D field of the {plate.kind} plate (no expansion)"
+        if plate.axial is not None:
+            what = (f"exact 3-D field of the {plate.kind} plate's non-axisymmetric parts, its "
+                    f"axisymmetric parts' expansion to order {order} (thesis eq. 2.2.7)")
     spec.functions.append(Function("field", (X, Y, Z), tuple(B), (3,), f"B = -grad(phi), {what}"))
     return spec

@@ -12,6 +12,14 @@ X, Y, Z = sp.symbols("x y z", real=True)
 m, g, A, C, mu = sp.symbols("m g A C mu", real=True)
 PHYSICAL = (m, g, A, C, mu)
 
+# The base's tilt (scene keys plate.tilt, plate.tilt_azimuth; derive/mechanics.py): they close the
+# parameter vector of a scene that declares them (after the plate's and the friction's).
+base_tilt, base_tilt_azimuth = sp.symbols("base_tilt base_tilt_azimuth", real=True)
+TILT = (base_tilt, base_tilt_azimuth)
+# The magnet's centre along the axis from the centre of mass (scene key top.moment_offset; the
+# moment sits at r + d n, derive/mechanics.py): after the tilt's in the parameter vector.
+moment_offset = sp.Symbol("moment_offset", real=True)
+
 
 class Phi(sp.Function):
     """Phi(k, z) = d^k Phi0 / dz^k, the k-th derivative of the on-axis potential (thesis eq. 2.2.6).

@@ -38,4 +38,4 @@ __getattr__, __dir__, __all__ = _lazy_surface(__name__, {
     "ScanResult": "runtime.scan.stability_map",
     "SceneError": "derive.scene", "Simulation": "results", "Simulations": "results",
     "Stability": "results", "Study": "study", "Trim": "results", "UserError": "runtime.errors",
-    "load": "study"})
+    "load": "study", "plate_from_magpylib": "from_magpylib"})

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from levitron.runtime.errors import UserError
-from levitron.runtime.integrate.verdict import DOWN, UP
+from levitron.runtime.integrate.verdict import DOWN, NO_HOVER, UP
 from levitron.runtime.ui.human import Units, restate, sig
 
 _SI = Units(si=True)
@@ -101,6 +101,7 @@ class Stability:
     routes_agree: bool | None
     mass: float | None = None
     units: Units = field(default=_SI, repr=False, compare=False)   # how repr and message show numbers
+    equilibrium: dict | None = None     # over a tilted base: position, axis, offset, ... (stability --json's)
 
     @property
     def success(self) -> bool:
@@ -134,7 +135,7 @@ class Simulation:
     rhs_evals; wall_s (s); final_state (the model's states, SI); details: every key of the
     command's JSON (in air also "flight": flight time, fall spin, the adiabatic t_cross);
     trajectory: the samples as data, {column: array}: t (s), the states (SI), energy (J), L_z,
-    L_n (kg m^2/s) and tilt (rad); `save(path)` writes them to .csv or .npz."""
+    L_n (kg m^2/s) and tilt (rad); `save(path)` writes them to .csv, .npz or .parquet."""
 
     levitating: bool | None
     t_survived: float
@@ -148,7 +149,7 @@ class Simulation:
     units: Units = field(default=_SI, repr=False, compare=False)   # how repr and message show numbers
 
     def save(self, path) -> str:
-        """Write the trajectory to a .csv or .npz file (runtime/simulate/trajectory_file.py)."""
+        """Write the trajectory to a .csv, .npz or .parquet file (runtime/simulate/trajectory_file.py)."""
         import numpy as np
 
         from levitron.runtime.simulate import trajectory_file
@@ -192,7 +193,10 @@ class Simulation:
 class LaunchOdds:
     """Launch odds by Monte Carlo (runtime/scan/launch_odds.py, docs/contract.md `launch`): probability of
     floating at least success_time (s), its 95 % Wilson interval, flight-time median and quartiles
-    (s), the inputs ranked by their effect on the success rate; details: every key of the JSON."""
+    (s), the inputs ranked by their effect on the success rate; details: every key of the JSON;
+    launches: every launch as data, {column: array of length n} (launch_odds.LAUNCH_UNITS: the
+    inputs as run, mass in kg and mu absolute, strength the factor 1 + d, z_s, verdict, floats,
+    flight_time), the table `levitron launch --save` writes; `save(path)` writes it too."""
 
     probability: float
     probability_ci95: tuple[float, float]
@@ -202,6 +206,12 @@ class LaunchOdds:
     ranking: list
     details: dict = field(repr=False, default_factory=dict)
     units: Units = field(default=_SI, repr=False, compare=False)   # how repr and message show numbers
+    launches: dict = field(repr=False, default_factory=dict, compare=False)
+
+    def save(self, path) -> str:
+        """Write the launches to a .csv, .npz or .parquet file (runtime/simulate/trajectory_file.py)."""
+        from levitron.runtime.simulate import trajectory_file
+        return str(trajectory_file.write_columns(path, self.launches, flag="save"))
 
     # a sample's verdict: its run ended normally, or it cannot hover (a launch that fails, no solver's)
     VERDICTS = NORMAL_ENDS + ("cannot_hover",)
@@ -284,7 +294,9 @@ class Simulations:
     t_survived (s), rhs_evals (without simulate's dense-output evaluations), steps, z_s (m, each
     launch's hover height), final_states (n, len(states)), SI; inputs: the launch columns
     {spin (rad/s), tilt (rad), offset (m), azimuth (rad), and any varied scene keys}; wall_s (s,
-    the whole call); details: t_end, integrator, tol, lanes (whether the lane variant ran)."""
+    the whole call); details: t_end, integrator, tol, lanes (whether the lane variant ran);
+    reason: per launch, why its top cannot hover (None where it can): such a launch is not run,
+    its status "no_hover_height", levitating False, t_survived 0, z_s and final state NaN."""
 
     levitating: np.ndarray
     untested: np.ndarray
@@ -299,6 +311,10 @@ class Simulations:
     wall_s: float
     details: dict = field(default_factory=dict)
     units: Units = field(default=_SI, repr=False, compare=False)   # how repr and message show numbers
+    reason: np.ndarray | None = None
+
+    # a launch's verdict: its run ended normally, or its top cannot hover (not run: no solver's failure)
+    VERDICTS = NORMAL_ENDS + (NO_HOVER,)
 
     def __len__(self) -> int:
         return int(self.status.size)
@@ -312,29 +328,39 @@ class Simulations:
 
     @property
     def success(self) -> bool:
-        """Every run ended normally: reached t_end, or stopped when the top left the box."""
-        return bool(np.all(np.isin(self.status, NORMAL_ENDS)))
+        """Every launch has its verdict: its run ended normally (reached t_end, or stopped when the
+        top left the box), or its top cannot hover."""
+        return bool(np.all(np.isin(self.status, self.VERDICTS)))
 
     @property
     def message(self) -> str:
         n = len(self)
-        bad = np.flatnonzero(~np.isin(self.status, NORMAL_ENDS))
+        bad = np.flatnonzero(~np.isin(self.status, self.VERDICTS))
         if bad.size:
             kinds = ", ".join(sorted(set(self.status[bad].tolist())))
             return (f"{bad.size} of {n} runs did not end normally ({kinds}; the first: launch "
                     f"{int(bad[0])})")
         lev = int(np.sum(self.levitating & ~self.untested))
-        text = (f"{n} runs ended normally; {lev} stayed up for the whole "
-                f"{_q(self.units, self.details.get('t_end', 0), 's')}")
+        no = np.flatnonzero(self.status == NO_HOVER)
+        ran = n - no.size
+        text = (f"{ran} runs ended normally; {lev} stayed up for the whole "
+                f"{_q(self.units, self.details.get('t_end'), 's')}") if ran else "no launch ran"
         if np.any(self.untested):
             text += f"; {int(np.sum(self.untested))} launched on the invariant set test nothing"
+        if no.size:
+            why = self.reason[no[0]] if self.reason is not None else None
+            text += (f"; {no.size} cannot hover (the first, launch {int(no[0])}: "
+                     f"{restate(why, self.units) if why else 'no stable hover height'})")
         return text
 
     def __repr__(self) -> str:
         n = len(self)
         lev = int(np.sum(self.levitating & ~self.untested))
         ts = self.t_survived
+        no = int(np.sum(self.status == NO_HOVER))
+        t_end = self.details.get("t_end")
         return (f"Simulations(n={n}, levitating={lev} of {n - int(np.sum(self.untested))} tested, "
                 f"t_survived={np.min(ts):.6g}-{np.max(ts):.6g} of "
-                f"{_q(self.units, self.details.get('t_end', float('nan')), 's')}, "
-                f"lanes={self.details.get('lanes')}, success={self.success})")
+                f"{_q(self.units, float('nan') if t_end is None else t_end, 's')}, "
+                + (f"cannot hover={no}, " if no else "")
+                + f"lanes={self.details.get('lanes')}, success={self.success})")

@@ -176,15 +176,18 @@ class Study:
     @_in_scene_units
     def stability(self, height: float | None = None) -> Stability:
         """The spin interval at the hover height, by the exact route (thesis 3.3.9-3.3.16);
-        height (m): instead the top that hovers there, of mass m(z) = -mu Phi_2(z)/g (`mass`)."""
+        height (m): instead the top that hovers there, of mass m(z) = -mu Phi_2(z)/g (`mass`).
+        Over a tilted base (plate.tilt) by the eigenvalue route at the equilibrium off the axis
+        (`equilibrium`: position, axis; stiffness None)."""
         h = None if height is None else arg.number(height, "height")
         res = stability_of(self.model, height=h)
         k = None
-        if res.z_s is not None:
+        if res.z_s is not None and res.equilibrium is None:
             P = self.model.pvals()
             k = P["mu"] * float(self.model.onaxis(res.z_s)[3])
         return Stability(res.z_s, k, None if res.spin_interval is None else tuple(res.spin_interval),
-                         res.reason and arg.api_words(res.reason), res.routes_agree, res.mass, self.units)
+                         res.reason and arg.api_words(res.reason), res.routes_agree, res.mass, self.units,
+                         res.equilibrium)
 
     @_in_scene_units
     def simulate(self, spin: float, **options) -> Simulation:
@@ -211,7 +214,8 @@ class Study:
         are numbers or 1-D arrays, broadcast to one length; `values` {scene key: number or array}
         gives each launch its own parameters (re-resolved like p_of, each with its own hover
         height); t_end (s), integrator (a C one), tol, box (m), h or step (s), part: one for all,
-        as simulate's."""
+        as simulate's. A launch whose top cannot hover (a mass too heavy for the plate) is one
+        result among the others: status "no_hover_height", `reason` saying why, not run."""
         from levitron.runtime.scan.batch import launch_columns, simulate_many
         options = _options(options, MANY_OPTIONS, "simulate_many option", ("t_end", "tol", "box", "h"))
         values = options.pop("values", None) or {}
@@ -236,7 +240,9 @@ class Study:
                            out["rhs_evals"], out["steps"], out["z_s"], out["final_state"],
                            out["states"], inputs, out["wall_s"],
                            {k: out[k] for k in ("t_end", "integrator", "integrator_requested", "tol",
-                                                "step", "lanes")}, self.units)
+                                                "step", "lanes")}, self.units,
+                           np.array([r if r is None else arg.api_words(r) for r in out["reason"]],
+                                    dtype=object))
 
     @_in_scene_units
     def launch(self, n: int | None = None, seed: int | None = None,
@@ -246,13 +252,15 @@ class Study:
         number (default: the scene's [launch] table, else the scene-scaled defaults); n, seed and
         the options success_time (s), t_end (s) default to the table's too, as on the command line
         (else 1000 launches, seed 0); options also integrator, tol, workers, scheduler. The same
-        seed gives the same verdicts serially, with processes and on dask."""
+        seed gives the same verdicts serially, with processes and on dask. The result's `launches`
+        holds every launch as arrays (its inputs as run, verdict, flight time)."""
         from levitron.runtime.scan.launch_odds import Request
         request = Request.of(self.scene.data.get("launch", {}), inputs, n=n, seed=seed, **options)
         out = request.run(self.model, self._ref(), self.overrides, quiet=True)
+        table = out.pop("launches")
         return LaunchOdds(out["probability"], tuple(out["probability_ci95"]), out["n"],
                           out["success_time"], {k: out["flight_time"][k] for k in ("median", "q1", "q3")},
-                          [(e["input"], e["effect"]) for e in out["ranking"]], out, self.units)
+                          [(e["input"], e["effect"]) for e in out["ranking"]], out, self.units, table)
 
     @_in_scene_units
     def trim(self, n: int | None = None, seed: int | None = None,

@@ -18,8 +18,10 @@ def study():
     return lev.load("thesis_stable")
 
 
-def _assert_same_as_one_at_a_time(many, one_at_a_time):
-    for i, one in enumerate(one_at_a_time):
+def _assert_same_as_one_at_a_time(many, one_at_a_time, at=None):
+    """Launch at[k] of many (default k) is run k of one_at_a_time, bit for bit."""
+    for k, one in enumerate(one_at_a_time):
+        i = k if at is None else at[k]
         assert many.status[i] == one.status, i
         assert many.t_survived[i] == one.t_survived, i
         assert many.final_state(i) == one.final_state, i
@@ -65,6 +67,30 @@ def test_each_launch_may_have_its_own_scene_keys(study):
     np.testing.assert_array_equal(many.inputs["top.mass"], masses)
     _assert_same_as_one_at_a_time(many, [lev.load("thesis_stable", {"top.mass": m}).simulate(
         1500.0, tilt=0.05, t_end=0.3) for m in masses])
+
+
+def test_a_mass_that_cannot_hover_is_one_result_with_its_reason(study):
+    """values={"top.mass": ...} with masses above the largest the plate holds (0.0524922 kg, z_c):
+    those launches are results with the reason simulate gives for that mass, not run; the others
+    are simulate's runs bit for bit (issue 26: one such mass failed the whole call)."""
+    masses = [0.0512, 0.09, 0.0518, 0.0526]
+    many = study.simulate_many(1500.0, tilt=0.05, t_end=0.3, values={"top.mass": masses})
+    heavy = [1, 3]
+    assert many.status.tolist() == ["completed", "no_hover_height", "completed", "no_hover_height"]
+    assert many.success and len(many) == 4
+    for i in heavy:
+        with pytest.raises(lev.UserError) as one:           # the other route: simulate at that mass
+            lev.load("thesis_stable", {"top.mass": masses[i]}).simulate(1500.0, tilt=0.05, t_end=0.3)
+        assert many.reason[i] == str(one.value) and "too heavy" in many.reason[i]
+        assert not many.levitating[i] and not many.untested[i] and many.t_survived[i] == 0.0
+        assert np.isnan(many.z_s[i]) and all(np.isnan(v) for v in many.final_state(i).values())
+    assert many.reason[0] is None and many.reason[2] is None
+    _assert_same_as_one_at_a_time(many, [lev.load("thesis_stable", {"top.mass": masses[i]}).simulate(
+        1500.0, tilt=0.05, t_end=0.3) for i in (0, 2)], at=(0, 2))
+    assert "2 runs ended normally" in many.message and "2 cannot hover (the first, launch 1:" in many.message
+    assert "cannot hover=2" in repr(many)
+    alone = study.simulate_many(1500.0, t_end=0.3, values={"top.mass": [0.09]})   # none runs
+    assert alone.status.tolist() == ["no_hover_height"] and alone.details["lanes"] is False
 
 
 @pytest.mark.parametrize("kw, match", [

@@ -241,8 +241,8 @@ def test_runs_without_a_verdict_are_not_falls():
     pts = [("completed", 2.0), ("completed", 2.0), ("step_budget", 1.5), ("left_box", 0.3),
            ("left_box", 0.0), ("cannot_hover", 0.0), ("left_box", 0.9), ("step_budget", 0.2),
            ("nonfinite", 0.4), ("step_underflow", 0.1)]
-    r = mc.summarize(plan, [{"points": [{"i": i, "t": t, "status": s} for i, (s, t) in enumerate(pts)]}],
-                     1.0, None, 0.1, None)
+    points = [{"i": i, "t": t, "status": s, "m": 0.05, "mu": -0.6, "z_s": 0.1} for i, (s, t) in enumerate(pts)]
+    r = mc.summarize(plan, [{"points": points}], 1.0, None, 0.1, None)
     assert (r["successes"], r["no_verdict"], r["n"]) == (3, 3, 10)
     assert r["probability"] == 3 / 7 and r["probability_ci95"] == list(mc.wilson(3, 7))
     assert r["verdicts"] == [True, True, True, False, False, False, False, None, None, None]

@@ -6,6 +6,7 @@ dH/dt = -2F, and the generated generalised forces equal a hand-derived closed fo
 """
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -82,6 +83,24 @@ def test_spin_decays_exactly_exponentially_for_60_s(which, tilt, request):
     assert r["flight"]["spin_decay_deviation"] <= 10 * tol
     w_end = 1000.0 * math.exp(-60.0 / 150.0)
     assert abs(r["flight"]["spin_final"] - w_end) <= 10 * tol * 1000.0
+
+
+def test_decay_times_are_times_and_rates_are_rates(air, capsys):
+    """The flight block and `info` name a decay time (s) by what decays and a rate (1/s) by its
+    parameter: the spin's named decay time is the one the spin decays with, exp(-t / tau), and the
+    rate is its inverse (issue 26: {"k_spin": 200.0} was a time under a rate's name)."""
+    r = sim.simulate(air, spin=1000.0, tilt=0.01, t_end=2.0, params=RATES, n_out=50)
+    fl = r["flight"]
+    assert fl["decay_times"] == pytest.approx({"spin": 150.0, "tilt": 20.0, "translation": 30.0}, rel=1e-12)
+    assert fl["friction_rates"] == pytest.approx(RATES, rel=1e-12)
+    assert fl["spin_final"] == pytest.approx(1000.0 * math.exp(-2.0 / fl["decay_times"]["spin"]), rel=1e-8)
+    assert fl["spin_final"] == pytest.approx(1000.0 * math.exp(-2.0 * fl["friction_rates"]["k_spin"]), rel=1e-8)
+    assert main(["info", "thesis_air", "--json"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    assert info["decay_times"] == {"spin": 150.0, "tilt": None, "translation": None}
+    assert info["friction_rates"] == {"k_spin": pytest.approx(1 / 150.0, rel=1e-15), "k_tilt": 0.0, "k_trans": 0.0}
+    assert main(["info", "thesis_air"]) == 0
+    assert "air friction: decay times spin 2 min 30 s, tilt none, translation none" in capsys.readouterr().out
 
 
 def test_energy_balance_along_a_run(air):

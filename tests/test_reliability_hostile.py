@@ -126,13 +126,15 @@ HOSTILE = [
     Case("friction-key-at-top-level", "info {scene}", r"\[scene\] has unknown key `spin_decay_time`",
          toml=air("g = 9.81", "g = 9.81\nspin_decay_time = 3")),
     # --- --save paths (checked before the run)
-    Case("save-a-folder", SIM + " --save {tmp}", r"\.csv or \.npz"),
-    Case("save-txt", SIM + " --save {tmp}/x.txt", r"\.csv or \.npz"),
+    Case("save-a-folder", SIM + " --save {tmp}", r"\.csv, \.npz or \.parquet"),
+    Case("save-txt", SIM + " --save {tmp}/x.txt", r"\.csv, \.npz or \.parquet"),
     Case("save-below-a-file", SIM + " --save {tmp}/afile/t.csv", r"is a file, not a folder",          # fixed
          setup=files(afile="a file\n")),
     Case("save-folder-named-csv", SIM + " --save {tmp}/dir.csv", r"is a folder", setup=files(dir__csv=None)),
     Case("save-300-character-name", SIM + " --save {tmp}/" + "a" * 300 + ".csv", r"bytes long"),      # fixed
-    Case("save-dev-null", SIM + " --save /dev/null", r"\.csv or \.npz"),
+    Case("save-dev-null", SIM + " --save /dev/null", r"\.csv, \.npz or \.parquet"),
+    Case("launch-save-txt", L + " --save {tmp}/x.txt", r"\.csv, \.npz or \.parquet"),
+    Case("launch-save-no-folder", L + " --save {tmp}/nowhere/x.csv", r"does not exist"),
     # --- fit CSVs and --vary
     fit_case("value-with-underscore", "quantity,value,sigma\nz_s,0.1_065,1e-4\n", r"line 2.*numbers"),  # fixed
     fit_case("full-width-digits", "quantity,value,sigma\nz_s,\uff10.1065,1e-4\n", r"line 2.*numbers"),  # fixed

@@ -48,7 +48,7 @@ def test_cli_save(tmp_path, capsys):
     assert table[-1, names.index("z")] == pytest.approx(r["final_state"]["z"], rel=1e-15)
 
 
-@pytest.mark.parametrize("bad,needle", [("run.txt", ".csv or .npz"), ("nowhere/run.csv", "does not exist")])
+@pytest.mark.parametrize("bad,needle", [("run.txt", ".csv, .npz or .parquet"), ("nowhere/run.csv", "does not exist")])
 def test_cli_save_bad_path_is_one_line(tmp_path, capsys, bad, needle):
     assert main(["simulate", "thesis_stable", "--spin", "1000", "--t-end", "0.1",
                  "--save", str(tmp_path / bad)]) == 2

@@ -88,7 +88,7 @@ COMMANDS = {
     "optimize-edge": ["--maximize", "spin-range", "--vary", "top.mass=1.0199945:1.0199965"],
     "optimize-fit-height": ["--fit-height", "1.0"],
     "report": ["--out", "{tmp}/r.html"],
-    "launch": ["--n", "12", "--t-end", "20", "--out", "{tmp}/launch.png"],
+    "launch": ["--n", "12", "--t-end", "20", "--out", "{tmp}/launch.png", "--save", "{tmp}/launch.csv"],
     "figures": ["--out", "{tmp}/figs", "--quick"],
 }
 

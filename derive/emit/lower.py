@@ -230,6 +230,17 @@ def lower(fn: Function, spec: ModelSpec) -> Lowered:
     if orders:
         derivs = spec.plate.phi_derivs(max(orders))
         plate_exprs = [derivs[k] for k in orders]
+    # Phi_k at another height (the magnet's centre r + d n, top.moment_offset): Q<j>_<k>
+    elsewhere = sorted({f for e in outputs for f in e.atoms(Phi)}, key=sp.default_sort_key)
+    if elsewhere:
+        heights = sorted({f.args[1] for f in elsewhere}, key=sp.default_sort_key)
+        derivs = spec.plate.phi_derivs(max(int(f.args[0]) for f in elsewhere))
+        qmap = {f: sp.Symbol(f"Q{heights.index(f.args[1])}_{int(f.args[0])}", real=True)
+                for f in elsewhere}
+        outputs = [e.xreplace(qmap) for e in outputs]
+        for f, sym in qmap.items():
+            plate_syms.append(sym)
+            plate_exprs.append(derivs[int(f.args[0])].xreplace({Z: f.args[1]}))
     # a non-axisymmetric plate: B_i(x, y, z) and its derivatives -> the plate's closed forms
     field_atoms = sorted(set().union(*[_field_atoms(e) for e in outputs]) if outputs else set(),
                          key=sp.default_sort_key)

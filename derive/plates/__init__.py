@@ -17,7 +17,7 @@ import pkgutil
 from ..checks import SceneError, check_keys
 from .base import Context, PlateKind
 
-_NOT_KINDS = ("base", "docs")   # the modules of this package that are not plate kinds
+_NOT_KINDS = ("base", "docs", "symmetry")   # the modules of this package that are not plate kinds
 
 
 def _discover() -> dict[str, PlateKind]:

@@ -1,13 +1,16 @@
-"""A compound plate: the sum of parts, each a [[plate.parts]] table of another kind."""
+"""A compound plate: the sum of parts, each a [[plate.parts]] table of any kind (a rectangle, another
+compound), optionally with `sign = -1` (the part taken away: a hole is a part of the opposite sign)."""
 from __future__ import annotations
 
 from ..checks import SceneError, check_keys
 from .base import Context, Key, PlateKind
 
+SIGN = "sign"      # a part's own key beside its kind's: +1 or -1 (the part's field times it)
+
 
 def resolve(table: dict, ctx: Context) -> dict:
-    """Part i's parameters are named p<i>_<name>; a part's "mu" / "moment_nominal" (murho without
-    a top moment) become the scene's."""
+    """Part i's parameters are named p<i>_<name> (its sign, where given, p<i>_sign); a part's "mu" /
+    "moment_nominal" (murho without a top moment) become the scene's."""
     where = ctx.where
     parts = table.get("parts")
     if not isinstance(parts, list) or not parts or not all(isinstance(p, dict) for p in parts):
@@ -20,8 +23,14 @@ def resolve(table: dict, ctx: Context) -> dict:
         if kind is None or not kind.can_be_part:
             raise SceneError(f"{pw}.kind = {part.get('kind')!r}: a part must be one of "
                              f"{', '.join(allowed)}")
-        check_keys(part, kind.allowed, pw)
-        res = dict(kind.resolve(part, ctx.at(pw)))
+        check_keys(part, kind.allowed | {SIGN}, pw)
+        res = dict(kind.resolve({k: v for k, v in part.items() if k != SIGN}, ctx.at(pw)))
+        if SIGN in part:
+            sign = part[SIGN]
+            if isinstance(sign, bool) or sign not in (1, -1):
+                raise SceneError(f"{pw}.sign = {sign!r}: give 1 (the part adds its field) or -1 (it "
+                                 "is taken away, e.g. a hole)")
+            res[SIGN] = float(sign)
         for special in ("mu", "moment_nominal"):
             if special in res:
                 out[special] = res.pop(special)
@@ -31,11 +40,13 @@ def resolve(table: dict, ctx: Context) -> dict:
 
 KIND = PlateKind(
     name="compound",
-    doc="the sum of parts, each a [[plate.parts]] table of another kind (not rectangle, not "
-        "compound); part i's parameters are plate_p<i>_<name>",
-    keys=(Key("parts", "", "list of [[plate.parts]] tables, each with its own kind and keys"),),
+    doc="the sum of parts, each a [[plate.parts]] table of any kind (a rectangle, another compound); "
+        "part i's parameters are plate_p<i>_<name>, and `sign = -1` on a part takes it away (a "
+        "hole: the part with the opposite magnetisation). With a rectangle among the parts the full "
+        "model uses the rectangles' exact 3-D field plus the other parts' expansion to field.order",
+    keys=(Key("parts", "", "list of [[plate.parts]] tables, each with its own kind and keys, and "
+              "optionally `sign` (1 or -1, default 1)"),),
     resolve=resolve,
-    can_be_part=False,
     has_parts=True,
     example='kind = "compound"\n\n[[plate.parts]]\nkind = "ring_magnet"\nr_out = 0.06\nr_in = 0.03\n'
             'thickness = 0.02\nremanence = 0.39\n\n[[plate.parts]]\nkind = "loop"\nradius = 0.02\n'

@@ -96,6 +96,12 @@ def render() -> str:
         "The resolved parameters are runtime parameters named `plate_<name>` (a compound plate's "
         "part i: `plate_p<i>_<name>`), listed by `levitron info`.",
         "",
+        "Every kind also takes the base's tilt (issue 27): a scene with `tilt` gets gravity along a "
+        "tilted vector in its full model (runtime parameters `base_tilt`, `base_tilt_azimuth`: a "
+        "`--set` of their values derives nothing) and no reduced model.",
+        "",
+        *_table(scene.TILT_KEYS),
+        "",
     ]
     for kind in KINDS.values():
         lines += _kind(kind)

@@ -1,4 +1,5 @@
-"""A uniformly magnetised rectangular plate centred on the axis (block or thin layer)."""
+"""A uniformly magnetised rectangular plate centred on the axis (block or thin layer), optionally
+with a centred circular through-hole (the commercial Levitron's base: a ferrite block with a hole)."""
 from __future__ import annotations
 
 from ..checks import SceneError, number
@@ -18,6 +19,21 @@ from .base import (
 def block(table: dict) -> bool:
     """thickness > 0: a block magnet (two charged faces, magnetisation); else a thin dipole layer."""
     return float(table.get("thickness", 0.0)) > 0
+
+
+def holed(table: dict) -> bool:
+    """hole > 0: a centred circular through-hole of radius `hole` (parameter plate_hole), the plate
+    minus a cylinder (block) or a disk (thin layer) of the same magnetisation; else none."""
+    return float(table.get("hole", 0.0)) > 0
+
+
+def _hole(table: dict, where: str, sx: float, sy: float) -> dict:
+    """{"hole": radius} for a holed plate, {} without a hole (hole = 0 is the plain plate)."""
+    hole = number(table, "hole", where, default=0.0)
+    if not 0 <= hole < min(sx, sy) / 2:
+        raise SceneError(f"{where}.hole = {hole} must satisfy 0 <= hole < {min(sx, sy) / 2:g} (half the "
+                         "shorter side): make the hole smaller (0 for none)")
+    return {"hole": hole} if holed(table) else {}
 
 
 def resolve(table: dict, ctx: Context) -> dict:
@@ -42,28 +58,34 @@ def resolve(table: dict, ctx: Context) -> dict:
             if bad in table:
                 raise SceneError(f"{where}.{bad} is for a thin layer (thickness = 0): give "
                                  "magnetization or remanence for a block")
-        return {"side_x": sx, "side_y": sy, "thickness": t, "magnetization": magnetization(table, ctx)}
+        return {"side_x": sx, "side_y": sy, "thickness": t, "magnetization": magnetization(table, ctx),
+                **_hole(table, where, sx, sy)}
     for bad in ("magnetization", "remanence"):
         if bad in table:
             raise SceneError(f"{where}.{bad} needs a thickness > 0 (a block): add `thickness`, or "
                              "give murho / dipole_density for a thin layer")
-    return {**strength_rho(table, ctx), "side_x": sx, "side_y": sy}
+    return {**strength_rho(table, ctx), "side_x": sx, "side_y": sy, **_hole(table, where, sx, sy)}
 
 
 KIND = PlateKind(
     name="rectangle",
     doc="uniformly z-magnetised rectangular plate centred on the axis, top face in z = 0: a block "
-        "(thickness > 0) or a thin dipole layer; exact 3-D field in the full model (no expansion)",
+        "(thickness > 0) or a thin dipole layer, with an optional centred circular through-hole; "
+        "exact 3-D field in the full model (no expansion; a hole's field is expanded to field.order "
+        "about the axis, as an axisymmetric plate's is)",
     keys=(Key("side", "m", "side of a square (or side_x and side_y)"),
           Key("side_x", "m", "side along x"),
           Key("side_y", "m", "side along y"),
           Key("thickness", "m", "height t of a block, -t <= z <= 0 (default 0: a thin layer)"),
+          Key("hole", "m", "radius of a centred circular through-hole, 0 <= hole < half the shorter "
+              "side (default 0: none)"),
           *MAGNETIZATION_KEYS, *STRENGTH_KEYS),
     resolve=resolve,
     decisions=(Decision("block", "thickness > 0: a block magnet (parameters plate_thickness, "
-                        "plate_magnetization) instead of a thin layer (plate_rho)", block),),
-    length_keys=("side_x", "side_y", "thickness"),
+                        "plate_magnetization) instead of a thin layer (plate_rho)", block),
+               Decision("holed", "hole > 0: a cylinder (block) or disk (thin layer) of radius "
+                        "plate_hole is taken away", holed)),
+    length_keys=("side_x", "side_y", "thickness", "hole"),
     units=STRENGTH_UNITS,
-    can_be_part=False,
     example='kind = "rectangle"\nside = 0.10\nthickness = 0.02\nremanence = 0.39',
 )

@@ -39,9 +39,20 @@ def without_friction(model, p: np.ndarray) -> np.ndarray:
     return model.with_params({r: 0.0 for r in RATES}, p)
 
 
+# the decay times by what decays: the scene's keys [top] spin_decay_time, ... without "_decay_time"
+DECAYS = {key.removesuffix("_decay_time"): rate for key, rate in FRICTION_KEYS.items()}
+
+
 def decay_times(pvals: dict) -> dict:
-    """{rate name: tau = 1/k in the scene's time unit, or None for no friction}."""
-    return {k: (1.0 / pvals[k] if pvals.get(k, 0.0) > 0 else None) for k in RATES}
+    """{what decays (spin, tilt, translation): its decay time tau = 1/k in the scene's time unit (s),
+    or None where it has no friction}: the scene's [top] *_decay_time as the model resolved them."""
+    return {name: (1.0 / pvals[k] if pvals.get(k, 0.0) > 0 else None) for name, k in DECAYS.items()}
+
+
+def friction_rates(pvals: dict) -> dict:
+    """{rate name (k_spin, k_tilt, k_trans): the rate k = 1/tau in 1/(the scene's time unit), 0 for
+    no friction}: the model's parameters (derive/friction.py)."""
+    return {k: float(pvals.get(k, 0.0)) for k in RATES}
 
 
 def crossing_time(spin: float, limit: float | None, k: float) -> float | None:
@@ -86,6 +97,7 @@ def flight(model, pt, p, res, x0, spin: float, z_s: float, t_end: float, interva
     ln_exact = abs(spin) * pv["C"] * np.exp(-k * np.asarray(res.t))
     return {
         "decay_times": decay_times(pv),
+        "friction_rates": friction_rates(pv),
         "flight_time": res.t_final if fell else None,
         "fell": fell,
         "fall_spin": float(abs(w[-1])) if fell else None,

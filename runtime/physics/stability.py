@@ -13,10 +13,10 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 
 import numpy as np
 
+from levitron.derive.plates.symmetry import symmetry
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.errors import UserError
 from levitron.runtime.physics.friction import without_friction
@@ -26,10 +26,11 @@ from levitron.runtime.physics.eigen_route import (
     transverse_block,
     transverse_matrix,
 )
-from levitron.runtime.physics.ray_algebra import (
-    RayCoefficients,
-    spin_intervals_discriminant,
-    thesis_approximations,
+from levitron.runtime.physics.ray_algebra import RayCoefficients, spin_intervals_discriminant
+from levitron.runtime.physics.stability_result import (  # noqa: F401  (StabilityResult's home)
+    StabilityResult,
+    approximations_at_z_c as _approximations,
+    relative_gap,
 )
 
 
@@ -42,71 +43,6 @@ def model_callables(model, p: np.ndarray | None = None) -> tuple[Callable, Calla
     jfast = model.fast("full_jac", p)
     n = part.nx
     return onaxis, (lambda x: jfast(x).reshape(n, n)), list(part.states)
-
-
-@dataclass
-class StabilityResult:
-    z_s: float | None
-    spin_interval: tuple[float, float] | None
-    discriminant: list[tuple[float, float]]
-    eigenvalues: list[tuple[float, float]] | None
-    approximations: dict
-    reason: str | None
-    routes_agree: bool | None
-    timings: dict
-    mass: float | None = None        # kg: the top analysed (stability_of's `height`: the one hovering there)
-
-    def as_dict(self) -> dict:
-        def pair(iv):
-            return None if iv is None else [float(iv[0]), float(iv[1])]
-
-        def first(ivs):
-            return pair(ivs[0]) if ivs else None
-
-        si = pair(self.spin_interval)
-        hz = None if si is None else [v / (2 * math.pi) for v in si]
-        rpm = None if hz is None else [v * 60 for v in hz]
-        return {
-            "z_s": self.z_s,
-            "spin_interval": si,
-            "spin_interval_hz": hz,
-            "spin_interval_rpm": rpm,
-            "routes": {"discriminant": first(self.discriminant),
-                       "eigenvalues": first(self.eigenvalues) if self.eigenvalues is not None else None},
-            "all_intervals": {"discriminant": [pair(v) for v in self.discriminant],
-                              "eigenvalues": None if self.eigenvalues is None
-                              else [pair(v) for v in self.eigenvalues]},
-            "routes_agree": self.routes_agree,
-            "approximations": self.approximations,
-            "reason": self.reason,
-            "timings_s": self.timings,
-        }
-
-
-def relative_gap(a: Sequence[tuple[float, float]], b: Sequence[tuple[float, float]]) -> float:
-    """Largest relative difference between matching interval end points (inf if counts differ)."""
-    if len(a) != len(b):
-        return math.inf
-    gap = 0.0
-    for (a0, a1), (b0, b1) in zip(a, b):
-        for u, v in ((a0, b0), (a1, b1)):
-            if u != v:
-                gap = max(gap, abs(u - v) / max(abs(u), abs(v)))
-    return gap
-
-
-def _approximations(onaxis, z_c, max_mass, g, A, C) -> dict:
-    """Thesis 3.3.22/3.3.23 at z_c for the top of mass m(z_c) that hovers there."""
-    out = {"sigma1": None, "sigma2": None, "z_c": z_c, "mass_at_z_c": max_mass, "g21": None,
-           "note": "thesis eqs. 3.3.22/3.3.23 (printed as squares) at z_c, for the top of mass "
-                   "m(z_c) that hovers there; rad/s"}
-    if z_c is not None and max_mass is not None and max_mass > 0:
-        ph = onaxis(z_c)
-        out.update(thesis_approximations(ph[1], ph[2], g, max_mass, A, C))
-        for k in ("sigma1", "sigma2"):
-            v = out[k]
-            out[k + "_hz"] = None if v is None else v / (2 * math.pi)
-    return out
 
 
 def analyse(onaxis: Callable[[float], Sequence[float]], m: float, g: float, A: float, C: float,
@@ -189,6 +125,19 @@ def _verdict(z_s: float, ph, mu: float, disc, eig, approximations, timings: dict
     return StabilityResult(z_s, interval, disc, eig, approximations, reason, agree, timings)
 
 
+def onaxis_refusal(model, p: np.ndarray | None = None) -> str | None:
+    """Why the spin interval from the on-axis potential (thesis 3.3, both routes here: the 8-D
+    transverse matrix and the full Jacobian probed inside the discriminant's intervals) does not
+    hold for this model's plate with parameters p, or None where it does: a plate of two-fold
+    symmetry (side_x != side_y) has an x^2 - y^2 part of the field (derive/plates/symmetry.py)."""
+    sym = symmetry(model.scene.data["plate"], model.pvals(p))
+    if sym.onaxis_stability:
+        return None
+    return (f"the plate has {sym.name} symmetry (side_x != side_y): the spin interval from the on-axis "
+            "potential (thesis 3.3) does not hold for it; make the rectangle square (side = ...) or "
+            "run the full model (`levitron simulate --spin ...`)")
+
+
 def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
                  z_s: float | None = None, height: float | None = None,
                  eigen: bool = True) -> StabilityResult:
@@ -198,7 +147,21 @@ def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
     z_s: an equilibrium height of that top, to skip the search. height: analyse instead the top
     that hovers at this height, of mass m(z) = -mu Phi_2(z) / g (thesis 3.3.2 solved for m; the
     stable band's rule, docs/contract.md); a UserError where no top hovers there (m(z) <= 0).
-    In air the friction rates are set to 0: the interval is the ideal top's (runtime/physics/friction.py)."""
+    In air the friction rates are set to 0: the interval is the ideal top's (runtime/physics/friction.py).
+    Over a tilted base (plate.tilt) the equilibrium is off the axis and found there
+    (runtime/physics/tilted_stability.py, route "eigenvalues" only): a z_s given (a level hover
+    height) and eigen are not used. A UserError for a plate whose symmetry does not carry the
+    analysis (`onaxis_refusal`)."""
+    if "base_tilt" in model.param_names:
+        if height is not None:
+            raise UserError("--height analyses a top on the axis of a level base: over a tilted base "
+                            "(plate.tilt) give the mass (--set top.mass=...) instead")
+        from levitron.runtime.physics.tilted_stability import tilted_analysis
+        p = without_friction(model, model.with_params({} if mass is None else {"m": float(mass)}, p))
+        return tilted_analysis(model, p)
+    why = onaxis_refusal(model, p)
+    if why is not None:
+        raise UserError(why)
     if height is not None:
         if mass is not None or z_s is not None:
             raise ValueError("stability_of: height excludes mass and z_s")

@@ -55,7 +55,8 @@ def drawing(setup: dict, u: Units, title: str = "") -> str:
         t = b.get("thickness", 0.0)
         ht = max(k * t, 3.0)
         if b["kind"] == "rect":
-            spans = [(-b["half_x"], b["half_x"])]
+            spans = ([(-b["half_x"], -b["r_in"]), (b["r_in"], b["half_x"])] if b.get("r_in", 0) > 0
+                     else [(-b["half_x"], b["half_x"])])
         elif b["kind"] == "loop":
             for sx in (-1, 1):
                 out.append(f'<circle cx="{X(sx * b["r_out"]):.1f}" cy="{y0:.1f}" r="4" fill="#c77d1a"/>')

@@ -11,9 +11,10 @@ time on the lane variant of the rhs where it verifies: no Python per run or per 
 
 Each run is the one simulate() makes with the same options, without its samples and energy
 monitor (neither changes a step), so the status, survival time, rhs count and final state are
-simulate()'s, bit for bit (tests/test_batch.py). In air the run stops when the top leaves the box,
-as simulate()'s; the flight block (fall spin, adiabatic prediction) needs the samples and is
-simulate()'s alone.
+simulate()'s, bit for bit (tests/test_batch.py). A launch whose top cannot hover (its parameters
+give no stable hover height) is a result with its reason, the others run as before. In air the
+run stops when the top leaves the box, as simulate()'s; the flight block (fall spin, adiabatic
+prediction) needs the samples and is simulate()'s alone.
 """
 from __future__ import annotations
 
@@ -26,7 +27,7 @@ import numpy as np
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.budget import check_options, default_budget
 from levitron.runtime.integrate.methods import DEFAULT, default_step, lookup, refuse_on_full_model, resolve
-from levitron.runtime.integrate.verdict import stopped_early
+from levitron.runtime.integrate.verdict import NO_HOVER, stopped_early
 from levitron.runtime.ui.validate import real
 
 MAX_LAUNCHES = 10**6
@@ -77,8 +78,12 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
     t_end, integrator (a C one), tol, box, h: one for all runs, as simulate()'s. Returns arrays
     of length k: levitating, untested (a launch on the invariant set, or a run that stopped early
     without a verdict, runtime/integrate/verdict.py: simulate()'s levitating None), status,
-    t_survived, rhs_evals, steps, z_s, final_state (k, n); plus states, inputs,
-    t_end, integrator, integrator_requested, tol, step, lanes and wall_s."""
+    t_survived, rhs_evals, steps, z_s, final_state (k, n), reason; plus states, inputs,
+    t_end (None if no launch ran and none was given), integrator, integrator_requested, tol, step,
+    lanes and wall_s. A launch whose parameters give no stable hover height is a result, not an
+    error of the call: it is not run, status NO_HOVER ("no_hover_height", the maps' word), reason
+    the one line that says why (else None), levitating False, untested False, t_survived 0, z_s and
+    final_state NaN."""
     from levitron.runtime.physics.equilibrium import hover_height
     from levitron.runtime.scan.chunk_c import drive_runs
     from levitron.runtime.simulate import run as sim
@@ -118,6 +123,7 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
     run_t_end = t_end
     groups: dict = {}       # launch position -> (its Launch, the indices of its launches)
     at = []                 # per launch: its site
+    reason = np.full(k, None, dtype=object)       # why a launch's top cannot hover (else None)
     for i in range(k):
         row = None if rows is None else rows[int(cols["p"][i])]
         key = (None if row is None else row.tobytes(), *(float(cols[n][i]) for n in names))
@@ -125,10 +131,18 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
         if site is None:
             pk = model.with_params(dict(zip(names, key[1:])), row)
             pv = model.pvals(pk)
-            zs = hover_height(model, pk)
-            te = sim.default_t_end(model, part, pk) if t_end is None else t_end
-            site = sites[key] = (pk, pv, zs, sim.vertical_stiffness(model, pk, zs, pv),
-                                 sim.default_box(pt, zs, box), te)
+            try:
+                zs = hover_height(model, pk)
+            except UserError as exc:      # this launch's top cannot hover: its result says why
+                site = sites[key] = str(exc)
+            else:
+                te = sim.default_t_end(model, part, pk) if t_end is None else t_end
+                site = sites[key] = (pk, pv, zs, sim.vertical_stiffness(model, pk, zs, pv),
+                                     sim.default_box(pt, zs, box), te)
+        if isinstance(site, str):
+            reason[i] = site
+            at.append(None)
+            continue
         if run_t_end is None:
             run_t_end = site[5]
         elif site[5] != run_t_end:
@@ -140,7 +154,10 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
         groups[lkey][1].append(i)
     for la, idx in groups.values():          # every spin of a launch position in one solve
         x0[idx] = sim.launch_states(la, cols["spin"][idx])
-    for i, (pk, pv, zs, stiffness, bx, _) in enumerate(at):
+    hovers = np.array([a is not None for a in at])
+    run = np.flatnonzero(hovers)                           # the launches whose top hovers
+    for i in run:
+        pk, pv, zs, stiffness, bx, _ = at[i]
         spin_i = float(cols["spin"][i])
         if bx.excess(x0[i]) > 0:
             raise UserError(f"launch {i}: the initial state is already outside the box (offset "
@@ -155,15 +172,26 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
         boxes[i] = (bx.z_lo, bx.z_hi, bx.r_max)
         budget[i] = default_budget(integrator, run_t_end, hi, T)
         z_s[i] = zs
-    res = drive_runs(model, pt, integrator, run_t_end, None if entry.fixed_step else tol, x0,
-                     np.array(P), scale, hs, boxes, budget)
-    status = np.array(res["status"])
+    # a launch that cannot hover is not run: status NO_HOVER (the maps' word), t 0, its state NaN
+    status = np.full(k, NO_HOVER, dtype=object)
+    t_final, x_final = np.zeros(k), np.full((k, len(pt.states)), np.nan)
+    rhs_evals, steps = np.zeros(k, np.int64), np.zeros(k, np.int64)
+    z_s[~hovers] = np.nan
+    lanes = False
+    if run.size:
+        res = drive_runs(model, pt, integrator, run_t_end, None if entry.fixed_step else tol, x0[run],
+                         np.array(P), scale[run], hs[run], boxes[run], budget[run])
+        status[run], t_final[run], x_final[run] = res["status"], res["t_final"], res["x_final"]
+        rhs_evals[run], steps[run], lanes = res["rhs_evals"], res["steps"], bool(res["lanes"])
+    status = status.astype(str)
     untested = np.array([sim.on_invariant_set(pt, float(t), float(o)) or stopped_early(st)
                          for t, o, st in zip(cols["tilt"], cols["offset"], status)])
+    untested[~hovers] = False          # a top that cannot hover is a verdict: it does not
     return {"levitating": status == "completed", "untested": untested, "status": status,
-            "t_survived": res["t_final"], "rhs_evals": res["rhs_evals"], "steps": res["steps"],
-            "z_s": z_s, "final_state": res["x_final"], "states": list(pt.states),
-            "inputs": {c: v for c, v in cols.items() if c != "p"}, "t_end": float(run_t_end),
+            "reason": reason, "t_survived": t_final, "rhs_evals": rhs_evals, "steps": steps,
+            "z_s": z_s, "final_state": x_final, "states": list(pt.states),
+            "inputs": {c: v for c, v in cols.items() if c != "p"},
+            "t_end": None if run_t_end is None else float(run_t_end),
             "integrator": integrator, "integrator_requested": requested, "tol": None if entry.fixed_step else tol,
-            "step": hs if entry.fixed_step else None, "lanes": bool(res["lanes"]),
+            "step": hs if entry.fixed_step else None, "lanes": lanes,
             "wall_s": time.perf_counter() - t_wall}

@@ -237,14 +237,15 @@ def run_chunk(plan: Plan, indices) -> dict:
     for i in indices:
         mu = model.param("mu") * (1 + S["strength"][i]) * temperature_factor(model, S["temperature"][i])
         m = model.param("m") * (1 + S["mass"][i])
+        used = {"m": float(m), "mu": float(mu)}      # the launch's own top, as run (launches table)
         if not (m > 0 and math.isfinite(mu)):
-            points.append({"i": int(i), "t": 0.0, "status": "invalid"})
+            points.append({"i": int(i), "t": 0.0, "status": "invalid", "z_s": math.nan, **used})
             continue
         p = model.with_params({"m": m, "mu": mu})
         try:
             z_s = hover_height(model, p)
         except UserError:
-            points.append({"i": int(i), "t": 0.0, "status": "cannot_hover"})
+            points.append({"i": int(i), "t": 0.0, "status": "cannot_hover", "z_s": math.nan, **used})
             continue
         spin = float(S["spin"][i])
         pv = model.pvals(p)
@@ -255,16 +256,17 @@ def run_chunk(plan: Plan, indices) -> dict:
         check_options(method, plan.t_end, plan.tol, None, 2, T, what)
         box = sim.default_box(pt, z_s)
         if box.excess(x0) > 0:
-            points.append({"i": int(i), "t": 0.0, "status": "left_box"})
+            points.append({"i": int(i), "t": 0.0, "status": "left_box", "z_s": float(z_s), **used})
             continue
         rows.append((int(i), x0, p, sim.state_scales(pt, z_s, spin, pv),
-                     (box.z_lo, box.z_hi, box.r_max), default_budget(method, plan.t_end, None, T)))
+                     (box.z_lo, box.z_hi, box.r_max), default_budget(method, plan.t_end, None, T),
+                     {"z_s": float(z_s), **used}))
     if rows:
         res = drive_runs(model, pt, method, plan.t_end, plan.tol, np.array([r[1] for r in rows]),
                          np.array([r[2] for r in rows]), np.array([r[3] for r in rows]),
                          np.zeros(len(rows)), np.array([r[4] for r in rows]),
                          np.array([r[5] for r in rows]))
-        points += [{"i": r[0], "t": float(res["t_final"][k]), "status": res["status"][k]}
+        points += [{"i": r[0], "t": float(res["t_final"][k]), "status": res["status"][k], **r[6]}
                    for k, r in enumerate(rows)]
     return {"points": points}
 
@@ -421,6 +423,7 @@ def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n
     if success_time > t_end:
         raise UserError(f"--success-time {success_time:g} is longer than --t-end {t_end:g}: no run "
                         "could succeed; make --t-end at least the success time")
+    warnings = reach_warnings(model, dists["spin"], interval, tau, success_time, "spin" not in given)
     method = resolve(integrator, tol, None)
     refuse_on_full_model(method, "launch")
     if lookup(method).backend != "c" or lookup(method).fixed_step:
@@ -443,11 +446,37 @@ def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n
         results = runners.run_processes(plan, chunks, workers, quiet, fn=run_chunk, what="launch")
     else:
         results = runners.run_serial(plan, chunks, quiet, fn=run_chunk, what="launch")
-    return summarize(plan, results, success_time, interval, z_s, tau, given)
+    return summarize(plan, results, success_time, interval, z_s, tau, given, warnings)
+
+
+def centre(d: Dist) -> float:
+    """The middle of a distribution: the mean, the middle of a uniform range, the fixed value."""
+    return 0.5 * (d.a + d.b) if d.kind == "uniform" else d.a
+
+
+def reach_warnings(model, spin: Dist, interval, tau, success_time: float, defaulted: bool) -> list[str]:
+    """In air: a one-line warning when a launch at the spin's centre cannot float the success time
+    at all by the adiabatic prediction, tau ln(omega_0 / sigma_lo) < success_time (runtime/physics/
+    friction.py: the spin decays as exp(-t/tau) and the top falls where it crosses sigma_lo), so
+    that the odds say more of the spin asked for than of the top (issue 26: the default spin flew
+    88 s against a default success time of 100 s). [] without air or without a spin interval."""
+    from levitron.runtime.physics.friction import crossing_time
+    from levitron.runtime.ui.human import Units
+    if tau is None or not interval:
+        return []
+    w0 = centre(spin)
+    t = crossing_time(w0, interval[0], 1 / tau)
+    if t is None or t >= success_time:
+        return []
+    u = Units.of_scene(model.scene)
+    which = "the default spin" if defaulted else "the spin's centre"
+    return [f"{which} {u.rate(w0).split(' (')[0]} floats only about {u.time(t)} by the adiabatic prediction "
+            f"tau ln(omega_0 / sigma_lo), less than the success time {u.time(success_time)}: even a steady "
+            "launch at it cannot succeed; launch faster (--spin) or ask for a shorter flight (--success-time)"]
 
 
 def summarize(plan: Plan, results, success_time: float, interval, z_s: float, tau,
-              given=()) -> dict:
+              given=(), warnings=()) -> dict:
     """The answer (docs/contract.md `launch`) from the chunks' points."""
     pts = sorted((p for r in results for p in r["points"]), key=lambda p: p["i"])
     t = np.array([p["t"] for p in pts])
@@ -478,7 +507,44 @@ def summarize(plan: Plan, results, success_time: float, interval, z_s: float, ta
         "z_s": z_s, "spin_interval": list(interval) if interval else None,
         "spin_decay_time": tau, "integrator": plan.integrator, "tol": plan.tol,
         "verdicts": [None if u else bool(v) for v, u in zip(ok, undecided)],
+        "launches": launches(S, pts, ok, t),
+        "warnings": list(warnings),
     }
+
+
+# the columns of `launches` (launch --save, Study.launch().launches) and the SI unit of each ("1": a
+# pure number; "text": the verdict): every input as the launch ran it, mass and strength absolute
+LAUNCH_UNITS = {"launch": "1", "spin": "rad/s", "tilt": "rad", "tilt_azimuth": "rad", "offset": "m",
+                "velocity": "m/s", "mass": "kg", "strength": "1", "temperature": "degC", "mu": "A m^2",
+                "z_s": "m", "verdict": "text", "floats": "1", "flight_time": "s"}
+LAUNCH_MEANING = {
+    "launch": "the launch's index (its place in the seed's draw)",
+    "mass": "the top's mass as run, m (1 + d) (not the relative deviation d)",
+    "strength": "the factor on the magnets' strength as sampled, 1 + d (1 = the scene's; temperature aside)",
+    "mu": "the moment (times the plate's strength) the run used: the scene's mu x strength x the "
+          "temperature's factor",
+    "z_s": "the hover height of the launch's own top (NaN: it cannot hover)",
+    "verdict": "how the run ended, as `outcomes` names it (completed: still up at t_end; left_box: fell; "
+               "cannot_hover; ...)",
+    "floats": "1 if the flight reached the success time, else 0",
+    "flight_time": "how long the top floated (t_end for a run still up)"}
+
+
+def launches(S: Mapping[str, np.ndarray], pts: list[dict], ok: np.ndarray, t: np.ndarray) -> dict:
+    """Every launch as data, one row each in the seed's order: the sampled inputs (spin, tilt,
+    tilt_azimuth, offset, velocity, temperature as drawn; mass and mu as the run used them,
+    strength as the factor 1 + d), the launch's hover height, its verdict (the run's status), whether
+    it floats, and its flight time (LAUNCH_UNITS)."""
+    out = {"launch": np.arange(len(pts))}
+    out.update({k: np.asarray(S[k], float) for k in INPUTS})
+    out["mass"] = np.array([p["m"] for p in pts])
+    out["strength"] = 1.0 + np.asarray(S["strength"], float)
+    out["mu"] = np.array([p["mu"] for p in pts])
+    out["z_s"] = np.array([p["z_s"] for p in pts])
+    out["verdict"] = np.array([p["status"] for p in pts])
+    out["floats"] = ok.astype(np.int64)
+    out["flight_time"] = np.asarray(t, float)
+    return {k: out[k] for k in LAUNCH_UNITS}
 
 
 def draw(result: dict, path, units, scene: str = ""):

@@ -51,6 +51,7 @@ SCRIPT = r"""function(root, D) {
       var X = b.half_x, Y = b.half_y, top = [P(-X, -Y, 0), P(X, -Y, 0), P(X, Y, 0), P(-X, Y, 0)];
       if (t > 0) el("polygon", {points: pts([P(-X, -Y, 0), P(X, -Y, 0), P(X, -Y, -t), P(-X, -Y, -t)]), fill: "#8a8f99"}, bg);
       el("polygon", {points: pts(top), fill: "#b9bec8", stroke: "#666"}, bg);
+      if (b.r_in > 0) el("polygon", {points: pts(ring(b.r_in, 0)), fill: "#f4f4f4", stroke: "#666"}, bg);
       return;
     }
     if (b.kind === "loop") { el("polygon", {points: pts(ring(b.r_out, 0)), fill: "none", stroke: "#c77d1a", "stroke-width": 3}, bg); return; }

@@ -54,6 +54,8 @@ def render(path: Path, data: dict, frames: dict, title: str) -> Path:
             corners = [(-b["half_x"], -b["half_y"]), (b["half_x"], -b["half_y"]),
                        (b["half_x"], b["half_y"]), (-b["half_x"], b["half_y"])]
             ax.add_patch(Polygon([_project(cx, cy, 0) for cx, cy in corners], fc="#b9bec8", ec="#666"))
+            if b.get("r_in", 0) > 0:
+                ax.add_patch(Ellipse((0, 0), 2 * b["r_in"], 2 * b["r_in"] * se, fc="#f4f4f4", ec="#666"))
             continue
         ax.add_patch(Ellipse((0, 0), 2 * b["r_out"], 2 * b["r_out"] * se,
                              fc="none" if b["kind"] == "loop" else "#b9bec8", ec="#666"))

@@ -49,7 +49,7 @@ from levitron.runtime.integrate.verdict import no_verdict_reason, verdict
 from levitron.runtime.physics import friction as flight
 from levitron.runtime.simulate import trajectory_file
 from levitron.runtime.ui.human import Units
-from levitron.runtime.physics.stability import stability_of
+from levitron.runtime.physics.stability import onaxis_refusal, stability_of
 from levitron.runtime.simulate.invariants import (  # noqa: F401 (the run's pieces, by name: sim.X)
     Samples, angular_momentum_z, deviations, invariants, largest_deviation, rows_of, spin_momentum, spin_rate,
     tilt_of)
@@ -60,7 +60,7 @@ from levitron.runtime.simulate.rotations import (  # noqa: F401
 from levitron.runtime.simulate.start import (  # noqa: F401
     DEFAULT_TILT, PERIODS, UNTESTED, Launch, coordinate_names, default_box, fastest_period,
     initial_state, launch, launch_state, launch_states, legendre_map, on_invariant_set, slow_period,
-    state_scales, time_scale, untested_reason, vertical_stiffness)
+    state_scales, tilted_start, time_scale, untested_reason, vertical_stiffness)
 
 FRICTION_T_END_TAUS = 5.0        # default run length with friction: 5 tau, the spin falls by e^5
 
@@ -75,7 +75,8 @@ def default_t_end(model, part: str, p) -> float:
     if part == "full" and flight.has_friction(model) and pv["k_spin"] > 0:
         return FRICTION_T_END_TAUS / pv["k_spin"]
     z_s = hover_height(model, p)
-    iv = stability_of(model, p=p, z_s=z_s, eigen=False).spin_interval if part == "full" else None
+    iv = (stability_of(model, p=p, z_s=z_s, eigen=False).spin_interval
+          if part == "full" and onaxis_refusal(model, p) is None else None)
     return PERIODS * slow_period(model, pv["m"], z_s, None if iv is None else math.sqrt(iv[0] * iv[1]), p)
 
 
@@ -93,7 +94,7 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
     runtime/integrate/methods.py or "auto" (resolved from tol: the answer's `integrator` is the
     method that ran, `integrator_requested` the name asked for, `integrator_choice` auto's reason).
     tilt None: DEFAULT_TILT for the full model, 0 for the reduced one; t_end None: default_t_end.
-    save: write the samples to a .csv or .npz file (runtime/simulate/trajectory_file.py; `saved` names it);
+    save: write the samples to a .csv, .npz or .parquet file (runtime/simulate/trajectory_file.py; `saved` names it);
     trajectory: also return them as out["trajectory"] = {column: array} (not JSON: the API's)."""
     if save is not None:
         trajectory_file.check_path(save)
@@ -126,6 +127,9 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
     if entry.fixed_step and h is None:
         h = default_step(T)
     x0 = initial_state(pt, z_s, spin, tilt, offset, p, azimuth)
+    tilted_note = None
+    if part == "full" and "base_tilt" in model.param_names:      # plate.tilt: start off the axis
+        x0, tilted_note = tilted_start(model, pt, z_s, spin, x0, p)
     if bx.excess(x0) > 0:
         raise UserError(f"the initial state is already outside the box (offset {offset} m vs half-width "
                         f"{bx.z_hi - z_s:.4g} m); pass a smaller --offset or a larger --box")
@@ -136,12 +140,15 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
     air = part == "full" and flight.has_friction(model)
     fl = None
     if air:
-        st = stability_of(model, p=p, z_s=z_s)    # the ideal top's interval at z_s (rates set to 0)
-        fl = flight.flight(model, pt, p, res, x0, spin, z_s, t_end, st.spin_interval,
+        # the ideal top's interval at z_s (rates set to 0); none where the plate's symmetry refuses it
+        iv = stability_of(model, p=p, z_s=z_s).spin_interval if onaxis_refusal(model, p) is None else None
+        fl = flight.flight(model, pt, p, res, x0, spin, z_s, t_end, iv,
                            lambda X: spin_rate(pt, X, pvals["C"], p))
     ps = Samples.of(pt, res, x0, p)
     out = summarize(pt, res, x0, p, z_s, bx, spin, tilt, offset, t_end, integrator, tol, h, plot, fl, ps)
     out["tilt_azimuth"] = azimuth
+    if tilted_note is not None:
+        out["note"] = tilted_note
     out["tilt_default"] = tilt_default and coordinates_of(pt) is not None
     if on_invariant_set(pt, tilt, offset):
         out["levitating"], out["untested"] = None, untested_reason(pt)

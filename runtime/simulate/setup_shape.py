@@ -4,7 +4,8 @@ of its own mass and axial moment, the hover height, the stable band and z_c (no 
     shape = setup_of(model, p)         # a JSON-able dict, in the scene's lengths (SI: m)
 
 The base: an annulus or disk plate is a thin layer in z = 0 (thesis 2.2.11); a ring magnet or a
-block fills -thickness <= z <= 0 (derive/plates/ring_magnet.py, rectangle.py); a loop is a wire of
+block fills -thickness <= z <= 0 (derive/plates/ring_magnet.py, rectangle.py; a rectangle's hole is
+its r_in); a loop is a wire of
 its radius in z = 0; a compound plate is its parts; an expression plate has no outline (None).
 The top: a uniform cylinder of the top's mass m with its axial moment C = m r^2 / 2, so
 r = sqrt(2 C / m), and its transverse A = m (3 r^2 + h^2) / 12 for the height h (0 where that
@@ -35,14 +36,15 @@ def _part(table: dict) -> dict | None:
     if kind == "rectangle":
         side = num("side")
         return {"kind": "rect", "half_x": 0.5 * num("side_x", side), "half_y": 0.5 * num("side_y", side),
-                "thickness": num("thickness")}
+                "r_in": num("hole"), "thickness": num("thickness")}
     return None
 
 
 def base_of(plate: dict) -> list[dict]:
-    """The base's outlines (a compound plate: one per part; an expression plate: none)."""
+    """The base's outlines (a compound plate: one per part, its compound parts' parts included; an
+    expression plate: none)."""
     if plate.get("kind") == "compound":
-        return [s for s in (_part(p) for p in plate.get("parts", [])) if s is not None]
+        return [s for p in plate.get("parts", []) for s in base_of(p)]
     one = _part(plate)
     return [one] if one is not None else []
 

@@ -160,6 +160,30 @@ def initial_state(part, z_s: float, spin: float, tilt: float = 0.0, offset: floa
     return launch_state(launch(part, z_s, tilt, offset, p, azimuth), spin)
 
 
+def tilted_start(model, part, z_s: float, spin: float, x0: np.ndarray, p) -> tuple[np.ndarray, str | None]:
+    """Over a tilted base (plate.tilt): the launch's perturbation, x0 less the unperturbed launch
+    on the axis, applied at the relative equilibrium off the axis with its axis along the field
+    (runtime/physics/tilted_equilibrium.py) at the launch's own spin momentum p_zeta. Returns (the
+    state, what it did), or (x0, why) where the tilt leaves the top no equilibrium: it starts on the
+    axis."""
+    from levitron.runtime.physics.tilted_equilibrium import NoEquilibrium, TiltedTop
+    if "p_zeta" not in part.states:
+        raise UserError("a run over a tilted base starts at its equilibrium in Tait-Bryan angles: "
+                        "set model.coordinates = \"tait-bryan\"")
+    level = initial_state(part, z_s, spin, 0.0, 0.0, p)
+    C = model.pvals(p)["C"]
+    sigma = level[part.states.index("p_zeta")] / C
+    top = TiltedTop(model, p, z_s)
+    try:
+        eq = top.hamilton(model.pvals(p)["base_tilt"], sigma if sigma != 0 else 1.0)
+    except NoEquilibrium as exc:
+        return x0, f"{exc}: the run starts on the axis"
+    off = math.hypot(*eq.position[:2])
+    return eq.at_spin(sigma) + (x0 - level), (
+        f"base tilted: the launch is taken at the top's equilibrium there, {off:.6g} m off the axis "
+        "(`levitron stability`); L_z is not conserved over a tilted base")
+
+
 def state_scales(part, z_s: float, spin: float, pvals: dict) -> np.ndarray:
     """Magnitudes of the state components (for tolerances and errors): lengths z_s, angles 1 rad,
     linear momenta m sqrt(g z_s), angular momenta max(C |spin|, A sqrt(g / z_s))."""
@@ -242,7 +266,10 @@ def linear_context(model, p, z_s: float, spin: float) -> dict:
     after thesis 3.3.5 (1 / the largest real part of its eigenvalues): how long a tilt takes to
     grow by e. Near a critical spin that time is long, and a run shorter than it cannot show the
     fall."""
-    from levitron.runtime.physics.stability import stability_of
+    from levitron.runtime.physics.stability import onaxis_refusal, stability_of
+    why = onaxis_refusal(model, p)
+    if why is not None:              # a two-fold plate: linear theory on the axis says nothing here
+        return {"spin_interval": None, "inside": None, "e_folding_time": None, "refused": why}
     iv = stability_of(model, p=p, z_s=z_s, eigen=False).spin_interval
     inside = iv is not None and iv[0] <= spin <= iv[1]
     e_folding = None

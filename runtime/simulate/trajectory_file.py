@@ -1,13 +1,21 @@
-"""A run's samples as data: the table of a trajectory and its files (CSV, .npz).
+"""A run's samples as data: the table of a trajectory and its files (CSV, .npz, Parquet).
 
 Columns: t, the part's states (SI, manifest.json order), then the derived columns the summary
 uses, each from a generated function over all samples (runtime/simulate/run.py): energy (H, thesis
 2.3.9), L_z and L_n (derive/invariants.py) and tilt (the angle of the axis n = R_bs e_z to the
 vertical, rad). `write` picks the format by the suffix; `read` gives the same table back.
+`write_columns` / `read_columns` do the same for named columns that may hold text (the launches
+of `levitron launch --save`, runtime/scan/launch_odds.py, with their verdicts). Every file is
+written to a temporary file in the same folder and renamed (runtime/ui/atomic.py): nothing
+half-written is left behind.
+Parquet needs pyarrow (an optional package: `pip install pyarrow`); without it a .parquet path is
+refused before the run.
 """
 from __future__ import annotations
 
+import csv
 import os
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
@@ -15,55 +23,113 @@ import numpy as np
 from levitron.runtime.errors import UserError
 from levitron.runtime.ui.validate import shown
 
-SUFFIXES = (".csv", ".npz")
+SUFFIXES = (".csv", ".npz", ".parquet")
 NAME_MAX = 255          # bytes of one file name (Linux, macOS)
+FORMATS = ".csv, .npz or .parquet"
 
 
-def check_path(path, option: str = "--save") -> Path:
-    """The --save path: a .csv or .npz file in an existing, writable folder, with a name the file
-    system takes (one-line UserError otherwise, before the run: never a run lost at the end). `option`
-    names the flag (the API passes its own words)."""
+def _pyarrow():
+    """pyarrow's parquet module, or None where pyarrow is not installed."""
+    try:
+        import pyarrow
+        import pyarrow.parquet as pq
+    except ImportError:
+        return None
+    return pyarrow, pq
+
+
+def check_path(path, flag: str = "--save") -> Path:
+    """The --save path: a .csv, .npz or .parquet file in an existing, writable folder, with a name
+    the file system takes (one-line UserError otherwise, before the run: never a run lost at the end).
+    `flag` names the option (the API passes its own words)."""
     if not isinstance(path, (str, os.PathLike)):
-        raise UserError(f"{option} {path!r}: give a file name (text or a path) ending in .csv or .npz")
+        raise UserError(f"{flag} {path!r}: give a file name (text or a path) ending in {FORMATS}")
     p = Path(path)
     path = shown(path)
     if p.suffix.lower() not in SUFFIXES:
-        raise UserError(f"{option} {path}: give a file ending in {' or '.join(SUFFIXES)} (CSV or numpy's .npz)")
+        raise UserError(f"{flag} {path}: give a file ending in {FORMATS} (CSV, numpy's .npz or Parquet)")
+    if p.suffix.lower() == ".parquet" and _pyarrow() is None:
+        raise UserError(f"{flag} {path}: Parquet needs pyarrow, which is not installed: pip install "
+                        "pyarrow, or save to .csv or .npz")
     if len(os.fsencode(p.name)) > NAME_MAX:
-        raise UserError(f"{option} {path}: the file name is {len(os.fsencode(p.name))} bytes long, "
+        raise UserError(f"{flag} {path}: the file name is {len(os.fsencode(p.name))} bytes long, "
                         f"more than the {NAME_MAX} a file system takes: give a shorter name")
     if p.is_dir():
-        raise UserError(f"{option} {path} is a folder: give a file name ending in .csv or .npz")
+        raise UserError(f"{flag} {path} is a folder: give a file name ending in {FORMATS}")
     if not p.parent.exists():
-        raise UserError(f"{option} {path}: the folder {shown(p.parent)} does not exist: create it first")
+        raise UserError(f"{flag} {path}: the folder {shown(p.parent)} does not exist: create it first")
     if not p.parent.is_dir():
-        raise UserError(f"{option} {path}: {shown(p.parent)} is a file, not a folder: save into a folder")
+        raise UserError(f"{flag} {path}: {shown(p.parent)} is a file, not a folder: save into a folder")
     if not os.access(p.parent, os.W_OK):
-        raise UserError(f"{option} {path}: the folder {shown(p.parent)} is not writable: save elsewhere")
+        raise UserError(f"{flag} {path}: the folder {shown(p.parent)} is not writable: save elsewhere")
     return p
 
 
-def write(path, names: list[str], table: np.ndarray, option: str = "--save") -> Path:
-    """The table (rows: samples, columns: names) to path.csv (a header line, %.17g: every double
-    round-trips) or path.npz (one array per column), through a temporary renamed into place
-    (runtime/ui/atomic.py: never half a file, one whole file from concurrent writers)."""
+def _csv(tmp: Path, columns: Mapping[str, np.ndarray]) -> None:
+    """A header line, then one row per sample: numbers as %.17g (every double round-trips), text as is."""
+    cols = [(np.asarray(v).dtype.kind in "fiub", np.asarray(v)) for v in columns.values()]
+    with open(tmp, "w", newline="") as fh:
+        w = csv.writer(fh, lineterminator="\n")
+        w.writerow(list(columns))
+        for i in range(len(cols[0][1]) if cols else 0):
+            w.writerow([format(float(a[i]), ".17g") if num else str(a[i]) for num, a in cols])
+
+
+def _npz(tmp: Path, columns: Mapping[str, np.ndarray]) -> None:
+    with open(tmp, "wb") as fh:        # a handle: np.savez adds ".npz" to a name not ending in it
+        np.savez(fh, **{n: np.asarray(v) for n, v in columns.items()})
+
+
+def _parquet(tmp: Path, columns: Mapping[str, np.ndarray]) -> None:
+    pa, pq = _pyarrow()
+    pq.write_table(pa.table({n: np.asarray(v) for n, v in columns.items()}), str(tmp))
+
+
+WRITERS = {".csv": _csv, ".npz": _npz, ".parquet": _parquet}
+
+
+def write_columns(path, columns: Mapping[str, np.ndarray], flag: str = "--save") -> Path:
+    """Named 1-D columns of one length (numbers or text) to path, the format by its suffix, through
+    a temporary beside it renamed onto path (runtime/ui/atomic.py: never half a file, one whole
+    file from concurrent writers, mode 0666 less the umask, a killed writer's temporary swept)."""
     from levitron.runtime.ui.atomic import output
-    p = check_path(path, option)
-    with output(p, option) as tmp, open(tmp, "wb") as fh:
-        if p.suffix.lower() == ".csv":
-            np.savetxt(fh, table, delimiter=",", header=",".join(names), comments="", fmt="%.17g")
-        else:
-            np.savez(fh, **{n: table[:, i] for i, n in enumerate(names)})
+    p = check_path(path, flag)
+    with output(p, flag) as tmp:
+        WRITERS[p.suffix.lower()](tmp, columns)
     return p
+
+
+def _typed(values: list[str]) -> np.ndarray:
+    """A CSV column as floats where every entry is a number, else as text."""
+    try:
+        return np.array([float(v) for v in values])
+    except ValueError:
+        return np.array(values)
+
+
+def read_columns(path) -> dict[str, np.ndarray]:
+    """{name: column} of a file that `write_columns` (or `write`) wrote."""
+    p = Path(path)
+    suffix = p.suffix.lower()
+    if suffix == ".csv":
+        with open(p, newline="") as fh:
+            rows = list(csv.reader(fh))
+        names, body = rows[0], rows[1:]
+        return {n: _typed([r[j] for r in body]) for j, n in enumerate(names)}
+    if suffix == ".parquet":
+        _, pq = _pyarrow()
+        table = pq.read_table(p)
+        return {n: table.column(n).to_numpy() for n in table.column_names}
+    with np.load(p, allow_pickle=False) as data:
+        return {n: data[n] for n in data.files}
+
+
+def write(path, names: list[str], table: np.ndarray, flag: str = "--save") -> Path:
+    """The table (rows: samples, columns: names) to path (write_columns)."""
+    return write_columns(path, {n: table[:, i] for i, n in enumerate(names)}, flag)
 
 
 def read(path) -> tuple[list[str], np.ndarray]:
     """(names, table) of a file that `write` wrote."""
-    p = Path(path)
-    if p.suffix.lower() == ".csv":
-        with open(p) as fh:
-            names = fh.readline().strip().split(",")
-        return names, np.atleast_2d(np.loadtxt(p, delimiter=",", skiprows=1))
-    with np.load(p) as data:
-        names = list(data.files)
-        return names, np.column_stack([data[n] for n in names])
+    cols = read_columns(path)
+    return list(cols), np.column_stack(list(cols.values()))

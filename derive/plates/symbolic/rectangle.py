@@ -5,7 +5,7 @@ import sympy as sp
 
 from ... import onaxis
 from ...symbols import Z
-from ..rectangle import block
+from ..rectangle import block, holed
 from .plate import MU0_SYM, Plate, plate_symbol
 
 
@@ -124,6 +124,10 @@ def build(table: dict, prefix: str = "") -> Plate:
     (thesis eq. 2.2.10 over a rectangle), Phi_k = rho Omega^(k)(z); block Phi_1 = -(mu0 M / 4 pi)
     [Omega(z) - Omega(z+t)] (B_z = H_z of the two charged faces), Phi0 = (mu0 M/4 pi)[G(z) - G(z+t)]
     with G(w) = int int dA / R (G' = -Omega), and Phi_k = -(mu0 M/4 pi)[Omega^(k-1)(z) - Omega^(k-1)(z+t)].
+
+    With a hole (decision `holed`): the plate minus a cylinder (block, derive/onaxis.cylinder_phis)
+    or a thin disk (layer, onaxis.disk_phis) of radius plate_hole and the same magnetisation; on the
+    axis exactly, and in the full model field3d (the plain plate) plus the hole's expansion (`axial`).
     """
     sx, sy = plate_symbol(prefix + "side_x"), plate_symbol(prefix + "side_y")
     hx, hy = sx / 2, sy / 2
@@ -149,4 +153,18 @@ def build(table: dict, prefix: str = "") -> Plate:
         def derivs(k: int) -> sp.Expr:
             return rho * rect_solid_angle_derivative(k, Z, hx, hy)
     phi0 = pot(x0, y0, Z)
-    return Plate("rectangle", phi0, symbols, derivs, fld, pot)
+    if not holed(table):   # structural decision `holed` (derive/plates/rectangle.py)
+        return Plate("rectangle", phi0, symbols, derivs, fld, pot)
+    hole = plate_symbol(prefix + "hole")
+    if block(table):
+        taken = onaxis.cylinder_phis(Z, hole, t, MU0_SYM * mag / 2)
+    else:
+        taken = onaxis.disk_phis(Z, hole, 2 * sp.pi * rho)
+    whole = derivs
+
+    def holed_derivs(k: int) -> sp.Expr:
+        return whole(k) - taken(k)
+
+    def axial(k: int) -> sp.Expr:
+        return -taken(k)
+    return Plate("rectangle", phi0 - taken(0), symbols + (hole,), holed_derivs, fld, pot, axial)

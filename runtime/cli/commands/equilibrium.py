@@ -57,6 +57,10 @@ def run(args) -> dict:
         "reference": {"z_stable": stated(model.scene, "z_stable")},
         "wall_s": wall,
     }
+    if "base_tilt" in model.param_names:
+        out["note"] = ("plate.tilt: these are the level base's equilibria on the axis (the band "
+                       "too); over the tilted base the top hovers off the axis: `levitron stability` "
+                       "gives where, and its spin interval")
     if args.plot:
         from pathlib import Path
 
@@ -117,5 +121,6 @@ def human(r: dict, scene=None) -> str:
         _stiffness(r["equilibria"], u),
         f"top {u.mass(r['mass'])}; z_c {u.length(r['z_c'])} ({_z_c_role(r)}); the heaviest top "
         f"that hovers: {u.mass(r['max_mass'])}" if r.get("z_c") is not None else "",
+        r.get("note", ""),
         u.note,
         f"plot: {r['plot']}" if r.get("plot") else "")

@@ -4,9 +4,10 @@ from __future__ import annotations
 import math
 
 from levitron.derive import plates
+from levitron.derive.plates.symmetry import symmetry
 from levitron.derive.scene import MU0
 
-from levitron.runtime.physics.friction import decay_times, has_friction
+from levitron.runtime.physics.friction import decay_times, friction_rates, has_friction
 from levitron.runtime.ui.human import Units, lines, restate, sig
 from levitron.runtime.cli.commands.common import model_of
 
@@ -35,6 +36,7 @@ def run(args) -> dict:
         "parameters": params,
         "derived_parameters": derived,
         "notes": scene.notes,
+        "symmetry": symmetry(scene.data["plate"], params).as_dict(),
         "generated": str(model.folder),
         "input_hash": m.input_hash,
         "plate": m.plate, "coordinates": m.coordinates, "field_order": m.field_order,
@@ -44,6 +46,7 @@ def run(args) -> dict:
         "taylor": {part: {"function": t.function, "nodes": t.nodes, "max_order": t.max_order}
                    for part, t in m.taylor.items()},
         "decay_times": decay_times(params) if has_friction(model) else None,
+        "friction_rates": friction_rates(params) if has_friction(model) else None,
     }
 
 
@@ -61,9 +64,8 @@ def _air(taus: dict | None, u: Units) -> str:
     """The scene's air friction (derive/friction.py) as decay times, or "" without friction."""
     if not taus:
         return ""
-    named = {"k_spin": "spin", "k_tilt": "tilt", "k_trans": "translation"}
     return "air friction: decay times " + ", ".join(
-        f"{named[k]} {u.time(v) if v else 'none'}" for k, v in taus.items())
+        f"{name} {u.time(v) if v else 'none'}" for name, v in taus.items())
 
 
 def _param(name: str, v: float, u: Units, plate_units=None) -> str:
@@ -101,5 +103,7 @@ def human(r: dict, scene=None) -> str:
         f"operations per call: {ops}",
         _taylor(r.get("taylor")),
         *[f"note: {restate(n, u)}" for n in r.get("notes") or []],
+        # an axisymmetric plate's symmetry goes without saying (the thesis's case)
+        f"symmetry: {r['symmetry']['summary']}" if r.get("symmetry", {}).get("name", "axial") != "axial" else "",
         f"generated: {r['generated']} (input hash {r['input_hash'][:12]})",
         u.note)

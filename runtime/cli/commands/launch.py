@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from levitron.runtime.scan import launch_odds as mc
+from levitron.runtime.simulate import trajectory_file
 from levitron.runtime.errors import UserError
 from levitron.runtime.ui.human import Units, lines, sig
 from levitron.runtime.ui.plotting import check_plot_path
@@ -73,16 +74,34 @@ def scene_ref(scene, args) -> str:
 def add_arguments(parser) -> None:
     add_launch_arguments(parser)
     parser.add_argument("--out", default=None, metavar="FILE.png", help="draw the flight-time histogram")
+    parser.add_argument("--save", default=None, metavar="FILE",
+                        help="write every launch to FILE.csv, .npz or .parquet: its sampled inputs (mass "
+                             "in kg and mu as run, strength as the factor 1 + d), hover height, verdict, "
+                             "floats (0/1) and flight time, one row per launch")
+
+
+def saved_block(path, rows: int, u: Units) -> dict:
+    """The JSON's `saved`: the file and each column's unit in the scene's units (its meaning:
+    docs/contract.md `launch --save`)."""
+    return {"path": str(path), "rows": rows,
+            "columns": {k: u.named(v) for k, v in mc.LAUNCH_UNITS.items()}}
 
 
 def run(args) -> dict:
     if args.out is not None:
         check_plot_path(args.out, "--out")
+    if args.save is not None:
+        trajectory_file.check_path(args.save)
     scene = scene_of(args)
     request = launch_request(args, scene)
     model = model_of(args)
     out = request.run(model, scene_ref(scene, args), args.set, quiet=args.quiet)
     out["scene"] = scene.name
+    table = out.pop("launches")        # the JSON stays its size: the table goes to --save
+    out["saved"] = None
+    if args.save is not None:
+        out["saved"] = saved_block(trajectory_file.write_columns(args.save, table), len(table["launch"]),
+                                   Units.of_scene(scene))
     if args.out:         # the report's histogram: the censored runs' bar labelled (runtime/report/real_launch.py)
         from levitron.runtime.report.real_launch import histogram
         out["out"] = str(histogram(out, Path(args.out), Units.of_scene(scene), scene.name))
@@ -142,11 +161,14 @@ def human(r: dict, scene=None) -> str:
         f"launch odds: {sig(100 * r['probability'], 3)}% of {r['n'] - r['no_verdict']} launches float at least "
         f"{u.time(r['success_time'])} (95% Wilson interval {sig(100 * lo, 3)}-{sig(100 * hi, 3)}%)",
         f"{r['no_verdict']} of {r['n']} runs stopped early without a verdict: not counted" if r["no_verdict"] else "",
+        *[f"warning: {w}" for w in r.get("warnings", [])],
         f"flight time: median {at(ft['median'])}, quartiles {at(ft['q1'])} - {at(ft['q3'])}"
         f" (runs of {u.time(r['t_end'])}{cens})",
         f"matters most: {'; '.join(rank)}" if rank else "no input has a spread",
         f"outcomes: {outcomes}",
         launches_line(r, u, scene),
         f"seed {r['seed']}, {r['integrator']} at tol {sig(r['tol'], 2)}",
+        f"launches saved: {r['saved']['path']} ({r['saved']['rows']} rows: inputs, verdict, flight time)"
+        if r.get("saved") else "",
         u.note,
         f"histogram: {r['out']}" if r.get("out") else "")

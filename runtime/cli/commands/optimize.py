@@ -104,9 +104,12 @@ def run(args) -> dict:
         if launch_design.worth_the_launches(model):
             scene = scene_of(args)
             u = Units.of_scene(scene)
-            cost = launch_design.what_it_costs(
-                model, launch.scene_ref(scene, args), args.set, varies, launch.launch_request(args, scene),
-                res.optimum, args.maximize, lambda k, v: u.mass(v) if k == "top.mass" else sig(v, 6))
+            try:
+                cost = launch_design.what_it_costs(
+                    model, launch.scene_ref(scene, args), args.set, varies, launch.launch_request(args, scene),
+                    res.optimum, args.maximize, lambda k, v: u.mass(v) if k == "top.mass" else sig(v, 6))
+            except UserError as exc:        # the design stands; only its cost in launches is unknown
+                cost = {"warning": f"the launch odds are not computed: {exc}"}
             out.update({k: v for k, v in cost.items() if k != "warning"})
             if "warning" in cost:
                 out["warnings"] = [*out["warnings"], cost["warning"]]

@@ -3,8 +3,9 @@ from __future__ import annotations
 
 from levitron.runtime.errors import UserError
 from levitron.runtime.simulate import animation
+from levitron.derive.plates.symmetry import symmetry
 from levitron.runtime.simulate.start import linear_context
-from levitron.runtime.ui.human import Units, duration, lines, sig
+from levitron.runtime.ui.human import Units, duration, lines, restate, sig
 from levitron.runtime.integrate.methods import DEFAULT, FULL_MODEL_METHODS, lookup
 from levitron.runtime.integrate.verdict import stopped_early
 from levitron.runtime.ui.plotting import check_plot_path
@@ -41,7 +42,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--n-out", type=int, default=2000, help="number of output samples (default 2000)")
     parser.add_argument("--plot", default=None, metavar="FILE", help="draw height, radial offset and tilt to FILE.png")
     parser.add_argument("--save", default=None, metavar="FILE",
-                        help="write the samples (--n-out of them) to FILE.csv or FILE.npz: t, every state, "
+                        help="write the samples (--n-out of them) to FILE.csv, .npz or .parquet: t, every state, "
                         "energy, L_z, L_n, tilt and the spin omega_3")
     parser.add_argument("--animate", default=None, metavar="FILE",
                         help="an animation of the run: FILE.html (a page that plays offline), .gif or .mp4")
@@ -103,7 +104,7 @@ def flight_line(r: dict, u: Units) -> str:
     else:
         head = (f"still floating after {u.time(r['t_survived'])} (the whole run), spin now "
                 f"{u.rate(fl['spin_final'])}")
-    taus = ", ".join(f"{k.removeprefix('k_')} {u.time(v)}" for k, v in fl["decay_times"].items() if v)
+    taus = ", ".join(f"{name} {u.time(v)}" for name, v in fl["decay_times"].items() if v)
     return lines(head, f"{limits}; {pred}" if pred else limits, above, f"air friction: decay times {taus}")
 
 
@@ -115,6 +116,8 @@ def linear_line(r: dict, u: Units) -> str:
     if not lin:
         return ""
     spin, iv = u.value(r["spin"]["rad_s"], "rad/s"), lin["spin_interval"]
+    if lin.get("refused"):
+        return f"linear theory: none ({lin['refused'].split(': ')[0]})"
     if iv is None:
         return "linear theory: no spin holds this top at its hover height (`levitron stability` says why)"
     span = u.rate_span(*iv).split(" (")[0]
@@ -125,6 +128,14 @@ def linear_line(r: dict, u: Units) -> str:
     grow = ("" if te is None else f": a tilt grows by e every {u.time(te)} "
             f"({sig(r['t_end'] / te, 2)} e-foldings in this run)")
     return f"linear theory: {spin} lies {side} the stable interval {span}{grow}"
+
+
+def _not_conserved(name: str, scene) -> str:
+    """" (not conserved: ...)" for L_z over a plate without axial symmetry (derive/plates/symmetry.py)."""
+    if name != "L_z" or scene is None:
+        return ""
+    sym = symmetry(scene.data["plate"], scene.params)
+    return "" if "L_z" in sym.conserved else f" (not conserved by a plate of {sym.name} symmetry)"
 
 
 def human(r: dict, scene=None) -> str:
@@ -140,7 +151,8 @@ def human(r: dict, scene=None) -> str:
                f"L_n against exp(-t/tau) {sig(dev.get('L_n_decay'), 2)}"]
     else:
         inv = [f"energy {sig(r['energy_drift'], 2)}"]
-        inv += [f"{k} {sig(dev[k], 2)}" for k in ("L_z", "L_n") if dev.get(k) is not None]
+        inv += [f"{k} {sig(dev[k], 2)}{_not_conserved(k, scene)}" for k in ("L_z", "L_n")
+                if dev.get(k) is not None]
     azi = r.get("tilt_azimuth")
     toward = f" toward azimuth {u.angle(azi)}" if azi is not None else ""
     return lines(
@@ -154,6 +166,7 @@ def human(r: dict, scene=None) -> str:
         f"largest excursion: height {u.length(r['max_height_deviation'])}, radial "
         f"{u.length(r['max_radial_offset'])}, tilt {u.angle(r['max_tilt'])}",
         f"invariants, largest relative deviation over the run: {', '.join(inv)}",
+        restate(r["note"], u) if r.get("note") else "",
         f"integrator: {r['integrator']} ({r['backend']}"
         f"{', chosen by auto' if r.get('integrator_requested') == 'auto' else ''}), "
         f"{sig(r['rhs_evals'], 6)} rhs evaluations",

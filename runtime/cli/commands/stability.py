@@ -7,10 +7,14 @@ with Hz and rpm beside.
 """
 from __future__ import annotations
 
+import math
 import time
 
 from levitron.runtime.ui.human import Units, lines, restate, sig
 from levitron.runtime.physics.stability import stability_of
+from levitron.runtime.errors import UserError
+from levitron.runtime.physics.friction import without_friction
+from levitron.runtime.ui.plotting import check_plot_path
 from levitron.runtime.ui.validate import real
 from levitron.runtime.cli.commands.common import model_of
 
@@ -24,25 +28,51 @@ def add_arguments(parser) -> None:
                         help="analyse the top that hovers at this height (m): its mass is m(Z) = "
                              "-mu Phi_2(Z)/g, not the scene's (default: the scene's top at its "
                              "vertically stable equilibrium)")
+    parser.add_argument("--level-tolerance", action="store_true",
+                        help="also how level the base must be: the largest base tilt at which a "
+                             "stable spin interval still exists (rad; needs the tilted model: "
+                             "plate.tilt in the scene or --set plate.tilt=0)")
+    parser.add_argument("--plot", default=None, metavar="FILE",
+                        help="with --level-tolerance: draw the spin interval against the base's "
+                             "tilt up to the tolerance (.png, .pdf, .svg)")
 
 
 def run(args) -> dict:
+    plot = getattr(args, "plot", None)
+    if plot is not None:
+        check_plot_path(plot)
+        if not getattr(args, "level_tolerance", False):
+            raise UserError("--plot draws the spin interval against the base's tilt: add "
+                            "--level-tolerance")
     model = model_of(args)
     if args.height is not None:
         real(args.height, "--height", positive=True, unit="m (above the plate, z > 0)")
     t0 = time.perf_counter()
     res = stability_of(model, height=args.height)
-    wall = time.perf_counter() - t0
     out = {"scene": model.scene.name, "mass": res.mass, "scene_mass": model.param("m"),
            "height_given": args.height is not None}
     out.update(res.as_dict())
     out["eigen_source"] = ("full_jac (generated)" if model.has_function("full_jac")
                            and "p_zeta" in model.part("full").states
                            else "transverse_matrix (8-D)")
-    out["wall_s"] = wall
+    if getattr(args, "level_tolerance", False):     # (a Namespace built by hand may lack it)
+        if "base_tilt" not in model.param_names:
+            raise UserError("--level-tolerance needs the model of a tilted base: add "
+                            "--set plate.tilt=0 (or the scene's plate.tilt)")
+        from levitron.runtime.physics.tilted_stability import level_tolerance
+        tol = level_tolerance(model, without_friction(model, model.p))
+        tol["length"] = model.scene.length_scale
+        tol["height_difference"] = (None if tol["max_base_tilt"] is None
+                                    else math.tan(tol["max_base_tilt"]) * tol["length"])
+        out["level_tolerance"] = tol
+        if plot is not None and tol["max_base_tilt"] is not None:
+            from levitron.runtime.report.tilt_plot import draw
+            out["plot"] = str(draw(model, without_friction(model, model.p), tol, plot))
+    out["wall_s"] = time.perf_counter() - t0
     # the vertical stiffness U'' = mu Phi_3(z_s) (thesis 3.3.3), N/m: what --constrain stiffness>=K
     # of `optimize` speaks of; it does not depend on the mass
-    out["stiffness"] = (model.param("mu") * float(model.onaxis(res.z_s)[3]) if res.z_s else None)
+    out["stiffness"] = (model.param("mu") * float(model.onaxis(res.z_s)[3])
+                        if res.z_s and res.equilibrium is None else None)
     return out
 
 
@@ -62,6 +92,30 @@ def _where(r: dict, u: Units) -> str:
         return f"at z_s = {u.length(r['z_s'])} for {u.top(r['mass'])}"
     return (f"at z = {u.length(r['z_s'])} (--height) for the top that hovers there, "
             f"of mass {u.mass(r['mass'])} (the scene's top is {u.mass(r['scene_mass'])})")
+
+
+def _equilibrium(e: dict, u: Units) -> str:
+    """Where the top hovers over a tilted base: off the centre (downhill or uphill), higher or
+    lower than over the level base (along the plate's axis)."""
+    rounding = 64 * 2.0 ** -52 * e["z_level"]      # what Newton's last step leaves
+    if e["offset"] <= rounding and abs(e["rise"]) <= rounding:
+        return "the top hovers on the axis, as over the level base"
+    side = "downhill" if e["downhill"] >= 0 else "uphill"
+    updown = "higher" if e["rise"] >= 0 else "lower"
+    return (f"the top hovers {u.length(e['offset'], 2)} off the centre, {side}, "
+            f"{u.length(abs(e['rise']), 2)} {updown} (base tilted {u.angle(e['tilt'])}; its axis "
+            f"{u.angle(math.acos(min(1.0, e['axis'][2])))} from the plate's)")
+
+
+def _level_tolerance(t: dict, u: Units) -> str:
+    """"level to 0.0948 deg: 0.17 mm across 10 cm (the plate's largest length)"."""
+    if t["max_base_tilt"] is None:
+        return "level_tolerance: none: the top has no stable spin interval even on a level base"
+    why = {"fold": "beyond it the equilibrium itself is gone",
+           "instability": "beyond it no spin stabilises the top"}.get(t["limited_by"], "")
+    return (f"level to {sig(math.degrees(t['max_base_tilt']), 3)} deg ({sig(t['max_base_tilt'], 4)} rad): "
+            f"{u.length(t['height_difference'], 2)} across {u.length(t['length'], 3)} (the plate's "
+            f"largest length){'; ' + why if why else ''}")
 
 
 def _interval(ivl, u: Units) -> str:
@@ -94,9 +148,12 @@ def human(r: dict, scene=None) -> str:
     more = r["all_intervals"].get("discriminant", [])[1:] if iv else []
     return lines(
         head,
+        _equilibrium(r["equilibrium"], u) if r.get("equilibrium") else "",
+        _level_tolerance(r["level_tolerance"], u) if r.get("level_tolerance") else "",
         _where(r, u),
         f"vertical stiffness there: U'' = mu Phi_3 = {u.value(r['stiffness'], 'N/m')} (thesis 3.3.3)"
         if r.get("stiffness") is not None else "",
         "further intervals: " + ", ".join(_interval(ivl, u) for ivl in more) if more else "",
         f"reason: {restate(r['reason'], u)}" if r.get("reason") else "",
-        approx, u.note)
+        approx, *(r.get("notes") or []), u.note,
+        f"plot: {r['plot']}" if r.get("plot") else "")

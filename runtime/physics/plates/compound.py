@@ -1,5 +1,8 @@
-"""Exact field of a compound plate: the sum of its parts' (None if a part has none)."""
+"""Exact field of a compound plate: the sum of its parts', each times its sign where it has one
+(None if a part has no closed form)."""
 import numpy as np
+
+from levitron.derive.plates.compound import SIGN
 
 
 def field(table, p, points, part_field):
@@ -8,5 +11,5 @@ def field(table, p, points, part_field):
         b = part_field(part, p.part(i), points)
         if b is None:
             return None
-        total += b
+        total += p.part(i)[SIGN] * b if SIGN in part else b
     return total
