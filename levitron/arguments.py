@@ -20,7 +20,7 @@ import numpy as np
 
 from levitron.runtime.errors import UserError
 
-__all__ = ["UserError", "Named", "api_words", "boxes", "choice", "names", "number", "plain", "scene_keys"]
+__all__ = ["UserError", "Named", "api_words", "bind", "boxes", "choice", "names", "number", "plain", "scene_keys"]
 
 
 def is_number(value) -> bool:
@@ -74,6 +74,23 @@ def choice(name, what: str, valid: Iterable[str]) -> str:
     return name
 
 
+def bind(fn, args, kwargs, what: str) -> None:
+    """Check a call's arguments against `fn`'s signature: an unknown keyword or a wrong number of
+    arguments is a one-line UserError ("load: unknown argument 'overides': did you mean
+    'overrides'? ..."), not Python's TypeError."""
+    import inspect
+    sig = inspect.signature(fn)
+    try:
+        sig.bind(*args, **kwargs)
+    except TypeError as exc:
+        names = [n for n, p in sig.parameters.items() if p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD)
+                 and n != "self"]
+        for k in kwargs:
+            if k not in sig.parameters:
+                choice(k, f"{what}: argument", names)
+        raise UserError(f"{what}: {exc}; its arguments are {', '.join(names)}") from None
+
+
 class Named(dict):
     """A dict of named things (Study.functions) whose unknown name is a one-line UserError listing
     the names, not a bare KeyError; `absent(name)`: the sentence for a name the scene could have
@@ -93,7 +110,7 @@ class Named(dict):
 _FLAG_VALUE = re.compile(r"--([a-z][a-z0-9-]*) (-?(?:\d[\w.+-]*|\.\d[\w.+-]*)(?::[\w.+-]+)*)(?=[\s;,)]|$)")
 _FLAG_WORD = re.compile(r"--(part|integrator|axis|kind) ([a-z][\w-]*)")     # options whose values are names
 _FLAG = re.compile(r"--([a-z][a-z0-9-]*)")
-_API_NAME = {"set": "overrides"}
+_API_NAME = {"set": "overrides", "temperature-spread": "inputs['temperature']"}   # launch's spread: an input
 # the commands a runtime sentence sends a person to, as the Study methods that answer the same
 _API_METHOD = {"equilibrium": "Study.equilibria()", "stability": "Study.stability()",
                "simulate": "Study.simulate()", "scan": "Study.scan()", "launch": "Study.launch()",

@@ -154,7 +154,8 @@ class Simulation:
 
         from levitron.runtime.simulate import trajectory_file
         names = list(self.trajectory)
-        return str(trajectory_file.write(path, names, np.column_stack([self.trajectory[n] for n in names])))
+        return str(trajectory_file.write(path, names, np.column_stack([self.trajectory[n] for n in names]),
+                                        "Simulation.save"))
 
     @property
     def status(self) -> str:
@@ -227,7 +228,8 @@ class LaunchOdds:
     @property
     def message(self) -> str:
         lo, hi = self.probability_ci95
-        text = (f"{sig(100 * self.probability, 3)}% of {self.n} launches float at least "
+        decided = self.n - self.details.get("no_verdict", 0)     # the odds leave out the runs with no verdict
+        text = (f"{sig(100 * self.probability, 3)}% of {decided} launches float at least "
                 f"{_q(self.units, self.success_time, 's', '.4g')} (95% Wilson interval "
                 f"{sig(100 * lo, 3)}-{sig(100 * hi, 3)}%)")
         failed = self._failed()

@@ -49,10 +49,12 @@ def override_texts(overrides: Mapping[str, object] | None) -> list[str]:
         raise UserError(str(exc)) from None
 
 
-def load(scene: str | Path, overrides: Mapping[str, float | str] | None = None) -> Study:
+def load(scene: str | Path, overrides: Mapping[str, float | str] | None = None, **unknown) -> Study:
     """A scene by name (scenes/) or path, with overrides by scene key, e.g. {"top.mass": 0.05}
     (numbers may be NumPy scalars); derives its model when needed. Errors: levitron.UserError
-    (one line, as on the CLI)."""
+    (one line, as on the CLI; a misspelt argument too)."""
+    for k in unknown:
+        arg.choice(k, "load: argument", ["scene", "overrides"])
     if not isinstance(scene, (str, Path)):
         raise UserError(f"scene must be a scene name or a path to a .toml file, not {scene!r}")
     sets = override_texts(overrides)
@@ -352,6 +354,24 @@ class Study:
         """Least squares of scene keys to measurements (a CSV path or runtime.design.fit.Row list)."""
         rows = read_rows(data) if isinstance(data, (str, Path)) else data
         return _fit(self.model, rows, _varies(vary))
+
+
+def _checked_calls(cls):
+    """Every public method of `cls` checks its call against its signature first (arguments.bind):
+    a misspelt keyword or a wrong count of arguments is a one-line UserError, not a TypeError."""
+    def checked(method):
+        @functools.wraps(method)
+        def wrapper(self, *args, **kwargs):
+            arg.bind(method, (self, *args), kwargs, f"{cls.__name__}.{method.__name__}")
+            return method(self, *args, **kwargs)
+        return wrapper
+    for name, fn in list(vars(cls).items()):
+        if inspect.isfunction(fn) and not name.startswith("_"):
+            setattr(cls, name, checked(fn))
+    return cls
+
+
+_checked_calls(Study)
 
 
 def _options(options: dict, valid: Sequence[str], what: str, numbers: Sequence[str]) -> dict:

@@ -11,7 +11,10 @@ Generated inputs, each through the in-process function the CLI and the API call:
     end (one compiler call) and C must equal CasADi wherever CasADi is finite;
   * --set values with quotes, backslashes and newlines: refused in one line or read back exactly;
     the API's writer round-trips every text;
-  * fit CSVs: read into checked rows or refused in one line.
+  * fit CSVs: read into checked rows or refused in one line;
+  * launch temperature spreads, fixed temperatures and [launch] tables: refused in one line or
+    every draw a temperature the scene reader takes (the same verdict as --temperature); --save
+    paths: refused in one line or one whole file that reads back, no temporary left.
 Never another exception type, never a message of more than one line, and nothing written
 outside the cache: every example runs in `confined()`, in a fresh empty working directory with
 TMPDIR (and Python's tempfile) pointed at a fresh empty folder, and afterwards both must be empty
@@ -345,6 +348,111 @@ def test_fit_csvs_are_read_checked_or_refused_in_one_line(header, rows, tmp_path
         assert math.isfinite(r.sigma) and r.sigma >= fit.MIN_SIGMA
         keys = [k for k, _ in r.overrides]
         assert len(keys) == len(set(keys)) and all(math.isfinite(v) for _, v in r.overrides)
+
+
+# ---------------------------------------------------------------- spreads, [launch] tables, temperatures, --save paths
+
+AIR_DATA = load_scene("thesis_air").data
+SPREAD_NUMBERS = st.one_of(EDGE_FLOATS, st.floats(-400, 1600), st.integers(-300, 2000), st.text(max_size=4))
+SPREADS = st.one_of(
+    st.builds(lambda a, b: f"normal:{a},{b}", SPREAD_NUMBERS, SPREAD_NUMBERS),
+    st.builds(lambda a, b: f"uniform:{a},{b}", SPREAD_NUMBERS, SPREAD_NUMBERS),
+    SPREAD_NUMBERS.map(str), NUMBERS, QUOTY)
+
+
+@budget(60)
+@given(spec=SPREADS)
+@each_confined
+def test_a_temperature_spread_is_refused_or_every_draw_is_a_temperature(spec):
+    """A launch temperature spread through monte_carlo's checks (launch_odds.parse_input, then
+    validate.spread_range and validate.temperature): refused in one line, or each of 2000 draws
+    is a temperature the scene reader takes (derive/scene.py temperature_factors, the second route)."""
+    from levitron.derive.scene import temperature_factors
+    from levitron.runtime.scan import launch_odds as mc
+    from levitron.runtime.ui.validate import spread_range, temperature
+    try:
+        d = mc.parse_input("temperature", spec)
+        temperature(AIR_DATA, *spread_range(d.kind, d.a, d.b)[:2], "--temperature-spread")
+    except UserError as exc:
+        one_line(exc)
+        event("refused")
+        return
+    event("taken")
+    for T in d.sample(np.random.Generator(np.random.PCG64(0)), 2000):
+        assert min(temperature_factors({**AIR_DATA, "temperature": float(T)})) > 0
+
+
+@budget(40)
+@given(T=st.one_of(EDGE_FLOATS, st.floats(-400, 2000), st.integers(-400, 2000)))
+@each_confined
+def test_one_temperature_check_for_the_scene_and_the_spread(T):
+    """A fixed temperature is taken by the launch check exactly when the scene takes it as
+    `--temperature` (one validation per quantity)."""
+    from levitron.runtime.ui.validate import temperature
+    try:
+        load_scene("thesis_air", [override_text("temperature", T)])
+        scene_ok = True
+    except SceneError:
+        scene_ok = False
+    try:
+        temperature(AIR_DATA, T, T, "--temperature-spread")
+        spread_ok = True
+    except UserError as exc:
+        one_line(exc)
+        spread_ok = False
+    assert scene_ok == spread_ok, T
+
+
+TABLE_KEYS = st.sampled_from(["n", "seed", "success_time", "t_end", "spin", "temperature", "mass", "tilt"])
+
+
+@budget(40)
+@given(table=st.dictionaries(TABLE_KEYS, st.one_of(NUMBERS, SPREADS), max_size=5))
+@each_confined
+def test_launch_tables_are_read_checked_or_refused_in_one_line(table):
+    """A [launch] table (launch_odds.table_settings, as the CLI and the API read it): refused in
+    one line, or n and seed whole numbers in range and the times positive and finite."""
+    from levitron.runtime.scan import launch_odds as mc
+    try:
+        inputs, settings_ = mc.table_settings(table)
+        for name, spec in inputs.items():
+            mc.parse_input(name, spec, AIR_DATA["top"]["mass"] if name == "mass" else 1.0)
+    except UserError as exc:
+        one_line(exc)
+        event("refused")
+        return
+    event("taken")
+    assert set(inputs) | set(settings_) == set(table)
+    assert 1 <= settings_.get("n", 1) <= mc.MAX_N and settings_.get("seed", 0) >= 0
+    assert all(math.isfinite(settings_[k]) and settings_[k] > 0 for k in ("success_time", "t_end")
+               if k in settings_)
+
+
+SAVE_NAMES = st.one_of(QUOTY.filter(lambda s: "/" not in s and "\x00" not in s),
+                       st.text(alphabet=st.characters(blacklist_categories=("Cs",), blacklist_characters="/\x00"),
+                               max_size=12))
+
+
+@budget(40)
+@given(stem=SAVE_NAMES, suffix=st.sampled_from([".csv", ".npz", ".CSV", ".NPZ", ".txt", "", ".csv.tmp"]))
+def test_save_paths_are_written_whole_or_refused_in_one_line(stem, suffix, tmp_path_factory):
+    """A --save / Simulation.save path (runtime/simulate/trajectory_file.py through runtime/ui/atomic.py):
+    refused in one line, or the one file is there, reads back equal, and no temporary is left."""
+    from levitron.runtime.simulate import trajectory_file
+    folder = tmp_path_factory.mktemp("save")
+    table = np.linspace(0.0, 1.0, 12).reshape(4, 3)
+    try:
+        with confined():
+            path = trajectory_file.write(folder / f"{stem}{suffix}", ["t", "x", "y"], table)
+    except UserError as exc:
+        one_line(exc)
+        assert list(folder.iterdir()) == []
+        event("refused")
+        return
+    event("written")
+    assert list(folder.iterdir()) == [path]
+    names, back = trajectory_file.read(path)
+    assert names == ["t", "x", "y"] and np.array_equal(back, table)
 
 
 def test_every_example_ran_confined():

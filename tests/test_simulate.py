@@ -271,7 +271,7 @@ def test_reduced_model_vertical_bounce(model):
     (dict(spin=1e12), "spin period"),
     (dict(integrator="rk4", h=1e-12), "below 1e-09 of the"),
     (dict(h=1e-4), "adaptive"),
-    (dict(n_out=10**9), "n_out"),
+    (dict(n_out=10**9), r"--n-out .*at most 1000000"),      # the flag and its limit (issue 31)
     (dict(integrator="rk4", h=-1e-4), "step"),
     (dict(integrator="verlet"), "unknown integrator"),
     (dict(t_end=0.0), "run length"),
@@ -303,7 +303,7 @@ def test_cli_simulate_json(capsys):
     (["--t-end", "1e9"], "budget cap"),
     (["--spin", "1e12"], "spin period"),
     (["--integrator", "rk4", "--step", "1e-12"], "below 1e-09"),
-    (["--n-out", "1000000000"], "n_out"),
+    (["--n-out", "1000000000"], "--n-out = 1000000000 must be at least 1 and at most 1000000"),
 ])
 def test_cli_refuses_unbounded_work_in_one_line(capsys, args, words):
     """Each of these once ran without end, or raised MemoryError, or (--tol 1) flipped a verdict."""

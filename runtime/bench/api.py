@@ -27,6 +27,7 @@ from pathlib import Path
 from levitron.runtime.bench.work_precision import setup
 from levitron.runtime.ui.human import Units
 from levitron.runtime.ui.plotting import pyplot, save_figure, style
+from levitron.runtime.ui.atomic import open_text, write_text
 
 RUN_SPIN_PERIODS = 8          # the short run: 8 spin periods (0.045 s for thesis_stable's top)
 OVERHEAD_BUDGET_S = 1e-3      # the goal: a short API simulation within 1 ms of its integration
@@ -74,13 +75,13 @@ def bench(model, scene_ref: str, overrides, out: Path, quick: bool) -> dict:
     rows = time_calls(study, cases(study, su), QUICK_SECONDS if quick else SECONDS)
     load_after = os.getloadavg()
     out.mkdir(parents=True, exist_ok=True)
-    with open(out / "api.csv", "w", newline="") as fh:
+    with open_text(out / "api.csv", "--out", newline="") as fh:
         w = csv.DictWriter(fh, COLUMNS)
         w.writeheader()
         w.writerows(rows)
     res = {"scene": model.scene.name, "description": __doc__, "rows": rows,
            "load_average_1_5_15": {"before": load_before, "after": load_after}, "quick": quick}
-    (out / "api.json").write_text(json.dumps(res, indent=1) + "\n")
+    write_text(out / "api.json", option="--out", text=json.dumps(res, indent=1) + "\n")
     png = draw(rows, out / "api.png", f"{model.scene.name}: Study.simulate, {RUN_SPIN_PERIODS} spin periods "
                f"at {Units.of_scene(model.scene).rate(su.spin)} (load {load_before[0]:.1f})")
     res["files"] = [str(out / "api.csv"), str(out / "api.json"), str(png)]

@@ -23,6 +23,7 @@ import time
 from pathlib import Path
 
 from levitron.runtime.errors import UserError
+from levitron.runtime.ui.atomic import open_text, write_text
 
 GOAL_S = 2.0                        # the goal: one design optimisation, verification included
 # the spin objectives need a stiffness floor (runtime/design/optimize.py): this fraction of the
@@ -102,8 +103,8 @@ def write(result: dict, out: Path) -> list[Path]:
     """DIR/bench_design.json and DIR/bench_design.csv (one row a case, COLUMNS)."""
     out.mkdir(parents=True, exist_ok=True)
     js, cs = out / "bench_design.json", out / "bench_design.csv"
-    js.write_text(json.dumps(result, indent=1) + "\n")
-    with cs.open("w", newline="") as fh:
+    write_text(js, option="--out", text=json.dumps(result, indent=1) + "\n")
+    with open_text(cs, "--out", newline="") as fh:
         w = csv.DictWriter(fh, COLUMNS, extrasaction="ignore")
         w.writeheader()
         for row in result["cases"]:

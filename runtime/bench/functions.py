@@ -11,6 +11,7 @@ import numpy as np
 
 from levitron.runtime.integrate.c_backend import time_fn_ns
 from levitron.runtime.ui.plotting import pyplot, save_figure, style
+from levitron.runtime.ui.atomic import open_text
 
 REPEATS = 3
 
@@ -26,7 +27,7 @@ def bench(model, scene_ref: str, overrides, out: Path, quick: bool) -> dict:
                  for _ in range(REPEATS))
         rows.append({"function": name, "ops": f.ops, "ns": ns, "ns_per_op": ns / max(f.ops, 1)})
     out.mkdir(parents=True, exist_ok=True)
-    with open(out / "functions.csv", "w", newline="") as fh:
+    with open_text(out / "functions.csv", "--out", newline="") as fh:
         w = csv.DictWriter(fh, ["function", "ops", "ns", "ns_per_op"])
         w.writeheader()
         w.writerows(rows)

@@ -19,6 +19,7 @@ from levitron.runtime.scan import launch_odds as mc
 from levitron.runtime.ui.human import Units
 from levitron.runtime.model.load import load_model
 from levitron.runtime.simulate.run import simulate
+from levitron.runtime.ui.atomic import open_text, write_text
 
 
 def measure(scene: str, flight: float, n: int, t_end: float, workers: int, repeats: int) -> dict:
@@ -59,8 +60,8 @@ def bench(model, scene_ref: str, overrides, out: Path, quick: bool) -> dict:
     r = measure(scene_ref, o["flight"], o["n"], o["t_end"], o["workers"], o["repeats"])
     out.mkdir(parents=True, exist_ok=True)
     res = r.pop("result")
-    (out / "launch.json").write_text(json.dumps(r, indent=2) + "\n")
-    with open(out / "launch.csv", "w", newline="") as fh:
+    write_text(out / "launch.json", option="--out", text=json.dumps(r, indent=2) + "\n")
+    with open_text(out / "launch.csv", "--out", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["what", "size", "workers", "wall_s"])
         w.writerow([f"one flight of {o['flight']:g} s", 1, 1, f"{r['flight']['wall_s']:.4g}"])

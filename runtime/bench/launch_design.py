@@ -17,6 +17,7 @@ import time
 from pathlib import Path
 
 from levitron.runtime.ui.human import Units
+from levitron.runtime.ui.atomic import open_text, write_text
 
 GOAL_S = 60.0
 FULL = {"n": 300, "workers": (1, 2)}
@@ -68,8 +69,9 @@ def bench(model, scene_ref: str, overrides, out: Path, quick: bool) -> dict:
     extra = {k: o[k] for k in ("success_time", "t_end") if k in o}
     rows = [measure(model, scene_ref, overrides, o["n"], w, **extra) for w in o["workers"]]
     out.mkdir(parents=True, exist_ok=True)
-    (out / "launch_design.json").write_text(json.dumps({"scene": model.scene.name, "rows": rows}, indent=2) + "\n")
-    with open(out / "launch_design.csv", "w", newline="") as fh:
+    write_text(out / "launch_design.json", option="--out",
+               text=json.dumps({"scene": model.scene.name, "rows": rows}, indent=2) + "\n")
+    with open_text(out / "launch_design.csv", "--out", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=COLUMNS)
         w.writeheader()
         w.writerows(rows)

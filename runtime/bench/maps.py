@@ -53,6 +53,7 @@ from pathlib import Path
 import numpy as np
 
 from levitron.runtime.errors import UserError
+from levitron.runtime.ui.atomic import write_text
 
 SPIN_BELOW, SPIN_ABOVE = 0.5, 1.25   # the spin range around the linear interval [lo, hi]
 MAX_TILT = 0.2                       # rad
@@ -284,7 +285,7 @@ def bench(model, scene_ref: str, overrides, out: Path, quick: bool) -> dict:
     res = run(model, scene_ref, overrides, quick=quick)
     out.mkdir(parents=True, exist_ok=True)
     path = out / "bench_maps.json"
-    path.write_text(json.dumps(res, indent=1) + "\n")
+    write_text(path, option="--out", text=json.dumps(res, indent=1) + "\n")
     r0 = res["rows"][0]
     res["headline"] = (f"{res['map']['spin'][2]} x {res['map']['tilt'][2]} map: {r0['points_per_s']:.0f} points/s "
                        f"on 1 worker, {res['rows'][1]['points_per_s']:.0f} on 2; cpu/rhs "

@@ -25,6 +25,7 @@ import numpy as np
 from levitron.runtime.integrate.c_backend import CSystem, csrc_library, run_c
 
 from levitron.runtime.ui.plotting import pyplot, save_figure
+from levitron.runtime.ui.atomic import write_text
 
 R0, V0 = 1.0, 1.0
 PERIOD = 2 * math.pi * R0 / V0
@@ -85,7 +86,7 @@ def run(out_dir: str | Path = "reports", quick: bool = False) -> dict:
     }
     result["files"] = [str(draw_3_2(result, out / "solver_compare_fig3_2.png")),
                        str(draw_3_3(result, out / "solver_compare_fig3_3.png"))]
-    (out / "solver_compare.json").write_text(json.dumps(result, indent=1))
+    write_text(out / "solver_compare.json", option="--out", text=json.dumps(result, indent=1))
     result["files"].append(str(out / "solver_compare.json"))
     return result
 

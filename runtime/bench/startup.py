@@ -20,6 +20,7 @@ from pathlib import Path
 
 from levitron.runtime.bench.repeat import best_of
 from levitron.runtime.ui.plotting import pyplot, save_figure, style
+from levitron.runtime.ui.atomic import open_text, write_text
 
 # (label, arguments after `levitron`, budget in s); "{scene}" is the scene
 COMMANDS = (
@@ -81,14 +82,14 @@ def bench(model, scene_ref: str, overrides, out: Path, quick: bool) -> dict:
                      "within_budget": r["min_s"] < budget, **r})
     load_after = os.getloadavg()
     out.mkdir(parents=True, exist_ok=True)
-    with open(out / "startup.csv", "w", newline="") as fh:
+    with open_text(out / "startup.csv", "--out", newline="") as fh:
         w = csv.DictWriter(fh, ["command", "min_s", "median_s", "budget_s", "within_budget", "runs",
                                 "stable", "argv"])
         w.writeheader()
         w.writerows(rows)
     res = {"scene": model.scene.name, "launcher": " ".join(base), "rows": rows,
            "load_average_1_5_15": {"before": load_before, "after": load_after}, "quick": quick}
-    (out / "startup.json").write_text(json.dumps(res, indent=2) + "\n")
+    write_text(out / "startup.json", option="--out", text=json.dumps(res, indent=2) + "\n")
     plt = pyplot()
     style()
     fig, ax = plt.subplots(figsize=(6, 2.8))

@@ -99,8 +99,23 @@ def build_parser(only: str | None = None, overview: bool = False) -> argparse.Ar
         p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
         p.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
         mod.add_arguments(p)
+        for action in p._actions:        # every number flag read as runtime/ui/validate.py reads numbers
+            action.type = {float: _float, int: _int}.get(action.type, action.type)
         p.set_defaults(_run=mod.run, _module=mod)
     return ap
+
+
+def _float(text: str) -> float:
+    from levitron.runtime.ui.validate import number_text
+    return number_text(text)
+
+
+def _int(text: str) -> int:
+    from levitron.runtime.ui.validate import count_text
+    return count_text(text)
+
+
+_float.__name__, _int.__name__ = "float", "int"      # argparse's "invalid float value: '1_0'"
 
 
 def _clean(obj):
@@ -260,6 +275,28 @@ def _with_provenance(args, result):
     return result
 
 
+def _refuse_empty(argv: list[str]) -> None:
+    """An empty value (`--out ''`, `--out=`, a scene '') is refused: it never silently means the
+    default or the current folder."""
+    for i, token in enumerate(argv[1:], start=1):
+        flag = token[:-1] if token.startswith("--") and token.endswith("=") else None
+        if token == "":
+            flag = argv[i - 1] if argv[i - 1].startswith("-") else None
+            if flag is None:
+                raise UserError(f"an empty argument '' after `levitron {argv[0]}`: give the scene (a name "
+                                "of scenes/ or a .toml path)")
+        if flag is not None:
+            raise UserError(f"{flag} '': an empty value; give one (see `levitron {argv[0]} --help`)")
+
+
+def _one_temperature(args) -> None:
+    """--temperature and --set temperature=... name one number twice: refused, not resolved."""
+    for text in args.set:
+        if text.split("=", 1)[0].strip() == "temperature":
+            raise UserError(f"--temperature {args.temperature:g} and --set '{text}' both set the temperature: "
+                            "pass one of them")
+
+
 def main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv == ["--version"]:       # without the command modules (numpy, casadi): ~0.1 s, not ~1 s
@@ -267,8 +304,13 @@ def main(argv=None) -> int:
     if not argv or argv[0] in ("-h", "--help"):     # the overview: no command module imported
         build_parser(overview=True).parse_args(argv)
     args = build_parser(argv[0] if argv else None).parse_args(argv)
-    if getattr(args, "temperature", None) is not None:     # one more --set, resolved by the scene
-        args.set = [*args.set, f"temperature={args.temperature!r}"]
+    try:
+        _refuse_empty(argv)
+        if getattr(args, "temperature", None) is not None:     # one more --set, resolved by the scene
+            _one_temperature(args)
+            args.set = [*args.set, f"temperature={args.temperature!r}"]
+    except UserError as exc:
+        return _report(args, exc)
     args._argv = argv
     from levitron.derive.scene import SceneError
     from levitron.runtime.model.cbuild import resolve_cache_env

@@ -7,6 +7,7 @@ import re
 from dataclasses import dataclass
 
 from levitron.runtime.errors import UserError
+from levitron.runtime.ui.validate import number_text
 
 QUANTITIES = {
     "z_s": "hover height (m), thesis 3.3.2",
@@ -34,7 +35,7 @@ class Constraint:
         if name not in QUANTITIES:
             raise UserError(f"--constrain {text!r}: unknown quantity {name!r}; use one of {names}")
         try:
-            bound = float(num)
+            bound = number_text(num.strip())
         except ValueError:
             bound = math.nan
         if not math.isfinite(bound):

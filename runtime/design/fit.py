@@ -25,6 +25,7 @@ import numpy as np
 
 from levitron.runtime.physics import stability_casadi as sc
 from levitron.runtime.errors import UserError
+from levitron.runtime.ui.validate import number_text
 from levitron.runtime.design.scene_keys import KeyMap, Vary, key_value, with_values
 from levitron.runtime.ui import progress
 from levitron.runtime.ui.validate import real
@@ -51,6 +52,7 @@ class Row:
 COLUMNS = ("quantity", "value", "sigma", "overrides")
 MIN_SIGMA = 1e-150      # the weighted residuals (value / sigma) are squared: stay in double range
 MAX_ROWS = 10_000
+MAX_BYTES = 16 * 2**20      # bytes of a --fit file read at most: MAX_ROWS rows of 1.6 kB
 
 
 def check_row(row, where: str) -> Row:
@@ -96,11 +98,8 @@ def check_rows(rows, where: str = "--fit") -> list[Row]:
 
 
 def _number(text: str) -> float:
-    """float() of a CSV cell, but not Python's extensions of the number syntax: a '_' between
-    digits ("0.1_065" would be read as 0.1065) or non-ASCII digits; ValueError for those."""
-    if "_" in text or not text.isascii():
-        raise ValueError(text)
-    return float(text)
+    """A CSV cell's number (runtime/ui/validate.py number_text: no '_', ASCII digits only)."""
+    return number_text(text)
 
 
 def read_rows(path: str | Path) -> list[Row]:
@@ -108,7 +107,12 @@ def read_rows(path: str | Path) -> list[Row]:
     `key=value` pairs separated by ';'. UserError naming the line on any problem: an unknown or
     repeated column, a line with more fields than the header, a key overridden twice."""
     try:
-        text = Path(path).read_text(encoding="utf-8-sig")     # a spreadsheet's byte-order mark
+        with open(path, "rb") as fh:                # at most MAX_BYTES (/dev/zero, a huge file: refused)
+            data = fh.read(MAX_BYTES + 1)
+        if len(data) > MAX_BYTES:
+            raise UserError(f"--fit {path}: longer than {MAX_BYTES // 2**20} MB, more than a file of "
+                            f"{MAX_ROWS} rows holds: give the CSV of the measurements")
+        text = data.decode("utf-8-sig")             # a spreadsheet's byte-order mark
     except (OSError, UnicodeDecodeError) as exc:
         raise UserError(f"--fit {path}: cannot be read ({exc}): give a CSV file") from None
     lines = [(n, line) for n, line in enumerate(text.splitlines(), start=1)

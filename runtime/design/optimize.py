@@ -57,6 +57,7 @@ from levitron.runtime.errors import UserError
 from levitron.runtime.physics.ray_algebra import RayCoefficients, ray_cubic
 from levitron.runtime.design.scene_keys import KeyMap, Vary, key_value
 from levitron.runtime.ui.human import Units
+from levitron.runtime.ui.validate import count
 
 OBJECTIVES = {"spin-range": ("sigma_hi - sigma_lo", "rad/s"),
               "spin-ratio": ("sigma_hi / sigma_lo", "1"),
@@ -67,6 +68,7 @@ THIRD_ROOT_MARGIN = 1e-3   # stability_casadi simple_neighbours >= this: the end
 MARGIN_SLACK = 1e-8        # the float check's allowance on that normalised margin (IPOPT's tolerance)
 FOUR_REAL_MARGIN = 1e-9    # G > 0, P < 0, D < 0 at the interval's middle, normalised
 GRID_MIN = 20
+MAX_GRID_POINTS = 20_000      # points of the whole verification grid (n^k): ~100 s of float routes
 IPOPT = {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes", "ipopt.tol": 1e-12,
          "ipopt.constr_viol_tol": 1e-10, "ipopt.acceptable_constr_viol_tol": 1e-10,
          "ipopt.max_iter": 300, "show_eval_warnings": False}
@@ -360,8 +362,13 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
                         "key such as plate.hole, or use `levitron trim` to choose the mass")
     if not 1 <= len(varies) <= 3:
         raise UserError("--vary: give one to three keys (the verification grid has n^k points)")
-    if n_grid < GRID_MIN:
-        raise UserError(f"--grid {n_grid}: at least {GRID_MIN} points a key")
+    n_grid = count(n_grid, "--grid", low=GRID_MIN)
+    if n_grid ** len(varies) > MAX_GRID_POINTS:
+        most = int(MAX_GRID_POINTS ** (1 / len(varies)) + 1e-9)
+        keys = f"{len(varies)} key{'s' if len(varies) > 1 else ''}"
+        raise UserError(f"--grid {n_grid} with {keys} is {n_grid ** len(varies)} points, more than "
+                        f"the {MAX_GRID_POINTS} of a verification grid (about 5 ms each): give --grid {most} "
+                        "or fewer")
     keymap = KeyMap(model.scene, model.param_names, varies)
     pts = [evaluate(model, keymap, x, objective, constraints) for x in grid_points(varies, n_grid)]
     feasible = [pt for pt in pts if pt.value is not None]

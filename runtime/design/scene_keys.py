@@ -31,6 +31,7 @@ from levitron.derive import plates
 from levitron.derive.scene import Scene, SceneError, validate
 
 from levitron.runtime.errors import UserError
+from levitron.runtime.ui.validate import number_text
 
 RTOL = 1e-12
 
@@ -99,7 +100,7 @@ class Vary:
         key, sep, rng = text.partition("=")
         lo, sep2, hi = rng.partition(":")
         try:
-            lo_v, hi_v = float(lo), float(hi)
+            lo_v, hi_v = number_text(lo.strip()), number_text(hi.strip())
         except ValueError:
             lo_v = hi_v = math.nan
         if not (sep and sep2):

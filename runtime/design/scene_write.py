@@ -4,12 +4,11 @@ booleans, lists of strings), checked by re-reading; written atomically (nothing 
 from __future__ import annotations
 
 import json
-import os
 import re
-import tempfile
+import tomllib
 from pathlib import Path
 
-from levitron.derive.scene import Scene, SceneError, load_scene
+from levitron.derive.scene import Scene, SceneError, validate
 
 from levitron.runtime.errors import UserError
 
@@ -64,19 +63,17 @@ def check_target(path: str | Path) -> Path:
 
 def write_scene(scene: Scene, path: str | Path, comment: str = "") -> Path:
     """Write the scene to path atomically; the text is re-read and must give the same data."""
+    from levitron.runtime.ui.atomic import output
     p = check_target(path)
-    fd, tmp = tempfile.mkstemp(prefix=f"{p.stem}_tmp_", suffix=".toml", dir=p.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(scene_toml(scene, comment))
-        try:
-            again = load_scene(tmp)
-        except SceneError as exc:
+    with output(p, "--write-scene") as tmp:     # mode 0666 less the umask, as any file written
+        text = scene_toml(scene, comment)
+        tmp.write_text(text, encoding="utf-8")
+        try:                  # read back as load_scene reads the file, named after the target
+            data = tomllib.loads(tmp.read_text(encoding="utf-8"))
+            data.setdefault("name", p.stem)
+            again = validate(data, p)
+        except (SceneError, tomllib.TOMLDecodeError) as exc:
             raise UserError(f"--write-scene {path}: the written scene does not read back ({exc})") from None
         if again.params != scene.params:
             raise UserError(f"--write-scene {path}: the written scene reads back different numbers")
-        os.replace(tmp, p)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
     return p

@@ -1,65 +1,44 @@
-"""Sweep what killed runs left in the cache: temporaries whose owner process is gone.
+"""Sweep what killed runs left in the cache and in generated/: temporaries whose owner is gone.
 
 The runtime names every temporary of the cache after its owner's pid: derived/.<scene>-<pid>-*
 (a derivation in progress, runtime/model/load.py), .lev_<key>_<pid>_*.so / .sha256 (a compilation,
-runtime/model/cbuild.py) and heyoka/.<key>-<pid>-*.tmp (a compiled heyoka integrator being written,
-runtime/bench/heyoka.py). A kill -9 or a SIGTERM during `timeout` leaves them behind; the first use of
-the cache in a later process removes those whose owner is dead and that are older than
-STALE_AFTER_S (so a live writer's, or one of another machine sharing the folder, are left alone
-for a minute at least).
+runtime/model/cbuild.py), obj/.<key>_<pid>_*.o / .sha256 (a compiled object, the same) and
+heyoka/.<key>-<pid>-*.tmp (a compiled heyoka integrator being written, runtime/bench/heyoka.py).
+A kill -9 or a SIGTERM during `timeout` leaves them behind; the first use of the cache in a later
+process removes those whose owner is dead and that are older than STALE_AFTER_S (so a live
+writer's, or one of another machine sharing the folder, are left alone for a minute at least).
+`sweep_generated` does the same for generated/.<scene>.new-* / .old-* (a killed `make derive`;
+derive/atomic_dir.py's own sweep runs only when that scene is written again).
 """
 from __future__ import annotations
 
-import os
 import re
-import shutil
-import time
 from pathlib import Path
 
-from levitron.derive.atomic_dir import owner_alive
+from levitron.runtime.ui.atomic import sweep
 
 STALE_AFTER_S = 60.0
 _DERIVED_TMP = re.compile(r"\.[A-Za-z0-9_-]+?-(\d+)-[A-Za-z0-9_]+\Z")
 _LIB_TMP = re.compile(r"\.lev_[0-9a-f]+_(\d+)_[A-Za-z0-9_]+\.(so|sha256)\Z")
+_OBJ_TMP = re.compile(r"\.[0-9a-f]+_(\d+)_[A-Za-z0-9_]+\.(o|sha256)\Z")
+_GENERATED_TMP = re.compile(r"\.([A-Za-z0-9_-]+)\.(?:new|old)-\d+-")
 _HEYOKA_TMP = re.compile(r"\.[0-9a-f]+-(\d+)-[0-9a-f]+\.tmp\Z")
 
 
-
-
-def _stale(path: Path, pid: int, now: float, stale_after: float) -> bool:
-    try:
-        age = now - path.lstat().st_mtime
-    except FileNotFoundError:
-        return False
-    return age >= stale_after and pid != os.getpid() and not owner_alive(pid)
-
-
 def sweep_cache(root: Path, stale_after: float = STALE_AFTER_S) -> list[Path]:
-    """Remove the stale temporaries of `root`, `root`/derived and `root`/heyoka (module docstring);
-    returns them."""
-    now, gone = time.time(), []
-    candidates = []
+    """Remove the stale temporaries of `root`, `root`/derived, `root`/obj and `root`/heyoka (module
+    docstring; runtime/ui/atomic.py sweep, files or folders); returns them."""
+    places = ((root, _LIB_TMP), (root / "derived", _DERIVED_TMP), (root / "obj", _OBJ_TMP),
+              (root / "heyoka", _HEYOKA_TMP))
+    return [p for folder, pattern in places for p in sweep(folder, pattern, stale_after)]
+
+
+def sweep_generated(generated: Path, stale_after: float = STALE_AFTER_S) -> list[Path]:
+    """Remove the stale .<scene>.new-* / .old-* folders of `generated` (derive/atomic_dir.py sweep:
+    a scene whose folder a kill left missing gets its old copy back first); returns them."""
+    from levitron.derive.atomic_dir import sweep as sweep_scene
     try:
-        candidates += [(p, _LIB_TMP.match(p.name)) for p in root.iterdir() if p.name.startswith(".")]
-        derived = root / "derived"
-        if derived.is_dir():
-            candidates += [(p, _DERIVED_TMP.match(p.name)) for p in derived.iterdir()
-                           if p.name.startswith(".")]
-        heyoka = root / "heyoka"
-        if heyoka.is_dir():
-            candidates += [(p, _HEYOKA_TMP.match(p.name)) for p in heyoka.iterdir()
-                           if p.name.startswith(".")]
+        names = {m.group(1) for p in generated.iterdir() if (m := _GENERATED_TMP.match(p.name))}
     except OSError:
-        return gone                          # an unreadable cache: cache_dir's users say so
-    for path, m in candidates:
-        if m is None or not _stale(path, int(m.group(1)), now, stale_after):
-            continue
-        try:
-            if path.is_dir() and not path.is_symlink():
-                shutil.rmtree(path)
-            else:
-                path.unlink()
-        except OSError:
-            continue                         # read-only or taken meanwhile: the next run tries again
-        gone.append(path)
-    return gone
+        return []
+    return [p for name in sorted(names) for p in sweep_scene(generated, name, stale_after)]

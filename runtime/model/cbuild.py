@@ -89,8 +89,10 @@ def cache_dir() -> Path:
         raise cache_problem(path, exc) from None
     if path not in _SWEPT:
         _SWEPT.add(path)
-        from levitron.runtime.model.cache_sweep import sweep_cache
+        from levitron.derive.paths import GENERATED
+        from levitron.runtime.model.cache_sweep import sweep_cache, sweep_generated
         sweep_cache(path)
+        sweep_generated(GENERATED)
     return path
 
 
@@ -182,7 +184,15 @@ def compile_shared(sources: list[Path | str], flags: tuple[str, ...] = DEFAULT_F
         if len(sources) > 1:        # link the cached objects, in the order of the sources
             objects = [compile_object(src, tuple(flags), include_dirs) for src in sources]
             stage(1)
-            _build(target, [cc, *flags], [*map(str, objects), "-lm"])
+            try:
+                _build(target, [cc, *flags], [*map(str, objects), "-lm"])
+            except CompileError:     # a damaged object whose stamp was written with it: built again, once
+                print("levitron: linking the cached objects failed (one is damaged?): compiling them "
+                      "again", file=sys.stderr)
+                for obj in objects:
+                    discard(obj)
+                objects = [compile_object(src, tuple(flags), include_dirs) for src in sources]
+                _build(target, [cc, *flags], [*map(str, objects), "-lm"])
         else:
             _build(target, [cc, *all_flags], [*map(str, sources), "-lm"])
     return target

@@ -2,7 +2,7 @@
 UserError, the one way the command line and the public API load a scene."""
 from __future__ import annotations
 
-from levitron.derive.scene import Scene, SceneError
+from levitron.derive.scene import Scene, SceneError, find_scene_file
 from levitron.derive.scene import load_scene as _load
 
 from levitron.runtime.errors import UserError
@@ -13,4 +13,25 @@ def load_scene(name_or_path, overrides=()) -> Scene:
     try:
         return _load(name_or_path, list(overrides))
     except SceneError as exc:
-        raise UserError(str(exc)) from None
+        raise UserError(_reason(name_or_path, exc)) from None
+
+
+BOM = b"\xef\xbb\xbf"
+
+
+def _reason(name_or_path, exc: SceneError) -> str:
+    """The scene reader's message, or for a file that TOML refuses at its first character because it
+    starts with a UTF-8 byte-order mark, that reason (the reader's says only "at line 1, column 1")."""
+    text = str(exc)
+    if "not valid TOML" not in text:
+        return text
+    try:
+        path = find_scene_file(name_or_path)
+        with open(path, "rb") as fh:
+            head = fh.read(len(BOM))
+    except (SceneError, OSError):
+        return text
+    if head != BOM:
+        return text
+    return (f"{path}: starts with a byte-order mark (U+FEFF, which some editors write before UTF-8 "
+            "text) and TOML allows none: save the file as UTF-8 without a BOM")

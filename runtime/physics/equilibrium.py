@@ -378,6 +378,13 @@ def survey(onaxis: OnAxis, scale: float, span: tuple[float, float] | None = None
     top = min(width, 5) - 1
     rows = {z: _row(onaxis, z, top + 1) for z in zs}
     good = [bool(np.all(np.isfinite(rows[z][2:]))) for z in zs]
+    # the potential itself not finite where its derivatives are: a formula that is 1/0 (b z /
+    # (sin^2 z + cos^2 z - 1)) whose derivatives came out finite (0), no field to stand on
+    bare = sum(1 for z, ok in zip(zs, good) if ok and not np.isfinite(rows[z][0]))
+    if bare > sum(good) / 2:
+        raise NonFiniteModel(f"the on-axis potential Phi_0 is not finite (NaN or inf) at {bare} of the "
+                             f"{sum(good)} heights from {zs[0]:.3g} to {zs[-1]:.3g} where its derivatives "
+                             "are (a formula that divides by zero?): no physical potential")
     if not any(good):
         raise NonFiniteModel(f"the on-axis functions Phi_2..Phi_{top} are not finite (NaN or inf) at "
                              f"any height from {zs[0]:.3g} to {zs[-1]:.3g}: no physical potential")

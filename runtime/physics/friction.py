@@ -62,14 +62,22 @@ def crossing_time(spin: float, limit: float | None, k: float) -> float | None:
     return math.log(abs(spin) / limit) / k
 
 
-def energy_balance(t, H, power) -> float | None:
-    """max_t |E(t) - E(0) + integral_0^t 2F dt| / max(|E - E(0)|, tiny): the energy balance of a
-    dissipative run, by the trapezoidal rule over the samples (relative to the energy lost)."""
+def energy_scale(pv: dict, z_s: float, spin: float, H0: float) -> float:
+    """The size of a run's energy terms, |H(0)| or m g z_s + C omega^2 / 2 if larger: what the
+    energy drift of a run (runtime/simulate/run.py) and the energy balance are relative to."""
+    return max(abs(H0), pv["m"] * abs(pv["g"]) * z_s + 0.5 * pv["C"] * spin ** 2)
+
+
+def energy_balance(t, H, power, scale: float = 0.0) -> float | None:
+    """max_t |E(t) - E(0) + integral_0^t 2F dt| / max(max |E - E(0)|, scale): the energy balance of a
+    dissipative run, by the trapezoidal rule over the samples, relative to the energy lost or, where
+    little is lost (a decay time of 1e12 s), to the energy's own terms (`energy_scale`), so that a
+    run equal to the friction-free one shows that run's drift, not a ratio of two round-offs."""
     t, H, power = (np.asarray(a, float) for a in (t, H, power))
     if len(t) < 2 or not np.all(np.isfinite(H)) or not np.all(np.isfinite(power)):
         return None
     lost = np.concatenate([[0.0], np.cumsum(0.5 * (power[1:] + power[:-1]) * np.diff(t))])
-    scale = max(float(np.abs(H - H[0]).max()), 1e-300)
+    scale = max(float(np.abs(H - H[0]).max()), scale, 1e-300)
     return float(np.abs(H - H[0] + lost).max() / scale)
 
 
@@ -100,7 +108,7 @@ def flight(model, pt, p, res, x0, spin: float, z_s: float, t_end: float, interva
         "launched_above": bool(hi is not None and abs(spin) > hi),
         "fell_before_interval": bool(fell and t_enter is not None and res.t_final < t_enter),
         "after_cross": (res.t_final - t_cross) if fell and t_cross is not None else None,
-        "energy_balance": energy_balance(res.t, H, power),
+        "energy_balance": energy_balance(res.t, H, power, energy_scale(pv, z_s, spin, float(H[0]))),
         "spin_decay_deviation": float(np.abs(ln - ln_exact).max() / (abs(spin) * pv["C"]))
         if spin else None,
         "t_end": t_end,

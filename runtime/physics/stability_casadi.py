@@ -148,7 +148,14 @@ def _root(name: str, unknowns: list[str], outputs: list[str], residual, value_of
     values = [guess[i] * v[i] for i in range(n)]
     opts = dict(NEWTON_STRICT if strict else NEWTON)
     res = ca.Function(f"{name}_residual", [v, guess, sy.p], [ca.vertcat(*residual(values))])
-    rf = ca.rootfinder(f"{name}_newton", "newton", res, opts)
+    try:
+        rf = ca.rootfinder(f"{name}_newton", "newton", res, opts)
+    except RuntimeError as exc:        # casadi: a residual that does not depend on its unknowns
+        if "singular" not in str(exc):
+            raise
+        raise UserError(f"the {name} function cannot be built: its residual does not depend on "
+                        f"{', '.join(unknowns)} (the plate's on-axis functions are constant in z, a "
+                        "formula without a field?); check the plate with `levitron equilibrium`") from None
     g_in = [ca.SX.sym(f"{u}_guess") for u in unknowns]
     sol = rf(ca.DM.ones(n), ca.vertcat(*g_in), sy.p)
     vals = [g_in[i] * sol[i] for i in range(n)]

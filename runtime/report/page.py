@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import html
 import math
+import os
+import re
 import tempfile
 from pathlib import Path
 
@@ -23,6 +25,7 @@ from levitron.derive import plates
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.report.html_parts import p as _p, png as _png, table as _table
 from levitron.runtime.ui import progress, reference
+from levitron.runtime.ui.atomic import sweep
 from levitron.runtime.ui.human import SI_SYMBOLS, Units, restate, sig, span
 from levitron.runtime.physics.stability import stability_of
 
@@ -32,6 +35,7 @@ LAUNCH_PERIODS = 3            # the launch runs this many slow periods
 
 THESIS = "thesis"
 THESIS_NAME = "thesis: K. F. Lüskow, Theory and Modeling of Gyroscopes, Greifswald 2011"
+SCRATCH = re.compile(r"levitron-report-(\d+)-")   # the figures' scratch folder, owner pid in its name
 AIR_SAMPLES = 16000           # samples of the flight in air (the animation's trace resolves the precession)
 
 CSS = """body{font-family:system-ui,sans-serif;max-width:60em;margin:2em auto;padding:0 1em;color:#222}
@@ -62,7 +66,8 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
     parts = [f"<h1>{html.escape(scene.name)}: does the top levitate?</h1>",
              _p(_made(provenance), "note")]
     names = ["equilibria and the band", "spin interval", "a small stability map", "a typical launch"]
-    with tempfile.TemporaryDirectory(prefix="levitron-report-") as tmp, \
+    sweep(Path(tempfile.gettempdir()), SCRATCH)     # the scratch folders of killed reports
+    with tempfile.TemporaryDirectory(prefix=f"levitron-report-{os.getpid()}-") as tmp, \
             progress.stages(f"report {scene.name}", names + (["launch odds"] if air else []),
                             [1, 1, 3, 2] + ([4] if air else [])) as stage:
         stage(0)

@@ -91,6 +91,7 @@ def histogram(odds: dict, path: Path, u: Units, scene: str) -> Path:
 
 def section(model, scene_ref: str, overrides, run: dict, u: Units, tmp: Path, png) -> tuple[str, dict]:
     """The section's HTML and its facts (SI). run: the report's flight (simulate's answer)."""
+    from levitron.runtime.integrate.verdict import stopped_early
     from levitron.runtime.scan import launch_odds as mc
     fl = run["flight"]
     facts = {"flight_time": fl["flight_time"] if fl["fell"] else None, "t_cross": fl["t_cross"],
@@ -98,6 +99,9 @@ def section(model, scene_ref: str, overrides, run: dict, u: Units, tmp: Path, pn
     rows = [("launch", f"spin {u.rate(run['spin']['rad_s'])}, tilt {u.angle(run['tilt'])}")]
     if fl["fell"]:
         rows.append(("flight time (the run)", u.time(fl["flight_time"])))
+    elif stopped_early(run["status"]):
+        rows.append(("flight time (the run)", f"no verdict: the run stopped early ({run['status']}) "
+                     f"after {u.time(run['t_survived'])}"))
     else:
         rows.append(("flight time (the run)", f"still floating after {u.time(run['t_survived'])}"))
     if fl["t_cross"]:

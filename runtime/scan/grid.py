@@ -10,6 +10,7 @@ import math
 import numpy as np
 
 from levitron.runtime.errors import UserError
+from levitron.runtime.ui.validate import count_text, number_text
 
 AXES = ("tilt", "mass", "height")
 UNITS = {"spin": "rad/s", "tilt": "rad", "mass": "kg", "height": "fraction of z_s"}
@@ -22,11 +23,11 @@ def parse_range(text: str, label: str) -> np.ndarray:
     if len(parts) != 3:
         raise UserError(f"--{label} {text!r} must be LO:HI:N (e.g. --{label} 0:1:10)")
     try:
-        lo, hi = float(parts[0]), float(parts[1])
+        lo, hi = number_text(parts[0].strip()), number_text(parts[1].strip())
     except ValueError:
         raise UserError(f"--{label} {text!r}: LO and HI must be numbers, e.g. --{label} 0:1:10") from None
     try:
-        n = int(parts[2])
+        n = count_text(parts[2].strip())
     except ValueError:
         raise UserError(f"--{label} {text!r}: N must be a whole number of grid points, e.g. "
                         f"--{label} {parts[0]}:{parts[1]}:10") from None

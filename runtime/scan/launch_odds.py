@@ -42,8 +42,9 @@ import numpy as np
 
 from levitron.runtime.errors import UserError
 from levitron.runtime.physics.friction import has_friction
+from levitron.runtime.integrate.verdict import stopped_early
 from levitron.runtime.integrate.methods import DEFAULT, lookup, refuse_on_full_model, resolve
-from levitron.runtime.ui.validate import count, real
+from levitron.runtime.ui.validate import count, number_text, real, spread_range, temperature
 
 INPUTS = ("spin", "tilt", "tilt_azimuth", "offset", "velocity", "mass", "strength", "temperature")
 # what each input's numbers are (the module docstring): the SI unit of its JSON numbers, "1" for a
@@ -86,7 +87,10 @@ def parse_dist(name: str, spec) -> Dist:
     if isinstance(spec, bool):
         raise UserError(f"launch {name} = {spec!r} is not a distribution: {how}")
     if isinstance(spec, (int, float)):
-        value = float(spec)
+        try:
+            value = float(spec)
+        except OverflowError:             # an integer beyond any double (the API's 10**400)
+            value = math.inf
         if not math.isfinite(value):
             raise UserError(f"launch {name} = {spec} is not finite: {how}")
         return Dist("fixed", value)
@@ -96,14 +100,14 @@ def parse_dist(name: str, spec) -> Dist:
     kind, sep, args = text.partition(":")
     if not sep:
         try:
-            return parse_dist(name, float(text))
+            return parse_dist(name, number_text(text))
         except ValueError:
             raise UserError(f"launch {name} = {text!r} is not a distribution: {how}") from None
     kind = kind.strip().lower()
     if kind not in ("normal", "uniform"):
         raise UserError(f"launch {name}: unknown distribution {kind!r}: use normal or uniform ({how})")
     try:
-        a, b = (float(v) for v in args.split(","))
+        a, b = (number_text(v.strip()) for v in args.split(","))
     except ValueError:
         raise UserError(f"launch {name} = {text!r} needs two numbers after '{kind}:': {how}") from None
     if not (math.isfinite(a) and math.isfinite(b)):
@@ -134,7 +138,7 @@ def parse_input(name: str, spec, reference: float = 1.0) -> Dist:
         body = text[len(REL):].strip()
         if body.endswith("%"):
             try:
-                sd = float(body[:-1]) / 100
+                sd = number_text(body[:-1].strip()) / 100
             except ValueError:
                 raise UserError(f"launch {name} = {spec!r}: write rel:SD% with a number, e.g. rel:0.2%") from None
             return parse_dist(name, f"normal:0,{sd!r}")
@@ -364,9 +368,9 @@ def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n
     from levitron.runtime.physics.equilibrium import hover_height
     from levitron.runtime.physics.stability import stability_of
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= MAX_N:
-        raise UserError(f"--n {n} must be a whole number of launches from 1 to {MAX_N}")
+        raise UserError(f"--n {n!r} must be a whole number of launches from 1 to {MAX_N}")
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise UserError(f"--seed {seed} must be a whole number >= 0")
+        raise UserError(f"--seed {seed!r} must be a whole number >= 0")
     if "full" not in model.parts:
         raise UserError("launch runs the full model: this scene's model.needs has no \"full\"; add it")
     unknown = sorted(set(given) - set(INPUTS))
@@ -391,11 +395,9 @@ def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n
         if low <= -1:
             raise UserError(f"--{key} {spec_text(key, d)} makes the {key} non-positive (a relative deviation "
                             f"reaches {low:g} <= -1): give a smaller spread")
-    if dists["temperature"].kind != "fixed" or dists["temperature"].a != model.scene.data.get("temperature", 20.0):
-        d = dists["temperature"]
-        lo = d.a - 8 * d.b if d.kind == "normal" else d.a
-        if lo < -273.15:
-            raise UserError(f"--temperature {d.text()} reaches below absolute zero: give degC above -273.15")
+    d = dists["temperature"]             # the check of --temperature, over the spread's range
+    lo, hi, how = spread_range(d.kind, d.a, d.b)
+    temperature(model.scene.data, lo, hi, f"--temperature-spread {d.text()}{how}")
     # the given times by their own names, before one is derived from the other
     success_time = None if success_time is None else real(success_time, "--success-time",
                                                           positive=True, unit="s", what="time")
@@ -480,23 +482,31 @@ def summarize(plan: Plan, results, success_time: float, interval, z_s: float, ta
     t = np.array([p["t"] for p in pts])
     status = [p["status"] for p in pts]
     ok = t >= success_time * (1 - 1e-12)
+    # a run that stopped early (step budget, ...) short of the success time has no verdict
+    # (runtime/integrate/verdict.py): neither a success nor a fall, left out of the odds
+    undecided = ~ok & np.array([stopped_early(s) and s != "cannot_hover" for s in status], bool)
+    decided = plan.n - int(undecided.sum())
+    if decided == 0:
+        raise UserError(f"every one of the {plan.n} runs stopped early without a verdict "
+                        f"({', '.join(sorted(set(status)))}): no odds; try a looser --tol or a shorter --t-end")
     k = int(ok.sum())
     S = samples(plan)
-    lo, hi = wilson(k, plan.n)
+    lo, hi = wilson(k, decided)
     q1, med, q3 = (float(v) for v in np.quantile(t, [0.25, 0.5, 0.75]))
     dists = dict(plan.dists)
     return {
-        "probability": k / plan.n, "probability_ci95": [lo, hi], "successes": k, "n": plan.n,
+        "probability": k / decided, "probability_ci95": [lo, hi], "successes": k, "n": plan.n,
+        "no_verdict": plan.n - decided,
         "seed": plan.seed, "success_time": success_time, "t_end": plan.t_end,
         "flight_time": {"median": med, "q1": q1, "q3": q3, "censored": int(np.sum(t >= plan.t_end * (1 - 1e-12))),
                         "values": t.tolist()},
         "outcomes": {s: status.count(s) for s in sorted(set(status))},
-        "ranking": effects(S, ok, dists),
+        "ranking": effects({k: v[~undecided] for k, v in S.items()}, ok[~undecided], dists),
         "inputs": {name: spec_text(name, d) for name, d in plan.dists},
         "defaulted": sorted(set(INPUTS) - set(given)),
         "z_s": z_s, "spin_interval": list(interval) if interval else None,
         "spin_decay_time": tau, "integrator": plan.integrator, "tol": plan.tol,
-        "verdicts": ok.tolist(),
+        "verdicts": [None if u else bool(v) for v, u in zip(ok, undecided)],
         "launches": launches(S, pts, ok, t),
         "warnings": list(warnings),
     }

@@ -78,7 +78,14 @@ def remember(common: Common, model) -> None:
         _MODELS[(common.scene, tuple(common.overrides))] = model
 
 
-def _init_worker(scene: str, overrides: tuple[str, ...]) -> None:
+def _init_worker(scene: str, overrides: tuple[str, ...], parent: int | None = None) -> None:
+    """A local worker's start: it dies with its parent (runtime/model/processes.py: a kill -9 of
+    the command leaves no worker running on, nor the resource tracker the workers keep open),
+    loads the model once and the C driver."""
+    from levitron.runtime.model.processes import die_with_parent
+    die_with_parent()
+    if parent is not None and os.getppid() != parent:      # the parent died before the line above
+        os._exit(1)
     model_for(scene, overrides)
     import levitron.runtime.scan.chunk_c  # noqa: F401  (import once here, not inside the first timed chunk)
 
@@ -167,6 +174,29 @@ def usable_cores() -> int:
         return max(1, os.cpu_count() or 1)
 
 
+def unguarded_script() -> str | None:
+    """The script this process runs (python SCRIPT.py) when its top level has no
+    `if __name__ == "__main__":` block, else None. Worker processes are spawned: each imports the
+    script again, so a script without the guard starts the whole computation again in every
+    worker, whose pool then breaks (docs/api.md)."""
+    import ast
+    main = sys.modules.get("__main__")
+    path = getattr(main, "__file__", None)
+    if path is None or getattr(main, "__spec__", None) is not None or not path.endswith(".py"):
+        return None                     # a notebook, python -c, python -m: nothing imported again
+    try:
+        tree = ast.parse(open(path, encoding="utf-8").read())
+    except (OSError, SyntaxError, UnicodeDecodeError, ValueError):
+        return None
+    for node in tree.body:
+        if isinstance(node, ast.If) and isinstance(node.test, ast.Compare):
+            names = [node.test.left, *node.test.comparators]
+            if any(isinstance(n, ast.Name) and n.id == "__name__" for n in names) and any(
+                    isinstance(n, ast.Constant) and n.value == "__main__" for n in names):
+                return None
+    return path
+
+
 def run_processes(common: Common, chunks: Sequence[list], workers: int,
                   quiet: bool = False, fn=None, what: str = "scan") -> list[dict]:
     """Local processes (spawn: no fork of a process holding BLAS threads or a loaded library);
@@ -174,6 +204,10 @@ def run_processes(common: Common, chunks: Sequence[list], workers: int,
     not yet returned run again in a new pool, at most MAX_POOL_RESTARTS times; runs are
     deterministic, so the answer is the one a serial run gives."""
     fn = fn or run_chunk
+    script = unguarded_script()
+    if script is not None:
+        raise UserError(f"--workers {workers} starts worker processes, and each imports {script} again: put "
+                        "the script's calls under `if __name__ == \"__main__\":` (docs/api.md), or use --workers 1")
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor, as_completed
     from concurrent.futures.process import BrokenProcessPool
@@ -186,7 +220,7 @@ def run_processes(common: Common, chunks: Sequence[list], workers: int,
         while pending:
             try:
                 with ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
-                                         initargs=(common.scene, tuple(common.overrides))) as ex:
+                                         initargs=(common.scene, tuple(common.overrides), os.getpid())) as ex:
                     futures = {ex.submit(run_worker_chunk, fn, common, c): k for k, c in pending.items()}
                     for fut in as_completed(futures):
                         k = futures[fut]
@@ -233,6 +267,10 @@ def dask_client(address: str, timeout: float | None = None):
         raise UserError(f"no dask scheduler answered at {address!r} within {wait:g} s (is it a "
                         "dask scheduler? another service accepts the connection but never answers "
                         "dask's handshake): give the address `dask scheduler` prints, or use --workers N")
+    if isinstance(box.get("error"), MemoryError):      # numpy's _ArrayMemoryError too
+        raise UserError(f"what answers at {address!r} is not a dask scheduler (its reply, read as "
+                        "dask's protocol, announced an impossible message size; an HTTP server?): give "
+                        "the address `dask scheduler` prints, or use --workers N")
     if "error" in box and not isinstance(box["error"], (OSError, TimeoutError, ValueError)):
         raise box["error"]
     if "error" in box:

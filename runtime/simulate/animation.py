@@ -204,27 +204,15 @@ def check_path(path) -> Path:
 
 def write(path, data: dict, title: str) -> Path:
     """The animation to path (.html: page; .gif/.mp4: runtime/simulate/animation_video.py),
-    written to a temporary beside it and renamed."""
-    import os
-    import secrets
+    written to a temporary beside it and renamed (runtime/ui/atomic.py)."""
+    from levitron.runtime.ui.atomic import output
     p = check_path(path)
-    try:
-        p.parent.mkdir(parents=True, exist_ok=True)     # as --plot and report --out do
-    except OSError as exc:
-        raise UserError(f"--animate {path}: cannot create its folder ({exc.strerror or exc})") from None
-    tmp = p.with_name(f".{p.stem}.{os.getpid()}-{secrets.token_hex(4)}{p.suffix}")
-    try:
+    with output(p, "--animate", mkdir=True) as tmp:     # the folder made, as --plot and report --out do
         if p.suffix.lower() in (".html", ".htm"):
             tmp.write_text(page(data, title), encoding="utf-8")
         else:
             from levitron.runtime.simulate.animation_video import render
             render(tmp, data, unpack(data), title)
-        os.replace(tmp, p)
-    except OSError as exc:
-        raise UserError(f"--animate {path}: cannot write it ({exc.strerror or exc}); choose another path") from None
-    finally:
-        if tmp.exists():
-            tmp.unlink()
     return p
 
 

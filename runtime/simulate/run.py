@@ -41,6 +41,7 @@ import numpy as np
 from levitron.runtime.physics.equilibrium import hover_height
 from levitron.runtime.errors import UserError
 from levitron.runtime.ui.validate import count, real
+from levitron.runtime.integrate.budget import MAX_N_OUT
 from levitron.runtime.integrate.run import Box, Result, integrate
 from levitron.runtime.integrate.methods import AUTO, DEFAULT, auto_note, default_step, lookup, resolve
 from levitron.runtime.integrate.verdict import no_verdict_reason, verdict
@@ -102,7 +103,7 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
     offset = real(offset, "--offset", unit="m")
     azimuth = real(azimuth, "--tilt-azimuth", unit="rad")
     t_end = None if t_end is None else real(t_end, "--t-end (run length)", unit="s")  # its range: check_options
-    n_out = count(n_out, "--n-out")
+    n_out = count(n_out, "--n-out", high=MAX_N_OUT)
     tol = None if tol is None else real(tol, "--tol (tolerance)")
     box = None if box is None else real(box, "--box", positive=True, unit="m")
     h = None if h is None else real(h, "--step", positive=True, unit="s")
@@ -190,9 +191,7 @@ def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, i
     H0 = pt.energy(x0, p)
     names = pt.model.param_names if hasattr(pt, "model") else []
     pv = dict(zip(names, p))
-    terms = abs(H0)
-    if names:
-        terms = max(terms, pv["m"] * abs(pv["g"]) * z_s + 0.5 * pv["C"] * spin ** 2)
+    terms = flight.energy_scale(pv, z_s, spin, H0) if names else abs(H0)
     drift = np.abs(H - H0) / terms
     z = X[:, s.index("z")]
     r = np.hypot(X[:, s.index("x")], X[:, s.index("y")]) if "x" in s else np.zeros(len(X))

@@ -6,7 +6,8 @@ uses, each from a generated function over all samples (runtime/simulate/run.py):
 vertical, rad). `write` picks the format by the suffix; `read` gives the same table back.
 `write_columns` / `read_columns` do the same for named columns that may hold text (the launches
 of `levitron launch --save`, runtime/scan/launch_odds.py, with their verdicts). Every file is
-written to a temporary file in the same folder and renamed: nothing half-written is left behind.
+written to a temporary file in the same folder and renamed (runtime/ui/atomic.py): nothing
+half-written is left behind.
 Parquet needs pyarrow (an optional package: `pip install pyarrow`); without it a .parquet path is
 refused before the run.
 """
@@ -14,13 +15,13 @@ from __future__ import annotations
 
 import csv
 import os
-import tempfile
 from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 
 from levitron.runtime.errors import UserError
+from levitron.runtime.ui.validate import shown
 
 SUFFIXES = (".csv", ".npz", ".parquet")
 NAME_MAX = 255          # bytes of one file name (Linux, macOS)
@@ -39,10 +40,12 @@ def _pyarrow():
 
 def check_path(path, flag: str = "--save") -> Path:
     """The --save path: a .csv, .npz or .parquet file in an existing, writable folder, with a name
-    the file system takes (one-line UserError otherwise, before the run: never a run lost at the end)."""
+    the file system takes (one-line UserError otherwise, before the run: never a run lost at the end).
+    `flag` names the option (the API passes its own words)."""
     if not isinstance(path, (str, os.PathLike)):
         raise UserError(f"{flag} {path!r}: give a file name (text or a path) ending in {FORMATS}")
     p = Path(path)
+    path = shown(path)
     if p.suffix.lower() not in SUFFIXES:
         raise UserError(f"{flag} {path}: give a file ending in {FORMATS} (CSV, numpy's .npz or Parquet)")
     if p.suffix.lower() == ".parquet" and _pyarrow() is None:
@@ -54,48 +57,45 @@ def check_path(path, flag: str = "--save") -> Path:
     if p.is_dir():
         raise UserError(f"{flag} {path} is a folder: give a file name ending in {FORMATS}")
     if not p.parent.exists():
-        raise UserError(f"{flag} {path}: the folder {p.parent} does not exist: create it first")
+        raise UserError(f"{flag} {path}: the folder {shown(p.parent)} does not exist: create it first")
     if not p.parent.is_dir():
-        raise UserError(f"{flag} {path}: {p.parent} is a file, not a folder: save into a folder")
+        raise UserError(f"{flag} {path}: {shown(p.parent)} is a file, not a folder: save into a folder")
     if not os.access(p.parent, os.W_OK):
-        raise UserError(f"{flag} {path}: the folder {p.parent} is not writable: save elsewhere")
+        raise UserError(f"{flag} {path}: the folder {shown(p.parent)} is not writable: save elsewhere")
     return p
 
 
-def _csv(path: str, columns: Mapping[str, np.ndarray]) -> None:
+def _csv(tmp: Path, columns: Mapping[str, np.ndarray]) -> None:
     """A header line, then one row per sample: numbers as %.17g (every double round-trips), text as is."""
     cols = [(np.asarray(v).dtype.kind in "fiub", np.asarray(v)) for v in columns.values()]
-    with open(path, "w", newline="") as fh:
+    with open(tmp, "w", newline="") as fh:
         w = csv.writer(fh, lineterminator="\n")
         w.writerow(list(columns))
         for i in range(len(cols[0][1]) if cols else 0):
             w.writerow([format(float(a[i]), ".17g") if num else str(a[i]) for num, a in cols])
 
 
-def _npz(path: str, columns: Mapping[str, np.ndarray]) -> None:
-    np.savez(path, **{n: np.asarray(v) for n, v in columns.items()})
+def _npz(tmp: Path, columns: Mapping[str, np.ndarray]) -> None:
+    with open(tmp, "wb") as fh:        # a handle: np.savez adds ".npz" to a name not ending in it
+        np.savez(fh, **{n: np.asarray(v) for n, v in columns.items()})
 
 
-def _parquet(path: str, columns: Mapping[str, np.ndarray]) -> None:
+def _parquet(tmp: Path, columns: Mapping[str, np.ndarray]) -> None:
     pa, pq = _pyarrow()
-    pq.write_table(pa.table({n: np.asarray(v) for n, v in columns.items()}), path)
+    pq.write_table(pa.table({n: np.asarray(v) for n, v in columns.items()}), str(tmp))
 
 
 WRITERS = {".csv": _csv, ".npz": _npz, ".parquet": _parquet}
 
 
 def write_columns(path, columns: Mapping[str, np.ndarray], flag: str = "--save") -> Path:
-    """Named 1-D columns of one length (numbers or text) to path, the format by its suffix,
-    through a temporary file in the same folder renamed onto path."""
+    """Named 1-D columns of one length (numbers or text) to path, the format by its suffix, through
+    a temporary beside it renamed onto path (runtime/ui/atomic.py: never half a file, one whole
+    file from concurrent writers, mode 0666 less the umask, a killed writer's temporary swept)."""
+    from levitron.runtime.ui.atomic import output
     p = check_path(path, flag)
-    fd, tmp = tempfile.mkstemp(prefix=f".{p.stem}.", suffix=p.suffix.lower(), dir=p.parent)
-    os.close(fd)
-    try:
+    with output(p, flag) as tmp:
         WRITERS[p.suffix.lower()](tmp, columns)
-        os.replace(tmp, p)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
     return p
 
 
@@ -124,9 +124,9 @@ def read_columns(path) -> dict[str, np.ndarray]:
         return {n: data[n] for n in data.files}
 
 
-def write(path, names: list[str], table: np.ndarray) -> Path:
+def write(path, names: list[str], table: np.ndarray, flag: str = "--save") -> Path:
     """The table (rows: samples, columns: names) to path (write_columns)."""
-    return write_columns(path, {n: table[:, i] for i, n in enumerate(names)})
+    return write_columns(path, {n: table[:, i] for i, n in enumerate(names)}, flag)
 
 
 def read(path) -> tuple[list[str], np.ndarray]:

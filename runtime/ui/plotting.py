@@ -8,7 +8,6 @@
 from __future__ import annotations
 
 import os
-import secrets
 from pathlib import Path
 
 from levitron.runtime.errors import UserError
@@ -80,23 +79,15 @@ def check_plot_path(path, option: str = "--plot") -> Path:
 
 def save_figure(fig, path, option: str = "--plot") -> Path:
     """Write `fig` to `path` (checked by check_plot_path; its folder is made) and close it. The
-    figure is drawn into a temporary file beside the target and renamed into place, so a failed
-    write leaves nothing half-written. OSError becomes a one-line UserError."""
+    figure is drawn into a temporary file beside the target and renamed into place
+    (runtime/ui/atomic.py), so a failed write leaves nothing half-written. OSError becomes a
+    one-line UserError."""
+    from levitron.runtime.ui.atomic import output
     plt = pyplot()
-    tmp = None
     try:
         path = check_plot_path(path, option)
-        try:
-            path.parent.mkdir(parents=True, exist_ok=True)
-            tmp = path.with_name(f".{path.name}.{os.getpid()}-{secrets.token_hex(4)}.tmp")
+        with output(path, option, mkdir=True) as tmp:
             fig.savefig(tmp, dpi=110, format=path.suffix[1:].lower())
-            os.replace(tmp, path)
-            tmp = None
-        except OSError as exc:
-            raise UserError(f"{option} {path}: cannot write it ({exc.strerror or exc}); choose "
-                            "another path") from None
     finally:
         plt.close(fig)
-        if tmp is not None and os.path.exists(tmp):
-            os.unlink(tmp)
     return path

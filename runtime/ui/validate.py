@@ -61,3 +61,55 @@ def axis_values(values, label: str, max_points: int) -> np.ndarray:
     if not np.all(np.isfinite(arr)):
         raise UserError(f"{label}: every value must be finite (got {arr[~np.isfinite(arr)][0]})")
     return arr
+
+
+SD_CUT = 8      # a normal spread's range checked: mean +- SD_CUT sd (a draw beyond it has p < 1e-15)
+
+
+def spread_range(kind: str, a: float, b: float) -> tuple[float, float, str]:
+    """(lo, hi, how) of a launch spread (runtime/scan/launch_odds.py Dist: "fixed" a, "uniform"
+    a..b, "normal" mean a, sd b): the values its draws take, a normal's to SD_CUT sd; `how` says
+    so in a message ("" for the others)."""
+    if kind == "normal":
+        return a - SD_CUT * b, a + SD_CUT * b, f" (a normal spread is checked over its mean +- {SD_CUT} sd)"
+    return (a, b, "") if kind == "uniform" else (a, a, "")
+
+
+def temperature(data: dict, lo: float, hi: float, label: str) -> None:
+    """The one check of a magnets' temperature (degC), for --temperature, the scene key and every
+    launch spread alike: the scene reader's (derive/scene.py temperature_factors: above absolute
+    zero, and each magnet's remanence factor 1 + alpha (T - 20) positive), applied at both ends of
+    [lo, hi] (each factor is linear in T, so positive at both ends is positive between them)."""
+    from levitron.derive.scene import SceneError, temperature_factors
+    for T in (lo, hi):
+        try:
+            temperature_factors({**data, "temperature": float(T)})
+        except SceneError as exc:
+            raise UserError(f"{label}: {exc}") from None
+
+
+def shown(text) -> str:
+    """A user's text (a path, a name) as a message shows it: as written, or quoted with its escapes
+    when it holds a newline or another control character (the message stays one line)."""
+    s = str(text)
+    return s if s.isprintable() else repr(s)
+
+
+def number_text(text: str) -> float:
+    """The one reading of a number typed as text (a flag's value, a spread, a --vary box, a CSV
+    cell): float() without Python's extensions of the number syntax, which a TOML scene, a CSV
+    reader or a shell user does not mean: a '_' between digits ("0.1_065" read as 0.1065) or
+    non-ASCII digits ("١٢"); ValueError for those, as float() gives for any other non-number."""
+    if not isinstance(text, str):
+        raise ValueError(text)
+    if "_" in text or not text.isascii():
+        raise ValueError(text)
+    return float(text)
+
+
+def count_text(text: str) -> int:
+    """A whole number typed as text, read as number_text reads one: int() without '_' or
+    non-ASCII digits; ValueError otherwise."""
+    if not isinstance(text, str) or "_" in text or not text.isascii():
+        raise ValueError(text)
+    return int(text)

@@ -58,9 +58,19 @@ def _derive_committed(scenes, force: bool) -> list[dict]:
     cmd = [sys.executable, "-m", "levitron.derive", *(str(Path(s.path).resolve()) for s in scenes), "--json"]
     if force:
         cmd.append("--force")
-    res = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, check=False)
+    from levitron.derive.paths import GENERATED
+    from levitron.runtime.model.cache_sweep import sweep_generated
+    from levitron.runtime.model.processes import die_with_parent
+    res = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, check=False, preexec_fn=die_with_parent)
+    sweep_generated(GENERATED)            # what a killed earlier derive left (its folder stays whole)
+    names = ", ".join(s.name for s in scenes)
+    if res.returncode < 0:
+        raise UserError(f"derive of {names} was killed (signal {-res.returncode}) before it finished: "
+                        "generated/ holds the models as they were; run the command again (out of memory? "
+                        "see `dmesg`)")
     if res.returncode != 0:
-        last = (res.stderr.strip().splitlines() or ["derive failed"])[-1]
+        last = (res.stderr.strip().splitlines() or [f"derive of {names} failed (exit {res.returncode}) "
+                                                    "without a message"])[-1]
         raise UserError(last.removeprefix("error: "))
     return json.loads(res.stdout)["scenes"]
 

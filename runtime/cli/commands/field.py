@@ -13,6 +13,7 @@ import math
 import numpy as np
 
 from levitron.runtime.errors import UserError
+from levitron.runtime.ui.validate import number_text
 from levitron.runtime.ui.human import Units, lines, restate, sig
 from levitron.runtime.physics.plates import plate_field
 from levitron.runtime.cli.commands.common import model_of
@@ -33,7 +34,7 @@ FAR = 1e6      # plate sizes: the farthest point --at takes
 def parse_point(text: str) -> list[float]:
     parts = text.split(",")
     try:
-        xyz = [float(v) for v in parts]
+        xyz = [number_text(v.strip()) for v in parts]
     except ValueError:
         xyz = []
     if len(xyz) != 3 or not all(math.isfinite(v) for v in xyz):

@@ -70,10 +70,9 @@ def run(args) -> dict:
         svg = setup_drawing.drawing(setup_of(model, bands=True), Units.of_scene(model.scene),
                                     f"{name}: a cut through the axis")
         path = outdir / f"{name}_setup.html"
-        tmp = path.with_name(f".{path.name}.tmp")
-        tmp.write_text(setup_drawing.page(svg, f"{name}: the set-up to scale", setup_drawing.NOTE),
-                       encoding="utf-8")
-        tmp.replace(path)
+        from levitron.runtime.ui.atomic import write_text
+        write_text(path, setup_drawing.page(svg, f"{name}: the set-up to scale", setup_drawing.NOTE),
+                   "--out")
         scene_files.append(str(path))
     return {"scene": model.scene.name, "files": written + scene_files, "scene_files": scene_files,
             "solver_files": written or kept, "solver_files_kept": kept is not None,

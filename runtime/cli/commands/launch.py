@@ -158,8 +158,9 @@ def human(r: dict, scene=None) -> str:
     cens = f"; {ft['censored']} still up at the end of the run" if ft["censored"] else ""
     at = lambda t: (">= " if t >= r["t_end"] * (1 - 1e-12) else "") + u.time(t)  # noqa: E731 (censored)
     return lines(
-        f"launch odds: {sig(100 * r['probability'], 3)}% of {r['n']} launches float at least "
+        f"launch odds: {sig(100 * r['probability'], 3)}% of {r['n'] - r['no_verdict']} launches float at least "
         f"{u.time(r['success_time'])} (95% Wilson interval {sig(100 * lo, 3)}-{sig(100 * hi, 3)}%)",
+        f"{r['no_verdict']} of {r['n']} runs stopped early without a verdict: not counted" if r["no_verdict"] else "",
         *[f"warning: {w}" for w in r.get("warnings", [])],
         f"flight time: median {at(ft['median'])}, quartiles {at(ft['q1'])} - {at(ft['q3'])}"
         f" (runs of {u.time(r['t_end'])}{cens})",

@@ -1,8 +1,6 @@
 """`levitron report SCENE --out FILE.html`: one self-contained page about a scene (runtime/report/page.py)."""
 from __future__ import annotations
 
-import os
-import secrets
 from pathlib import Path
 
 from levitron.runtime.errors import UserError
@@ -21,23 +19,18 @@ def add_arguments(parser) -> None:
 
 
 def _check_out(path: Path) -> Path:
+    if path.is_dir() or not path.name:          # a folder ('.', '/', out/) before its suffix
+        raise UserError(f"--out {path} is a folder: give a file name in it, e.g. --out {path / 'report.html'}")
     if path.suffix.lower() not in (".html", ".htm"):
         raise UserError(f"--out {path}: the file name must end in .html, e.g. --out "
                         f"{path.with_suffix('.html')}")
-    if path.is_dir():
-        raise UserError(f"--out {path} is a folder: give a file name in it, e.g. --out {path / 'report.html'}")
     return path
 
 
 def _write(path: Path, text: str) -> None:
-    """Atomically: a temporary file beside the target, renamed into place."""
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_name(f".{path.name}.{os.getpid()}-{secrets.token_hex(4)}.tmp")
-        tmp.write_text(text, encoding="utf-8")
-        os.replace(tmp, path)
-    except OSError as exc:
-        raise UserError(f"--out {path}: cannot write it ({exc.strerror or exc}); choose another path") from None
+    """Atomically: a temporary file beside the target, renamed into place (runtime/ui/atomic.py)."""
+    from levitron.runtime.ui.atomic import write_text
+    write_text(path, text, "--out", mkdir=True)
 
 
 def run(args) -> dict:

@@ -98,6 +98,9 @@ def flight_line(r: dict, u: Units) -> str:
         when = "" if after is None or fl["fell_before_interval"] else (
             f", {u.time(abs(after))} {'after' if after >= 0 else 'before'} the spin crosses the lower limit")
         head = f"floats {u.time(fl['flight_time'])}; falls at {u.rate(fl['fall_spin'])}{when}"
+    elif stopped_early(r["status"]):     # no verdict: neither "still floating" nor a fall
+        head = (f"no verdict: the run stopped early ({r['status']}) after {u.time(r['t_survived'])} "
+                f"of {u.time(r['t_end'])}, spin then {u.rate(fl['spin_final'])}")
     else:
         head = (f"still floating after {u.time(r['t_survived'])} (the whole run), spin now "
                 f"{u.rate(fl['spin_final'])}")
