@@ -2,7 +2,7 @@
 PY ?= .venv/bin/python
 export PYTHONHASHSEED := 0
 
-.PHONY: setup demo derive test lint bench golden clean-cache fuzz
+.PHONY: setup demo derive test test-slow lint bench golden clean-cache fuzz
 
 # (re)install whenever pyproject.toml changes: a new dependency or package reaches an old .venv too
 .venv/.installed: pyproject.toml
@@ -32,9 +32,14 @@ lint: setup
 
 # pytest-xdist: one worker per core (-n auto: the physical cores), tests handed out as workers free
 # up (worksteal: the long tests do not queue behind one another on one worker)
+# `make test` is the loop (under 4 minutes cold on 2 cores); the slow tier (tests/slow.txt: the
+# tests of 2 s and more) runs in `make test-slow`; CI runs both (.ci/run)
 TEST_WORKERS ?= auto
 test: setup
-	$(PY) -m pytest -q -n $(TEST_WORKERS) --dist worksteal
+	$(PY) -m pytest -q -n $(TEST_WORKERS) --dist worksteal -m "not slow"
+
+test-slow: setup
+	$(PY) -m pytest -q -n $(TEST_WORKERS) --dist worksteal -m slow
 
 # The property-based tests (tests/test_properties.py) with 20 times the CI examples, random seeds.
 fuzz: setup

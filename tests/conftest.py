@@ -79,3 +79,25 @@ def legend_texts(monkeypatch):
         return save(fig, *a, **k)
     monkeypatch.setattr(matplotlib.figure.Figure, "savefig", recording)
     return texts
+
+
+def _slow_tier() -> set[str]:
+    """The node ids of tests/slow.txt (tests/slow_tier.py writes it)."""
+    lines = (ROOT / "tests" / "slow.txt").read_text().splitlines()
+    return {line.split("\t")[0] for line in lines if line.strip() and not line.startswith("#")}
+
+
+def pytest_collection_modifyitems(config, items):
+    """Mark the slow tier `slow` (make test: -m "not slow"; make test-slow: -m slow). On a whole
+    collection of tests/, a listed test that no longer exists fails it: the list stays true."""
+    slow = _slow_tier()
+    seen = set()
+    for item in items:
+        if item.nodeid in slow:
+            item.add_marker(pytest.mark.slow)
+            seen.add(item.nodeid)
+    whole = not config.args or [str(Path(a).resolve()) for a in config.args] == [str(ROOT / "tests")]
+    missing = sorted(slow - seen)
+    if whole and missing and not config.getoption("keyword"):
+        raise pytest.UsageError(f"tests/slow.txt names {len(missing)} tests that do not exist, e.g. "
+                                f"{missing[0]}: regenerate it (python tests/slow_tier.py DURATIONS.log)")

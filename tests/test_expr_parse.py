@@ -267,6 +267,9 @@ def test_derivative_size_budget(monkeypatch):
     assert "Phi_3 has" in _one_line(info.value) and "limit 500" in str(info.value)
 
 
+# the timer may fire while Python runs a finaliser: that tick is printed and dropped, and the
+# repeating timer fires again (derive/plates/symbolic/budget.py); pytest reports the dropped one
+@pytest.mark.filterwarnings("ignore::pytest.PytestUnraisableExceptionWarning")
 def test_time_budget_interrupts_symbolic_work():
     import time
 

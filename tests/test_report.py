@@ -155,7 +155,8 @@ def test_a_top_that_cannot_levitate_leads_with_the_hint(thesis_report):
 @pytest.mark.slow
 @pytest.mark.skipif(shutil.which("chromium") is None,
                     reason="chromium not installed (Debian: apt-get install chromium)")
-@pytest.mark.parametrize("scene", ["thesis", "thesis_stable", str(OWN_SCENE)])
+@pytest.mark.parametrize("scene", ["thesis", "thesis_stable", str(OWN_SCENE)],
+                         ids=["thesis", "thesis_stable", "small_ring"])
 def test_reports_render_in_chromium(scene, tmp_path, request):
     """The report of thesis, thesis_stable and a scene of our own (examples/scenes/small_ring.toml)
     renders in headless Chromium: the screenshot is a page with its figures, not blank. (The pages
