@@ -121,3 +121,18 @@ def test_a_design_whose_launches_cannot_be_counted_still_answers(capsys):
                         "--vary", "plate.hole=0.025:0.035", "--n", "10", "--quiet", "--json"))
     assert r["optimum"]["plate.hole"] > 0 and "launch_odds" not in r
     assert any(w.startswith("the launch odds are not computed: ") and "too heavy" in w for w in r["warnings"])
+
+
+def test_a_corner_ipopt_cannot_climb_is_found_by_the_bounded_search(derived_model):
+    """At 28 degC thesis_air's spin window is widest where sigma_lo(m) switches branch, a corner:
+    IPOPT fails on spin-ratio over the band's masses, and the bounded search of the float route finds
+    the corner, the same mass at which IPOPT's spin-range optimum lies (a second objective, a second
+    method) to 1e-7, above every grid point."""
+    model = derived_model("thesis_air", "temperature=28.0")
+    box = [Vary("top.mass", 0.04908, 0.05115)]
+    ratio = optimize(model, box, "spin-ratio", [], 20)
+    assert ratio.solver_status.startswith("bounded search") and "corner" in ratio.warnings[0]
+    assert ratio.verification["nlp"] is None and ratio.value >= ratio.verification["grid_best"]
+    width = optimize(model, box, "spin-range", [], 20)
+    assert width.solver_status.startswith("Solve")
+    assert ratio.optimum["top.mass"] == pytest.approx(width.optimum["top.mass"], rel=1e-7)

@@ -384,11 +384,20 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
         _Nlp(model, keymap, objective, constraints, start)
     stats, x, ans = nlp.solve(start, 1 / (n_grid - 1))
     status = str(stats.get("return_status"))
+    fallback = None
     if not stats.get("success"):
-        raise UserError(f"IPOPT failed (status {status}, {stats.get('iter_count')} iterations) from "
-                        f"{keymap.describe(start.x)}: {nlp.failure_hint(start)}")
+        failed = (f"IPOPT failed (status {status}, {stats.get('iter_count')} iterations) from "
+                  f"{keymap.describe(start.x)}")
+        if band or len(varies) != 1 or status != "Maximum_Iterations_Exceeded":   # a corner: IPOPT circles it
+            raise UserError(f"{failed}: {nlp.failure_hint(start)}")
+        x, fallback = _bounded_search(model, keymap, varies[0], start, objective, constraints, n_grid), failed
+        status = "bounded search of the float route (IPOPT failed)"
     keys = [v.key for v in varies]
-    check = evaluate(model, keymap, x, objective, constraints, near=ans[:2] if band else ans[1:])
+    if fallback is not None:
+        check = evaluate(model, keymap, x, objective, constraints)
+        ans = (check.z_s, *check.interval) if check.interval is not None else None
+    else:
+        check = evaluate(model, keymap, x, objective, constraints, near=ans[:2] if band else ans[1:])
     if check.value is None:
         raise UserError(f"verification failed: at the IPOPT optimum {keymap.describe(x)} the float "
                         f"routes find no {'stable band' if band else 'stable spin interval'} "
@@ -406,7 +415,11 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
     if band:    # the scene's top at the optimum: its spin interval, for the record (None if none)
         interval = sc.starts(model, keymap.exact(x)[1]).spin
     at_bound = bounds_hit(varies, x)
-    warnings = [f"{k} = {x[i]:.6g} is at the {at_bound[k]} bound of --vary {k}={varies[i].lo:.10g}:"
+    warnings = [] if fallback is None else [
+        f"{fallback}: the objective has a corner there (the spin limits switch branch), so the optimum is "
+        "a bounded scalar search (Brent) of the exact float route over the best grid cell; the NLP does not "
+        "verify it"]
+    warnings += [f"{k} = {x[i]:.6g} is at the {at_bound[k]} bound of --vary {k}={varies[i].lo:.10g}:"
                 f"{varies[i].hi:.10g}: the box stopped the optimum, not the physics; at the bound: widen --vary"
                 for i, k in enumerate(keys) if k in at_bound]
     if not band and check.stiffness is not None:
@@ -425,17 +438,35 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
         objective=objective, value=check.value, optimum=dict(zip(keys, map(float, x))),
         start=dict(zip(keys, start.x)), start_value=start.value,
         scene_value=None if scene_pt is None else scene_pt.value,
-        solver_status=status, iterations=int(stats.get("iter_count", -1)), z_s=check.z_s,
+        solver_status=status, iterations=int(stats.get("iter_count", -1)) if fallback is None else 0,
+        z_s=check.z_s,
         stiffness=check.stiffness, spin_interval=interval,
         band=None if check.band is None else {"z": list(check.band[0]), "mass": list(check.band[1])},
         constraints=[str(c) for c in constraints],
         verification={"float_route": check.value,
-                      "nlp": objective_of(objective, *(ans[2:] if band else ans[1:])),
-                      "max_relative_gap": gap, "grid_best": start.value, "grid_points": len(pts),
+                      "nlp": None if fallback else objective_of(objective, *(ans[2:] if band else ans[1:])),
+                      "max_relative_gap": None if fallback else gap, "grid_best": start.value, "grid_points": len(pts),
                       "grid_feasible": len(feasible), "grid_per_key": n_grid,
                       "tolerance": VERIFY_RTOL},
         scene=keymap.resolve(x), wall_s=time.perf_counter() - t0, at_bound=at_bound,
         warnings=warnings)
+
+
+def _bounded_search(model, keymap, vary: Vary, start: Point, objective: str, constraints, n_grid: int) -> tuple:
+    """One key where IPOPT fails (a corner of the objective: the maximum of the spin window sits where
+    sigma_lo(m) switches branch, thesis 3.3.15-3.3.19): Brent's bounded search of the float route's
+    objective over the grid cell either side of the best grid point (no value: -inf)."""
+    from scipy.optimize import minimize_scalar
+    cell = (vary.hi - vary.lo) / (n_grid - 1)
+    lo, hi = max(vary.lo, start.x[0] - cell), min(vary.hi, start.x[0] + cell)
+
+    def minus(v: float) -> float:
+        pt = evaluate(model, keymap, (float(v),), objective, constraints)
+        return math.inf if pt.value is None else -pt.value
+    res = minimize_scalar(minus, bounds=(lo, hi), method="bounded",
+                          options={"xatol": VERIFY_RTOL * (vary.hi - vary.lo)})
+    best = float(res.x) if -res.fun >= start.value else float(start.x[0])
+    return (best,)
 
 
 def bounds_hit(varies: Sequence[Vary], x, rtol: float = 1e-6) -> dict[str, str]:
