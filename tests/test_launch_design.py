@@ -86,3 +86,15 @@ def test_the_launch_design_bench_runs_in_its_quick_mode(tmp_path, capsys):
     assert row["n"] == 6 and row["evaluations"] >= 7 and row["wall_s"] > 0
     assert all((tmp_path / f).stat().st_size > 0 for f in ("launch_design.json", "launch_design.csv",
                                                            "launch_design.png"))
+
+
+def test_a_design_on_two_workers_in_one_kept_pool_is_the_serial_design(derived_model):
+    """Every Monte Carlo of a design runs in one kept pool of workers (runners.KeptPool), each worker
+    loading each design's model once: the answer is the serial one, launch for launch."""
+    model = derived_model("thesis_stable")
+    box = [Vary("top.mass", 0.0504, 0.0530)]
+    given = {**STEADY, "tilt": "uniform:0,0.02", "mass": "rel:0.2%"}
+    serial = maximize_launch_odds(model, "thesis_stable", [], box, mc.Request(given, n=8, t_end=2.0))
+    kept = maximize_launch_odds(model, "thesis_stable", [], box, mc.Request(given, n=8, t_end=2.0, workers=2))
+    assert kept.optimum == serial.optimum and kept.launch_odds == serial.launch_odds
+    assert [e["probability"] for e in kept.evaluations] == [e["probability"] for e in serial.evaluations]

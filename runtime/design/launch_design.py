@@ -27,6 +27,7 @@ The cost is (GRID[k] (1 + ZOOMS) + 3) Monte Carlos of n launches (make bench: ki
 """
 from __future__ import annotations
 
+import contextlib
 import itertools
 import time
 from collections.abc import Sequence
@@ -98,13 +99,15 @@ def _overrides(overrides: Sequence[str], keys: Sequence[str], x) -> list[str]:
     return [*overrides, *(f"{k}={float(v)!r}" for k, v in zip(keys, x))]
 
 
-def odds_at(scene_ref: str, overrides: Sequence[str], keys: Sequence[str], x, request: mc.Request) -> dict:
-    """The Monte Carlo of `request` at the scene keys x; a design where the top cannot hover (or
-    the run is refused) floats never: probability 0 with the reason."""
+def odds_at(scene_ref: str, overrides: Sequence[str], keys: Sequence[str], x, request: mc.Request,
+            pool=None) -> dict:
+    """The Monte Carlo of `request` at the scene keys x (its local workers in `pool`, a
+    runners.KeptPool, where given); a design where the top cannot hover (or the run is refused)
+    floats never: probability 0 with the reason."""
     from levitron.runtime.scan.runners import model_for
     ov = _overrides(overrides, keys, x)
     try:
-        return request.run(model_for(scene_ref, ov), scene_ref, ov, quiet=True)
+        return request.run(model_for(scene_ref, ov), scene_ref, ov, quiet=True, pool=pool)
     except UserError as exc:
         return {"probability": 0.0, "probability_ci95": [0.0, 0.0], "n": request.n, "seed": request.seed,
                 "successes": 0, "reason": str(exc)}
@@ -167,7 +170,19 @@ class LaunchDesign:
 def maximize_launch_odds(model, scene_ref: str, overrides: Sequence[str], varies: Sequence[Vary],
                          request: mc.Request, pinned: Pinned | None = None,
                          where: str = "the --vary box") -> LaunchDesign:
-    """The design of the module docstring over the --vary box (`where`: what its messages call it)."""
+    """The design of the module docstring over the --vary box (`where`: what its messages call it).
+    With local workers every Monte Carlo of the design runs in one kept pool (runners.KeptPool:
+    the workers start once, not once an evaluation)."""
+    from levitron.runtime.scan import runners
+    workers = min(request.workers, runners.usable_cores())
+    with contextlib.ExitStack() as stack:
+        pool = (stack.enter_context(runners.KeptPool(workers)) if workers > 1 and not request.scheduler
+                else None)
+        return _maximize(model, scene_ref, overrides, varies, request, pinned, where, pool)
+
+
+def _maximize(model, scene_ref: str, overrides: Sequence[str], varies: Sequence[Vary], request: mc.Request,
+              pinned: Pinned | None, where: str, pool) -> LaunchDesign:
     t0 = time.perf_counter()
     if not 1 <= len(varies) <= 3:
         raise UserError("--vary: give one to three keys for --maximize launch-odds")
@@ -182,7 +197,7 @@ def maximize_launch_odds(model, scene_ref: str, overrides: Sequence[str], varies
         for x in _axes(varies, box, n_axis):
             x = tuple(float(v) for v in x)
             if x not in evaluated:
-                r = odds_at(scene_ref, overrides, keys, x, req)
+                r = odds_at(scene_ref, overrides, keys, x, req, pool)
                 evaluated[x] = r["probability"]
                 rows.append({**dict(zip(keys, x)), "probability": r["probability"],
                              **({"reason": r["reason"]} if "reason" in r else {})})
@@ -193,7 +208,7 @@ def maximize_launch_odds(model, scene_ref: str, overrides: Sequence[str], varies
         box = [(max(v.lo, b - c), min(v.hi, b + c)) for v, b, c in zip(varies, best, cells)]
 
     def run(x):
-        r = odds_at(scene_ref, overrides, keys, x, req)
+        r = odds_at(scene_ref, overrides, keys, x, req, pool)
         evaluated[x] = r["probability"]
         rows.append({**dict(zip(keys, x)), "probability": r["probability"]})
         return r["probability"]
@@ -220,9 +235,9 @@ def maximize_launch_odds(model, scene_ref: str, overrides: Sequence[str], varies
                         + "check the launch spread with `levitron launch` (a steadier hand: smaller "
                         "--mass, --strength or --tilt spreads)")
     fresh = req.with_seed(req.seed + FRESH)
-    final = odds_at(scene_ref, overrides, keys, best, fresh)
+    final = odds_at(scene_ref, overrides, keys, best, fresh, pool)
     start_x = [key_value(model.scene.data, k) for k in keys]
-    first = odds_at(scene_ref, overrides, keys, start_x, fresh)
+    first = odds_at(scene_ref, overrides, keys, start_x, fresh, pool)
     warnings = []
     for v, b in zip(varies, best):
         span = v.hi - v.lo

@@ -351,17 +351,19 @@ class Request:
         return Request(self.given, self.n, int(seed), self.success_time, self.t_end, self.integrator,
                        self.tol, self.workers, self.scheduler)
 
-    def run(self, model, scene_ref: str, overrides, quiet: bool = False) -> dict:
-        """monte_carlo of this request on (model, its scene reference and overrides)."""
+    def run(self, model, scene_ref: str, overrides, quiet: bool = False, pool=None) -> dict:
+        """monte_carlo of this request on (model, its scene reference and overrides); pool: a
+        runners.KeptPool its local workers run in (a design's Monte Carlos share one)."""
         return monte_carlo(model, scene_ref, overrides, self.given, n=self.n, seed=self.seed,
                            success_time=self.success_time, t_end=self.t_end, integrator=self.integrator,
-                           tol=self.tol, workers=self.workers, scheduler=self.scheduler, quiet=quiet)
+                           tol=self.tol, workers=self.workers, scheduler=self.scheduler, quiet=quiet,
+                           pool=pool)
 
 
 def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n: int = 1000,
                 seed: int = 0, success_time: float | None = None, t_end: float | None = None,
                 integrator: str = DEFAULT, tol: float = 1e-8, workers: int = 1,
-                scheduler: str | None = None, quiet: bool = False) -> dict:
+                scheduler: str | None = None, quiet: bool = False, pool=None) -> dict:
     """The launch odds of the module docstring. given: input name -> a distribution spec (flags or
     the scene's [launch] table, flags first); others take `defaults`."""
     from levitron.runtime.scan import runners
@@ -443,7 +445,7 @@ def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n
         finally:
             client.close()
     elif workers > 1:
-        results = runners.run_processes(plan, chunks, workers, quiet, fn=run_chunk, what="launch")
+        results = runners.run_processes(plan, chunks, workers, quiet, fn=run_chunk, what="launch", pool=pool)
     else:
         results = runners.run_serial(plan, chunks, quiet, fn=run_chunk, what="launch")
     return summarize(plan, results, success_time, interval, z_s, tau, given, warnings)

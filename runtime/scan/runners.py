@@ -16,6 +16,7 @@ deterministic, so all three give the same map.
 """
 from __future__ import annotations
 
+import contextlib
 import os
 import sys
 import threading
@@ -197,12 +198,47 @@ def unguarded_script() -> str | None:
     return path
 
 
+class KeptPool:
+    """One pool of local worker processes kept across several runs (a design's Monte Carlos), so
+    that each run does not pay the start of its workers (spawn, imports: about 1 s). A worker loads
+    each (scene, overrides) model once (model_for). `with KeptPool(workers) as pool:` and pass
+    `pool` to run_processes; it ends with the block; a broken pool is replaced."""
+
+    def __init__(self, workers: int):
+        self.workers = workers
+        self._ex = None
+
+    def executor(self, common: Common):
+        import multiprocessing
+        from concurrent.futures import ProcessPoolExecutor
+        if self._ex is None:
+            self._ex = ProcessPoolExecutor(max_workers=self.workers, mp_context=multiprocessing.get_context("spawn"),
+                                           initializer=_init_worker,
+                                           initargs=(common.scene, tuple(common.overrides), os.getpid()))
+        return self._ex
+
+    def broken(self) -> None:
+        """Drop a broken pool: the next executor() starts a new one."""
+        if self._ex is not None:
+            self._ex.shutdown(wait=False, cancel_futures=True)
+            self._ex = None
+
+    def __enter__(self) -> KeptPool:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self._ex is not None:
+            self._ex.shutdown(wait=True, cancel_futures=True)
+            self._ex = None
+
+
 def run_processes(common: Common, chunks: Sequence[list], workers: int,
-                  quiet: bool = False, fn=None, what: str = "scan") -> list[dict]:
+                  quiet: bool = False, fn=None, what: str = "scan", pool: KeptPool | None = None) -> list[dict]:
     """Local processes (spawn: no fork of a process holding BLAS threads or a loaded library);
-    fn as in run_serial. A worker that dies (killed, out of memory) breaks the pool: the chunks
-    not yet returned run again in a new pool, at most MAX_POOL_RESTARTS times; runs are
-    deterministic, so the answer is the one a serial run gives."""
+    fn as in run_serial; `pool`: a KeptPool to run in (else a pool for this run alone). A worker
+    that dies (killed, out of memory) breaks the pool: the chunks not yet returned run again in a
+    new pool, at most MAX_POOL_RESTARTS times; runs are deterministic, so the answer is the one a
+    serial run gives."""
     fn = fn or run_chunk
     script = unguarded_script()
     if script is not None:
@@ -219,8 +255,10 @@ def run_processes(common: Common, chunks: Sequence[list], workers: int,
                        log_every=LOG_EVERY) as tick:
         while pending:
             try:
-                with ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
-                                         initargs=(common.scene, tuple(common.overrides), os.getpid())) as ex:
+                with contextlib.ExitStack() as stack:
+                    ex = pool.executor(common) if pool is not None else stack.enter_context(ProcessPoolExecutor(
+                        max_workers=workers, mp_context=ctx, initializer=_init_worker,
+                        initargs=(common.scene, tuple(common.overrides), os.getpid())))
                     futures = {ex.submit(run_worker_chunk, fn, common, c): k for k, c in pending.items()}
                     for fut in as_completed(futures):
                         k = futures[fut]
@@ -228,6 +266,8 @@ def run_processes(common: Common, chunks: Sequence[list], workers: int,
                         del pending[k]
                         tick(len(done[k]["points"]))
             except BrokenProcessPool:
+                if pool is not None:
+                    pool.broken()
                 restarts += 1
                 if restarts > MAX_POOL_RESTARTS:
                     raise UserError(f"{what}: worker processes died {restarts} times (killed, or out of "
