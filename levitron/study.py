@@ -279,7 +279,8 @@ class Study:
 
     def _ref(self) -> str:
         """What launch workers reload the scene from: its file's absolute path, else its name."""
-        return str(Path(self.scene.path).resolve()) if self.scene.path else self.scene.name
+        from levitron.runtime.model.scenes import scene_ref
+        return scene_ref(self.scene)
 
     @_in_scene_units
     def propagator(self, part: str = "reduced", integrator: str = "auto", tol: float = 1e-9,

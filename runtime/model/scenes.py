@@ -16,6 +16,13 @@ def load_scene(name_or_path, overrides=()) -> Scene:
         raise UserError(_reason(name_or_path, exc)) from None
 
 
+def scene_ref(scene: Scene, name: str | None = None) -> str:
+    """What worker processes reload a scene from: its file's absolute path, else `name` (the name
+    it was asked by; default the scene's own name)."""
+    from pathlib import Path
+    return str(Path(scene.path).resolve()) if scene.path is not None else (name or scene.name)
+
+
 BOM = b"\xef\xbb\xbf"
 
 

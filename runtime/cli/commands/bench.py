@@ -1,10 +1,10 @@
 """`levitron bench SCENE`: the speed-versus-error report (docs/contract.md `bench`)."""
 from __future__ import annotations
 
-from pathlib import Path
 
 from levitron.runtime.bench import kinds as bench_kinds
 from levitron.runtime.ui.human import duration, lines, sig
+from levitron.runtime.model.scenes import scene_ref
 from levitron.runtime.cli.commands.common import model_of, scene_of
 
 NAME = "bench"
@@ -27,7 +27,7 @@ def add_arguments(parser) -> None:
 def run(args) -> dict:
     scene = scene_of(args)
     model = model_of(args)
-    ref = str(Path(scene.path).resolve()) if scene.path is not None else args.scene
+    ref = scene_ref(scene, args.scene)
     out = args.out or bench_kinds.out_dir(args.kind, model.scene.name, args.quick)
     return bench_kinds.run(args.kind, model, ref, args.set, out, args.quick)
 

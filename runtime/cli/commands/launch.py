@@ -68,7 +68,8 @@ def launch_request(args, scene) -> mc.Request:
 
 def scene_ref(scene, args) -> str:
     """What workers reload the scene from: its file's absolute path, else the name given."""
-    return str(Path(scene.path).resolve()) if scene.path is not None else args.scene
+    from levitron.runtime.model.scenes import scene_ref as ref
+    return ref(scene, args.scene)
 
 
 def add_arguments(parser) -> None:

@@ -6,6 +6,7 @@ from pathlib import Path
 from levitron.runtime.errors import UserError
 from levitron.runtime.ui.human import Units, lines, sig
 from levitron.runtime.report.page import build
+from levitron.runtime.model.scenes import scene_ref
 from levitron.runtime.cli.commands.common import model_of, scene_of
 
 NAME = "report"
@@ -37,7 +38,7 @@ def run(args) -> dict:
     out = _check_out(Path(args.out))
     scene = scene_of(args)
     model = model_of(args)
-    ref = str(Path(scene.path).resolve()) if scene.path is not None else args.scene
+    ref = scene_ref(scene, args.scene)
     from levitron.runtime.ui.provenance import block
     page, facts = build(model, ref, args.set, block(getattr(args, "_argv", ["report", args.scene]),
                                                     scene, args.set))

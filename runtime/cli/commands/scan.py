@@ -4,7 +4,6 @@ plot.py)."""
 from __future__ import annotations
 
 import re
-from pathlib import Path
 
 from levitron.runtime.scan import stability_map as sc
 from levitron.runtime.errors import UserError
@@ -17,6 +16,7 @@ from levitron.runtime.scan.grid import check_axis, check_grid_size, parse_range,
 from levitron.runtime.scan.plot import draw
 from levitron.runtime.scan.runners import CONNECT_TIMEOUT_S
 from levitron.runtime.ui.validate import real
+from levitron.runtime.model.scenes import scene_ref
 from levitron.runtime.cli.commands.common import model_of, scene_of
 
 NAME = "scan"
@@ -90,8 +90,8 @@ def run(args) -> dict:
         check_plot_path(args.out, "--out")
     scene = scene_of(args)
     model = model_of(args)
-    scene_ref = str(Path(scene.path).resolve()) if scene.path is not None else args.scene
-    res = sc.scan(model, scene_ref, args.set, spins, axis, others, t_end=args.t_end,
+    ref = scene_ref(scene, args.scene)
+    res = sc.scan(model, ref, args.set, spins, axis, others, t_end=args.t_end,
                   integrator=args.integrator, tol=args.tol, workers=args.workers,
                   scheduler=args.scheduler, base_tilt=args.base_tilt, h=args.step,
                   quiet=args.quiet, scheduler_timeout=None if args.scheduler_timeout is None else real(
