@@ -7,7 +7,7 @@ import re
 import sys
 from pathlib import Path
 
-THRESHOLD_S = 2.0
+THRESHOLD_S = 1.4
 SLOW = Path(__file__).with_name("slow.txt")
 LINE = re.compile(r"([\d.]+)s (call|setup|teardown)\s+(.+?)\s*$")
 
