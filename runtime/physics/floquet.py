@@ -21,7 +21,10 @@ at the spin couples modes whose multipliers meet on the unit circle at b = 0 (wh
 (omega_j -+ omega_k) / sigma is an integer: a parametric resonance); a narrow tongue of
 instability may open there, of width growing with b. So, as for the base tilt's gaps, those meeting
 points are found on the aligned system (`meetings`, cheap: eigenvalues only) and probed beside a
-log grid of spins around the aligned window. Every change of the verdict is bisected to SPIN_RTOL.
+log grid of spins around the aligned window (inside it only: outside, the aligned top is unstable
+already). A spin where the orbit cannot be continued from the aligned top (a fold of the forced
+response, near a resonance of the spin with a mode) counts as unstable. Every change of the
+verdict is bisected to SPIN_RTOL.
 No sympy here.
 """
 from __future__ import annotations
@@ -37,9 +40,11 @@ from levitron.runtime.physics.tilted_equilibrium import NoEquilibrium, TiltedTop
 
 MULT_TOL = 1e-6          # | |mu| - 1 | on the unit circle, beside CVODES' 1e-12 (|mu| - 1 ~ 1e-11 measured)
 SPIN_RTOL = 1e-8         # relative width at which a window end's bisection stops
-GRID = 24                # log-spaced spins from half the aligned window's lower end to twice its upper
+GRID = 16                # log-spaced spins over [SPAN[0] lo, SPAN[1] hi] of the aligned window
+SPAN = (0.75, 1.5)
 MEET_GRID = 400          # spins on the aligned system's grid where multipliers' meetings are looked for
-MAX_MEETINGS = 60        # meetings probed at most (the nearest to the aligned window's ends first)
+MAX_MEETINGS = 30        # meetings probed at most (the nearest to the aligned window's ends first)
+NEAR = 0.15              # an orbit known within this (log) of a spin is the guess there
 
 
 @dataclass(frozen=True)
@@ -107,7 +112,7 @@ class FloquetTop:
         got = None
         if self._known:
             near = min(self._known, key=lambda k: abs(math.log(k / sigma)))
-            if abs(math.log(near / sigma)) < 0.05:
+            if abs(math.log(near / sigma)) < NEAR:
                 got = self.shoot.solve(sigma, self._rescaled(self._known[near], sigma), s)
         if got is None:
             eq = self.top.hamilton(self.tilt, sigma)

@@ -27,7 +27,9 @@ from levitron.runtime.errors import UserError
 RTOL = 1e-12                 # CVODES relative and (scaled-state) absolute tolerance
 NEWTON_ITER = 12
 STEP_TOL = 1e-11             # a Newton step below this (scaled states) is converged
+MAX_STEP = 0.3               # a Newton step above this (scaled states) is not converging
 TILT_STEPS = 4               # continuation steps in the moment tilt from the aligned orbit
+MIN_STEP = 1 / 64            # a continuation step below this fraction of the tilt: no orbit
 
 
 @dataclass(frozen=True)
@@ -59,7 +61,8 @@ class Shooting:
         flow = ca.integrator("period", "cvodes", {"x": y, "p": ca.vertcat(s, T, pp), "ode": ode},
                              0.0, 1.0, {"abstol": RTOL, "reltol": RTOL, "max_num_steps": 10 ** 6,
                                         "linear_multistep_method": "adams",
-                                        "nonlinear_solver_iteration": "functional"})
+                                        "nonlinear_solver_iteration": "functional",
+                                        "disable_internal_warnings": True})
         y0 = ca.MX.sym("y0", n)
         yT = flow(x0=y0, p=ca.vertcat(s, T, pp))["xf"]
         self._flow = ca.Function("flow", [y0, s, T, pp], [yT, ca.jacobian(yT, y0)])
@@ -92,12 +95,17 @@ class Shooting:
         shift = np.zeros(len(x))
         shift[self.izeta] = 2 * math.pi
         for _ in range(NEWTON_ITER + 1):
-            xT, M = self.flow(x, T, scales, p)
+            try:
+                xT, M = self.flow(x, T, scales, p)
+            except RuntimeError:        # CVODES gives up (a guess far off the orbit): no orbit here
+                return None
             R = (xT - x - shift) / scales
             if not np.all(np.isfinite(R)):
                 return None
             Js = (M - np.eye(len(x)))[:, free] * scales[free][None, :] / scales[:, None]
             dy = np.linalg.lstsq(Js, -R, rcond=None)[0]
+            if not np.max(np.abs(dy)) <= MAX_STEP:    # Newton is not near an orbit: no orbit here
+                return None
             if np.max(np.abs(dy)) <= STEP_TOL:
                 return PeriodicOrbit(sigma, T, x, M, scales, float(np.max(np.abs(R))))
             x[free] += dy * scales[free]
@@ -127,8 +135,8 @@ class NoOrbit(UserError):
 def continued_orbit(shoot: Shooting, sigma: float, start: np.ndarray, scales: np.ndarray, b: float,
                     with_tilt, b0: float = 0.0, steps: int = TILT_STEPS) -> PeriodicOrbit:
     """The orbit at moment tilt b, continued from the orbit (or relative equilibrium) `start` at
-    tilt b0: secant predictor, Newton corrector, the step halved where Newton fails (down to 1e-6
-    of b); with_tilt(b) gives the parameter vector at moment tilt b. A NoOrbit where it ends."""
+    tilt b0: secant predictor, Newton corrector, the step halved where Newton fails (down to
+    MIN_STEP of b); with_tilt(b) gives the parameter vector at moment tilt b. A NoOrbit where it ends."""
     t, h = b0, (b - b0) / steps
     prev, x = None, np.array(start, float)
     orbit = shoot.solve(sigma, x, scales, with_tilt(t))
@@ -141,7 +149,7 @@ def continued_orbit(shoot: Shooting, sigma: float, start: np.ndarray, scales: np
         got = shoot.solve(sigma, guess, scales, with_tilt(t + h))
         if got is None:
             h /= 2
-            if abs(h) < 1e-6 * abs(b - b0):
+            if abs(h) < MIN_STEP * abs(b - b0):
                 raise NoOrbit(b, sigma, t)
             continue
         prev, t, x, orbit = (t, x), t + h, got.x0, got
