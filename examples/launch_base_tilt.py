@@ -1,6 +1,6 @@
 """The launch odds of thesis_air over a base levelled with a bubble level, against the level base
 (issue 27; docs/contract.md `launch`, "A base that is not level"): writes
-reports/launch_base_tilt/{odds.json, odds.png, launches.csv}.
+reports/launch_base_tilt/{odds.json, odds.png}.
 
     nice .venv/bin/python examples/launch_base_tilt.py [N]      (default N = 2000 launches a spread)
 
@@ -70,12 +70,6 @@ def main(n: int) -> None:
                "success_rate_by_base_tilt": by_tilt,
                "command": f"nice .venv/bin/python examples/launch_base_tilt.py {n}"}
     (OUT / "odds.json").write_text(json.dumps(summary, indent=1, default=float) + "\n")
-    with open(OUT / "launches.csv", "w", encoding="utf-8") as f:
-        f.write("spread,launch,base_tilt,base_tilt_azimuth,floats,flight_time\n")
-        for label, t in tables:
-            for i in range(len(t["launch"])):
-                f.write(f"{label},{t['launch'][i]},{t['base_tilt'][i]!r},{t['base_tilt_azimuth'][i]!r},"
-                        f"{t['floats'][i]},{t['flight_time'][i]!r}\n")
     draw(summary, OUT / "odds.png")
 
 

@@ -57,6 +57,8 @@ def test_a_fixed_base_tilt_of_zero_is_the_level_launch_launch_for_launch(tilted)
     assert 0 < level.probability < 1 and zero.probability == level.probability
     assert zero.details["inputs"]["base_tilt"] == "0.0"
     assert "base_tilt" not in zero.details["defaulted"] and "base_tilt_azimuth" in zero.details["defaulted"]
+    assert zero.details["inputs"]["base_tilt_azimuth"] == "0.0"      # no direction of a level base
+    assert "base_tilt_azimuth" not in [e["input"] for e in zero.details["ranking"]]
 
 
 def test_beyond_max_base_tilt_nothing_floats_and_well_below_most_do(tilted, max_base_tilt):

@@ -75,6 +75,7 @@ class Apparatus:
     moves: bool
     default_text: str
     default: object = None
+    direction_of: str | None = None     # the input whose direction this is: moot where that is fixed at 0
 
 
 def _downhill_default(model):
@@ -91,8 +92,8 @@ def _downhill_default(model):
 APPARATUS = (
     Apparatus("base_tilt", "base_tilt", "rad", "plate.tilt", True, "the scene's plate.tilt (0: level)"),
     Apparatus("base_tilt_azimuth", "base_tilt_azimuth", "rad", "plate.tilt", False,
-              "uniform:0,2pi rad over an axially symmetric plate, else the scene's plate.tilt_azimuth",
-              _downhill_default),
+              "uniform:0,2pi rad over an axially symmetric plate, else the scene's plate.tilt_azimuth; "
+              "the scene's where the base tilt is fixed at 0", _downhill_default, "base_tilt"),
 )
 ALL_INPUTS = INPUTS + tuple(a.name for a in APPARATUS)
 # what each input's numbers are (the module docstring): the SI unit of its JSON numbers, "1" for a
@@ -450,6 +451,10 @@ def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n
     dists = defaults(model, interval, z_s)
     reference = {"mass": model.param("m"), "strength": 1.0}
     dists.update({k: parse_input(k, v, reference.get(k, 1.0)) for k, v in given.items()})
+    for a in apparatus_of(model):       # a direction of nothing (a level base) is not spread
+        d = dists.get(a.direction_of)
+        if a.direction_of and a.name not in given and not d.spread and d.a == 0:
+            dists[a.name] = Dist("fixed", float(model.pvals()[a.param]))
     if "spin" not in dists:
         raise UserError("the scene's top has no spin interval of linear stability at its hover height, "
                         "so there is no default spin: pass --spin normal:MEAN,SD")
