@@ -431,11 +431,41 @@ def hover_mass(onaxis: OnAxis, g: float, mu: float, z: float) -> float:
 def analyse(onaxis: OnAxis, m: float, g: float, A: float, C: float, mu: float,
             scale: float, span: tuple[float, float] | None = None) -> EquilibriumReport:
     """Everything of thesis 3.3.1-3.3.3 and the bands (runtime/physics/bands.py) for one top and plate."""
-    sv = survey(onaxis, scale, span)
+    return _report(survey(onaxis, scale, span), m, g, A, C, mu, bands=True)
+
+
+def _report(sv: Survey, m: float, g: float, A: float, C: float, mu: float, bands: bool) -> EquilibriumReport:
     rep = sv.report(m, g, mu)
-    rep.stable_bands, rep.adiabatic_bands = _bands.bands_of(
-        onaxis, sv.zs, [sv.rows[z] for z in sv.zs], rep.z_c, g, A, C, mu)
+    if bands:
+        rep.stable_bands, rep.adiabatic_bands = _bands.bands_of(
+            sv.onaxis, sv.zs, [sv.rows[z] for z in sv.zs], rep.z_c, g, A, C, mu)
     return rep
+
+
+TOP_PARAMS = ("m", "mu")       # the top's: m g + mu Phi_2 = 0 keeps them out of Phi (thesis 3.3.2)
+KEPT_SURVEYS = 64              # plates (parameter vectors but the top's) whose survey a model keeps
+
+
+def plate_survey(model, p: np.ndarray | None = None) -> Survey:
+    """survey() of a loaded model's plate at the parameters p, kept per model and keyed on p but
+    the top's mass and moment: the on-axis functions Phi_k are the plate's alone (thesis 3.3.1:
+    U = m g z + mu Phi_1), so a launch Monte Carlo, whose tops differ in m and mu only, surveys its
+    plate once, not once a launch. Each call gets its own copy, so that what one top's root search
+    adds to it (a pole found between knots) stays with that top: every answer is a fresh survey's."""
+    q = np.array(model.p if p is None else p, float)
+    for name in TOP_PARAMS:
+        if name in model.param_names:
+            q[model.param_names.index(name)] = 0.0
+    kept = model.__dict__.setdefault("_plate_surveys", {})
+    key = q.tobytes()
+    sv = kept.get(key)
+    if sv is None:
+        with naming_the_formula(model):
+            sv = survey(model_onaxis(model, p), scale_of(model, p), span_of(model))
+        if len(kept) < KEPT_SURVEYS:
+            kept[key] = sv
+    return Survey(sv.onaxis, sv.scale, sv.top, list(sv.zs), dict(sv.rows), list(sv.singularities),
+                  list(sv.barriers), list(sv.extrema))
 
 
 def equilibria_of(model, p: np.ndarray | None = None, bands: bool = False) -> EquilibriumReport:
@@ -443,11 +473,9 @@ def equilibria_of(model, p: np.ndarray | None = None, bands: bool = False) -> Eq
     default the scene's; thesis 3.3.2-3.3.3); with bands=True also the stable and adiabatic bands.
     A model whose on-axis functions are nowhere finite is a UserError naming the scene's formula."""
     P = params_of(model, p)
-    onaxis, scale, span = model_onaxis(model, p), scale_of(model, p), span_of(model)
+    sv = plate_survey(model, p)
     with naming_the_formula(model):
-        if bands:
-            return analyse(onaxis, P["m"], P["g"], P["A"], P["C"], P["mu"], scale, span)
-        return survey(onaxis, scale, span).report(P["m"], P["g"], P["mu"])
+        return _report(sv, P["m"], P["g"], P["A"], P["C"], P["mu"], bands)
 
 
 @contextmanager
