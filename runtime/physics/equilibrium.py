@@ -252,6 +252,7 @@ class Survey:
     singularities: list[Singularity]
     barriers: list[tuple[float, float]]   # (last finite below, first finite above) of each singularity
     extrema: list[float]                  # zeros of Phi_3, sorted
+    columns: dict[int, np.ndarray] = field(default_factory=dict)   # column(k), while the knots stand
 
     # ---- building blocks
     def row(self, z: float) -> np.ndarray:
@@ -262,6 +263,13 @@ class Survey:
         if z not in self.rows:
             self.rows[z] = self.row(z) if r is None else r
             bisect.insort(self.zs, z)
+            self.columns.clear()
+
+    def column(self, k: int) -> np.ndarray:
+        """Phi_k at the knots, in their order (kept until a knot is added; a copy to write on)."""
+        if k not in self.columns:
+            self.columns[k] = np.array([float(self.rows[z][k]) for z in self.zs])
+        return self.columns[k].copy()
 
     def _blocked(self, a: float, b: float) -> bool:
         return any(a < hi and b > lo for lo, hi in self.barriers)
@@ -297,19 +305,24 @@ class Survey:
             if 0 < z < math.inf and self._finite(z):
                 self._add_knot(z)
 
-    def zeros(self, value: Callable[[float, np.ndarray], float]) -> list[float]:
+    def zeros(self, value: Callable[[float, np.ndarray], float],
+              vals: np.ndarray | None = None) -> list[float]:
         """Every zero of value(z, row) between consecutive knots (sign changes and exact zeros),
         refined to adjacent doubles; a sign change across a pole or a non-finite sliver is recorded
-        as a singularity and cut out instead."""
+        as a singularity and cut out instead. vals: value at the knots, if the caller has them
+        (equilibria: one array operation, the same doubles)."""
         zs = list(self.zs)
-        vals = [value(z, self.rows[z]) for z in zs]
+        vals = np.array([value(z, self.rows[z]) for z in zs] if vals is None else vals, float)
+        # only knots that are exact zeros or open a sign change can give a zero: visit those alone
+        visit = np.flatnonzero((vals == 0) | np.append(vals[:-1] * vals[1:] < 0, False))
         out = []
-        for i, (z, v) in enumerate(zip(zs, vals)):
+        for i in visit.tolist():
+            z, v = zs[i], float(vals[i])
             if v == 0 and not any(lo < z < hi for lo, hi in self.barriers):
                 out.append(z)
             if i + 1 == len(zs):
                 break
-            z1, v1 = zs[i + 1], vals[i + 1]
+            z1, v1 = zs[i + 1], float(vals[i + 1])
             if not (v * v1 < 0) or self._blocked(z, z1):
                 continue
             f = lambda x: value(x, self.row(x))
@@ -349,8 +362,12 @@ class Survey:
         def F(z: float, r: np.ndarray) -> float:
             return 0.0 if z in marginal else mg + mu * float(r[2])
 
+        vals = mg + mu * self.column(2)         # F at the knots (the doubles F gives, at once)
+        for k, z in enumerate(self.zs):
+            if z in marginal:
+                vals[k] = 0.0
         out = []
-        for z in self.zeros(F):
+        for z in self.zeros(F, vals):
             if z in marginal:
                 out.append(Equilibrium(z, False, mu * float(self.row(z)[3]), True))
             else:
@@ -465,7 +482,7 @@ def plate_survey(model, p: np.ndarray | None = None) -> Survey:
         if len(kept) < KEPT_SURVEYS:
             kept[key] = sv
     return Survey(sv.onaxis, sv.scale, sv.top, list(sv.zs), dict(sv.rows), list(sv.singularities),
-                  list(sv.barriers), list(sv.extrema))
+                  list(sv.barriers), list(sv.extrema), dict(sv.columns))
 
 
 def equilibria_of(model, p: np.ndarray | None = None, bands: bool = False) -> EquilibriumReport:
