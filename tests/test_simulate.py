@@ -378,18 +378,20 @@ def test_linear_context_against_the_generated_jacobian(capsys):
 
 def test_a_run_that_stops_early_gives_no_verdict():
     """runtime/integrate/verdict.py: a run that ends before t_end for another reason than the top
-    leaving its box (here the step budget of the z-x-z chart at a tilt of 1e-8, singular at the
-    upright top) says nothing of the top: simulate answers levitating None with the reason, not
-    'no'; simulate_many marks it untested, the same answer; the verdicts of the other statuses."""
+    leaving its box (here the z-x-z chart started exactly upright, tilt 0, off the axis by 1e-4 m
+    so that the launch is not the invariant set: its 1/sin theta is infinite, status nonfinite;
+    before the cancellation-free form, derive/zxz_form.py, a tilt of 1e-8 used up the step budget,
+    and now completes) says nothing of the top: simulate answers levitating None with the reason,
+    not 'no'; simulate_many marks it untested, the same answer; the verdicts of the other statuses."""
     import levitron as lev
     from levitron.runtime.integrate.verdict import no_verdict_reason, stopped_early, verdict
     assert (verdict("completed"), verdict("left_box"), verdict("step_budget"), verdict("nonfinite")) == \
         (True, False, None, None)
     assert stopped_early("step_budget") and not stopped_early("no_hover_height") and not stopped_early("")
     st = lev.load("thesis_stable", {"model.coordinates": "euler-zxz"})
-    one = st.simulate(1000.0, tilt=1e-8, t_end=0.01)
-    assert one.details["status"] == "step_budget" and one.levitating is None
-    assert one.details["untested"] == no_verdict_reason("step_budget", one.details["message"])
-    many = st.simulate_many([1000.0, 1000.0], tilt=[1e-8, 0.01], t_end=0.01)
-    assert many.untested.tolist() == [True, False] and many.status.tolist() == ["step_budget", "completed"]
+    one = st.simulate(1000.0, tilt=0.0, offset=1e-4, t_end=0.01)
+    assert one.details["status"] == "nonfinite" and one.levitating is None
+    assert one.details["untested"] == no_verdict_reason("nonfinite", one.details["message"])
+    many = st.simulate_many([1000.0, 1000.0], tilt=[0.0, 0.01], offset=[1e-4, 1e-4], t_end=0.01)
+    assert many.untested.tolist() == [True, False] and many.status.tolist() == ["nonfinite", "completed"]
     assert (None if many.untested[0] else bool(many.levitating[0])) == one.levitating
