@@ -148,6 +148,7 @@ def _integrate(part, x0, t_end, method, tol, h, p, box, n_out, scale, monitor_en
         if not (math.isfinite(size) and size > 0):
             raise ValueError(f"quadrature size {size!r}: a positive number")
         if lookup(method).needs_taylor:
+            taylor_of(part)      # a part without coefficients (the full model) says that first
             raise UserError(f"integrator {method} integrates no quadrature (the energy balance in "
                             "air): choose dop853, vern9 or auto")
         x0, scale = np.append(x0, 0.0), np.append(scale, float(size))
