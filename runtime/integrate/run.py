@@ -37,9 +37,11 @@ and of right-hand side calls.
 
 A ``quadrature`` (the name of a scalar function of the part, e.g. "dissipation", and the size of
 its integral) is integrated inside the run as one more state W, dW/dt = f(x), by every backend
-(C: integrators.h's lev_system.quad; CasADi and scipy: the right-hand side extended by f), under
-the same error control (atol tol * that size) and dense output as the state; the Result carries
-W at the samples (``work``, ``work_final``) and the states without it.
+(C: integrators.h's lev_system.quad; CasADi: its integrators' "quad"; scipy: the right-hand side
+extended by f), by the method's own stages and dense output. In C and CasADi W does not steer the
+steps (it is left out of the error norm: the states are those of the run without it, in C bit for
+bit); scipy's solvers control it as one more state, atol tol * that size. The Result carries W at
+the samples (``work``, ``work_final``) and the states without it.
 
 Tolerances are made dimension-aware by a per-component ``scale`` (state magnitudes): every
 adaptive backend controls |local error_k| <= tol * (scale_k + |x_k|). The box (``Box``) stops a
