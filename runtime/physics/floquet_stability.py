@@ -19,6 +19,7 @@ from levitron.runtime.physics import floquet as fl
 from levitron.runtime.physics.periodic_orbit import NoOrbit
 from levitron.runtime.physics.stability_result import StabilityResult
 from levitron.runtime.physics.tilted_equilibrium import NoEquilibrium
+from levitron.runtime.ui.human import Units
 from levitron.runtime.physics.tilted_stability import LEVEL_ONLY, reduced_jacobian, tilted_analysis
 
 ROUTE = ("Floquet: periodic orbit by shooting on the generated full_rhs (CVODES, CasADi "
@@ -79,9 +80,10 @@ def floquet_analysis(model, p: np.ndarray) -> StabilityResult:
         if len(bounded) > 1:
             (_, a), (b, _) = bounded[0], bounded[1]
             rate = ft.check(math.sqrt(a * b)).growth_rate
+            u = Units.of(P["g"])
             reason = (f"{len(bounded)} disjoint spin intervals; spin_interval is the lowest: between it "
-                      f"and the next ({a:.6g}-{b:.6g} rad/s) a perturbation grows by e every "
-                      f"{1 / rate:.3g} s (Floquet multipliers)")
+                      f"and the next ({a:.6g}-{b:.6g} {u.named('rad/s')}) a perturbation grows by e every "
+                      f"{1 / rate:.3g} {u.named('s')} (Floquet multipliers)")
     res = StabilityResult(None if eq is None else eq["position"][2], bounded[0] if bounded else None,
                           [], res0.eigenvalues, res0.approximations, reason, None, timings,
                           mass=P["m"], notes=[LEVEL_ONLY, "the eigenvalue route's interval is the "

@@ -23,11 +23,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from levitron.runtime.errors import UserError
+from levitron.runtime.ui.human import Units
 
 RTOL = 1e-12                 # CVODES relative and (scaled-state) absolute tolerance
 NEWTON_ITER = 12
 STEP_TOL = 1e-11             # a Newton step below this (scaled states) is converged
 MAX_STEP = 0.3               # a Newton step above this (scaled states) is not converging
+STALL = 0.7                  # two steps in a row shrinking by less than this: Newton is not converging
 TILT_STEPS = 4               # continuation steps in the moment tilt from the aligned orbit
 MIN_STEP = 1 / 64            # a continuation step below this fraction of the tilt: no orbit
 
@@ -50,6 +52,7 @@ class Shooting:
     def __init__(self, model, p: np.ndarray):
         import casadi as ca
         self.model, self.p = model, np.asarray(p, float)
+        self.rate_unit = Units.of(model.pvals(self.p)["g"]).named("rad/s")    # in the scene's units
         self.states = tuple(model.part("full").states)
         self.izeta = self.states.index("zeta")
         n = len(self.states)
@@ -94,6 +97,7 @@ class Shooting:
         free = [i for i in range(len(x)) if i != self.izeta]
         shift = np.zeros(len(x))
         shift[self.izeta] = 2 * math.pi
+        steps: list[float] = []
         for _ in range(NEWTON_ITER + 1):
             try:
                 xT, M = self.flow(x, T, scales, p)
@@ -108,6 +112,9 @@ class Shooting:
                 return None
             if np.max(np.abs(dy)) <= STEP_TOL:
                 return PeriodicOrbit(sigma, T, x, M, scales, float(np.max(np.abs(R))))
+            steps.append(float(np.max(np.abs(dy))))
+            if len(steps) >= 3 and steps[-1] > STALL * steps[-2] and steps[-2] > STALL * steps[-3]:
+                return None     # Newton converges at least linearly by 1/2 near an orbit (even at a fold)
             x[free] += dy * scales[free]
         return None
 
@@ -123,13 +130,16 @@ def state_scales(states, z: float, m: float, g: float, C: float, sigma: float) -
 
 
 class NoOrbit(UserError):
-    """The periodic orbit is not found (Newton fails along the continuation in the moment tilt)."""
+    """The periodic orbit is not found: Newton fails along the continuation in the moment tilt, or
+    from the orbit of a spin close by (`from_spin`)."""
 
-    def __init__(self, b: float, sigma: float, reached: float):
+    def __init__(self, b: float, sigma: float, reached: float, rate_unit: str = "rad/s",
+                 from_spin: float | None = None):
         self.b, self.sigma, self.reached = b, sigma, reached
+        where = (f"the continuation from the aligned top ends near {reached:.6g} rad" if from_spin is None
+                 else f"Newton from the orbit at {from_spin:.9g} {rate_unit} does not converge")
         super().__init__(f"no periodic orbit of the top with its moment tilted by {b:.6g} rad at spin "
-                         f"{sigma:.6g} rad/s: the continuation from the aligned top ends near "
-                         f"{reached:.6g} rad")
+                         f"{sigma:.6g} {rate_unit}: {where}")
 
 
 def continued_orbit(shoot: Shooting, sigma: float, start: np.ndarray, scales: np.ndarray, b: float,
@@ -141,7 +151,7 @@ def continued_orbit(shoot: Shooting, sigma: float, start: np.ndarray, scales: np
     prev, x = None, np.array(start, float)
     orbit = shoot.solve(sigma, x, scales, with_tilt(t))
     if orbit is None:
-        raise NoOrbit(b, sigma, t)
+        raise NoOrbit(b, sigma, t, shoot.rate_unit)
     x = orbit.x0
     while abs(t - b) > 0:
         h = math.copysign(min(abs(h), abs(b - t)), b - b0)
@@ -150,7 +160,7 @@ def continued_orbit(shoot: Shooting, sigma: float, start: np.ndarray, scales: np
         if got is None:
             h /= 2
             if abs(h) < MIN_STEP * abs(b - b0):
-                raise NoOrbit(b, sigma, t)
+                raise NoOrbit(b, sigma, t, shoot.rate_unit)
             continue
         prev, t, x, orbit = (t, x), t + h, got.x0, got
     return orbit
