@@ -63,7 +63,7 @@ def _render(scene: Scene) -> dict[str, bytes]:
     plate = build_plate(scene.data["plate"])
     order, order_info = field_order(scene)
     spec = build_spec(scene.name, plate, order, scene.coordinates, scene.needs, scene.friction,
-                      scene.tilted, scene.offset)
+                      scene.tilted, scene.offset, scene.askew)
     lowered = [lower(f, spec) for f in spec.functions]
     tapes = taylor_tapes(lowered)
     params = [str(s) for s in spec.params]

@@ -81,10 +81,13 @@ def structure(data: dict) -> dict:
     if any(k in d.get("top", {}) for k in FRICTION_KEYS):   # air friction: the full model's form
         out["friction"] = True
     offset = "moment_offset" in d.get("top", {})     # the moment at r + d n (derive/mechanics.py)
-    if tilted or offset:        # a base tilt (an offset magnet's model has one too): derive/scene.py
+    askew = "moment_tilt" in d.get("top", {})        # the moment off the axis, in the body
+    if tilted or offset or askew:   # a base tilt (an imperfect magnet's model has one too): derive/scene.py
         out["tilted"] = True
     if offset:
         out["offset"] = True
+    if askew:
+        out["askew"] = True
     return out
 
 

@@ -9,6 +9,11 @@ direction), so m g z becomes -m g_vec.r = m g (z cos t - (x cos a + y sin a) sin
 thesis eq. 2.2.1 back. The axial symmetry is broken (L_z is no longer conserved), L.n still is.
 A magnet whose centre sits a distance d along the axis from the centre of mass (scene key
 top.moment_offset) feels the field at r + d n: U = m g z - mu n.B(r + d n); d = 0 gives eq. 2.2.1.
+A magnet whose moment is tilted by b from the symmetry axis (scene key top.moment_tilt), fixed in
+the body so that it turns with the spin, is m = mu (cos b n + sin b e1) with e1 = R_bs e_x the
+body's first transverse axis in space components: U = m g z - m.B(r + d n); b = 0 gives eq. 2.2.1.
+The top's inertia stays symmetric, but the potential now depends on the spin angle: L.n is no
+longer conserved (the torque m x B has a component along n), L_z still is over a level base.
 The momenta p = dL/dqdot (thesis eqs. 2.3.2-2.3.7) are solved for the velocities (2.3.8), and
 H = p.qdot - L (2.3.9) is formed by that actual Legendre transform; Hamilton's equations
 qdot = dH/dp, pdot = -dH/dq (2.3.10-2.3.16) follow by differentiation.
@@ -22,7 +27,7 @@ import sympy as sp
 
 from . import field as fieldmod
 from .kinematics import ROTATIONS, Rotation, kinetic_energy
-from .symbols import X, Y, Z, base_tilt, base_tilt_azimuth, g, m, moment_offset, mu
+from .symbols import X, Y, Z, base_tilt, base_tilt_azimuth, g, m, moment_offset, moment_tilt, mu
 from .trig import trig_reduce
 from .zxz_form import cancellation_free
 
@@ -68,13 +73,19 @@ def gravity_height(tilted: bool = False) -> sp.Expr:
     return Z * sp.cos(t) - (X * sp.cos(a) + Y * sp.sin(a)) * sp.sin(t)
 
 
-def potential_energy(rot: Rotation, B: sp.Matrix, tilted: bool = False, offset: bool = False) -> sp.Expr:
+def potential_energy(rot: Rotation, B: sp.Matrix, tilted: bool = False, offset: bool = False,
+                     askew: bool = False) -> sp.Expr:
     """U = m g z - mu n.B (thesis eq. 2.2.1 with n = R_bs e_z); on a tilted base z is
-    `gravity_height`; with `offset` B is taken at the magnet's centre r + d n (module docstring)."""
+    `gravity_height`; with `offset` B is taken at the magnet's centre r + d n; with `askew` the
+    moment's direction is cos b n + sin b R_bs e_x, b = moment_tilt (module docstring)."""
     if offset:
         d, n = moment_offset, rot.n
         B = B.xreplace({X: X + d * n[0], Y: Y + d * n[1], Z: Z + d * n[2]})
-    return m * g * gravity_height(tilted) - mu * (rot.n.T * B)[0, 0]
+    direction = rot.n
+    if askew:
+        e1 = rot.R_bs * sp.Matrix([1, 0, 0])
+        direction = sp.cos(moment_tilt) * rot.n + sp.sin(moment_tilt) * e1
+    return m * g * gravity_height(tilted) - mu * (direction.T * B)[0, 0]
 
 
 def legendre(L: sp.Expr, q, qdot, p, keep: str = "cos") -> tuple[sp.Matrix, sp.Matrix, sp.Expr]:
@@ -109,13 +120,15 @@ def _quadratic_form(H: sp.Expr, p, simp) -> sp.Expr:
 @lru_cache(maxsize=None)
 def hamiltonian_system(coords: str = "tait-bryan", order: int = 2,
                        B: sp.ImmutableMatrix | None = None,
-                       tilted: bool = False, offset: bool = False) -> HamiltonianSystem:
+                       tilted: bool = False, offset: bool = False,
+                       askew: bool = False) -> HamiltonianSystem:
     """The full model in `coords` ("tait-bryan" or "euler-zxz").
 
     The field is the axisymmetric expansion to `order` (thesis eq. 2.2.7, Phi_k kept abstract) unless
     an exact 3-D field B(x, y, z) is given (a plate without axial symmetry, e.g. a rectangle).
     `tilted`: gravity along the tilted vector of the module docstring (parameters base_tilt,
-    base_tilt_azimuth); `offset`: the moment at r + d n (parameter moment_offset).
+    base_tilt_azimuth); `offset`: the moment at r + d n (parameter moment_offset); `askew`: the
+    moment tilted by moment_tilt from the axis, fixed in the body.
     """
     rot = ROTATIONS[coords]()
     pos = (X, Y, Z)
@@ -124,7 +137,7 @@ def hamiltonian_system(coords: str = "tait-bryan", order: int = 2,
     qdot = tuple(vel) + tuple(rot.rates)
     p = tuple(sp.Symbol(f"p_{v}", real=True) for v in q)
     T = kinetic_energy(rot, vel)
-    U = potential_energy(rot, fieldmod.field(order) if B is None else sp.Matrix(B), tilted, offset)
+    U = potential_energy(rot, fieldmod.field(order) if B is None else sp.Matrix(B), tilted, offset, askew)
     L = T - U
     momenta, qdot_of_p, H = legendre(L, q, qdot, p, rot.keep)
     rhs = sp.Matrix([sp.diff(H, pi) for pi in p] + [-sp.diff(H, qi) for qi in q])

@@ -78,6 +78,11 @@ TOP_KEYS = (
         "(positive towards the moment's end of the axis n; default: none, the magnet at the centre "
         "of mass): the moment feels the field at r + d n (derive/mechanics.py); the scene then "
         "has no reduced model"),
+    Key("moment_tilt", "rad", "the angle b between the magnetic moment and the symmetry axis, the "
+        "moment fixed in the body (it turns with the spin): mu (cos b n + sin b e1), e1 the body's "
+        "first transverse axis (derive/mechanics.py; default: none, the moment along the axis); the "
+        "steady motion is then periodic (runtime/physics/floquet.py) and the scene has no reduced "
+        "model"),
 )
 
 # The base's tilt (issue 27): keys of [plate] that every plate kind takes; they put gravity along a
@@ -164,12 +169,17 @@ class Scene:
         """The full model has a base tilt's terms (gravity along a tilted vector, parameters
         base_tilt, base_tilt_azimuth): the scene declares plate.tilt, or top.moment_offset (an
         imperfect apparatus gets both, so that one route serves it: runtime/physics/tilted_*)."""
-        return any(k in self.data["plate"] for k in TILT_KEYS_NAMES) or self.offset
+        return any(k in self.data["plate"] for k in TILT_KEYS_NAMES) or self.offset or self.askew
 
     @property
     def offset(self) -> bool:
         """The scene declares top.moment_offset: the moment at r + d n in the full model."""
         return "moment_offset" in self.data["top"]
+
+    @property
+    def askew(self) -> bool:
+        """The scene declares top.moment_tilt: the moment tilted from the axis, fixed in the body."""
+        return "moment_tilt" in self.data["top"]
 
     @property
     def coordinates(self) -> str:
@@ -448,14 +458,19 @@ def validate(data: dict, path: Path | None = None) -> Scene:
     check_keys(model, _names(MODEL_KEYS), "model")
     tilt = base_tilt(data["plate"])
     offset = magnet_offset(top)
-    needs = model.setdefault("needs", ["full", "linear"] if tilt or offset else ["reduced", "full", "linear"])
+    askew = magnet_tilt(top)
+    needs = model.setdefault("needs", ["full", "linear"] if tilt or offset or askew
+                             else ["reduced", "full", "linear"])
     if not isinstance(needs, list) or not needs or any(n not in NEEDS for n in needs):
         raise SceneError(f"model.needs = {needs!r}: give a non-empty list drawn from {list(NEEDS)}")
     for key, given, why in (
             ("plate.tilt", tilt, "breaks the axial symmetry: the 4-D reduced model (thesis 3.2.12, "
              "the top on the axis) does not exist for a tilted base"),
             ("top.moment_offset", offset, "is modelled in the full model only: the reduced model "
-             "(thesis 3.2.12) is not derived with it")):
+             "(thesis 3.2.12) is not derived with it"),
+            ("top.moment_tilt", askew, "breaks the top's own symmetry: the 4-D reduced model "
+             "(thesis 3.2.12, the spin a constant of the motion) does not exist for a moment off "
+             "the axis")):
         if given and "reduced" in needs:
             if "full" not in needs:
                 raise SceneError(f"{key} {why}; give model.needs = [\"full\", \"linear\"] or "
@@ -482,8 +497,9 @@ def validate(data: dict, path: Path | None = None) -> Scene:
     params = {"m": m, "g": g, "A": A, "C": C, "mu": float(mu) * temp[0] * temp[1]}
     params.update({f"plate_{k}": float(v) for k, v in resolved.items()})
     params.update(friction_rates(top, model["needs"]))
-    params.update(tilt or ({"base_tilt": 0.0, "base_tilt_azimuth": 0.0} if offset else {}))
+    params.update(tilt or ({"base_tilt": 0.0, "base_tilt_azimuth": 0.0} if offset or askew else {}))
     params.update(offset)
+    params.update(askew)
     if data.get("temperature", T_REF) != T_REF:
         notes.append(f"at {data['temperature']:g} degC: plate field x {temp[0]:.6g}, top moment x "
                      f"{temp[1]:.6g} of their {T_REF:g} degC values")
@@ -512,6 +528,17 @@ def magnet_offset(top: dict) -> dict[str, float]:
     if "moment_offset" not in top:
         return {}
     return {"moment_offset": number(top, "moment_offset", "top")}
+
+
+def magnet_tilt(top: dict) -> dict[str, float]:
+    """{moment_tilt} (rad) from top.moment_tilt, or {} when not given."""
+    if "moment_tilt" not in top:
+        return {}
+    b = number(top, "moment_tilt", "top")
+    if not abs(b) < math.pi / 2:
+        raise SceneError(f"top.moment_tilt = {b:g} rad: give the moment's angle from the symmetry "
+                         "axis, |b| < pi/2 (a larger one is a top with the moment the other way)")
+    return {"moment_tilt": b}
 
 
 def temperature_factors(data: dict) -> tuple[float, float]:

@@ -16,7 +16,7 @@ from .checks import SceneError
 from .geometry import Plate
 from .mechanics import hamiltonian_system
 from .reduction import reduced_system
-from .symbols import PHYSICAL, TILT, Phi, X, Y, Z, abstract_field, moment_offset
+from .symbols import PHYSICAL, TILT, Phi, X, Y, Z, abstract_field, moment_offset, moment_tilt
 
 
 @dataclass(frozen=True)
@@ -61,7 +61,8 @@ def _part_functions(prefix: str, state, rhs: sp.Matrix, H: sp.Expr, with_jac: bo
 
 
 def build_spec(scene_name: str, plate: Plate, order: int, coordinates: str, needs,
-               friction: bool = False, tilted: bool = False, offset: bool = False) -> ModelSpec:
+               friction: bool = False, tilted: bool = False, offset: bool = False,
+               askew: bool = False) -> ModelSpec:
     """The functions of a scene. With `friction`, the full model's momentum rows carry the
     generalised forces of air friction (derive/friction.py), its rates k_spin, k_tilt, k_trans
     close the parameter vector and `full_dissipation` (2F = -dH/dt) is emitted; without it the
@@ -69,12 +70,14 @@ def build_spec(scene_name: str, plate: Plate, order: int, coordinates: str, need
     the full model is along a tilted vector (derive/mechanics.py) and base_tilt, base_tilt_azimuth
     close the parameter vector; the reduced model does not exist then (derive/scene.py refuses it).
     With `offset` (top.moment_offset) the full model's moment sits at r + d n, and moment_offset
-    comes last; derive/scene.py gives such a scene no reduced model either (it is not derived)."""
+    comes after the tilt's; derive/scene.py gives such a scene no reduced model either (it is not
+    derived). With `askew` (top.moment_tilt) the moment is tilted from the axis in the body
+    (derive/mechanics.py) and moment_tilt comes last; no reduced model (the spin is not conserved)."""
     rates = tuple(frictionmod.RATES) if friction else ()
     spec = ModelSpec(scene_name, plate, order, coordinates,
                      tuple(PHYSICAL) + tuple(plate.symbols) + rates + (TILT if tilted else ())
-                     + ((moment_offset,) if offset else ()))
-    if (tilted or offset) and "reduced" in needs:
+                     + ((moment_offset,) if offset else ()) + ((moment_tilt,) if askew else ()))
+    if (tilted or offset or askew) and "reduced" in needs:
         raise ValueError("a tilted base or an offset magnet has no reduced model here")
     if "reduced" in needs:
         red = reduced_system(order)
@@ -89,12 +92,14 @@ def build_spec(scene_name: str, plate: Plate, order: int, coordinates: str, need
         spec.field3d = plate.model_field(order, X, Y, Z)
         B3 = sp.ImmutableMatrix(abstract_field())
     if "full" in needs:
-        full = hamiltonian_system(coordinates, order, B3, tilted, offset)
+        full = hamiltonian_system(coordinates, order, B3, tilted, offset, askew)
         what = f"full 12-D model, {coordinates} angles (thesis 2.3)"
         if tilted:
             what += " on a tilted base (gravity along a tilted vector, derive/mechanics.py)"
         if offset:
             what += ", the magnet's centre off the centre of mass along the axis"
+        if askew:
+            what += ", the moment tilted from the axis in the body"
         equations = "thesis eqs. 2.3.9-2.3.16 (" + coordinates + ")"
         rhs = full.rhs
         if friction:

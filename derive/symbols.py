@@ -19,6 +19,9 @@ TILT = (base_tilt, base_tilt_azimuth)
 # The magnet's centre along the axis from the centre of mass (scene key top.moment_offset; the
 # moment sits at r + d n, derive/mechanics.py): after the tilt's in the parameter vector.
 moment_offset = sp.Symbol("moment_offset", real=True)
+# The angle between the magnetic moment and the symmetry axis (scene key top.moment_tilt; the moment
+# mu (cos b n + sin b e1), e1 = R_bs e_x fixed in the body, derive/mechanics.py): last of all.
+moment_tilt = sp.Symbol("moment_tilt", real=True)
 
 
 class Phi(sp.Function):

@@ -403,3 +403,12 @@ def test_compensated_summation_keeps_a_growing_angle_to_round_off(lib):
     for m, r in runs.items():
         assert r.status == "completed" and r.steps == N, (m, r.status, r.steps)
         assert abs(r.x_final[0] - exact) <= 8 * ulp, (m, (r.x_final[0] - exact) / ulp)
+
+
+def test_default_scale_takes_a_rounding_s_zero_for_a_zero():
+    """A start of 1e-28 beside 0.03 and 1 is a zero: it gets the smallest real size (0.03), not its
+    own 1e-28, which asked dop853 for an error of 1e-40 on a periodic orbit's zeta (issue 27)."""
+    from levitron.runtime.integrate.run import default_scale
+    got = default_scale(np.array([0.03, 1e-28, -1.0, 0.0, 2e-3]))
+    assert list(got) == [0.03, 2e-3, 1.0, 2e-3, 2e-3]
+    assert list(default_scale(np.zeros(3))) == [1.0, 1.0, 1.0]

@@ -17,7 +17,7 @@ def lowered_rhs(scene, part_name: str):
     from levitron.derive.spec import build_spec
     order, _ = field_order(scene)
     spec = build_spec(scene.name, build_plate(scene.data["plate"]), order, scene.coordinates,
-                      scene.needs, scene.friction, scene.tilted, scene.offset)
+                      scene.needs, scene.friction, scene.tilted, scene.offset, scene.askew)
     fn = next(f for f in spec.functions if f.name == f"{part_name}_rhs")
     return lower(fn, spec)
 

@@ -89,13 +89,18 @@ def _has_function(part, name: str) -> bool:
         return False
 
 
+TINY = 1e-12      # a start below this fraction of the largest |x0_j| is a zero with rounding
+
+
 def default_scale(x0: np.ndarray) -> np.ndarray:
-    """Per-component magnitudes when the caller gives none: |x0_k|, or the smallest nonzero |x0_j|
-    for the components that start at zero (callers that know the physics should pass `scale`)."""
+    """Per-component magnitudes when the caller gives none: |x0_k|, or the smallest |x0_j| that is
+    not a zero for the components that start at zero or at a rounding's worth of it (a periodic
+    orbit's zeta of 1e-28 once asked dop853 for an error of 1e-40 there). Callers that know the
+    physics pass `scale` (the state's own sizes)."""
     a = np.abs(x0)
-    nz = a[a > 0]
-    floor = nz.min() if nz.size else 1.0
-    return np.where(a > 0, a, floor)
+    real = a > TINY * a.max() if a.size else a > 0
+    floor = a[real].min() if real.any() else 1.0
+    return np.where(real, a, floor)
 
 
 def _validate(method, x0, n, t_end, tol, h, n_out, scale, time_scale, what, max_steps):

@@ -150,14 +150,18 @@ def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
     In air the friction rates are set to 0: the interval is the ideal top's (runtime/physics/friction.py).
     Over a tilted base (plate.tilt) the equilibrium is off the axis and found there
     (runtime/physics/tilted_stability.py, route "eigenvalues" only): a z_s given (a level hover
-    height) and eigen are not used. A UserError for a plate whose symmetry does not carry the
-    analysis (`onaxis_refusal`)."""
+    height) and eigen are not used. With the moment off the axis (top.moment_tilt != 0) the steady
+    motion is periodic: route "Floquet" (runtime/physics/floquet_stability.py). A UserError for a
+    plate whose symmetry does not carry the analysis (`onaxis_refusal`)."""
     if "base_tilt" in model.param_names:
         if height is not None:
             raise UserError("--height analyses a top on the axis of a level base: over a tilted base "
                             "(plate.tilt) give the mass (--set top.mass=...) instead")
         from levitron.runtime.physics.tilted_stability import tilted_analysis
         p = without_friction(model, model.with_params({} if mass is None else {"m": float(mass)}, p))
+        if model.pvals(p).get("moment_tilt", 0.0) != 0:     # a periodic orbit: route "Floquet"
+            from levitron.runtime.physics.floquet_stability import floquet_analysis
+            return floquet_analysis(model, p)
         return tilted_analysis(model, p)
     why = onaxis_refusal(model, p)
     if why is not None:

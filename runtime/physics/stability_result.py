@@ -23,6 +23,7 @@ class StabilityResult:
     mass: float | None = None        # kg: the top analysed (stability_of's `height`: the one hovering there)
     notes: list = field(default_factory=list)
     equilibrium: dict | None = None  # over a tilted base: position, axis (runtime/physics/tilted_stability.py)
+    floquet: dict | None = None      # a moment off the axis: route "Floquet" (runtime/physics/floquet_stability.py)
 
     def as_dict(self) -> dict:
         def pair(iv):
@@ -40,7 +41,8 @@ class StabilityResult:
             "spin_interval_hz": hz,
             "spin_interval_rpm": rpm,
             "routes": {"discriminant": first(self.discriminant),
-                       "eigenvalues": first(self.eigenvalues) if self.eigenvalues is not None else None},
+                       "eigenvalues": first(self.eigenvalues) if self.eigenvalues is not None else None,
+                       **({"floquet": pair(self.spin_interval)} if self.floquet is not None else {})},
             "all_intervals": {"discriminant": [pair(v) for v in self.discriminant],
                               "eigenvalues": None if self.eigenvalues is None
                               else [pair(v) for v in self.eigenvalues]},
@@ -49,6 +51,7 @@ class StabilityResult:
             "reason": self.reason,
             "timings_s": self.timings,
             **({"equilibrium": self.equilibrium} if self.equilibrium is not None else {}),
+            **({"floquet": self.floquet} if self.floquet is not None else {}),
             **({"notes": list(self.notes)} if self.notes else {}),
         }
 

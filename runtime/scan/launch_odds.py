@@ -20,6 +20,8 @@ a model that has the term (a scene without it is refused with the key that adds 
 
     base_tilt          the base's tilt from level (rad; runtime parameter base_tilt, plate.tilt)
     base_tilt_azimuth  its downhill direction (rad from +x towards +y; base_tilt_azimuth)
+    moment_tilt        the angle of the magnet's moment from the top's axis (rad; moment_tilt,
+                       top.moment_tilt): the moment turns with the spin, so the top wobbles
 
 Over a tilted base the launch is still aimed where a person aims it: at the level hover point, on
 the plate's axis at the level hover height, the axis along the plate's normal (the top is spun on
@@ -88,12 +90,14 @@ def _downhill_default(model):
     return Dist("fixed", float(model.pvals()["base_tilt_azimuth"]))
 
 
-# the apparatus inputs: another (a magnet's tilt, parameter moment_tilt) is one entry here
+# the apparatus inputs: another imperfection with a runtime parameter is one entry here
 APPARATUS = (
     Apparatus("base_tilt", "base_tilt", "rad", "plate.tilt", True, "the scene's plate.tilt (0: level)"),
     Apparatus("base_tilt_azimuth", "base_tilt_azimuth", "rad", "plate.tilt", False,
               "uniform:0,2pi rad over an axially symmetric plate, else the scene's plate.tilt_azimuth; "
               "the scene's where the base tilt is fixed at 0", _downhill_default, "base_tilt"),
+    Apparatus("moment_tilt", "moment_tilt", "rad", "top.moment_tilt", True,
+              "the scene's top.moment_tilt (0: the magnet on the axis)"),
 )
 ALL_INPUTS = INPUTS + tuple(a.name for a in APPARATUS)
 # what each input's numbers are (the module docstring): the SI unit of its JSON numbers, "1" for a
@@ -606,6 +610,7 @@ LAUNCH_MEANING = {
     "floats": "1 if the flight reached the success time, else 0",
     "base_tilt": "the base's tilt from level the launch ran over (rad; the model's base_tilt)",
     "base_tilt_azimuth": "the base's downhill direction (rad from +x towards +y)",
+    "moment_tilt": "the angle of the magnet's moment from the top's axis in the launch (rad; moment_tilt)",
     "flight_time": "how long the top floated (t_end for a run still up)"}
 
 

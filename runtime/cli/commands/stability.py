@@ -60,7 +60,12 @@ def run(args) -> dict:
             raise UserError("--level-tolerance needs the model of a tilted base: add "
                             "--set plate.tilt=0 (or the scene's plate.tilt)")
         from levitron.runtime.physics.tilted_stability import level_tolerance
-        tol = level_tolerance(model, without_friction(model, model.p))
+        p = without_friction(model, model.p)
+        # the base's tolerance is the aligned top's (its relative equilibrium), the moment's is
+        # at the scene's base tilt (route Floquet)
+        aligned = model.with_params({"moment_tilt": 0.0}, p) if "moment_tilt" in model.param_names else p
+        tol = level_tolerance(model, aligned)
+        tol.update(_moment_tolerance(model, p))
         tol["length"] = model.scene.length_scale
         tol["height_difference"] = (None if tol["max_base_tilt"] is None
                                     else math.tan(tol["max_base_tilt"]) * tol["length"])
@@ -74,6 +79,17 @@ def run(args) -> dict:
     out["stiffness"] = (model.param("mu") * float(model.onaxis(res.z_s)[3])
                         if res.z_s and res.equilibrium is None else None)
     return out
+
+
+def _moment_tolerance(model, p) -> dict:
+    """max_moment_tilt (rad) where the model has the moment-tilt terms, else None and why."""
+    if "moment_tilt" not in model.param_names:
+        return {"max_moment_tilt": None,
+                "moment_tolerance": {"note": "the model has no moment-tilt terms: add --set "
+                                             "top.moment_tilt=0 (or the scene's top.moment_tilt)"}}
+    from levitron.runtime.physics.floquet_stability import moment_tolerance
+    got = moment_tolerance(model, p)
+    return {"max_moment_tilt": got.pop("max_moment_tilt"), "moment_tolerance": got}
 
 
 def _agreement(routes) -> str:
@@ -94,9 +110,20 @@ def _where(r: dict, u: Units) -> str:
             f"of mass {u.mass(r['mass'])} (the scene's top is {u.mass(r['scene_mass'])})")
 
 
+def _periodic(e: dict, u: Units) -> str:
+    """The periodic orbit's start: how far off the axis, its period, the axis' angle there."""
+    return (f"the steady motion is periodic (the moment turns with the spin): period "
+            f"{u.time(e['period'])} at the window's middle, the top {u.length(e['offset'], 2)} off "
+            f"the centre and {u.length(abs(e['rise']), 2)} {'higher' if e['rise'] >= 0 else 'lower'} "
+            f"than the aligned top, its axis {u.angle(math.acos(min(1.0, e['axis'][2])))} from the "
+            "plate's")
+
+
 def _equilibrium(e: dict, u: Units) -> str:
     """Where the top hovers over a tilted base: off the centre (downhill or uphill), higher or
     lower than over the level base (along the plate's axis)."""
+    if e.get("periodic"):
+        return _periodic(e, u)
     rounding = 64 * 2.0 ** -52 * e["z_level"]      # what Newton's last step leaves
     if e["offset"] <= rounding and abs(e["rise"]) <= rounding:
         return "the top hovers on the axis, as over the level base"
@@ -105,6 +132,15 @@ def _equilibrium(e: dict, u: Units) -> str:
     return (f"the top hovers {u.length(e['offset'], 2)} off the centre, {side}, "
             f"{u.length(abs(e['rise']), 2)} {updown} (base tilted {u.angle(e['tilt'])}; its axis "
             f"{u.angle(math.acos(min(1.0, e['axis'][2])))} from the plate's)")
+
+
+def _moment_line(t: dict) -> str:
+    """"the magnet aligned with the axis to 2.9 deg (0.05 rad)", or why not given."""
+    b = t.get("max_moment_tilt")
+    if b is None:
+        return "" if t.get("max_base_tilt") is None else f"magnet: {t['moment_tolerance']['note']}"
+    return (f"the magnet aligned with the axis to {sig(math.degrees(b), 3)} deg ({sig(b, 3)} rad; "
+            "beyond it no spin stabilises the top's periodic motion, route Floquet)")
 
 
 def _level_tolerance(t: dict, u: Units) -> str:
@@ -144,12 +180,18 @@ def human(r: dict, scene=None) -> str:
     iv = r.get("spin_interval")
     head = (f"spin_interval: {u.rate_span(*iv)}{_agreement(r['routes'])}" if iv
             else "spin_interval: none: no spin rate stabilises this top")
+    fq = r.get("floquet")
+    if fq is not None:
+        head = (f"spin_interval: {u.rate_span(*iv)}" if iv else "spin_interval: none") + (
+            f" (route Floquet: the moment {u.angle(fq['moment_tilt'])} off the axis; the aligned top's, "
+            f"by the eigenvalues: {u.rate_span(*fq['aligned_interval'])})")
     approx = _approximations(r.get("approximations") or {}, u) if iv else ""
     more = r["all_intervals"].get("discriminant", [])[1:] if iv else []
     return lines(
         head,
         _equilibrium(r["equilibrium"], u) if r.get("equilibrium") else "",
         _level_tolerance(r["level_tolerance"], u) if r.get("level_tolerance") else "",
+        _moment_line(r["level_tolerance"]) if r.get("level_tolerance") else "",
         _where(r, u),
         f"vertical stiffness there: U'' = mu Phi_3 = {u.value(r['stiffness'], 'N/m')} (thesis 3.3.3)"
         if r.get("stiffness") is not None else "",
