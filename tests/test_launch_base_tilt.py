@@ -134,5 +134,6 @@ def test_apparatus_inputs_are_entries():
     the runtime parameter it sets and the scene key that adds the term."""
     assert mc.ALL_INPUTS[:len(mc.INPUTS)] == mc.INPUTS
     assert [(a.name, a.param, a.scene_key) for a in mc.APPARATUS] == [
-        ("base_tilt", "base_tilt", "plate.tilt"), ("base_tilt_azimuth", "base_tilt_azimuth", "plate.tilt")]
+        ("base_tilt", "base_tilt", "plate.tilt"), ("base_tilt_azimuth", "base_tilt_azimuth", "plate.tilt"),
+        ("moment_tilt", "moment_tilt", "top.moment_tilt")]
     assert all(mc.INPUT_UNITS[a.name] == a.unit == mc.LAUNCH_UNITS[a.name] for a in mc.APPARATUS)
