@@ -65,7 +65,7 @@ INPUTS = ("spin", "tilt", "tilt_azimuth", "offset", "velocity", "mass", "strengt
 class Apparatus:
     """An imperfection of the apparatus sampled like a launch input (module docstring): each sample
     sets the runtime parameter `param`, which a model has only where the scene declares `scene_key`
-    (derive/scene.py TILT_PARAMS). `moves`: a value other than 0 moves the equilibrium off the
+    (scene/keys.py TILT_PARAMS). `moves`: a value other than 0 moves the equilibrium off the
     launch point (so launches with no tilt, offset or velocity still test something). `default`:
     the distribution when none is given, from the model (None: the model's own value, fixed)."""
     name: str
@@ -277,9 +277,9 @@ def samples(plan: Plan) -> dict[str, np.ndarray]:
 
 
 def temperature_factor(model, T: float) -> float:
-    """The factor on mu at temperature T relative to the scene's own (derive/scene.py's linear
+    """The factor on mu at temperature T relative to the scene's own (scene/load.py's linear
     model of both magnets' remanence)."""
-    from levitron.derive.scene import T_REF
+    from levitron.scene.keys import T_REF
     data = model.scene.data
     ap = float(data["plate"].get("temperature_coefficient", 0.0))
     at = float(data["top"].get("temperature_coefficient", 0.0))
