@@ -180,7 +180,7 @@ def parse_dist(name: str, spec) -> Dist:
         raise UserError(f"launch {name} = {text!r}: the standard deviation {b:g} is negative; give SD >= 0")
     if kind == "uniform" and b < a:
         raise UserError(f"launch {name} = {text!r}: the range {a:g},{b:g} is reversed; give LO <= HI")
-    return Dist(kind, a, b)
+    return Dist(kind, a + 0.0, b + 0.0)    # -0.0 as 0.0: numpy's uniform refuses hi - lo = -0.0
 
 
 REL = "rel:"          # a relative spread of mass or strength says so: rel:normal:0,0.002, rel:0.2%
