@@ -8,7 +8,7 @@ overwritten.
 --stages writes one line per stage of a derivation on stderr, "stage 3/7 Hamilton's equations", for
 the runtime's progress display (runtime/model/load.py reads them while the child runs). The stages
 are marked by wrapping the functions that begin them, here: derive's modules are not changed (this
-file is outside the input hash, derive/inputs.py).
+file is outside the input hash, scene/inputs.py).
 """
 from __future__ import annotations
 
@@ -18,9 +18,9 @@ import json
 import sys
 from pathlib import Path
 
-from .faults import die_at
-from .paths import GENERATED, SCENES_DIR, is_committed_scene
-from .scene import SceneError, load_scene
+from levitron.scene.faults import die_at
+from levitron.scene.load import SceneError, load_scene
+from levitron.scene.paths import GENERATED, SCENES_DIR, is_committed_scene
 
 
 def refuse_uncommitted(scenes, overrides) -> None:

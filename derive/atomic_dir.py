@@ -19,7 +19,7 @@ import shutil
 import time
 from pathlib import Path
 
-from .faults import die_at
+from levitron.scene.faults import die_at
 
 STALE_AFTER_S = 60.0
 _AT_FDCWD = -100

@@ -2,7 +2,7 @@
 
 generated/<scene>/ is replaced as a whole: everything is written to a temporary folder beside it
 and renamed into place, so a failure never leaves a half-written model behind. The manifest lists
-the sha256 of every file and of itself (derive/digest.py); a folder is current only when its input
+the sha256 of every file and of itself (scene/digest.py); a folder is current only when its input
 hash matches and every digest holds, so `make derive` repairs an edited or truncated file.
 """
 from __future__ import annotations
@@ -13,19 +13,20 @@ import tempfile
 import time
 from pathlib import Path
 
+from levitron.scene.digest import SELF_KEY, file_digests, first_changed_file, manifest_digest
+from levitron.scene.faults import die_at
+from levitron.scene.inputs import input_hash, tool_versions
+from levitron.scene.load import Scene, SceneError
+from levitron.scene.paths import GENERATED
+from levitron.scene.plates.expression import formulas
+
 from .atomic_dir import recover, swap_in, sweep, temp_prefix
-from .digest import SELF_KEY, file_digests, first_changed_file, manifest_digest
 from .doubles import DoubleRangeError
 from .emit.c import emitter as c_emitter
 from .emit.casadi import builder as casadi_builder
 from .emit.lower import lower
 from .emit.taylor import PARTS as TAYLOR_PARTS, Unsupported, taylor_tape
-from .faults import die_at
 from .geometry import build_plate
-from .inputs import input_hash, tool_versions
-from .paths import GENERATED
-from .plates.expression import formulas
-from .scene import Scene, SceneError
 from .spec import build_spec
 
 

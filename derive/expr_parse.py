@@ -10,7 +10,7 @@ and a strict whitelist walk builds the sympy expression node by node:
 - the operators + - * / ** and unary + -, parentheses;
 - the declared names (z and the parameters) and the constants `pi` and `E`;
 - calls of the functions in `FUNCTIONS`, positional arguments only, with their exact arity
-  (the names are those of derive/plates/expression.py, the scene side of the registry). `abs` is
+  (the names are those of scene/plates/expression.py, the scene side of the registry). `abs` is
   refused with its reason: the model differentiates the formula, and |x|'s derivatives (sign(x),
   a Dirac delta) have no code; the same holds where sympy turns sqrt(x**2) into |x|.
 
@@ -33,8 +33,9 @@ from collections.abc import Iterable, Mapping
 
 import sympy as sp
 
+from levitron.scene.plates import expression as scene_side
+
 from .doubles import DOUBLE_MAX, DOUBLE_TINY, DoubleRangeError, as_double
-from .plates import expression as scene_side
 
 MAX_LENGTH = scene_side.MAX_FORMULA   # characters of formula text
 MAX_NODES = 1000       # nodes of the syntax tree

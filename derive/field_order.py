@@ -32,9 +32,10 @@ import math
 import numpy as np
 import sympy as sp
 
+from levitron.scene.load import Scene, SceneError
+
 from .field import laplace_coefficients
 from .geometry import Plate, build_plate
-from .scene import Scene, SceneError
 from .symbols import Z
 
 MAX_ORDER = 12

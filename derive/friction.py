@@ -29,7 +29,7 @@ from .symbols import A, C, m
 from .trig import trig_reduce
 
 k_spin, k_tilt, k_trans = sp.symbols("k_spin k_tilt k_trans", real=True)
-RATES = (k_spin, k_tilt, k_trans)     # the names derive/scene.py's FRICTION_KEYS resolve to
+RATES = (k_spin, k_tilt, k_trans)     # the names scene/keys.py's FRICTION_KEYS resolve to
 
 
 def body_rates(system: HamiltonianSystem) -> sp.Matrix:

@@ -1,7 +1,7 @@
 """Base plates -> the on-axis magnetic scalar potential Phi0(z) (thesis eqs. 2.2.8-2.2.11).
 
-The plates themselves live in the registry: derive/plates/<kind>.py (scene keys, resolver,
-structural decisions) and derive/plates/symbolic/<kind>.py (the sympy builder, imported from here
+The plates themselves live in the registry: scene/plates/<kind>.py (scene keys, resolver,
+structural decisions) and derive/plate_fields/<kind>.py (the sympy builder, imported from here
 as `build_plate`). This module keeps the thesis's textbook Phi0 of the annulus and the disk, which
 tests compare the registry's cancellation-free forms (derive/onaxis.py) against.
 """
@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from .plates.symbolic import Plate, build_plate, plate_symbol
+from .plate_fields import Plate, build_plate, plate_symbol
 from .symbols import Z
 
 __all__ = ["Plate", "annulus_phi0", "build_plate", "disk_phi0", "plate_symbol"]

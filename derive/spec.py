@@ -9,10 +9,11 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
+from levitron.scene.checks import SceneError
+
 from . import field as fieldmod
 from . import friction as frictionmod
 from .invariants import angular_momenta
-from .checks import SceneError
 from .geometry import Plate
 from .mechanics import hamiltonian_system
 from .reduction import reduced_system
@@ -68,9 +69,9 @@ def build_spec(scene_name: str, plate: Plate, order: int, coordinates: str, need
     close the parameter vector and `full_dissipation` (2F = -dH/dt) is emitted; without it the
     model is the conservative one of thesis 2.3. With `tilted` (a base tilt, plate.tilt) gravity in
     the full model is along a tilted vector (derive/mechanics.py) and base_tilt, base_tilt_azimuth
-    close the parameter vector; the reduced model does not exist then (derive/scene.py refuses it).
+    close the parameter vector; the reduced model does not exist then (scene/load.py refuses it).
     With `offset` (top.moment_offset) the full model's moment sits at r + d n, and moment_offset
-    comes after the tilt's; derive/scene.py gives such a scene no reduced model either (it is not
+    comes after the tilt's; scene/load.py gives such a scene no reduced model either (it is not
     derived). With `askew` (top.moment_tilt) the moment is tilted from the axis in the body
     (derive/mechanics.py) and moment_tilt comes last; no reduced model (the spin is not conserved)."""
     rates = tuple(frictionmod.RATES) if friction else ()

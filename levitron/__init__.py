@@ -14,17 +14,17 @@ command line (`levitron ...`) calls the same functions.
 
 Bad input raises `levitron.UserError` (runtime.errors.UserError: a one-line message saying what
 is wrong and how to fix it, the line the command line prints); `levitron.SceneError` is the
-scene reader's own (derive.scene), raised by `load_scene`-level helpers. Both are exported here.
+scene reader's own (levitron.scene.checks), raised by `load_scene`-level helpers. Both are exported here.
 """
 from __future__ import annotations
 
 from pathlib import Path as _Path
 
-# A source checkout keeps derive/ and runtime/ at its top level, beside this folder; packaging puts
-# them inside it (pyproject.toml, [tool.setuptools.package-dir]). Either way they are
-# levitron.derive and levitron.runtime: the one import name this package installs.
+# A source checkout keeps scene/, derive/ and runtime/ at its top level, beside this folder; packaging
+# puts them inside it (pyproject.toml, [tool.setuptools.package-dir]). Either way they are
+# levitron.scene, levitron.derive and levitron.runtime: the one import name this package installs.
 _CHECKOUT = _Path(__file__).resolve().parent.parent
-if all((_CHECKOUT / d / "__init__.py").is_file() for d in ("derive", "runtime")) \
+if all((_CHECKOUT / d / "__init__.py").is_file() for d in ("scene", "derive", "runtime")) \
         and (_CHECKOUT / "pyproject.toml").is_file():
     __path__.append(str(_CHECKOUT))
 
@@ -36,6 +36,6 @@ __getattr__, __dir__, __all__ = _lazy_surface(__name__, {
     "DesignResult": "runtime.design.optimize", "Equilibria": "results", "Equilibrium": "results",
     "FitResult": "runtime.design.fit", "LaunchOdds": "results", "Propagator": "runtime.integrate.propagator",
     "ScanResult": "runtime.scan.stability_map",
-    "SceneError": "derive.scene", "Simulation": "results", "Simulations": "results",
+    "SceneError": "scene.checks", "Simulation": "results", "Simulations": "results",
     "Stability": "results", "Study": "study", "Trim": "results", "UserError": "runtime.errors",
     "load": "study", "plate_from_magpylib": "from_magpylib"})

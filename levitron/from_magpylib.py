@@ -2,7 +2,7 @@
 
 magpylib (>= 5: SI, positions in m, magnetization in A/m, currents in A) is the library in which
 people design magnet assemblies; this turns an assembly of sources the plate kinds can express
-into a scene's [plate] table, one part per source (derive/plates/compound.py):
+into a scene's [plate] table, one part per source (scene/plates/compound.py):
 
     Cuboid, centred on the z axis, sides along x and y        -> rectangle (block)
     Cylinder, on the axis                                     -> ring_magnet (solid)

@@ -8,7 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
-from levitron.derive.scene import SceneError, override_text
+from levitron.scene.checks import SceneError
+from levitron.scene.overrides import override_text
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.physics import stability_casadi as sc
 from levitron.runtime.model.scenes import load_scene
@@ -16,8 +17,7 @@ from levitron.runtime.design.constraints import Constraint
 from levitron.runtime.design.optimize import DesignResult
 from levitron.runtime.design.optimize import optimize as _optimize
 from levitron.runtime.errors import UserError
-from levitron.runtime.design.fit import FitResult, Row, read_rows
-from levitron.runtime.design.fit import fit as _fit
+from levitron.runtime.design.fit import FitResult, Row, fit as _fit, read_rows
 from levitron.runtime.model.load import NEEDS_OF_PART, Model, load_model
 from levitron.runtime.design.scene_keys import Vary, key_value, pvector, with_values
 from levitron.runtime.physics.stability import stability_of
@@ -35,7 +35,7 @@ MANY_OPTIONS = ("tilt", "offset", "azimuth", "t_end", "integrator", "tol", "box"
 
 
 def override_texts(overrides: Mapping[str, object] | None) -> list[str]:
-    """The --set texts of {scene key: value}, written by a TOML writer (derive.scene.override_text):
+    """The --set texts of {scene key: value}, written by a TOML writer (scene.overrides.override_text):
     a quote or a newline in a value stays inside it, and the command line's reader reads them.
     Numbers may be NumPy scalars (`for m in np.linspace(...)` works)."""
     if overrides is None:

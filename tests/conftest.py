@@ -10,7 +10,7 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from levitron.derive.scene import load_scene  # noqa: E402
+from levitron.scene.load import load_scene  # noqa: E402
 
 
 @pytest.fixture(scope="session")

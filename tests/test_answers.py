@@ -183,7 +183,7 @@ def test_unbounded_edge_is_refused_and_says_where(thesis_model, monkeypatch):
     Phi_3 = +4.7e-13 whatever the rounding."""
     import dataclasses
 
-    from levitron.derive.scene import load_scene
+    from levitron.scene.load import load_scene
     from levitron.runtime.design import edge as design_edge
     from levitron.runtime.errors import UserError
     from levitron.runtime.model.load import load_model

@@ -8,7 +8,7 @@ import sys
 import pytest
 
 import levitron as lev
-from levitron.derive.paths import ROOT
+from levitron.scene.paths import ROOT
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.physics.stability import stability_of
 

@@ -18,9 +18,9 @@ from pathlib import Path
 import pytest
 
 from levitron.derive.build import derive_scene
-from levitron.derive.digest import SELF_KEY, manifest_digest
-from levitron.derive.paths import ROOT
-from levitron.derive.scene import load_scene
+from levitron.scene.digest import SELF_KEY, manifest_digest
+from levitron.scene.paths import ROOT
+from levitron.scene.load import load_scene
 from levitron.runtime.model.cbuild import compile_shared
 from levitron.runtime.model.manifest import ArtefactError
 
@@ -163,7 +163,7 @@ def test_truncated_casadi_file_is_refused(fresh, copy):
 
 
 def test_truncated_casadi_file_with_forged_digests_is_one_line(fresh, copy):
-    from levitron.derive.digest import sha256_hex
+    from levitron.scene.digest import sha256_hex
     data = (copy / "onaxis.casadi").read_bytes()[:3000]
     (copy / "onaxis.casadi").write_bytes(data)
     edit_manifest(copy, lambda d: d["files"].__setitem__("onaxis.casadi", sha256_hex(data)))
@@ -251,7 +251,7 @@ def test_truncated_cached_library_is_rebuilt(fresh, copy, tmp_path, monkeypatch,
     lib.write_bytes(data[: len(data) // 3])
     assert not is_intact(lib)
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    script = ("from levitron.derive.scene import load_scene; from levitron.runtime.model.load import Model; "
+    script = ("from levitron.scene.load import load_scene; from levitron.runtime.model.load import Model; "
               f"print(Model(load_scene({SCENE!r}), {str(copy)!r}).onaxis(0.1)[0])")
     for attempt in range(2):
         res = subprocess.run([PY, "-c", script], env=env, capture_output=True, text=True,
@@ -342,7 +342,7 @@ def repo_copy(tmp_path):
     """The code, scenes and generated/reduced_only in a temporary repository: a regression here
     can only ever damage the copy."""
     repo = tmp_path / "repo"
-    for name in ("levitron", "derive", "runtime", "scenes"):
+    for name in ("levitron", "scene", "derive", "runtime", "scenes"):
         shutil.copytree(ROOT / name, repo / name, ignore=shutil.ignore_patterns("__pycache__"))
     shutil.copy2(ROOT / "pyproject.toml", repo)      # levitron/__init__ maps a checkout by it
     shutil.copytree(ROOT / "generated" / SCENE, repo / "generated" / SCENE)

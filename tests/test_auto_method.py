@@ -8,7 +8,7 @@ import json
 import numpy as np
 import pytest
 
-from levitron.derive.scene import load_scene
+from levitron.scene.load import load_scene
 from levitron.runtime.scan import stability_map as sc
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.run import csrc_library, integrate

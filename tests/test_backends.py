@@ -10,7 +10,7 @@ import pytest
 import sympy as sp
 
 from levitron.derive.geometry import build_plate
-from levitron.derive.scene import load_scene
+from levitron.scene.load import load_scene
 from levitron.derive.spec import build_spec
 from levitron.derive.symbols import B_FUNCS, Phi, X, Y, Z
 from levitron.runtime.model.load import load_model

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import scipy.linalg
 
-from levitron.derive.scene import load_scene
+from levitron.scene.load import load_scene
 from levitron.runtime.model.load import load_model
 from levitron.runtime.physics import eigen_route
 from levitron.runtime.physics.eigen_route import balancing

@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from levitron.derive.inputs import input_hash
+from levitron.scene.inputs import input_hash
 from levitron.derive.mechanics import hamiltonian_system
-from levitron.derive.scene import SceneError, load_scene
+from levitron.scene.load import SceneError, load_scene
 from levitron.derive.symbols import X, Y, Z, base_tilt, base_tilt_azimuth, g, m
 
 TILT = ("plate.tilt=0.001",)

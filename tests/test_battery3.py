@@ -211,7 +211,7 @@ def _api(call: str, folder: Path):
 
 
 def test_a_temperature_spread_takes_the_check_of_the_temperature(tmp_path):
-    """The launch spread's temperatures pass the one check of a temperature (derive/scene.py
+    """The launch spread's temperatures pass the one check of a temperature (scene/load.py
     temperature_factors, as --temperature does), at both ends of its range and from every source:
     the flag, the [launch] table, the API. Before: 'launch --temperature-spread 1353.33' said
     '100 % float' with the plate's remanence factor at -1.67; --temperature refused it."""

@@ -10,7 +10,8 @@ import math
 
 import pytest
 
-from levitron.derive.scene import SCENES_DIR, load_scene
+from levitron.scene.load import load_scene
+from levitron.scene.paths import SCENES_DIR
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.bench.work_precision import ROW_KEYS
 from levitron.runtime.physics.stability import stability_of
@@ -145,7 +146,7 @@ def test_every_bench_kind_is_a_module_with_the_protocol():
     import importlib
     import inspect
 
-    from levitron.derive.scene import find_scene_file
+    from levitron.scene.load import find_scene_file
     from levitron.runtime.bench.kinds import KINDS
     for kind in KINDS.values():
         fn = importlib.import_module(kind.module).bench

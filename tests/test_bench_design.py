@@ -7,7 +7,7 @@ import json
 import subprocess
 import sys
 
-from levitron.derive.paths import ROOT
+from levitron.scene.paths import ROOT
 
 
 def test_quick_bench_writes_json_and_csv(tmp_path):
@@ -23,7 +23,7 @@ def test_quick_bench_writes_json_and_csv(tmp_path):
     assert case["iterations"] > 0 and case["grid_points"] == 20 and case["wall_s"] > 0
     assert case["max_relative_gap"] <= 1e-8
     # the stiffness floor is the scene's own: a fifth of its top's stiffness (2.56 N/m), not a number
-    from levitron.derive.scene import load_scene
+    from levitron.scene.load import load_scene
     from levitron.runtime.bench.design import STIFFNESS_FRACTION, stiffness_floor
     from levitron.runtime.model.load import load_model
     floor = stiffness_floor(load_model(load_scene("thesis_stable")))

@@ -16,7 +16,7 @@ import sympy as sp
 from levitron.derive.build import render
 from levitron.derive.doubles import DoubleRangeError, as_double
 from levitron.derive.emit.c.printer import LevitronCPrinter
-from levitron.derive.scene import SceneError, validate
+from levitron.scene.load import SceneError, validate
 
 x = sp.Symbol("x", real=True)
 

@@ -23,8 +23,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from levitron.derive.paths import SCENES_DIR
-from levitron.derive.scene import load_scene
+from levitron.scene.paths import SCENES_DIR
+from levitron.scene.load import load_scene
 from formula_grammar import formula_plates
 from termsize import assert_agree, values_and_sizes
 

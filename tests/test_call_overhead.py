@@ -9,7 +9,7 @@ import time
 import numpy as np
 import pytest
 
-from levitron.derive.scene import load_scene
+from levitron.scene.load import load_scene
 from levitron.runtime.integrate import c_backend as ci
 from levitron.runtime.model.load import load_model
 from levitron.runtime.scan.points import point_setup

@@ -196,7 +196,7 @@ def test_another_models_stamped_library_is_rebuilt_not_blamed_on_the_folder(tmp_
     rebuilt, once, with a note, and the model runs."""
     import shutil
 
-    from levitron.derive.scene import load_scene
+    from levitron.scene.load import load_scene
     from levitron.runtime.model.load import load_model
     # seeded with the runtime/csrc objects only: both models' libraries are built here
     monkeypatch.setenv("LEVITRON_CACHE", str(seed_cache(tmp_path / "cache")))

@@ -1,6 +1,6 @@
 """A compound plate takes every kind as a part (the rectangle and another compound included), each
 part optionally with `sign = -1`; the symmetry a plate leaves and what is refused without it
-(derive/plates/compound.py, derive/plates/symmetry.py, issue 30).
+(scene/plates/compound.py, scene/plates/symmetry.py, issue 30).
 
 Independent routes: a compound of one part against the part itself (to the last bit); a rectangle
 minus a cylinder part against the rectangle's own hole (bit for bit at runtime, the same sympy
@@ -17,11 +17,11 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from levitron.derive import plates
-from levitron.derive.plates.symbolic import build_plate
-from levitron.derive.paths import SCENES_DIR
-from levitron.derive.plates.symmetry import symmetry
-from levitron.derive.scene import SceneError, load_scene, validate
+from levitron.scene import plates
+from levitron.derive.plate_fields import build_plate
+from levitron.scene.paths import SCENES_DIR
+from levitron.scene.plates.symmetry import symmetry
+from levitron.scene.load import SceneError, load_scene, validate
 from levitron.derive.symbols import X, Y, Z
 from levitron.runtime.errors import UserError
 from levitron.runtime.physics import equilibrium as eqm

@@ -10,8 +10,8 @@ import sys
 import numpy as np
 import pytest
 
-from levitron.derive.paths import ROOT
-from levitron.derive.scene import load_scene
+from levitron.scene.paths import ROOT
+from levitron.scene.load import load_scene
 from levitron.runtime.design import optimize as design
 from levitron.runtime.design.constraints import Constraint
 from levitron.runtime.errors import UserError

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from levitron.derive.scene import load_scene
+from levitron.scene.load import load_scene
 from levitron.runtime.integrate.run import integrate
 from levitron.runtime.model.load import load_model
 from levitron.runtime.physics.equilibrium import hover_height

@@ -170,7 +170,7 @@ def test_adiabatic_band_edges(thesis_report):
 
 def test_generated_model_onaxis_matches_closed_form():
     """The generated model's onaxis (thesis scene) equals the closed form (relative 1e-12)."""
-    from levitron.derive.scene import load_scene
+    from levitron.scene.load import load_scene
     from levitron.runtime.model.load import load_model
     model = load_model(load_scene("thesis"))
     P = model.pvals()
@@ -206,7 +206,7 @@ def test_band_predicate_float_filter_equals_the_exact_route(scene_name):
     float roots where their margins are wide and by the exact route elsewhere
     (ray_algebra.has_bounded_spin_interval). Same verdict as the exact route (thesis 3.3.11-3.3.16)
     at 400 heights spanning the scene's hovering range, the band edges included."""
-    from levitron.derive.scene import load_scene
+    from levitron.scene.load import load_scene
     from levitron.runtime.model.load import load_model
     model = load_model(load_scene(scene_name))
     P = eqm.params_of(model, model.p)

@@ -94,7 +94,7 @@ def _write(tmp_path_factory, name: str, text: str) -> str:
 
 
 def _load(path: str):
-    from levitron.derive.scene import load_scene
+    from levitron.scene.load import load_scene
     from levitron.runtime.model.load import load_model
     return load_model(load_scene(path))
 

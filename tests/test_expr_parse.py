@@ -134,7 +134,7 @@ def _builtin_formulas():
     about them: the formulas a scene could give, Phi0 and bz, must all parse), and the thesis's
     textbook forms (thesis eqs. 2.2.11-2.2.12)."""
     from levitron.derive import onaxis
-    from levitron.derive.plates.symbolic import build_plate, plate_symbol
+    from levitron.derive.plate_fields import build_plate, plate_symbol
     from levitron.derive.symbols import Z
     tables = {
         "annulus": {"kind": "annulus"},
@@ -187,9 +187,9 @@ def test_roundtrip_builtin_geometries():
 
 
 def test_scene_validation_reserves_the_parser_names():
-    """derive/plates/expression.py (pure Python) refuses the same parameter names as the parser."""
+    """scene/plates/expression.py (pure Python) refuses the same parameter names as the parser."""
     from levitron.derive.expr_parse import RESERVED
-    from levitron.derive.plates.expression import RESERVED_NAMES
+    from levitron.scene.plates.expression import RESERVED_NAMES
     assert RESERVED_NAMES == RESERVED | {"z"}
 
 
@@ -230,8 +230,8 @@ def test_abs_is_a_one_line_error_with_the_reason(text):
 
 
 def test_abs_through_the_plate_builder_is_one_scene_error_line():
-    from levitron.derive.checks import SceneError
-    from levitron.derive.plates.symbolic import build_plate
+    from levitron.scene.checks import SceneError
+    from levitron.derive.plate_fields import build_plate
     with pytest.raises(SceneError) as info:
         build_plate({"kind": "expression", "phi0": "b*abs(z)/sqrt(z**2 + 1)", "params": {"b": 1.0}})
     assert _one_line(info.value).startswith("plate.phi0: ")
@@ -256,9 +256,9 @@ def test_malformed_formulas_are_one_line(text, fragment):
 def test_derivative_size_budget(monkeypatch):
     """A formula within the parser's limits whose derivatives still grow too fast is refused at the
     first Phi_k above the operation budget, with one line naming it."""
-    from levitron.derive.checks import SceneError
-    from levitron.derive.plates.symbolic import build_plate
-    from levitron.derive.plates.symbolic import expression as ex
+    from levitron.scene.checks import SceneError
+    from levitron.derive.plate_fields import build_plate
+    from levitron.derive.plate_fields import expression as ex
     monkeypatch.setattr(ex, "MAX_DERIVATIVE_OPS", 500)
     plate = build_plate({"kind": "expression", "phi0": "sin(sin(sin(sin(sin(sin(z))))))"})
     assert plate.phi(2) is not None
@@ -268,13 +268,13 @@ def test_derivative_size_budget(monkeypatch):
 
 
 # the timer may fire while Python runs a finaliser: that tick is printed and dropped, and the
-# repeating timer fires again (derive/plates/symbolic/budget.py); pytest reports the dropped one
+# repeating timer fires again (derive/plate_fields/budget.py); pytest reports the dropped one
 @pytest.mark.filterwarnings("ignore::pytest.PytestUnraisableExceptionWarning")
 def test_time_budget_interrupts_symbolic_work():
     import time
 
-    from levitron.derive.checks import SceneError
-    from levitron.derive.plates.symbolic.budget import time_budget
+    from levitron.scene.checks import SceneError
+    from levitron.derive.plate_fields.budget import time_budget
     z = sp.Symbol("z", real=True)
     t0 = time.perf_counter()
     with pytest.raises(SceneError) as info, time_budget(0.2, "plate.phi0"):

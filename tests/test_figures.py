@@ -88,7 +88,7 @@ def test_figure_3_4_orbits_keep_the_reduced_energy(ring_magnet_model, tmp_path, 
 
 @pytest.fixture(scope="module")
 def ring_magnet_model():
-    from levitron.derive.scene import load_scene
+    from levitron.scene.load import load_scene
     from levitron.runtime.model.load import load_model
     return load_model(load_scene("ring_magnet"))
 
@@ -98,7 +98,7 @@ def test_equilibrium_plot_zooms_where_the_crossings_sit_close(ring_magnet_model,
     shows them; the thesis plate's (7.62-15.74 cm of 0-20 cm) needs none."""
     import matplotlib.figure
 
-    from levitron.derive.scene import load_scene
+    from levitron.scene.load import load_scene
     from levitron.runtime.model.load import load_model
     from levitron.runtime.report.figures import figure_3_5
     seen = []

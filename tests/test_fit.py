@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from levitron.derive.scene import load_scene
+from levitron.scene.load import load_scene
 from levitron.runtime.design import fit
 from levitron.runtime.errors import UserError
 from levitron.runtime.model.load import load_model

@@ -1,4 +1,4 @@
-"""An expression plate's plate.z_range (derive/plates/expression.py, issue 26): the heights where its
+"""An expression plate's plate.z_range (scene/plates/expression.py, issue 26): the heights where its
 formula holds. The equilibrium search and the bands stay inside it, a band cut by it says so, and
 the range is a runtime search range, not part of the derivation (the input hash)."""
 from __future__ import annotations
@@ -7,10 +7,10 @@ import json
 
 import pytest
 
-from levitron.derive.inputs import input_hash
+from levitron.scene.inputs import input_hash
 import tomllib
 
-from levitron.derive.scene import validate
+from levitron.scene.load import validate
 from levitron.runtime.cli.main import main
 
 # the annulus's on-axis potential (thesis 2.3) as a formula, in units of its outer radius

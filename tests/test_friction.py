@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from levitron.derive.scene import SceneError, load_scene
+from levitron.scene.load import SceneError, load_scene
 from levitron.runtime.scan import launch_odds as mc
 from levitron.runtime.simulate import run as sim
 from levitron.runtime.cli.main import main
@@ -131,7 +131,7 @@ def test_a_scene_without_friction_gets_the_conservative_model():
     """No decay time: no friction parameters, no full_dissipation, and the structure hashed for
     derive is that of a scene that never heard of friction (generated/ byte-identity itself is
     tests/test_artefacts.py's)."""
-    from levitron.derive.inputs import structure
+    from levitron.scene.inputs import structure
     still = load_model(load_scene("thesis_stable"))
     assert not any(r in still.param_names for r in RATES)
     assert not still.has_function("full_dissipation")

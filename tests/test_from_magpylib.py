@@ -9,9 +9,9 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import levitron as lev
-from levitron.derive import plates
-from levitron.derive.constants import MU0
-from levitron.derive.scene import validate
+from levitron.scene import plates
+from levitron.scene.constants import MU0
+from levitron.scene.load import validate
 from levitron.runtime.physics.plates import plate_field
 
 M = 0.39 / MU0          # A/m

@@ -7,8 +7,8 @@ import sys
 import pytest
 
 from levitron.derive.build import render
-from levitron.derive.paths import GENERATED, ROOT, SCENES_DIR
-from levitron.derive.scene import load_scene
+from levitron.scene.paths import GENERATED, ROOT, SCENES_DIR
+from levitron.scene.load import load_scene
 from levitron.runtime.model.cbuild import compiler
 
 SCENES = sorted(p.stem for p in SCENES_DIR.glob("*.toml"))

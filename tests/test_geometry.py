@@ -14,9 +14,10 @@ import sympy as sp
 from scipy import integrate
 
 from levitron.derive import field_order as fo
-from levitron.derive.plates import length_scale
-from levitron.derive.plates.symbolic import build_plate
-from levitron.derive.scene import MU0, SceneError, load_scene, validate
+from levitron.scene.plates import length_scale
+from levitron.derive.plate_fields import build_plate
+from levitron.scene.constants import MU0
+from levitron.scene.load import SceneError, load_scene, validate
 from levitron.derive.symbols import Z
 from levitron.runtime.physics import exact_field as ef
 from levitron.runtime.physics.plates import plate_field

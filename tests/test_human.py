@@ -144,7 +144,7 @@ def test_tilt_azimuth_turns_the_axis_only():
 
     import numpy as np
 
-    from levitron.derive.scene import load_scene
+    from levitron.scene.load import load_scene
     from levitron.runtime.physics.equilibrium import hover_height
     from levitron.runtime.model.load import load_model
     from levitron.runtime.simulate.run import (

@@ -16,7 +16,8 @@ import pytest
 
 import levitron
 import levitron.study
-from levitron.derive.scene import SceneError, load_scene, override_text, parse_override
+from levitron.scene.load import SceneError, load_scene
+from levitron.scene.overrides import override_text, parse_override
 from levitron.runtime.design import fit
 from levitron.runtime.cli.main import main
 from levitron.runtime.errors import UserError

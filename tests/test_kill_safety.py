@@ -1,7 +1,7 @@
 """Nothing is lost or left behind when a run is killed, and a relative cache stays where the user
 is (no data loss).
 
-Kills are real (SIGKILL, which no handler sees) at injected points (derive/faults.py,
+Kills are real (SIGKILL, which no handler sees) at injected points (scene/faults.py,
 LEVITRON_FAULT=POINT:MARKER): between write_atomic's steps, in the derive child, in the runtime while
 its derive child runs. After the next run: the folder is there with one complete model, no temporary
 of a dead owner is left (their mtime is set back past derive/atomic_dir.py's and
@@ -182,8 +182,8 @@ def test_a_scene_edited_during_its_derivation_is_filed_under_what_was_read(tmp_p
     """Before: the derive child read the file again, so an edit in between filed the new formula's
     model under the old scene's hash (or failed with a wrong reason). Now the child derives a
     snapshot of what this process read and hashed."""
-    from levitron.derive.inputs import input_hash
-    from levitron.derive.scene import load_scene
+    from levitron.scene.inputs import input_hash
+    from levitron.scene.load import load_scene
     from levitron.runtime.model.load import load_model
     monkeypatch.setenv("LEVITRON_CACHE", str(seed_cache(tmp_path / "cache")))
     path = _scene(tmp_path, "edited")

@@ -7,7 +7,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from levitron.derive.scene import SCENES_DIR, load_scene
+from levitron.scene.load import load_scene
+from levitron.scene.paths import SCENES_DIR
 from levitron.runtime.model.load import load_model
 from levitron.runtime.scan.chunk_c import LANES, drive, lanes_call, lanes_of, lib_verdicts, verified_lanes
 
@@ -19,7 +20,7 @@ def test_one_lane_count_on_every_side():
     import re
 
     from levitron.derive.emit.c import emitter
-    from levitron.derive.paths import ROOT
+    from levitron.scene.paths import ROOT
     header = (ROOT / "runtime" / "csrc" / "integrators.h").read_text()
     assert int(re.search(r"#define LEV_LANES (\d+)", header).group(1)) == emitter.LANES == LANES
 

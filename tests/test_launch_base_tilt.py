@@ -101,7 +101,7 @@ def test_a_scene_without_the_tilted_model_is_refused_in_one_line(capsys, tmp_pat
     with pytest.raises(UserError, match=r"plate\.tilt=0"):
         lev.load(SCENE).launch(n=5, inputs={"base_tilt_azimuth": 0.3})
     scene = tmp_path / "crooked.toml"        # the [launch] table's key is refused alike
-    from levitron.derive.scene import SCENES_DIR
+    from levitron.scene.paths import SCENES_DIR
     scene.write_text((SCENES_DIR / f"{SCENE}.toml").read_text() + '\n[launch]\nbase_tilt = "normal:0,0.001"\n')
     assert main(["launch", str(scene), "--n", "5"]) == 2
     assert "--set plate.tilt=0" in capsys.readouterr().err

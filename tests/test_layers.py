@@ -1,6 +1,8 @@
-"""The house's rooms: runtime/ in subpackages by idea, imports only down the layers, no import
-cycles (function-level imports counted too), no private name across packages, and a public API
-(levitron) that stands on the runtime, not on the command line."""
+"""The house's rooms: scene/ (the scene language, pure Python) at the bottom, derive/ (sympy) and
+runtime/ on it, each taking of the other only what is listed; runtime/ in subpackages by idea,
+imports only down the layers, no import cycles (function-level imports counted too), no private
+name across packages, a public API (levitron) that stands on the runtime, not on the command line;
+the input hash covers all of derive/; no module over 400 lines."""
 from __future__ import annotations
 
 import ast
@@ -17,7 +19,7 @@ TOP_LEVEL = {"__init__.py", "__main__.py", "errors.py", "csrc", "__pycache__"}
 
 
 def module_name(path: Path) -> str:
-    """The import name of a file of the checkout: derive/ and runtime/ sit under levitron."""
+    """The import name of a file of the checkout: scene/, derive/ and runtime/ sit under levitron."""
     rel = path.relative_to(ROOT).with_suffix("")
     parts = list(rel.parts)
     if parts[-1] == "__init__":
@@ -26,18 +28,22 @@ def module_name(path: Path) -> str:
 
 
 def imports(path: Path):
-    """(imported module, imported names) of every import in the file, nested ones included; a
-    runtime module imports by absolute path only (levitron's own modules relatively)."""
+    """(imported module, imported names) of every import in the file, nested ones included, a
+    relative one as its absolute name; a runtime module imports by absolute path only."""
     tree = ast.parse(path.read_text(), str(path))
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
             for a in node.names:
                 yield a.name, ()
         elif isinstance(node, ast.ImportFrom):
+            names = tuple(a.name for a in node.names)
             if node.level:
                 assert RUNTIME not in path.parents, f"{path}: relative import (write levitron.runtime.<package>)"
+                package = module_name(path).split(".")[:None if path.name == "__init__.py" else -1]
+                base = package[:len(package) - node.level + 1]
+                yield ".".join(base + ([node.module] if node.module else [])), names
                 continue
-            yield node.module or "", tuple(a.name for a in node.names)
+            yield node.module or "", names
 
 
 def runtime_files():
@@ -147,16 +153,109 @@ def test_the_api_does_not_stand_on_the_command_line():
             assert not mod.startswith("levitron.runtime.cli"), f"{p.name} imports {mod}"
 
 
-def test_the_input_hash_covers_what_shapes_generated_only():
-    """derive's scene reader and checks, paths, docs and fault injection are not hashed: a fix to an
-    error message leaves every generated model current; the code that shapes models is hashed."""
-    from levitron.derive.inputs import DERIVE_DIR, NOT_SHAPING, hashed_sources
-    names = {p.relative_to(DERIVE_DIR).as_posix() for p in hashed_sources()}
-    assert all((DERIVE_DIR / n).exists() for n in NOT_SHAPING)
-    assert not names & NOT_SHAPING
+# The top-level rooms: who may import whom (levitron/ is the public API on top of the runtime).
+# scene/ is the bottom: pure Python, standing on nothing of the toolchain. derive/ is sympy, the
+# emitters and the build. The runtime takes of derive/ only what is not sympy and not physics:
+NOT_IN_SCENE = ("sympy", "numpy", "scipy", "casadi", "jinja2", "levitron.derive", "levitron.runtime",
+                "levitron.study", "levitron.results")
+RUNTIME_TAKES_OF_DERIVE = {
+    "levitron.derive.atomic_dir": "the build's folder swap (pure Python): the runtime's cache of "
+                                  "derived models swaps and sweeps its folders the same way",
+    "levitron.derive.emit.heyoka": "the bench alone, inside a function: heyoka's system from the "
+                                   "same sympy equations (the optional [bench] extra)",
+}
+# What derive/ takes from scene/, and why none of it can change a generated file without changing
+# its input hash (scene/ is not hashed; scene/inputs.py): a new entry needs its reason.
+DERIVE_TAKES_OF_SCENE = {
+    "SceneError": "errors", "Scene": "the validated scene, hashed as its structure",
+    "load_scene": "reads the scene that is hashed", "die_at": "fault injection",
+    "SELF_KEY": "manifest digests", "file_digests": "manifest digests",
+    "first_changed_file": "manifest digests", "manifest_digest": "manifest digests",
+    "input_hash": "the hash itself", "tool_versions": "hashed", "GENERATED": "where files go",
+    "SCENES_DIR": "where scenes are", "is_committed_scene": "where files go",
+    "formulas": "message text", "expression": "the formula vocabulary: it accepts or refuses a formula, "
+    "the formula text is hashed", "KINDS": "the kind's name is hashed", "SIGN": "a key name, hashed",
+    "block": "a decision, its value is hashed", "holed": "a decision, its value is hashed",
+    "hollow": "a decision, its value is hashed", "MU0": "its value is in the hash payload",
+}
+
+
+def room_files(room: str):
+    return sorted(p for p in (ROOT / room).rglob("*.py") if "__pycache__" not in p.parts)
+
+
+def test_the_scene_language_stands_on_nothing_of_the_toolchain():
+    """scene/ imports no sympy, numpy or casadi and nothing of derive/, runtime/ or the API; and
+    importing every module of it loads none of them (a second route: the interpreter's own)."""
+    bad = [f"{p.relative_to(ROOT)}: {mod}" for p in room_files("scene") for mod, _ in imports(p)
+           if mod.startswith(NOT_IN_SCENE) or mod == "levitron"]
+    assert bad == []
+    import subprocess
+    import sys
+    names = [module_name(p) for p in room_files("scene")]
+    # `import levitron` itself loads levitron.runtime's __init__ (the API's lazy surface): the
+    # modules the scene language loads beyond it
+    code = (f"import importlib, sys, levitron\nbefore = set(sys.modules)\n"
+            f"for n in {names!r}: importlib.import_module(n)\n"
+            f"print(sorted(m for m in set(sys.modules) - before if m.split('.')[0] in "
+            f"{('sympy', 'numpy', 'scipy', 'casadi', 'jinja2')!r} or m.startswith(('levitron.derive', "
+            "'levitron.runtime'))))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=ROOT)
+    assert out.stdout.strip() == "[]"
+    assert len(names) >= 20
+
+
+def test_derive_and_the_runtime_take_of_each_other_only_what_is_listed():
+    """derive/ imports nothing of the runtime or the API, and of scene/ only DERIVE_TAKES_OF_SCENE;
+    the runtime and the API take of derive/ only RUNTIME_TAKES_OF_DERIVE."""
+    bad = []
+    for p in room_files("derive"):
+        for mod, names in imports(p):
+            if mod.startswith("levitron.runtime") or mod in ("levitron", "levitron.study"):
+                bad.append(f"{p.relative_to(ROOT)}: {mod}")
+            if mod.startswith("levitron.scene"):
+                bad += [f"{p.relative_to(ROOT)}: {mod}.{n}" for n in names if n not in DERIVE_TAKES_OF_SCENE]
+    for p in room_files("runtime") + room_files("levitron"):
+        for mod, _ in imports(p):
+            if mod.startswith("levitron.derive") and mod not in RUNTIME_TAKES_OF_DERIVE:
+                bad.append(f"{p.relative_to(ROOT)}: {mod}")
+    assert bad == []
+
+
+def test_the_input_hash_covers_all_of_derive():
+    """Every .py and .j2 under derive/ is hashed (derive/ is what shapes generated/), nothing of
+    scene/ is (a better error message leaves every model current), and the hash moves when a
+    derive/ source does (a byte appended to a copy of the list's first file)."""
+    from levitron.scene import inputs
+    from levitron.scene.paths import DERIVE_DIR
+    hashed = inputs.hashed_sources()
+    on_disk = sorted(p for p in DERIVE_DIR.rglob("*") if p.suffix in (".py", ".j2")
+                     and "__pycache__" not in p.parts)
+    assert hashed == on_disk
+    names = {p.relative_to(DERIVE_DIR).as_posix() for p in hashed}
     assert {"spec.py", "mechanics.py", "friction.py", "emit/lower.py", "emit/c/printer.py",
-            "plates/annulus.py", "inputs.py", "build.py"} <= names
+            "plate_fields/annulus.py", "expr_parse.py", "build.py", "atomic_dir.py", "__main__.py"} <= names
     assert any(n.endswith(".j2") for n in names)
+    assert not any((ROOT / "scene") in p.parents for p in hashed)
+    assert not hasattr(inputs, "NOT_SHAPING")
+
+
+# The house's ceiling: no module over 400 lines. The files over it today, each with its length
+# today: the test fails when one grows, and when one is split under the ceiling (drop its entry).
+MAX_LINES = 400
+OVER_TODAY = {"runtime/scan/launch_odds.py": 645, "runtime/model/load.py": 540,
+              "runtime/bench/work_precision.py": 539, "runtime/physics/equilibrium.py": 522,
+              "runtime/design/fit.py": 497, "runtime/design/optimize.py": 483}
+
+
+def test_no_module_is_over_the_house_ceiling():
+    lengths = {p.relative_to(ROOT).as_posix(): len(p.read_text().splitlines())
+               for room in ("scene", "derive", "runtime", "levitron") for p in room_files(room)}
+    over = {name: n for name, n in lengths.items() if n > MAX_LINES and name not in OVER_TODAY}
+    assert over == {}
+    grown = {name: (lengths.get(name), was) for name, was in OVER_TODAY.items()
+             if lengths.get(name, 0) > was or lengths.get(name, 0) <= MAX_LINES}
+    assert grown == {}, "an allowlisted file grew, or is under the ceiling now: drop its entry"
 
 
 def test_every_public_name_of_every_package_resolves():

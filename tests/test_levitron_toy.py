@@ -12,10 +12,10 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from levitron.derive import plates
-from levitron.derive.plates.symbolic import build_plate
-from levitron.derive.plates.symmetry import symmetry
-from levitron.derive.scene import load_scene
+from levitron.scene import plates
+from levitron.derive.plate_fields import build_plate
+from levitron.scene.plates.symmetry import symmetry
+from levitron.scene.load import load_scene
 from levitron.derive.symbols import Z
 from levitron.runtime.physics import equilibrium as eqm
 

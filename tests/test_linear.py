@@ -215,7 +215,7 @@ def test_on_imaginary_axis_tolerance_is_a_real_bound():
 
 @pytest.fixture(scope="module")
 def thesis_model():
-    from levitron.derive.scene import load_scene
+    from levitron.scene.load import load_scene
     from levitron.runtime.model.load import load_model
     return load_model(load_scene("thesis"))
 

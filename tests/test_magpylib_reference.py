@@ -4,7 +4,7 @@ fields of magnets and currents (M. Ortner and L. G. Coliado Bandeira, SoftwareX 
 magpylib >= 5 works in SI (positions in m, magnetization in A/m, polarization J = mu0 M in T,
 currents in A, B in T); version 4 used mm and mT. The test extra pins 6.3.0 (pyproject.toml), whose
 docstrings say "SI units are used for all inputs and outputs". Its mu0 is CODATA 2022
-(1.25663706127e-6), ours CODATA 2018 (derive/constants.py, 1.25663706212e-6): the two differ by
+(1.25663706127e-6), ours CODATA 2018 (scene/constants.py, 1.25663706212e-6): the two differ by
 6.8e-10 relative, and B of a given M or I is proportional to mu0, so magpylib's B is scaled by
 MU0 / magpylib.mu_0 before the comparison (otherwise every point would differ by that constant).
 
@@ -17,7 +17,7 @@ What is compared (the plate's top face in z = 0, its axis the z axis, docs/contr
 - the on-axis potential Phi_1..Phi_3 of each kind's sympy builder (what the reduced model, the
   equilibria and the stability analysis use; B_z = -Phi_1 on the axis) against magpylib's B_z and
   its z-derivatives by a five-point finite difference (magpylib gives no gradient);
-- the rectangle's exact 3-D field and its gradient in the full model (derive/plates/symbolic/
+- the rectangle's exact 3-D field and its gradient in the full model (derive/plate_fields/
   rectangle.py field3d, differentiated by sympy as the generated code is) against magpylib's B and
   a five-point finite difference of it.
 
@@ -43,9 +43,9 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from levitron.derive import plates
-from levitron.derive.constants import MU0
-from levitron.derive.plates.symbolic import build_plate
+from levitron.scene import plates
+from levitron.scene.constants import MU0
+from levitron.derive.plate_fields import build_plate
 from levitron.derive.symbols import X, Y, Z
 from levitron.runtime.physics import exact_field as ef
 from levitron.runtime.physics.plates import plate_field
@@ -58,7 +58,7 @@ MAG = BR / MU0                      # A/m
 
 
 def resolved(table: dict) -> dict:
-    """Scene.params of a [plate] table: plate_<name> -> SI value (derive/plates resolve)."""
+    """Scene.params of a [plate] table: plate_<name> -> SI value (scene/plates resolve)."""
     return {f"plate_{k}": float(v) for k, v in plates.resolve(table, MOMENT).items()}
 
 

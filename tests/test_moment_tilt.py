@@ -15,8 +15,8 @@ import math
 import numpy as np
 import pytest
 
-from levitron.derive.inputs import input_hash
-from levitron.derive.scene import SceneError, load_scene
+from levitron.scene.inputs import input_hash
+from levitron.scene.load import SceneError, load_scene
 
 ASKEW = ("top.moment_tilt=0.05",)
 

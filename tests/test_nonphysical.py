@@ -10,7 +10,7 @@ from __future__ import annotations
 import pytest
 
 from levitron.derive.build import render
-from levitron.derive.scene import SceneError, validate
+from levitron.scene.load import SceneError, validate
 from levitron.runtime.cli.main import main
 
 

@@ -5,7 +5,7 @@ import sys
 
 import pytest
 
-from levitron.derive.paths import ROOT
+from levitron.scene.paths import ROOT
 from levitron.runtime.errors import UserError
 from levitron.runtime.design.fit_height import fit_equilibrium_height
 

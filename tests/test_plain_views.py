@@ -147,7 +147,7 @@ def test_info_shows_each_plate_parameter_with_its_unit(capsys, scene, shown):
 def test_launch_shows_a_temperature_that_matters():
     """The launches' temperature is shown where it is spread or the magnets have a temperature
     coefficient (thesis_air), not as a fixed 20 degC that changes nothing (thesis_stable)."""
-    from levitron.derive.scene import load_scene
+    from levitron.scene.load import load_scene
     from levitron.runtime.cli.commands.launch import _temperature_matters
     assert _temperature_matters("20", load_scene("thesis_air"))
     assert not _temperature_matters("20", load_scene("thesis_stable"))

@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 import tomllib
 
-from levitron.derive import plates
-from levitron.derive.inputs import input_hash, structure
-from levitron.derive.paths import ROOT
-from levitron.derive.plates import docs
-from levitron.derive.scene import load_scene, validate
+from levitron.scene import plates
+from levitron.scene.inputs import input_hash, structure
+from levitron.scene.paths import ROOT
+from levitron.scene.plates import docs
+from levitron.scene.load import load_scene, validate
 
 
 def _example(kind: str) -> dict:
@@ -23,21 +23,21 @@ def _example(kind: str) -> dict:
 
 
 def test_the_three_registries_have_the_same_kinds():
-    from levitron.derive.plates.symbolic import BUILDERS
+    from levitron.derive.plate_fields import BUILDERS
     from levitron.runtime.physics.plates import FIELDS
     kinds = set(plates.KINDS)
     assert kinds == {"annulus", "disk", "loop", "ring_magnet", "rectangle", "compound", "expression"}
     assert set(BUILDERS) == kinds
     assert set(FIELDS) == kinds
     # one file per kind on each side, named after the kind
-    for folder in ("derive/plates", "derive/plates/symbolic", "runtime/physics/plates"):
+    for folder in ("scene/plates", "derive/plate_fields", "runtime/physics/plates"):
         files = {p.stem for p in (ROOT / folder).glob("*.py")}
         assert kinds <= files, (folder, kinds - files)
 
 
 def test_no_sympy_on_import_of_the_scene_side():
-    code = ("import sys, levitron.derive.scene as scene, levitron.derive.inputs as inputs, "
-            "levitron.derive.plates, levitron.derive.plates.docs, levitron.runtime.physics.plates; "
+    code = ("import sys, levitron.scene.load as scene, levitron.scene.inputs as inputs, "
+            "levitron.scene.plates, levitron.scene.plates.docs, levitron.runtime.physics.plates; "
             "inputs.input_hash(scene.load_scene('ring_magnet').data); print('sympy' in sys.modules)")
     res = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True,
                          check=True)
@@ -48,7 +48,7 @@ def test_no_sympy_on_import_of_the_scene_side():
 def test_example_validates_and_both_sides_name_the_same_parameters(kind):
     """Each kind's documented example is a valid scene, and its sympy builder's symbols are exactly
     the parameters its resolver gives (scene side and derive side agree on names)."""
-    from levitron.derive.plates.symbolic import build_plate
+    from levitron.derive.plate_fields import build_plate
     scene = validate(_example(kind))
     resolved = {k for k in scene.params if k.startswith("plate_")}
     assert {s.name for s in build_plate(scene.data["plate"]).symbols} == resolved
@@ -59,7 +59,7 @@ def test_example_validates_and_both_sides_name_the_same_parameters(kind):
     {"kind": "rectangle", "side": 0.1, "murho": -0.002},
 ])
 def test_the_other_branch_names_the_same_parameters(table):
-    from levitron.derive.plates.symbolic import build_plate
+    from levitron.derive.plate_fields import build_plate
     data = _example("annulus")
     data["plate"] = table
     scene = validate(data)
@@ -138,7 +138,7 @@ def test_every_kind_but_expression_has_a_finite_exact_field(kind):
 
 
 def test_docs_scenes_md_is_current():
-    """docs/scenes.md is what `python -m levitron.derive.plates.docs` writes from the registry."""
+    """docs/scenes.md is what `python -m levitron.scene.plates.docs` writes from the registry."""
     assert (ROOT / "docs" / "scenes.md").read_text(encoding="utf-8") == docs.render()
 
 
@@ -178,10 +178,11 @@ def _module_imports(root: Path, package: str) -> dict[str, set[str]]:
     return {k: {d for d in v if d in graph and d != k} for k, v in graph.items()}
 
 
-def test_no_import_cycles_in_derive():
-    """geometry <-> plates_extra and scene <-> plate_kinds were cycles; derive/ has none now."""
-    graph = _module_imports(ROOT, "derive")
-    assert sum(map(len, graph.values())) > 50          # the graph sees derive's imports
+@pytest.mark.parametrize("package, edges", [("derive", 50), ("scene", 25)])
+def test_no_import_cycles_in_derive_and_scene(package, edges):
+    """geometry <-> plates_extra and scene <-> plate_kinds were cycles; derive/ and scene/ have none."""
+    graph = _module_imports(ROOT, package)
+    assert sum(map(len, graph.values())) > edges       # the graph sees the package's imports
     state: dict[str, int] = {}
 
     def visit(node, trail):

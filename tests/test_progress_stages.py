@@ -7,7 +7,7 @@ import re
 import subprocess
 import sys
 
-from levitron.derive.paths import ROOT
+from levitron.scene.paths import ROOT
 from levitron.runtime.cli import main as cli
 from levitron.runtime.ui import progress
 

@@ -38,13 +38,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, assume, event, given, settings
+from hypothesis import HealthCheck, assume, event, example, given, settings
 from hypothesis import strategies as st
 
 from levitron.derive.build import render  # noqa: F401  (imports the derive side once, outside the timing)
 from levitron.derive.doubles import DoubleRangeError
 from levitron.derive.expr_parse import ExpressionError
-from levitron.derive.scene import SceneError, load_scene, override_text, parse_override, validate
+from levitron.scene.load import SceneError, load_scene, validate
+from levitron.scene.overrides import override_text, parse_override
 from levitron.runtime.design import fit
 from levitron.runtime.errors import UserError
 from termsize import assert_agree, values_and_sizes
@@ -212,7 +213,7 @@ def test_formula_plates_refuse_in_one_line_or_print(formula, key):
     from levitron.derive.emit.lower import lower
     from levitron.derive.geometry import build_plate
     from levitron.derive.spec import build_spec
-    from levitron.derive.plates.symbolic import expression as symbolic
+    from levitron.derive.plate_fields import expression as symbolic
     table = {"kind": "expression", key: formula, "params": {"b": 1.3, "c": 0.7}}
     budget_s, symbolic.TIME_BUDGET_S = symbolic.TIME_BUDGET_S, 5.0   # a slow formula: its refusal
     try:
@@ -362,12 +363,13 @@ SPREADS = st.one_of(
 
 @budget(60)
 @given(spec=SPREADS)
+@example(spec="uniform:0.0,-0.0")     # a range of one point written as -0.0: numpy's uniform refused it
 @each_confined
 def test_a_temperature_spread_is_refused_or_every_draw_is_a_temperature(spec):
     """A launch temperature spread through monte_carlo's checks (launch_odds.parse_input, then
     validate.spread_range and validate.temperature): refused in one line, or each of 2000 draws
-    is a temperature the scene reader takes (derive/scene.py temperature_factors, the second route)."""
-    from levitron.derive.scene import temperature_factors
+    is a temperature the scene reader takes (scene/load.py temperature_factors, the second route)."""
+    from levitron.scene.load import temperature_factors
     from levitron.runtime.scan import launch_odds as mc
     from levitron.runtime.ui.validate import spread_range, temperature
     try:

@@ -11,7 +11,7 @@ import shlex
 
 import pytest
 
-from levitron.derive.scene import load_scene
+from levitron.scene.load import load_scene
 from levitron.runtime.cli import main as cli
 from levitron.runtime.ui.provenance import version
 

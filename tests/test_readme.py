@@ -14,7 +14,7 @@ import shlex
 
 import pytest
 
-from levitron.derive.paths import ROOT
+from levitron.scene.paths import ROOT
 from levitron.runtime.cli import main as cli
 
 README = ROOT / "README.md"

@@ -1,4 +1,4 @@
-"""The rectangle's centred circular through-hole (derive/plates/rectangle.py `hole`, issue 30).
+"""The rectangle's centred circular through-hole (scene/plates/rectangle.py `hole`, issue 30).
 
 hole = 0 is the plain rectangle to the last bit (parameters, sympy model, generated files, exact
 field); a hole is the plate minus a cylinder (block) or disk (thin layer) of the same magnetisation:
@@ -14,12 +14,12 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from levitron.derive import plates
+from levitron.scene import plates
 from levitron.derive.build import render
-from levitron.derive.digest import SELF_KEY
-from levitron.derive.inputs import input_hash
-from levitron.derive.plates.symbolic import build_plate
-from levitron.derive.scene import SceneError, load_scene, validate
+from levitron.scene.digest import SELF_KEY
+from levitron.scene.inputs import input_hash
+from levitron.derive.plate_fields import build_plate
+from levitron.scene.load import SceneError, load_scene, validate
 from levitron.derive.symbols import X, Y, Z
 from levitron.runtime.physics.plates import plate_field
 

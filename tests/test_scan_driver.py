@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from levitron.derive.scene import load_scene
+from levitron.scene.load import load_scene
 from levitron.runtime.scan import stability_map as sc
 from levitron.runtime.integrate.c_backend import run_c
 from levitron.runtime.errors import UserError

@@ -16,7 +16,7 @@ import time
 import numpy as np
 import pytest
 
-from levitron.derive.scene import load_scene
+from levitron.scene.load import load_scene
 from levitron.runtime.scan import stability_map as sc
 from levitron.runtime.errors import UserError
 from levitron.runtime.model.load import load_model

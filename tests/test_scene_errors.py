@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from levitron.derive.build import GENERATED
-from levitron.derive.paths import ROOT
+from levitron.scene.paths import ROOT
 
 GOOD = (ROOT / "scenes" / "thesis.toml").read_text()
 
@@ -84,7 +84,7 @@ def test_unknown_scene_names_the_known_ones():
     ("name=caf\u00e9", "name = 'caf\u00e9'"),
 ])
 def test_absurd_numbers_are_one_line_scene_errors(override, message):
-    from levitron.derive.scene import SceneError, load_scene
+    from levitron.scene.load import SceneError, load_scene
     with pytest.raises(SceneError) as info:
         load_scene("thesis", [override])
     text = str(info.value)
@@ -92,7 +92,7 @@ def test_absurd_numbers_are_one_line_scene_errors(override, message):
 
 
 def test_ring_magnet_absurd_magnetization():
-    from levitron.derive.scene import SceneError, load_scene
+    from levitron.scene.load import SceneError, load_scene
     with pytest.raises(SceneError, match="plate.remanence = 1e\\+13 is outside"):
         load_scene("ring_magnet", ["plate.remanence=1e13"])
 
@@ -112,7 +112,7 @@ def test_absurd_input_through_the_command_line(tmp_path, args):
 
 
 def test_binary_scene_file_is_refused(tmp_path):
-    from levitron.derive.scene import SceneError, load_scene
+    from levitron.scene.load import SceneError, load_scene
     bad = tmp_path / "bin.toml"
     bad.write_bytes(b"\xff\xfe\x00name")
     with pytest.raises(SceneError, match="not a text file"):
@@ -121,7 +121,7 @@ def test_binary_scene_file_is_refused(tmp_path):
 
 @pytest.mark.parametrize("name", ["a\0b", "x" * 5000, "x" * 300 + ".toml"])
 def test_unusable_scene_names_are_one_line_errors(name):
-    from levitron.derive.scene import SceneError, load_scene
+    from levitron.scene.load import SceneError, load_scene
     with pytest.raises(SceneError) as info:
         load_scene(name)
     assert "\n" not in str(info.value) and len(str(info.value)) < 400
@@ -150,7 +150,7 @@ murho = 0.001
 def test_override_reaches_a_compound_plates_parts(tmp_path):
     """--set enters a list of tables by its index (plate.parts.0.radius); the parameter it sets is
     the part's (plate_p0_a), the other part keeps its own."""
-    from levitron.derive.scene import load_scene
+    from levitron.scene.load import load_scene
     path = tmp_path / "two_rings.toml"
     path.write_text(COMPOUND)
     base = load_scene(path)
@@ -175,7 +175,7 @@ def test_bad_compound_override_is_one_line(tmp_path, override, message):
 
 def test_design_keys_reach_a_compound_plates_parts(tmp_path):
     """optimize --vary and the API name a part's key the same way (runtime/design/scene_keys.py)."""
-    from levitron.derive.scene import load_scene
+    from levitron.scene.load import load_scene
     from levitron.runtime.errors import UserError
     from levitron.runtime.design.scene_keys import key_value, with_values
     path = tmp_path / "two_rings.toml"

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from levitron.derive.scene import load_scene
+from levitron.scene.load import load_scene
 from levitron.runtime.errors import UserError
 from levitron.runtime.physics.equilibrium import hover_height
 from levitron.runtime.integrate.run import integrate

@@ -9,8 +9,9 @@ from functools import lru_cache
 
 import pytest
 
-from levitron.derive.paths import ROOT
-from levitron.derive.scene import SCENES_DIR, load_scene
+from levitron.scene.paths import ROOT
+from levitron.scene.load import load_scene
+from levitron.scene.paths import SCENES_DIR
 
 FULL_SCENES = [p.stem for p in sorted(SCENES_DIR.glob("*.toml"))
                if {"full", "linear"} <= set(load_scene(p.stem).needs)]

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import pytest
 
-from levitron.derive.paths import SCENES_DIR
-from levitron.derive.scene import load_scene
+from levitron.scene.paths import SCENES_DIR
+from levitron.scene.load import load_scene
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.physics import stability_casadi as sc
 from levitron.runtime.model.load import load_model

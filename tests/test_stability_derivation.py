@@ -10,7 +10,7 @@ import random
 import numpy as np
 import sympy as sp
 
-from levitron.derive import stability as st
+from tests.helpers import stability_derivation as st
 from levitron.derive.symbols import A, C, Phi, g, m, mu
 from levitron.runtime.physics import eigen_route
 from levitron.runtime.physics import ray_algebra
@@ -53,7 +53,7 @@ def test_eq_3_3_5_jacobian_splits_at_the_relative_equilibrium():
 
 def test_eq_3_3_5_linear_system_two_routes():
     """The 8-D system from the full Hamiltonian (derive/mechanics.py) equals that of the small-angle
-    quadratic Hamiltonian H2 built independently in derive/stability.py."""
+    quadratic Hamiltonian H2 built independently in tests/helpers/stability_derivation.py."""
     assert (st.linear_system_8d() - st.small_angle_system_8d()).applyfunc(sp.simplify) \
         == sp.zeros(8, 8)
 

@@ -19,7 +19,7 @@ import pytest
 
 from levitron.derive.emit.heyoka import lowered_rhs
 from levitron.derive.emit.taylor import TAYLOR_MAX_ORDER, Unsupported, taylor_tape
-from levitron.derive.scene import load_scene
+from levitron.scene.load import load_scene
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.run import Box, CSystem, csrc_library, integrate, run_c
 from levitron.runtime.model.load import load_model

@@ -17,8 +17,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from levitron.derive.inputs import input_hash
-from levitron.derive.scene import SceneError, load_scene
+from levitron.scene.inputs import input_hash
+from levitron.scene.load import SceneError, load_scene
 from levitron.runtime.cli import main as cli
 from tests.test_units_dimensionless import SCENE as DIMENSIONLESS, si_units
 
@@ -280,7 +280,7 @@ def test_the_setup_is_drawn_to_scale_with_its_dimensions():
     """The cut through the axis (runtime/report/setup_drawing.py): the ring magnet's 12 cm, its 6 cm
     hole and 2 cm thickness, the top at z_s, the band and z_c, all to one scale (the drawn widths
     of the base and of the top are in the ratio of their sizes)."""
-    from levitron.derive.scene import load_scene as load
+    from levitron.scene.load import load_scene as load
     from levitron.runtime.model.load import load_model
     from levitron.runtime.report.setup_drawing import drawing
     from levitron.runtime.simulate.setup_shape import setup_of, top_disc
@@ -313,7 +313,7 @@ def test_a_simulation_shows_its_animation_in_a_notebook():
 def test_spelling_never_changes_the_hash(seed):
     """Random nested tables: writing every integral number as a float (200 -> 200.0) keeps the
     canonical form; changing one number's value changes it."""
-    from levitron.derive.scene import spelled_alike
+    from levitron.scene.load import spelled_alike
     rng = np.random.default_rng(seed)
 
     def table(depth):

@@ -49,7 +49,7 @@ def test_the_tilted_map_agrees_with_the_tilted_interval(capsys):
     (459.1-2645 rad/s at 0.0012 rad): the runs started there stay up exactly inside."""
     from levitron.runtime.physics.stability import stability_of
     from levitron.runtime.model.load import load_model
-    from levitron.derive.scene import load_scene
+    from levitron.scene.load import load_scene
     over = ["plate.tilt=0.0012"]
     lo, hi = stability_of(load_model(load_scene(SCENE, over), over)).spin_interval
     spins = [0.8 * lo, 1.2 * lo, (lo * hi) ** 0.5, 0.9 * hi, 1.15 * hi]

@@ -1,7 +1,7 @@
 """One import name: the wheel puts `levitron` alone into a fresh venv's site-packages, and the package
 it installs answers a command by itself (its own scenes, generated models and C sources).
 
-The repository keeps derive/, runtime/, scenes/ and generated/ at its top level; pyproject.toml maps
+The repository keeps scene/, derive/, runtime/, scenes/ and generated/ at its top level; pyproject.toml maps
 them under levitron/. The wheel is built without network (--no-build-isolation: setuptools comes
 from the test extra) and installed without dependencies; the fresh venv borrows numpy, casadi and
 the rest from this one's site-packages through PYTHONPATH, which processes no .pth file, so this
@@ -27,7 +27,7 @@ def test_the_package_list_is_every_package_of_the_tree():
     config = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
     listed = set(config["packages"])
     on_disk = {"levitron", "levitron.scenes", "levitron.generated"}
-    for top in ("derive", "runtime"):
+    for top in ("scene", "derive", "runtime"):
         for init in (ROOT / top).rglob("__init__.py"):
             on_disk.add(".".join(["levitron", *init.parent.relative_to(ROOT).parts]))
     assert listed == on_disk

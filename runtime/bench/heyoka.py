@@ -25,7 +25,7 @@ expressions (sympy, seconds per part) and compiling; `compile_cached` says which
 written under a temporary name carrying the writer's pid and renamed into place, so a kill leaves
 no half-written pickle, only a temporary that runtime/model/cache_sweep.py removes; a pickle that
 cannot be read is built again. (The kill test's fault point between writing and renaming is
-"heyoka_cache.written", derive/faults.py's die_at.)
+"heyoka_cache.written", scene/faults.py's die_at.)
 """
 from __future__ import annotations
 
@@ -96,7 +96,7 @@ def _load(path: Path):
 def _store(path: Path, obj) -> None:
     """Write obj's pickle to path atomically (module docstring). No fsync: the rename is what a
     kill cannot split; after a power loss a truncated pickle fails to load and is built again."""
-    from levitron.derive.faults import die_at
+    from levitron.scene.faults import die_at
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.stem}-{os.getpid()}-{secrets.token_hex(4)}.tmp")
     try:

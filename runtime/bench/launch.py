@@ -13,7 +13,7 @@ import json
 import time
 from pathlib import Path
 
-from levitron.derive.scene import load_scene
+from levitron.scene.load import load_scene
 
 from levitron.runtime.scan import launch_odds as mc
 from levitron.runtime.ui.human import Units

@@ -43,7 +43,7 @@ def launcher() -> list[str]:
 def _as_typed(name: str, ref: str) -> str:
     """The scene as a person types it: its name when it is that file of scenes/ (a path to it
     would be timed as an out-of-tree scene), else the path."""
-    from levitron.derive.scene import SceneError, find_scene_file
+    from levitron.scene.load import SceneError, find_scene_file
     try:
         same = find_scene_file(name).resolve() == Path(ref).resolve()
     except (SceneError, OSError):

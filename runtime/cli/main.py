@@ -26,7 +26,7 @@ from levitron.runtime.ui.provenance import version
 from levitron.runtime.cli.commands import COMMANDS
 from levitron.runtime.errors import UserError
 
-# derive.scene (SceneError) and runtime.model (the compiler, process control) are imported where
+# scene.load (SceneError) and runtime.model (the compiler, process control) are imported where
 # they are used: `levitron --version` and `--help` need neither (a tenth of a second of imports)
 
 EXIT_USER = 2        # bad input: the message says what to fix
@@ -206,7 +206,7 @@ def _scene_units(args):
 def _report(args, exc: BaseException) -> int:
     """Print the one-line message of `exc` and return the exit code. The messages speak SI (as the
     JSON does); on a dimensionless scene they are restated in its own units."""
-    from levitron.derive.scene import SceneError
+    from levitron.scene.checks import SceneError
     from levitron.runtime.model.cbuild import CompileError
     prefix = f"levitron {args.command}"
     if isinstance(exc, (UserError, SceneError)):
@@ -312,7 +312,7 @@ def main(argv=None) -> int:
     except UserError as exc:
         return _report(args, exc)
     args._argv = argv
-    from levitron.derive.scene import SceneError
+    from levitron.scene.checks import SceneError
     from levitron.runtime.model.cbuild import resolve_cache_env
     from levitron.runtime.model.processes import terminate_as_exit
     resolve_cache_env()           # a relative LEVITRON_CACHE: from the user's folder, once

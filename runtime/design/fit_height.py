@@ -15,7 +15,7 @@ import math
 import casadi as ca
 import numpy as np
 
-from levitron.derive import plates
+from levitron.scene import plates
 
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.errors import UserError
@@ -104,7 +104,7 @@ def fit_equilibrium_height(model, z_star: float, param: str = "mu") -> dict:
         raise UserError(f"no value of {param} puts the top at z* = {z_star:g}: the Newton "
                         f"rootfinder from {param} = {x0:.6g} did not converge; fit another "
                         "parameter or height")
-    pv = exact(value)       # a scene key: re-resolved and validated (derive/scene.py), else UserError
+    pv = exact(value)       # a scene key: re-resolved and validated (scene/load.py), else UserError
     why = None if by_key else physical_problem(model.scene.data["plate"], names, pv, param)
     if why is not None:
         raise UserError(f"no physical {param} puts the top at z* = {z_star:g}: the fit gives {why}; "

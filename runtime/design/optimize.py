@@ -48,7 +48,7 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
-from levitron.derive.scene import Scene
+from levitron.scene.load import Scene
 
 from levitron.runtime.design import edge as design_edge
 from levitron.runtime.physics import stability_casadi as sc

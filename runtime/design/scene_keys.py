@@ -2,7 +2,7 @@
 
 Users name numbers by their scene keys; the generated functions take p (manifest order: m, g, A, C,
 mu, plate_...). The mapping is never written down a second time: it is the scene resolver's own
-(derive/scene.py `validate` and the plate registry derive/plates/), applied by re-resolving the
+(scene/load.py `validate` and the plate registry scene/plates/), applied by re-resolving the
 scene with the key changed. Its derivative, which CasADi needs, comes from a structure every
 resolver has: each parameter is a constant times a product of powers of the key values
 (plate_a = radius, plate_rho = murho / moment, plate_magnetization = remanence / mu0,
@@ -12,8 +12,8 @@ every corner of the box to 1e-12; a key whose parameters do not follow it is ref
 p(x) = p_ref * prod_k (x_k / x_ref_k)^E[j, k] is exact, and values at any point are checked
 against re-resolution again where they are reported.
 
-A box must keep the model's structure (derive/plates decisions, e.g. ring_magnet `hollow`) and
-every corner must be a valid scene (derive.scene.validate: masses, inertias, radii > 0,
+A box must keep the model's structure (scene/plates decisions, e.g. ring_magnet `hollow`) and
+every corner must be a valid scene (scene.load.validate: masses, inertias, radii > 0,
 hole < radius, C <= 2 A); these constraints are linear in the keys, so the whole box is valid.
 """
 from __future__ import annotations
@@ -27,8 +27,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from levitron.derive import plates
-from levitron.derive.scene import Scene, SceneError, validate
+from levitron.scene import plates
+from levitron.scene.load import Scene, SceneError, validate
 
 from levitron.runtime.errors import UserError
 from levitron.runtime.ui.validate import number_text
@@ -68,7 +68,7 @@ def key_value(data: dict, key: str) -> float:
 
 
 def with_values(scene: Scene, values: dict[str, float]) -> Scene:
-    """The scene re-resolved with the given keys set (derive.scene.validate); UserError if invalid."""
+    """The scene re-resolved with the given keys set (scene.load.validate); UserError if invalid."""
     data = copy.deepcopy(scene.data)
     for key, v in values.items():
         node = data

@@ -1,5 +1,5 @@
 """Write a scene's data back as TOML (`optimize --write-scene FILE`): a small writer for what
-derive/scene.py reads (top-level keys, sections, sub-tables, arrays of tables, numbers, strings,
+scene/load.py reads (top-level keys, sections, sub-tables, arrays of tables, numbers, strings,
 booleans, lists of strings), checked by re-reading; written atomically (nothing half-written)."""
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import re
 import tomllib
 from pathlib import Path
 
-from levitron.derive.scene import Scene, SceneError, validate
+from levitron.scene.load import Scene, SceneError, validate
 
 from levitron.runtime.errors import UserError
 
@@ -42,7 +42,7 @@ def _table(lines: list[str], name: str, table: dict) -> None:
 def scene_toml(scene: Scene, comment: str = "") -> str:
     data = scene.data
     lines = [f"# {line}" for line in comment.splitlines()]
-    # no `name`: the written scene is named after its file (derive/scene.py load_scene)
+    # no `name`: the written scene is named after its file (scene/load.py load_scene)
     lines += [f"{k} = {_value(v)}" for k, v in data.items() if not isinstance(v, dict) and k != "name"]
     for k, v in data.items():
         if isinstance(v, dict):

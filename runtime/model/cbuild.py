@@ -89,7 +89,7 @@ def cache_dir() -> Path:
         raise cache_problem(path, exc) from None
     if path not in _SWEPT:
         _SWEPT.add(path)
-        from levitron.derive.paths import GENERATED
+        from levitron.scene.paths import GENERATED
         from levitron.runtime.model.cache_sweep import sweep_cache, sweep_generated
         sweep_cache(path)
         sweep_generated(GENERATED)

@@ -27,10 +27,10 @@ from typing import NamedTuple
 import numpy as np
 import tomli_w
 
-from levitron.derive.faults import die_at
-from levitron.derive.inputs import input_hash
-from levitron.derive.paths import GENERATED, ROOT, is_committed_scene
-from levitron.derive.scene import Scene
+from levitron.scene.faults import die_at
+from levitron.scene.inputs import input_hash
+from levitron.scene.paths import GENERATED, ROOT, is_committed_scene
+from levitron.scene.load import Scene
 
 from levitron.runtime.model.cbuild import cache_dir, cache_problem, compile_shared, discard, locked
 from levitron.runtime.errors import UserError
@@ -103,7 +103,7 @@ def committed_folder(scene: Scene) -> Path | None:
 
 
 def cache_folder(scene: Scene) -> Path:
-    """The cache folder of the scene's model: keyed by the input hash (derive/inputs.py)."""
+    """The cache folder of the scene's model: keyed by the input hash (scene/inputs.py)."""
     return cache_dir() / "derived" / f"{scene.name}-{input_hash(scene.data)[:16]}"
 
 

@@ -4,7 +4,7 @@
 
 Every key must be present with the right type; the sizes must agree with each other (n_out with
 the shape, a part's functions with its states, onaxis with onaxis_K); the manifest's own digest
-and the sha256 of every file it lists must hold (derive/digest.py). Any failure is one line
+and the sha256 of every file it lists must hold (scene/digest.py). Any failure is one line
 naming the file or key and how to fix it (`fix`, e.g. "run `make derive`").
 """
 from __future__ import annotations
@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from types import MappingProxyType
 
-from levitron.derive.digest import SELF_KEY, first_changed_file, manifest_digest
+from levitron.scene.digest import SELF_KEY, first_changed_file, manifest_digest
 
 from levitron.runtime.errors import UserError
 

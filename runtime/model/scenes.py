@@ -1,9 +1,9 @@
-"""Scenes for the runtime: derive/scene.py's loader with its SceneError as the runtime's one-line
+"""Scenes for the runtime: scene/load.py's loader with its SceneError as the runtime's one-line
 UserError, the one way the command line and the public API load a scene."""
 from __future__ import annotations
 
-from levitron.derive.scene import Scene, SceneError, find_scene_file
-from levitron.derive.scene import load_scene as _load
+from levitron.scene.load import Scene, SceneError, find_scene_file
+from levitron.scene.load import load_scene as _load
 
 from levitron.runtime.errors import UserError
 

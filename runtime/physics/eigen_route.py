@@ -21,7 +21,7 @@ TRANSVERSE_STATES = ("x", "y", "vartheta", "phi", "p_x", "p_y", "p_vartheta", "p
 def transverse_matrix(phi1: float, phi2: float, phi3: float, m: float, A: float, C: float,
                       mu: float, sigma: float) -> np.ndarray:
     """The 8-D linear system after thesis 3.3.5 (rows/columns TRANSVERSE_STATES), as derived in
-    derive/stability.py (linear_system_8d; a test checks the two agree). p_zeta = C sigma."""
+    tests/helpers/stability_derivation.py (linear_system_8d; a test checks the two agree). p_zeta = C sigma."""
     pz = C * sigma
     J = np.zeros((8, 8))
     J[0, 4] = J[1, 5] = 1 / m

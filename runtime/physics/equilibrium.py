@@ -36,8 +36,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from levitron.derive import plates
-from levitron.derive.plates.expression import formulas, z_range
+from levitron.scene import plates
+from levitron.scene.plates.expression import formulas, z_range
 
 from levitron.runtime.physics import bands as _bands
 from levitron.runtime.errors import UserError
@@ -59,7 +59,7 @@ def params_of(model, p: np.ndarray | None = None) -> dict:
 
 def scale_of(model, p: np.ndarray | None = None) -> float:
     """THE length of a scene every height search scales with: the plate registry's length scale
-    (derive.plates.length_scale) at the parameter values p, 1.0 for a plate without lengths."""
+    (scene.plates.length_scale) at the parameter values p, 1.0 for a plate without lengths."""
     return plates.length_scale(model.scene.data["plate"], params_of(model, p))
 
 

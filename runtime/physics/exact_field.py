@@ -40,7 +40,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from levitron.derive.constants import MU0
+from levitron.scene.constants import MU0
 
 _HALF_PI = 0.5 * math.pi
 

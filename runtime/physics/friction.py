@@ -23,7 +23,7 @@ import math
 
 import numpy as np
 
-from levitron.derive.scene import FRICTION_KEYS
+from levitron.scene.keys import FRICTION_KEYS
 
 RATES = tuple(FRICTION_KEYS.values())   # k_spin, k_tilt, k_trans: parameter names of a model in air
 

@@ -16,7 +16,7 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from levitron.derive.plates.symmetry import symmetry
+from levitron.scene.plates.symmetry import symmetry
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.errors import UserError
 from levitron.runtime.physics.friction import without_friction
@@ -129,7 +129,7 @@ def onaxis_refusal(model, p: np.ndarray | None = None) -> str | None:
     """Why the spin interval from the on-axis potential (thesis 3.3, both routes here: the 8-D
     transverse matrix and the full Jacobian probed inside the discriminant's intervals) does not
     hold for this model's plate with parameters p, or None where it does: a plate of two-fold
-    symmetry (side_x != side_y) has an x^2 - y^2 part of the field (derive/plates/symmetry.py)."""
+    symmetry (side_x != side_y) has an x^2 - y^2 part of the field (scene/plates/symmetry.py)."""
     sym = symmetry(model.scene.data["plate"], model.pvals(p))
     if sym.onaxis_stability:
         return None

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from levitron.derive import plates
+from levitron.scene import plates
 
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.report.html_parts import p as _p, png as _png, table as _table
@@ -225,8 +225,8 @@ def _shown(v, unit: str, u: Units) -> str:
 
 
 def _key_units(section: str, table: dict) -> dict[str, str]:
-    """key -> SI unit of a scene section (derive/scene.py's key tables, the plate kinds' own)."""
-    from levitron.derive.scene import FIELD_KEYS, TOP_KEYS
+    """key -> SI unit of a scene section (scene/keys.py's key tables, the plate kinds' own)."""
+    from levitron.scene.keys import FIELD_KEYS, TOP_KEYS
     if section == "plate":
         kind = plates.KINDS.get(table.get("kind"))
         return {k.name: k.unit for k in kind.keys} if kind is not None else {}
@@ -237,7 +237,7 @@ def scene_rows(scene, overrides, u: Units, P: dict) -> list[tuple[str, str]]:
     """The scene as its author wrote it: one row per key (`plate.radius`, with its unit; the keys
     --set changed marked), the scene file, and the top's magnetic moment (thesis 2.2.11 needs only
     the product mu rho where the scene gives murho)."""
-    from levitron.derive.scene import SCENE_KEYS
+    from levitron.scene.keys import SCENE_KEYS
     changed = {o.split("=", 1)[0].strip() for o in overrides}
     top_units = {k.name: k.unit for k in SCENE_KEYS}
     rows = [("file", f"{scene.path}" + (f" with --set {', '.join(overrides)}" if overrides else ""))]

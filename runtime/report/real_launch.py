@@ -25,7 +25,7 @@ def mass_windows(model) -> list[dict]:
     from levitron.runtime.physics import equilibrium as eqm
     from levitron.runtime.physics.bands import edge_note
     from levitron.runtime.scan.launch_odds import temperature_factor
-    from levitron.derive.scene import T_REF
+    from levitron.scene.keys import T_REF
     T0 = float(model.scene.data.get("temperature", T_REF))
     mu = model.param("mu")
     out = []

@@ -1,6 +1,6 @@
 """The report's rebuild block: the scene's TOML exactly as its author wrote it (the file's text),
 the overrides, and the command that rebuilds the page from a saved copy of that text, with the
-scene hash it gives (derive/scene.py scene_hash: the resolved scene, so a copy saved anywhere
+scene hash it gives (scene/load.py scene_hash: the resolved scene, so a copy saved anywhere
 gives the same hash and the same numbers).
 """
 from __future__ import annotations

@@ -67,7 +67,7 @@ INPUTS = ("spin", "tilt", "tilt_azimuth", "offset", "velocity", "mass", "strengt
 class Apparatus:
     """An imperfection of the apparatus sampled like a launch input (module docstring): each sample
     sets the runtime parameter `param`, which a model has only where the scene declares `scene_key`
-    (derive/scene.py TILT_PARAMS). `moves`: a value other than 0 moves the equilibrium off the
+    (scene/keys.py TILT_PARAMS). `moves`: a value other than 0 moves the equilibrium off the
     launch point (so launches with no tilt, offset or velocity still test something). `default`:
     the distribution when none is given, from the model (None: the model's own value, fixed)."""
     name: str
@@ -184,7 +184,7 @@ def parse_dist(name: str, spec) -> Dist:
         raise UserError(f"launch {name} = {text!r}: the standard deviation {b:g} is negative; give SD >= 0")
     if kind == "uniform" and b < a:
         raise UserError(f"launch {name} = {text!r}: the range {a:g},{b:g} is reversed; give LO <= HI")
-    return Dist(kind, a, b)
+    return Dist(kind, a + 0.0, b + 0.0)    # -0.0 as 0.0: numpy's uniform refuses hi - lo = -0.0
 
 
 REL = "rel:"          # a relative spread of mass or strength says so: rel:normal:0,0.002, rel:0.2%
@@ -281,9 +281,9 @@ def samples(plan: Plan) -> dict[str, np.ndarray]:
 
 
 def temperature_factor(model, T: float) -> float:
-    """The factor on mu at temperature T relative to the scene's own (derive/scene.py's linear
+    """The factor on mu at temperature T relative to the scene's own (scene/load.py's linear
     model of both magnets' remanence)."""
-    from levitron.derive.scene import T_REF
+    from levitron.scene.keys import T_REF
     data = model.scene.data
     ap = float(data["plate"].get("temperature_coefficient", 0.0))
     at = float(data["top"].get("temperature_coefficient", 0.0))

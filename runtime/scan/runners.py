@@ -27,7 +27,7 @@ from dataclasses import dataclass, replace
 
 from levitron.runtime.ui import progress
 from levitron.runtime.errors import UserError
-from levitron.derive.faults import die_at
+from levitron.scene.faults import die_at
 from levitron.runtime.scan.points import point_run  # noqa: F401 (re-exported)
 
 CONNECT_TIMEOUT_S = 20  # how long to try to reach a dask scheduler (and to wait for a worker)
@@ -61,7 +61,7 @@ def model_for(scene: str, overrides: Sequence[str]):
     with _LOCK:
         model = _MODELS.get(key)
         if model is None:
-            from levitron.derive.scene import SceneError, load_scene
+            from levitron.scene.load import SceneError, load_scene
             from levitron.runtime.model.load import load_model
             try:
                 sc = load_scene(scene, list(overrides))

@@ -4,7 +4,7 @@ of its own mass and axial moment, the hover height, the stable band and z_c (no 
     shape = setup_of(model, p)         # a JSON-able dict, in the scene's lengths (SI: m)
 
 The base: an annulus or disk plate is a thin layer in z = 0 (thesis 2.2.11); a ring magnet or a
-block fills -thickness <= z <= 0 (derive/plates/ring_magnet.py, rectangle.py; a rectangle's hole is
+block fills -thickness <= z <= 0 (scene/plates/ring_magnet.py, rectangle.py; a rectangle's hole is
 its r_in); a loop is a wire of
 its radius in z = 0; a compound plate is its parts; an expression plate has no outline (None).
 The top: a uniform cylinder of the top's mass m with its axial moment C = m r^2 / 2, so

@@ -26,7 +26,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from levitron.derive.atomic_dir import owner_alive
-from levitron.derive.faults import die_at
+from levitron.scene.faults import die_at
 from levitron.runtime.errors import UserError
 
 STALE_AFTER_S = 60.0
@@ -92,7 +92,7 @@ def output(path, option: str, mkdir: bool = False):
         tmp = temp_beside(path)
         os.close(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
         yield tmp
-        die_at("output.written")            # the kill tests' point (derive/faults.py)
+        die_at("output.written")            # the kill tests' point (scene/faults.py)
         fd = os.open(tmp, os.O_RDONLY)
         try:
             os.fsync(fd)

@@ -4,7 +4,7 @@
      "time": "2026-12-01T20:40:00+00:00", "python": "3.11.7",
      "scene": "thesis", "scene_path": "/.../scenes/thesis.toml", "overrides": ["top.mass=0.03"],
      "scene_hash": sha256 of the resolved scene (numbers and overrides included),
-     "input_hash": the generated model's (derive/inputs.py: structure, derive sources, tools)}
+     "input_hash": the generated model's (scene/inputs.py: structure, derive sources, tools)}
 
 Run the command again on the same version, from the scene at scene_path, and the numbers repeat:
 scene_hash says whether the scene (with its overrides) is still the one the answer was for.
@@ -38,13 +38,13 @@ def command_line(argv) -> str:
 
 def block(argv, scene=None, overrides=(), call: str | None = None) -> dict:
     """The provenance of one answer: `argv` the command's arguments (or `call`, an API call's
-    text), `scene` the loaded derive.scene.Scene (None for a command of several scenes)."""
+    text), `scene` the loaded scene.load.Scene (None for a command of several scenes)."""
     out = {"package": "levitron", "version": version(),
            "command": call if call is not None else command_line(argv),
            "time": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
            "python": platform.python_version()}
     if scene is not None:
-        from levitron.derive.inputs import input_hash
+        from levitron.scene.inputs import input_hash
         out.update(scene=scene.name,
                    scene_path=None if scene.path is None else str(Path(scene.path).resolve()),
                    overrides=list(overrides), scene_hash=scene.scene_hash(),

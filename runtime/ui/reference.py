@@ -14,8 +14,8 @@ from __future__ import annotations
 
 import math
 
-from levitron.derive.paths import SCENES_DIR
-from levitron.derive.scene import SceneError, load_scene
+from levitron.scene.paths import SCENES_DIR
+from levitron.scene.load import SceneError, load_scene
 
 RTOL = 1e-12     # resolved parameters equal to round-off: the same scene
 KEYS = ("z_stable", "spin_interval", "mass_window", "flight_time")
@@ -26,7 +26,7 @@ WORKS = {"thesis": "K. F. Lüskow 2011, Theory and Modeling of Gyroscopes (bache
 
 
 def same_parameters(a: dict, b: dict, rtol: float = RTOL) -> bool:
-    """Whether two resolved parameter dicts (derive.scene.Scene.params) name the same numbers."""
+    """Whether two resolved parameter dicts (scene.load.Scene.params) name the same numbers."""
     if set(a) != set(b):
         return False
     return all(math.isclose(float(a[k]), float(b[k]), rel_tol=rtol, abs_tol=0.0) for k in a)

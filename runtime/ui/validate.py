@@ -77,10 +77,10 @@ def spread_range(kind: str, a: float, b: float) -> tuple[float, float, str]:
 
 def temperature(data: dict, lo: float, hi: float, label: str) -> None:
     """The one check of a magnets' temperature (degC), for --temperature, the scene key and every
-    launch spread alike: the scene reader's (derive/scene.py temperature_factors: above absolute
+    launch spread alike: the scene reader's (scene/load.py temperature_factors: above absolute
     zero, and each magnet's remanence factor 1 + alpha (T - 20) positive), applied at both ends of
     [lo, hi] (each factor is linear in T, so positive at both ends is positive between them)."""
-    from levitron.derive.scene import SceneError, temperature_factors
+    from levitron.scene.load import SceneError, temperature_factors
     for T in (lo, hi):
         try:
             temperature_factors({**data, "temperature": float(T)})

@@ -1,7 +1,7 @@
 """Helpers shared by the command modules: load the scene and the model from parsed arguments."""
 from __future__ import annotations
 
-from levitron.derive.scene import Scene
+from levitron.scene.load import Scene
 
 from levitron.runtime.model.load import Model, load_model
 from levitron.runtime.model.scenes import load_scene as load

@@ -12,7 +12,7 @@ import sys
 import time
 from pathlib import Path
 
-from levitron.derive.paths import ROOT, SCENES_DIR
+from levitron.scene.paths import ROOT, SCENES_DIR
 
 from levitron.runtime.ui import progress
 from levitron.runtime.errors import UserError
@@ -58,7 +58,7 @@ def _derive_committed(scenes, force: bool) -> list[dict]:
     cmd = [sys.executable, "-m", "levitron.derive", *(str(Path(s.path).resolve()) for s in scenes), "--json"]
     if force:
         cmd.append("--force")
-    from levitron.derive.paths import GENERATED
+    from levitron.scene.paths import GENERATED
     from levitron.runtime.model.cache_sweep import sweep_generated
     from levitron.runtime.model.processes import die_with_parent
     res = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, check=False, preexec_fn=die_with_parent)

@@ -56,7 +56,7 @@ def run(args) -> dict:
                             "the plate, where the field is zero in double precision: give a nearer point")
     with np.errstate(all="ignore"):       # an overflow far out is reported as B_exact null
         exact = plate_field(scene.data["plate"], scene.params, points)
-    k = scene.field_factor      # the plate's remanence at the scene's temperature (derive/scene.py)
+    k = scene.field_factor      # the plate's remanence at the scene's temperature (scene/load.py)
     exact = None if exact is None else exact * k
     out = []
     for i, r in enumerate(points):

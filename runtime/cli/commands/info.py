@@ -3,9 +3,9 @@ from __future__ import annotations
 
 import math
 
-from levitron.derive import plates
-from levitron.derive.plates.symmetry import symmetry
-from levitron.derive.scene import MU0
+from levitron.scene import plates
+from levitron.scene.plates.symmetry import symmetry
+from levitron.scene.constants import MU0
 
 from levitron.runtime.physics.friction import decay_times, friction_rates, has_friction
 from levitron.runtime.ui.human import Units, lines, restate, sig

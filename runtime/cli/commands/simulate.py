@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from levitron.runtime.errors import UserError
 from levitron.runtime.simulate import animation
-from levitron.derive.plates.symmetry import symmetry
+from levitron.scene.plates.symmetry import symmetry
 from levitron.runtime.simulate.start import linear_context
 from levitron.runtime.ui.human import Units, duration, lines, restate, sig
 from levitron.runtime.integrate.methods import DEFAULT, FULL_MODEL_METHODS, lookup
@@ -131,7 +131,7 @@ def linear_line(r: dict, u: Units) -> str:
 
 
 def _not_conserved(name: str, scene) -> str:
-    """" (not conserved: ...)" for L_z over a plate without axial symmetry (derive/plates/symmetry.py)."""
+    """" (not conserved: ...)" for L_z over a plate without axial symmetry (scene/plates/symmetry.py)."""
     if name != "L_z" or scene is None:
         return ""
     sym = symmetry(scene.data["plate"], scene.params)

@@ -1,6 +1,6 @@
 """The plate registry, runtime side: the exact field of each plate kind (numpy, no sympy).
 
-One module per kind (runtime/physics/plates/<kind>.py, the same kinds as derive/plates/) defines
+One module per kind (runtime/physics/plates/<kind>.py, the same kinds as scene/plates/) defines
 `field(table, p, points, part_field) -> B (N, 3) | None` (None: no closed form), with the closed
 forms of runtime/physics/exact_field.py. `p` reads the kind's resolved parameters (Scene.params
 `plate_<name>`, compound part i `plate_p<i>_<name>`); `part_field` is `plate_field`, for compound
@@ -13,7 +13,7 @@ from collections.abc import Callable, Mapping
 
 import numpy as np
 
-from levitron.derive.plates import KINDS
+from levitron.scene.plates import KINDS
 
 
 class Params:

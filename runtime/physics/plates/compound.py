@@ -2,7 +2,7 @@
 (None if a part has no closed form)."""
 import numpy as np
 
-from levitron.derive.plates.compound import SIGN
+from levitron.scene.plates.compound import SIGN
 
 
 def field(table, p, points, part_field):

@@ -1,7 +1,7 @@
 """Exact field of a rectangular block magnet (Furlani 2001) or thin rectangular layer (its rim
 current, Biot-Savart); a centred hole takes away a cylinder (Derby & Olbert 2010) or a thin disk
 (its rim loop) of the same magnetisation."""
-from levitron.derive.plates.rectangle import block, holed
+from levitron.scene.plates.rectangle import block, holed
 
 from levitron.runtime.physics.exact_field import (
     annulus_field,

@@ -1,5 +1,5 @@
 """Exact field of an axially magnetised ring / cylinder magnet (Derby & Olbert 2010)."""
-from levitron.derive.plates.ring_magnet import hollow
+from levitron.scene.plates.ring_magnet import hollow
 
 from levitron.runtime.physics.exact_field import ring_magnet_field
 

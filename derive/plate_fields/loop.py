@@ -1,8 +1,8 @@
 """Circular current loop in z = 0 (Jackson eq. 5.40 on the axis)."""
 from __future__ import annotations
 
-from ... import onaxis
-from ...symbols import Z
+from .. import onaxis
+from ..symbols import Z
 from .plate import MU0_SYM, Plate, axisymmetric, plate_symbol
 
 

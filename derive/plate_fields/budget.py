@@ -7,7 +7,7 @@ a finaliser or a weakref callback is printed and dropped, and a one-shot timer w
 work run on forever. Where no timer can be
 armed (not the main thread, or a platform without setitimer) the work runs unbounded in time, still
 bounded in size by the parser's limits (derive/expr_parse.py) and the expression plate's operation
-budget (derive/plates/symbolic/expression.py).
+budget (derive/plate_fields/expression.py).
 """
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ import threading
 import time
 from contextlib import contextmanager
 
-from ...checks import SceneError
+from levitron.scene.checks import SceneError
 
 
 RETRY_S = 0.05

@@ -12,7 +12,8 @@ from functools import reduce
 
 import sympy as sp
 
-from ..compound import SIGN
+from levitron.scene.plates.compound import SIGN
+
 from .plate import Plate, plate_symbol
 
 
@@ -27,7 +28,7 @@ def _total(terms: list):
 
 def build(table: dict, prefix: str = "", *, build_part: Callable[[dict, str], Plate]) -> Plate:
     """Part i's symbols are plate_<prefix>p<i>_<name>; a part with a `sign` key is multiplied by the
-    parameter plate_<prefix>p<i>_sign (+1 or -1, derive/plates/compound.py)."""
+    parameter plate_<prefix>p<i>_sign (+1 or -1, scene/plates/compound.py)."""
     tables = table["parts"]
     parts = [build_part({k: v for k, v in p.items() if k != SIGN}, f"{prefix}p{i}_")
              for i, p in enumerate(tables)]

@@ -1,15 +1,15 @@
 """What one plate kind declares on the scene side (pure Python, no sympy).
 
-A kind is one module of derive/plates/ defining `KIND = PlateKind(...)`:
+A kind is one module of scene/plates/ defining `KIND = PlateKind(...)`:
 
 - `keys`: the scene keys it allows, each with its unit and a one-line doc (docs/scenes.md is
-  generated from them: `python -m levitron.derive.plates.docs`);
+  generated from them: `python -m levitron.scene.plates.docs`);
 - `resolve(table, ctx) -> {name: SI value}`: validation and the parameters by the names of the
   plate's symbols (Scene.params holds them as `plate_<name>`, compound part i as `plate_p<i>_<name>`);
   it may add "mu" (the plate fixes the moment, `murho`) and "moment_nominal";
 - `decisions`: every number-valued choice that changes the generated code, declared here next to
-  the builder that branches on it (derive/plates/symbolic/<kind>.py calls the same `Decision.test`),
-  so that the input hash (derive/inputs.py) covers it;
+  the builder that branches on it (derive/plate_fields/<kind>.py calls the same `Decision.test`),
+  so that the input hash (scene/inputs.py) covers it;
 - `length_keys`: the resolved parameters that are lengths (the plate's length scale);
 - `units`: the SI units of its other resolved parameters ("rho": "T m", ...), where they have one;
 - `example`: a TOML [plate] table that validates (tests/test_plate_registry.py checks it).

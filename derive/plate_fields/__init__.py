@@ -1,11 +1,12 @@
-"""The plate registry, derive side: one sympy builder per kind (derive/plates/symbolic/<kind>.py,
-`build(table, prefix) -> Plate`), for the same kinds as the scene side (derive/plates/)."""
+"""The plate registry, derive side: one sympy builder per kind (derive/plate_fields/<kind>.py,
+`build(table, prefix) -> Plate`), for the same kinds as the scene side (scene/plates/)."""
 from __future__ import annotations
 
 import importlib
 from collections.abc import Callable
 
-from .. import KINDS
+from levitron.scene.plates import KINDS
+
 from .plate import Plate, plate_symbol
 
 __all__ = ["BUILDERS", "Plate", "build_plate", "plate_symbol"]

@@ -1,13 +1,14 @@
-"""Scenes: read a TOML file, apply `--set` overrides, validate, and resolve the parameters to SI.
+"""Scenes: find and read a TOML file, apply `--set` overrides, validate, and resolve the parameters to SI.
 
-Pure Python (no sympy): both derive/ and runtime/ use it. A scene names a physical set-up
+Pure Python (no sympy): derive/ and runtime/ both use it. A scene names a physical set-up
 (docs/contract.md, "Scenes"; every plate kind's keys: docs/scenes.md); every problem is reported as
-one `SceneError` line that names the key, says what is wrong and how to fix it.
+one `SceneError` line that names the key, says what is wrong and how to fix it. The keys this
+checks are scene/keys.py, the `--set` language scene/overrides.py.
 
 Parameter conventions (docs/contract.md, "Physics conventions"): U = m g z - mu n.B, B = -grad(phi).
 The thesis's thin annulus (thesis eq. 2.2.11) has Phi0 = 2 pi rho z (...), and only mu*rho enters
 the dynamics; `plate.murho` keeps that parametrisation. In SI the annulus is a dipole layer of
-density D (A) with rho = mu0 D / (4 pi). The plate kinds live in the registry derive/plates/.
+density D (A) with rho = mu0 D / (4 pi). The plate kinds live in the registry scene/plates/.
 """
 from __future__ import annotations
 
@@ -17,119 +18,21 @@ import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
-import tomli_w
 import tomllib
 
 from . import plates
 from .checks import SceneError, check_keys, number
-from .constants import MU0
+from .keys import (
+    ABSOLUTE_ZERO, COORDINATES, FIELD_KEYS, FRICTION_KEYS, LAUNCH_KEYS, MODEL_KEYS, NEEDS, REFERENCE_KEYS,
+    SCENE_KEYS, T_REF, TEMPERATURE_KEY, TILT_KEYS_NAMES, TOP_KEYS, UNITS,
+)
+from .overrides import apply_override
 from .paths import SCENES_DIR
 from .plates.base import Key
 
-__all__ = ["MU0", "SCENES_DIR", "Scene", "SceneError", "find_scene_file", "load_scene",
-           "override_text", "parse_override", "validate"]
+__all__ = ["Scene", "SceneError", "find_scene_file", "load_scene", "validate"]
 
-
-NEEDS = ("reduced", "full", "linear")
-COORDINATES = ("tait-bryan", "euler-zxz")
-UNITS = ("SI", "dimensionless")
-T_REF = 20.0            # degC: the reference temperature of the temperature coefficients
-ABSOLUTE_ZERO = -273.15
-
-# The keys of every section but [plate] (whose keys are the plate kinds', derive/plates/); the
-# contract docs/scenes.md is generated from these and the registry (`python -m levitron.derive.plates.docs`).
-SCENE_KEYS = (
-    Key("name", "", "the scene's name (letters, digits, '-', '_'; default: the file's stem)"),
-    Key("description", "", "free text"),
-    Key("g", "m/s^2", "gravity (default 9.81; 1 in a dimensionless scene)"),
-    Key("temperature", "degC", f"the temperature of the magnets (default {T_REF:g} degC, the "
-        "reference of the temperature coefficients; `--temperature` on every command)"),
-    Key("units", "", f"how numbers are shown to a person, one of {list(UNITS)} (default: \"SI\" "
-        "when 9 <= g <= 10.5, else \"dimensionless\"); never how they are computed"),
-)
-REFERENCE_KEYS = (
-    Key("source", "", "where the stated values come from (e.g. \"thesis\"), shown beside them"),
-    Key("z_stable", "m", "a stated height of the vertically stable equilibrium, shown beside ours "
-        "(a number, or [value, uncertainty])"),
-    Key("spin_interval", "rad/s", "a stated spin interval of stability, [low, high]"),
-    Key("mass_window", "kg", "a stated range of masses that hover, [lightest, heaviest]"),
-    Key("flight_time", "s", "a stated flight time in air (a number, or [value, uncertainty])"),
-)
-TEMPERATURE_KEY = Key("temperature_coefficient", "1/K", "relative change of the magnet's "
-                      "remanence per kelvin from 20 degC (ferrite about -0.002, NdFeB about -0.0012; "
-                      "default 0); in [top] and in [plate]")
-TOP_KEYS = (
-    Key("mass", "kg", "mass m of the top"),
-    Key("A", "kg m^2", "transverse moment of inertia"),
-    Key("C", "kg m^2", "axial moment of inertia (C <= 2 A)"),
-    Key("moment", "A m^2", "magnetic moment mu along the symmetry axis, signed (mu < 0: upright "
-        "over a field that points up); may be left out with plate.murho"),
-    Key("spin_decay_time", "s", "air friction: the e-folding time tau of the spin of a free top, "
-        "omega_3(t) = omega_3(0) exp(-t / tau) (measure it with a tachometer); any decay time makes "
-        "the full model dissipative (derive/friction.py)"),
-    Key("tilt_decay_time", "s", "air friction: the e-folding time of the transverse (tumbling) "
-        "angular velocity of a free top (default: none)"),
-    Key("translation_decay_time", "s", "air friction: the e-folding time of the velocity of the "
-        "centre of mass of a free top (default: none)"),
-    TEMPERATURE_KEY,
-    Key("moment_offset", "m", "the magnet's centre along the symmetry axis from the centre of mass "
-        "(positive towards the moment's end of the axis n; default: none, the magnet at the centre "
-        "of mass): the moment feels the field at r + d n (derive/mechanics.py); the scene then "
-        "has no reduced model"),
-    Key("moment_tilt", "rad", "the angle b between the magnetic moment and the symmetry axis, the "
-        "moment fixed in the body (it turns with the spin): mu (cos b n + sin b e1), e1 the body's "
-        "first transverse axis (derive/mechanics.py; default: none, the moment along the axis); the "
-        "steady motion is then periodic (runtime/physics/floquet.py) and the scene has no reduced "
-        "model"),
-)
-
-# The base's tilt (issue 27): keys of [plate] that every plate kind takes; they put gravity along a
-# tilted vector in the full model (derive/mechanics.py), as runtime parameters base_tilt and
-# base_tilt_azimuth (their values never change the generated code; their presence does).
-TILT_KEYS = (
-    Key("tilt", "rad", "the base's tilt from level (0 <= tilt < pi/2): gravity in the plate's frame is "
-        "g (sin tilt cos az, sin tilt sin az, -cos tilt), az = tilt_azimuth; breaks the axial "
-        "symmetry, so the scene has no reduced model (derive/mechanics.py)"),
-    Key("tilt_azimuth", "rad", "the downhill direction in the plate's frame, from +x towards +y "
-        "(default 0: downhill is +x, the base tilted about the y axis); needs tilt"),
-)
-TILT_PARAMS = {"tilt": "base_tilt", "tilt_azimuth": "base_tilt_azimuth"}
-
-# decay-time key of [top] -> the runtime parameter it sets, the rate 1 / tau (0 where not given)
-FRICTION_KEYS = {"spin_decay_time": "k_spin", "tilt_decay_time": "k_tilt",
-                 "translation_decay_time": "k_trans"}
-FIELD_KEYS = (
-    Key("order", "", "even order in r of the Laplace expansion, 2..12 (default 2)"),
-    Key("tolerance", "", "instead of order: the largest relative error of the expanded field, "
-        "with radius"),
-    Key("radius", "m", "the distance from the axis within which tolerance must hold"),
-)
-LAUNCH_KEYS = tuple(Key(k, u, d) for k, u, d in (
-    ("spin", "rad/s", "the launch spin: \"normal:MEAN,SD\", \"uniform:LO,HI\" or a number"),
-    ("tilt", "rad", "the tilt of the axis (same forms)"),
-    ("tilt_azimuth", "rad", "the direction of the tilt (same forms)"),
-    ("offset", "m", "the offset of the centre of mass along x (same forms)"),
-    ("velocity", "m/s", "the horizontal velocity along y (same forms)"),
-    ("mass", "", "the relative deviation of the mass (same forms)"),
-    ("strength", "", "the relative deviation of the magnets' strength (same forms)"),
-    ("temperature", "degC", "the magnets' temperature (same forms)"),
-    ("base_tilt", "rad", "the base's tilt from level, sampled per launch (same forms; needs plate.tilt)"),
-    ("base_tilt_azimuth", "rad", "the base's downhill direction, sampled per launch (same forms; "
-     "needs plate.tilt)"),
-    ("success_time", "s", "a launch succeeds when the top floats at least this long"),
-    ("t_end", "s", "the run length of each launch"),
-    ("n", "", "the number of launches"),
-    ("seed", "", "the seed of the sampler"),
-))
-MODEL_KEYS = (
-    Key("needs", "", f"what derive emits, a list drawn from {list(NEEDS)} (default all; "
-        "\"linear\" needs \"full\")"),
-    Key("coordinates", "", f"angles of the full model, one of {list(COORDINATES)} (default "
-        "\"tait-bryan\", regular at the upright top; \"euler-zxz\" as in the thesis)"),
-)
-TILT_KEYS_NAMES = tuple(k.name for k in TILT_KEYS)
 _NAME = re.compile(r"[A-Za-z0-9_-]+\Z")
 MAX_NAME = 100     # characters: <name>-<hash> and .<name>.new-<pid>-* must fit a file name (255)
 
@@ -188,7 +91,7 @@ class Scene:
     @property
     def length_scale(self) -> float:
         """The plate's characteristic length (its largest length parameter, compound parts
-        included; 1.0 for a plate without lengths): derive/plates/__init__.py `length_scale`."""
+        included; 1.0 for a plate without lengths): scene/plates/__init__.py `length_scale`."""
         return plates.length_scale(self.data["plate"], self.params)
 
     @property
@@ -210,7 +113,7 @@ EXACT_INT = 2 ** 53       # every integer below this is a double exactly
 def spelled_alike(node):
     """The data with every number written one way: a float with an integral value (200.0) as the
     integer (200), so that how a number is spelled in the TOML never makes another scene (the
-    input hash here, the scene hash of derive/scene.py). Booleans stay booleans."""
+    input hash here, the scene hash of scene/load.py). Booleans stay booleans."""
     if isinstance(node, dict):
         return {k: spelled_alike(v) for k, v in node.items()}
     if isinstance(node, list):
@@ -218,91 +121,6 @@ def spelled_alike(node):
     if isinstance(node, float) and node.is_integer() and abs(node) < EXACT_INT:
         return int(node)
     return node
-
-
-_CONTROL = re.compile(r"[\x00-\x08\x0a-\x1f\x7f]")   # tab allowed
-_BARE_WORD = re.compile(r"[^\"'\\]*\Z")
-
-
-def parse_override(text: str) -> tuple[list[str], Any]:
-    """`section.key=value` -> (["section", "key"], value); value parsed as one TOML value (or a
-    bare word without quotes, e.g. plate.kind=disk). The one reader of overrides: the command
-    line's --set and the API's keys (`override_text`) both come through it. A newline or another
-    control character is refused (TOML would read the rest as more keys, and drop or change them)."""
-    if not isinstance(text, str):
-        raise SceneError(f"--set {text!r} is not text: write --set section.key=value")
-    shown = text if len(text) <= 80 else text[:77] + "..."
-    bad = _CONTROL.search(text)
-    if bad:
-        raise SceneError(f"--set {shown!r} holds a control character ({bad.group()!r}, e.g. a newline): "
-                         "give one key and one value on one line (\\n inside a quoted TOML string)")
-    if "=" not in text:
-        raise SceneError(f"--set {shown!r} has no '=': write --set section.key=value")
-    key, raw = text.split("=", 1)
-    path = [p.strip() for p in key.strip().split(".")]
-    if not all(path):
-        raise SceneError(f"--set {shown!r}: the key {key!r} is malformed; write e.g. top.mass=0.03")
-    try:
-        parsed = tomllib.loads(f"v = {raw.strip()}")
-    except RecursionError:
-        raise SceneError(f"--set {shown!r}: the value is nested too deeply: give a number, text "
-                         "or a flat list") from None
-    except tomllib.TOMLDecodeError:
-        if not raw.strip() or not _BARE_WORD.match(raw.strip()):
-            raise SceneError(f"--set {shown!r}: the value is not a TOML value; quote a string as "
-                             "TOML does, e.g. --set 'plate.phi0=\"z/sqrt(z**2 + 1)\"'") from None
-        return path, raw.strip()  # a bare word, e.g. --set plate.kind=disk
-    if set(parsed) != {"v"}:
-        raise SceneError(f"--set {shown!r}: the value must be one TOML value")
-    return path, parsed["v"]
-
-
-def _toml_value(value: Any, key: str) -> str:
-    """One TOML value on one line, written by tomli_w (arrays inline)."""
-    if isinstance(value, (list, tuple)):
-        return "[" + ", ".join(_toml_value(v, key) for v in value) + "]"
-    if isinstance(value, dict):
-        raise SceneError(f"{key}: a table is not one value: give each key of it separately "
-                         f"({key}.<name>=...)")
-    try:
-        return tomli_w.dumps({"v": value})[len("v = "):].strip()
-    except TypeError:
-        raise SceneError(f"{key} = {value!r}: a {type(value).__name__} is not a scene value: give a "
-                         "number, text, true/false or a list of them") from None
-
-
-def override_text(key: str, value: Any) -> str:
-    """The `--set` text of scene key `key` (e.g. "top.mass") set to `value`, written by a TOML
-    writer, never by string formatting: quotes, backslashes and newlines in a value stay inside
-    it. `parse_override(override_text(k, v))` gives back (k.split("."), v)."""
-    if not isinstance(key, str) or not re.fullmatch(r"[A-Za-z0-9_-]+(\.[A-Za-z0-9_-]+)*", key):
-        raise SceneError(f"scene key {key!r} is not a key: write section.key, e.g. top.mass")
-    return f"{key}={_toml_value(value, key)}"
-
-
-def apply_override(data: dict, text: str) -> None:
-    """Apply one `--set section.key=value` to the scene's table. A list of tables (a compound
-    plate's [[plate.parts]]) is entered by its 0-based index: plate.parts.1.radius=0.02."""
-    keys, value = parse_override(text)
-    node: Any = data
-    for k in keys[:-1]:
-        if isinstance(node, list):
-            node = node[_index(text, k, node)]
-        else:
-            node = node.setdefault(k, {})
-        if not isinstance(node, (dict, list)):
-            raise SceneError(f"--set {text!r}: {k!r} is not a section")
-    if isinstance(node, list):
-        raise SceneError(f"--set {text!r}: {keys[-2]!r} is a list of tables: name a key inside "
-                         f"one of them, e.g. {'.'.join(keys[:-1])}.0.<key>=...")
-    node[keys[-1]] = value
-
-
-def _index(text: str, k: str, items: list) -> int:
-    if not k.isdigit() or int(k) >= len(items):
-        raise SceneError(f"--set {text!r}: {k!r} is not an index of a list of {len(items)} tables; "
-                         f"use 0..{len(items) - 1}")
-    return int(k)
 
 
 def _exists(path: Path) -> bool:

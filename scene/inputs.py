@@ -3,7 +3,7 @@
 The hash covers the scene's structure (plate kind, formulas, field, model; numbers that become
 runtime parameters are left out, so `--set top.mass=...` needs no new derivation, but every
 structural decision a plate kind declares, e.g. the ring magnet's "hollow: r_in > 0", is in:
-derive/plates/), the source of derive/ (code and templates) and the versions of sympy and casadi.
+scene/plates/), the source of all of derive/ (code and templates) and the versions of sympy and casadi.
 The runtime computes the same hash without importing sympy, to tell whether generated/<scene>/ is current.
 """
 from __future__ import annotations
@@ -15,10 +15,11 @@ from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
 from . import plates
+from .constants import MU0
+from .keys import FRICTION_KEYS, TEMPERATURE_KEY, TILT_KEYS_NAMES
+from .load import spelled_alike
+from .paths import DERIVE_DIR
 from .plates.expression import Z_RANGE
-from .scene import FRICTION_KEYS, TEMPERATURE_KEY, TILT_KEYS_NAMES, spelled_alike
-
-DERIVE_DIR = Path(__file__).resolve().parent
 
 
 def tool_versions() -> dict[str, str]:
@@ -31,19 +32,13 @@ def tool_versions() -> dict[str, str]:
     return out
 
 
-# derive/ modules that shape no generated file: the scene reader and its checks (what they decide
-# reaches the hash as the validated scene's structure), paths, the docs generator, fault injection,
-# the atomic folder swap and the command-line entry. A better error message must not make every
-# generated model stale.
-NOT_SHAPING = frozenset({"scene.py", "checks.py", "paths.py", "plates/docs.py", "faults.py",
-                         "atomic_dir.py", "__main__.py"})
-
-
 def hashed_sources() -> list[Path]:
-    """The derive/ sources (code and templates) whose text shapes generated/: all but NOT_SHAPING."""
+    """Every source of derive/ (code and templates): derive/ is the sympy physics, the emitters and
+    the build, all of which shape generated/. The scene language (scene/: reading, checks, error
+    messages, this hash) is not hashed: what it decides reaches the hash as the validated scene's
+    structure (`structure`), so a better error message leaves every generated model current."""
     return [path for path in sorted(DERIVE_DIR.rglob("*"))
-            if path.suffix in (".py", ".j2") and "__pycache__" not in path.parts
-            and path.relative_to(DERIVE_DIR).as_posix() not in NOT_SHAPING]
+            if path.suffix in (".py", ".j2") and "__pycache__" not in path.parts]
 
 
 def sources_hash() -> str:
@@ -68,7 +63,7 @@ def structure(data: dict) -> dict:
     parameters, except the plate's structural decisions (their values are in `decisions`) and,
     with an accuracy target (field.tolerance), every number (the chosen order depends on them)."""
     d = copy.deepcopy(data)
-    d.get("plate", {}).pop(TEMPERATURE_KEY.name, None)    # a runtime factor on mu (derive/scene.py)
+    d.get("plate", {}).pop(TEMPERATURE_KEY.name, None)    # a runtime factor on mu (scene/load.py)
     for table in [d.get("plate", {}), *(d.get("plate", {}).get("parts") or [])]:
         if isinstance(table, dict):
             table.pop(Z_RANGE, None)          # an expression plate's search range: runtime only
@@ -82,7 +77,7 @@ def structure(data: dict) -> dict:
         out["friction"] = True
     offset = "moment_offset" in d.get("top", {})     # the moment at r + d n (derive/mechanics.py)
     askew = "moment_tilt" in d.get("top", {})        # the moment off the axis, in the body
-    if tilted or offset or askew:   # a base tilt (an imperfect magnet's model has one too): derive/scene.py
+    if tilted or offset or askew:   # a base tilt (an imperfect magnet's model has one too): scene/load.py
         out["tilted"] = True
     if offset:
         out["offset"] = True
@@ -92,6 +87,9 @@ def structure(data: dict) -> dict:
 
 
 def input_hash(data: dict) -> str:
+    """The hash of `structure(data)`, every source of derive/, the tools' versions and MU0: the one
+    number of scene/ that generated code holds (derive/plate_fields/plate.py MU0_SYM); scene/'s
+    sources are not hashed (tests/test_layers.py holds what derive/ takes from scene/)."""
     payload = {"structure": spelled_alike(structure(data)), "derive": sources_hash(),
-               "versions": tool_versions()}
+               "versions": tool_versions(), "constants": {"MU0": MU0}}
     return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()

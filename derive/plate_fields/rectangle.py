@@ -3,9 +3,10 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ... import onaxis
-from ...symbols import Z
-from ..rectangle import block, holed
+from levitron.scene.plates.rectangle import block, holed
+
+from .. import onaxis
+from ..symbols import Z
 from .plate import MU0_SYM, Plate, plate_symbol
 
 
@@ -132,7 +133,7 @@ def build(table: dict, prefix: str = "") -> Plate:
     sx, sy = plate_symbol(prefix + "side_x"), plate_symbol(prefix + "side_y")
     hx, hy = sx / 2, sy / 2
     x0, y0 = sp.Integer(0), sp.Integer(0)
-    if block(table):   # structural decision `block` (derive/plates/rectangle.py)
+    if block(table):   # structural decision `block` (scene/plates/rectangle.py)
         t, mag = plate_symbol(prefix + "thickness"), plate_symbol(prefix + "magnetization")
         pot = lambda x, y, z: rectangle_block_potential(x, y, z, hx, hy, t, mag)
         fld = lambda x, y, z: rectangle_block_field(x, y, z, hx, hy, t, mag)
@@ -153,7 +154,7 @@ def build(table: dict, prefix: str = "") -> Plate:
         def derivs(k: int) -> sp.Expr:
             return rho * rect_solid_angle_derivative(k, Z, hx, hy)
     phi0 = pot(x0, y0, Z)
-    if not holed(table):   # structural decision `holed` (derive/plates/rectangle.py)
+    if not holed(table):   # structural decision `holed` (scene/plates/rectangle.py)
         return Plate("rectangle", phi0, symbols, derivs, fld, pot)
     hole = plate_symbol(prefix + "hole")
     if block(table):

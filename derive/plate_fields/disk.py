@@ -3,8 +3,8 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ... import onaxis
-from ...symbols import Z
+from .. import onaxis
+from ..symbols import Z
 from .plate import Plate, axisymmetric, plate_symbol
 
 

@@ -3,7 +3,7 @@
 The formula is parsed safely (derive/expr_parse.py: never evaluated as Python, size and nesting
 checked before sympy sees it). The sympy work on it is bounded: every Phi_k may have at most
 MAX_DERIVATIVE_OPS operations, and the plate's whole symbolic work (parsing, the antiderivative of
-bz, every derivative) at most TIME_BUDGET_S seconds of wall time (derive/plates/symbolic/budget.py).
+bz, every derivative) at most TIME_BUDGET_S seconds of wall time (derive/plate_fields/budget.py).
 """
 from __future__ import annotations
 
@@ -11,9 +11,10 @@ import time
 
 import sympy as sp
 
-from ...checks import SceneError
-from ...expr_parse import FUNCTIONS, NOT_SMOOTH, ExpressionError, parse_expression
-from ...symbols import Z
+from levitron.scene.checks import SceneError
+
+from ..expr_parse import FUNCTIONS, NOT_SMOOTH, ExpressionError, parse_expression
+from ..symbols import Z
 from .budget import time_budget
 from .plate import Plate, plate_symbol
 

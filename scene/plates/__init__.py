@@ -1,11 +1,11 @@
 """The plate registry, scene side (pure Python: the runtime imports it, sympy never loads).
 
-One module per plate kind in this package defines `KIND` (derive/plates/base.py says what a kind
-declares). The derive side is derive/plates/symbolic/<kind>.py (the sympy builder), the runtime
+One module per plate kind in this package defines `KIND` (scene/plates/base.py says what a kind
+declares). The derive side is derive/plate_fields/<kind>.py (the sympy builder), the runtime
 side runtime/physics/plates/<kind>.py (the exact field); tests/test_plate_registry.py checks that the three
 registries have the same kinds. Adding a plate kind is one file on each side.
 
-Functions over a scene's [plate] table (validated by derive/scene.py), compound parts included:
+Functions over a scene's [plate] table (validated by scene/load.py), compound parts included:
 `resolve` (SI parameters), `decisions` (the structural decisions, for the input hash),
 `length_scale` (the plate's characteristic length) and `param_units` (the parameters' SI units).
 """
@@ -28,7 +28,7 @@ def _discover() -> dict[str, PlateKind]:
         kind = getattr(importlib.import_module(f"{__name__}.{info.name}"), "KIND", None)
         if isinstance(kind, PlateKind):
             if kind.name != info.name:
-                raise ImportError(f"derive/plates/{info.name}.py declares kind {kind.name!r}: "
+                raise ImportError(f"scene/plates/{info.name}.py declares kind {kind.name!r}: "
                                   "name the module after its kind")
             kinds[kind.name] = kind
     return kinds

@@ -15,9 +15,10 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from ...constants import MU0
-from ...field import field
-from ...symbols import Phi, Z, phi_orders
+from levitron.scene.constants import MU0
+
+from ..field import field
+from ..symbols import Phi, Z, phi_orders
 
 MU0_SYM = sp.Float(MU0)
 

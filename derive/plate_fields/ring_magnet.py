@@ -1,16 +1,17 @@
 """Axially magnetised ring magnet (or solid cylinder), top face in z = 0 (Derby & Olbert 2010)."""
 from __future__ import annotations
 
-from ... import onaxis
-from ...symbols import Z
-from ..ring_magnet import hollow
+from levitron.scene.plates.ring_magnet import hollow
+
+from .. import onaxis
+from ..symbols import Z
 from .plate import MU0_SYM, Plate, axisymmetric, plate_symbol
 
 
 def build(table: dict, prefix: str = "") -> Plate:
     """r_in <= r <= r_out, -t <= z <= 0, magnetisation M (A/m). On the axis
     B_z = (mu0 M/2) sum_R +-[(z+t)/sqrt((z+t)^2+R^2) - z/sqrt(z^2+R^2)] (outer +, inner -).
-    Structural decision `hollow` (r_in > 0, derive/plates/ring_magnet.py): the inner term."""
+    Structural decision `hollow` (r_in > 0, scene/plates/ring_magnet.py): the inner term."""
     r_out, t, mag = (plate_symbol(prefix + k) for k in ("r_out", "thickness", "magnetization"))
     strength = MU0_SYM * mag / 2
     outer = onaxis.cylinder_phis(Z, r_out, t, strength)

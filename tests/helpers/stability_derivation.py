@@ -33,7 +33,7 @@ from functools import lru_cache
 
 import sympy as sp
 
-from .symbols import Phi, A, C, g, m, mu
+from levitron.derive.symbols import Phi, A, C, g, m, mu
 
 # ------------------------------------------------------------------------------------------ symbols
 
@@ -95,7 +95,7 @@ class HamiltonianSystem:
 def full_hamiltonian() -> HamiltonianSystem:
     """The full Tait-Bryan Hamiltonian of derive/mechanics.py (thesis 2.3.9 in the angles of 3.2.2,
     field to order r^2, eq. 2.2.7), with its states renamed to this module's symbols."""
-    from .mechanics import hamiltonian_system
+    from levitron.derive.mechanics import hamiltonian_system
     sys_ = hamiltonian_system("tait-bryan", 2)
     ren = {old: new for old, new in zip(tuple(sys_.q) + tuple(sys_.p), STATES_TB)}
     return HamiltonianSystem(Q_TB, P_TB, sp.sympify(sys_.H).xreplace(ren))

@@ -7,9 +7,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parent.parent      # the checkout, or levitron/ in a wheel
 SCENES_DIR = ROOT / "scenes"
 GENERATED = ROOT / "generated"
+DERIVE_DIR = ROOT / "derive"      # its sources are the input hash's (scene/inputs.py)
 
 
 def is_committed_scene(name: str, path: Path | str | None) -> bool:
