@@ -1,6 +1,6 @@
 """Every command's answer on every scene, kept to compare two versions of the code (issue 29).
 
-    python tests/json_snapshot.py OUT_DIR [--jobs 2] [--only SUBSTRING]   # take a snapshot
+    python tests/json_snapshot.py OUT_DIR [--jobs 2] [--only SUBSTRING] [--resume]   # take a snapshot
     python tests/json_snapshot.py --compare BEFORE_DIR AFTER_DIR           # diff two snapshots
 
 A snapshot runs each case of `cases()` (equilibrium, stability, simulate, scan, launch, optimize,
@@ -144,7 +144,7 @@ def cases(scene: str, st: dict | None, tmp: Path) -> dict[str, list[str]]:
     return c
 
 
-def take(out: Path, jobs: int, only: str | None) -> None:
+def take(out: Path, jobs: int, only: str | None, resume: bool = False) -> None:
     out.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="levitron-snapshot-") as t:
         tmp = Path(t)
@@ -155,7 +155,8 @@ def take(out: Path, jobs: int, only: str | None) -> None:
         for scene in scenes:
             name = Path(scene).stem
             for case, argv in cases(scene, stability_of(scene, tmp), tmp).items():
-                if only is None or only in f"{name}.{case}":
+                done = resume and (out / f"{name}.{case}.json").exists()
+                if (only is None or only in f"{name}.{case}") and not done:
                     todo.append((f"{name}.{case}", argv))
 
         def one(item):
@@ -228,12 +229,13 @@ def main() -> int:
     ap.add_argument("--compare", nargs=2, type=Path, metavar=("BEFORE", "AFTER"))
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--only", default=None, help="only the cases whose 'scene.case' contains this")
+    ap.add_argument("--resume", action="store_true", help="skip the cases OUT_DIR already holds")
     a = ap.parse_args()
     if a.compare:
         return compare(*a.compare)
     if a.out is None:
         ap.error("give OUT_DIR or --compare BEFORE AFTER")
-    take(a.out, a.jobs, a.only)
+    take(a.out, a.jobs, a.only, a.resume)
     return 0
 
 
