@@ -24,7 +24,7 @@ from levitron.runtime.physics.stability import stability_of
 from levitron.runtime.ui.human import Units, restate
 
 from . import arguments as arg
-from .results import Equilibria, Equilibrium, LaunchOdds, Simulation, Simulations, Stability, Trim
+from .results import Equilibria, LaunchOdds, Simulation, Simulations, Stability, Trim
 
 # Study.simulate's options: runtime.simulate.run.simulate's keywords, and the command line's names
 SIMULATE_OPTIONS = ("tilt", "offset", "t_end", "integrator", "tol", "box", "plot", "part", "h",
@@ -164,14 +164,9 @@ class Study:
     # ---- physics
     @_in_scene_units
     def equilibria(self) -> Equilibria:
-        """Vertical equilibria, z_c, the largest mass and the stable band (thesis 3.3.1-3.3.3)."""
-        rep = eqm.equilibria_of(self.model, bands=True)
-        band = rep.stable_band
-        u = self.units
-        return Equilibria([Equilibrium(e.z, e.vertically_stable, e.stiffness, e.marginal, u)
-                           for e in rep.equilibria], rep.z_c, rep.max_mass,
-                          None if band is None else tuple(band.z),
-                          None if band is None else tuple(band.mass), u)
+        """Vertical equilibria, z_c, the largest mass and the stable band (thesis 3.3.1-3.3.3):
+        runtime/physics/equilibria.py's answer, the one `levitron equilibrium` prints."""
+        return Equilibria.of(self.model)
 
     @_in_scene_units
     def stability(self, height: float | None = None) -> Stability:
@@ -196,15 +191,19 @@ class Study:
         in air the run ends when the top falls: details["flight"]), integrator, tol, box (m),
         plot (path), part, h or step (s), n_out, azimuth or tilt_azimuth (rad), as the command
         line's flags)."""
+        from levitron.runtime.simulate import trajectory_file
         from levitron.runtime.simulate.run import simulate
         options = _options(options, SIMULATE_OPTIONS, "simulate option",
                            ("tilt", "offset", "t_end", "tol", "box", "h", "azimuth"))
-        out = simulate(self.model, arg.number(spin, "spin"), trajectory=True, **options)
-        samples = out.pop("trajectory")
-        return Simulation(out["levitating"], float(out["t_survived"]),
-                          float(out["max_excursion"]), float(out["energy_drift"]),
-                          int(out["rhs_evals"]), float(out["wall_s"]), dict(out["final_state"]),
-                          out, samples, self.units)
+        plot, save = options.pop("plot", None), options.pop("save", None)
+        if save is not None:
+            trajectory_file.check_path(save)
+        sim = simulate(self.model, arg.number(spin, "spin"), **options)
+        if plot is not None:
+            sim.plot(plot)
+        if save is not None:
+            sim.save(save, flag="--save")
+        return sim
 
     @_in_scene_units
     def simulate_many(self, spin, **options) -> Simulations:

@@ -1,0 +1,112 @@
+"""One answer type per question (issue 29): the command line's JSON is the answer's as_json(), the
+API returns the same type, and the answer's numbers hold against an independent route (the
+equilibrium condition by hand, the energy of the saved states)."""
+from __future__ import annotations
+
+import json
+import re
+
+import numpy as np
+import pytest
+
+import levitron as lev
+from levitron.runtime.cli import main as cli
+from levitron.runtime.physics.equilibria import Equilibria
+from levitron.runtime.simulate.simulation import Simulation
+
+SCENE = "thesis_stable"
+RUN = dict(spin=1100.0, tilt=0.01, t_end=0.3, n_out=60)
+
+
+def _cli_json(capsys, *argv) -> dict:
+    assert cli.main([*argv, "--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def _same(a, b, skip=("wall_s", "provenance")) -> None:
+    """a and b equal key for key (numbers bit for bit, as JSON writes them), but for `skip`."""
+    a = {k: v for k, v in a.items() if k not in skip}
+    b = {k: v for k, v in b.items() if k not in skip}
+    assert json.dumps(a, sort_keys=True) == json.dumps(b, sort_keys=True)
+
+
+@pytest.fixture(scope="module")
+def study():
+    return lev.load(SCENE)
+
+
+def test_equilibria_is_one_answer_for_the_api_and_the_command_line(study, capsys):
+    eq = study.equilibria()
+    assert type(eq) is Equilibria and lev.Equilibria is Equilibria
+    _same(_cli_json(capsys, "equilibrium", SCENE), cli._clean(eq.as_json()))
+
+
+def test_equilibria_satisfy_the_equilibrium_condition_by_hand(study):
+    """m g + mu Phi_2(z) = 0 at every equilibrium and U'' = mu Phi_3 its stiffness (thesis 3.3.2-3.3.3),
+    from the generated on-axis functions; the band's attributes are its Band's."""
+    eq = study.equilibria()
+    P = study.model.pvals()
+    assert len(eq.equilibria) == 2 and eq.success
+    for e in eq.equilibria:
+        phi = study.model.onaxis(e.z)
+        assert abs(P["m"] * P["g"] + P["mu"] * phi[2]) <= 1e-12 * P["m"] * P["g"]
+        assert e.stiffness == pytest.approx(P["mu"] * phi[3], rel=1e-12)
+        assert e.vertically_stable == (e.stiffness > 0)
+    assert eq.stable_band_z == tuple(eq.stable_band.z) and eq.stable_band_mass == tuple(eq.stable_band.mass)
+    lo, hi = eq.stable_band.mass
+    assert lo < P["m"] < hi and eq.reason is None and eq.reasons == []
+    # the heaviest top hovers at z_c, where Phi_3 vanishes: m(z_c) = -mu Phi_2(z_c) / g
+    phi_c = study.model.onaxis(eq.z_c)
+    assert eq.max_mass == pytest.approx(-P["mu"] * phi_c[2] / P["g"], rel=1e-12)
+
+
+def test_a_dimensionless_scene_repr_has_no_si_unit():
+    eq = lev.load(SCENE, {"units": "dimensionless"}).equilibria()
+    text = repr(eq) + repr(eq.equilibria[0]) + eq.message
+    assert "0.106467 (stable)" in text
+    assert not re.search(r"\d ?(m|kg|N/m)\b", text), text
+
+
+def test_simulation_is_one_answer_for_the_api_and_the_command_line(study, capsys):
+    sim = study.simulate(**RUN)
+    assert type(sim) is Simulation and lev.Simulation is Simulation
+    argv = ["simulate", SCENE, "--spin", "1100", "--tilt", "0.01", "--t-end", "0.3", "--n-out", "60"]
+    out = _cli_json(capsys, *argv)
+    assert out.pop("plot") is None and "linear" in out      # the command's own keys
+    out.pop("linear")
+    _same(out, cli._clean(sim.as_json()))
+    assert sim["levitating"] is sim.levitating is True and sim.t_survived == RUN["t_end"]
+
+
+def test_simulation_samples_hold_the_energy_and_the_final_state(study, tmp_path):
+    """The trajectory's energy column is H of its own states (the generated energy, row by row),
+    its largest drift the answer's energy_drift; its last row the final state; save round-trips it;
+    plot draws it."""
+    from levitron.runtime.simulate import trajectory_file
+    sim = study.simulate(**RUN)
+    pt = study.model.part("full")
+    tr = sim.trajectory
+    X = np.column_stack([tr[s] for s in pt.states])
+    H = np.array([pt.energy(x, study.model.p) for x in X])
+    np.testing.assert_allclose(tr["energy"], H, rtol=1e-13, atol=0)
+    drift = np.max(np.abs(H - H[0])) / sim["energy_scale"]
+    assert drift == pytest.approx(sim.energy_drift, rel=1e-6, abs=1e-15)
+    assert X[-1].tolist() == pytest.approx([sim.final_state[s] for s in pt.states], rel=1e-15, abs=1e-300)
+    names, table = trajectory_file.read(sim.save(tmp_path / "run.npz"))
+    assert names == list(tr) and np.array_equal(table, np.column_stack([tr[n] for n in names]))
+    assert sim.plot(tmp_path / "run.png") == str(tmp_path / "run.png")
+    assert (tmp_path / "run.png").stat().st_size > 5000
+
+
+def test_simulate_returns_no_file_unless_asked(study, tmp_path):
+    """Plotting and saving are the answer's actions, not simulate()'s: the runtime's simulate takes
+    neither, and Study.simulate's plot= and save= call them."""
+    import inspect
+
+    from levitron.runtime.simulate import trajectory_file
+    from levitron.runtime.simulate.run import simulate
+    assert not {"plot", "save", "trajectory"} & set(inspect.signature(simulate).parameters)
+    study.simulate(**RUN, plot=tmp_path / "a.png", save=tmp_path / "a.csv")
+    assert (tmp_path / "a.png").stat().st_size > 5000
+    names, table = trajectory_file.read(tmp_path / "a.csv")
+    assert table.shape == (RUN["n_out"] + 1, len(names))
