@@ -22,7 +22,7 @@ import numpy as np
 
 from levitron.derive import plates
 
-from levitron.runtime.physics import equilibrium as eqm
+from levitron.runtime.physics.equilibria import Equilibria
 from levitron.runtime.report.html_parts import p as _p, png as _png, table as _table
 from levitron.runtime.ui import progress, reference
 from levitron.runtime.ui.atomic import sweep
@@ -72,15 +72,15 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
                             [1, 1, 3, 2] + ([4] if air else [])) as stage:
         stage(0)
         tmp = Path(tmp)
-        rep = eqm.equilibria_of(model, bands=True)
+        rep = Equilibria.of(model)
+        eq_json = rep.as_json()
         band = rep.stable_band
-        facts["equilibria"] = [e.as_dict() for e in rep.equilibria]
-        facts["stable_band"] = band.as_dict() if band is not None else None
+        facts["equilibria"], facts["stable_band"] = eq_json["equilibria"], eq_json["stable_band"]
         res = stability_of(model)
         iv = res.spin_interval
         facts["spin_interval"] = list(iv) if iv else None
         facts["z_s"] = res.z_s
-        hints = eqm.hover_reasons(rep, P["m"])
+        hints = rep.reasons
         facts["hints"] = hints
         if iv:
             answer = (f"{u.top(P['m']).capitalize()} hovers at {u.length(facts['z_s'])} and is stable "
@@ -134,10 +134,9 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
             parts.append(_png(draw_map(m, tmp / "map.png", f"{scene.name}: levitating vs spin and tilt", u)))
             stage(3)
             # in air the whole flight, to the fall (simulate's default run length); else 3 slow periods
-            run = simulate(model, spin=spin, tilt=LAUNCH_TILT, t_end=None if air else LAUNCH_PERIODS * T,
-                           plot=tmp / "launch.png", trajectory=True, n_out=AIR_SAMPLES if air else 2000)
-            traj = run.pop("trajectory")
-            run.pop("setup")
+            sim = simulate(model, spin=spin, tilt=LAUNCH_TILT, t_end=None if air else LAUNCH_PERIODS * T,
+                           n_out=AIR_SAMPLES if air else 2000)
+            run = sim.as_json()
             facts["launch"] = {k: run[k] for k in ("levitating", "t_survived", "max_tilt",
                                                    "max_height_deviation", "energy_drift")}
             facts["launch"]["spin"] = spin
@@ -151,8 +150,8 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
                                f"{u.time(run['t_survived'])}")
                             + f"; largest tilt {u.angle(run['max_tilt'])}, "
                             f"energy {'balance residual' if air else 'drift'} {sig(run['energy_drift'], 2)}"))
-            parts.append(_png(Path(run["plot"])))
-            data = animation.frames(traj, run, setup, u)
+            parts.append(_png(Path(sim.plot(tmp / "launch.png"))))
+            data = sim.animation(setup)
             facts["animation"] = {"frames": len(data["t"]), "speed": data["speed"], "precession": data["precession"]}
             parts.insert(launch_at, "<h2>A launch to watch</h2>" + animation.fragment(
                 data, f"The typical launch below ({how}), played: spin {u.rate(spin)}, tilt "
