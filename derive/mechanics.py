@@ -24,6 +24,7 @@ from . import field as fieldmod
 from .kinematics import ROTATIONS, Rotation, kinetic_energy
 from .symbols import X, Y, Z, base_tilt, base_tilt_azimuth, g, m, moment_offset, mu
 from .trig import trig_reduce
+from .zxz_form import cancellation_free
 
 
 @dataclass(frozen=True)
@@ -127,4 +128,6 @@ def hamiltonian_system(coords: str = "tait-bryan", order: int = 2,
     L = T - U
     momenta, qdot_of_p, H = legendre(L, q, qdot, p, rot.keep)
     rhs = sp.Matrix([sp.diff(H, pi) for pi in p] + [-sp.diff(H, qi) for qi in q])
+    if coords == "euler-zxz":        # the same H and rhs, written so that nothing cancels at theta ~ 0
+        H, rhs = cancellation_free(q, p, H, rhs)
     return HamiltonianSystem(rot, order, q, qdot, p, L, U, momenta, qdot_of_p, H, rhs)

@@ -110,6 +110,9 @@ LAUNCH_KEYS = tuple(Key(k, u, d) for k, u, d in (
     ("mass", "", "the relative deviation of the mass (same forms)"),
     ("strength", "", "the relative deviation of the magnets' strength (same forms)"),
     ("temperature", "degC", "the magnets' temperature (same forms)"),
+    ("base_tilt", "rad", "the base's tilt from level, sampled per launch (same forms; needs plate.tilt)"),
+    ("base_tilt_azimuth", "rad", "the base's downhill direction, sampled per launch (same forms; "
+     "needs plate.tilt)"),
     ("success_time", "s", "a launch succeeds when the top floats at least this long"),
     ("t_end", "s", "the run length of each launch"),
     ("n", "", "the number of launches"),

@@ -4,12 +4,15 @@ import sympy as sp
 from levitron.derive import field as F
 from levitron.derive.mechanics import hamiltonian_system, potential_energy
 from levitron.derive.symbols import A, C, Phi, X, Y, Z, g, m, mu
+from levitron.derive.zxz_form import full_angle
 
 c, s = sp.cos, sp.sin
 
 
 def _zero(e):
-    return sp.simplify(e) == 0
+    """e == 0, with sin(theta/2) of the z-x-z chart's factored forms (derive/zxz_form.py) written
+    through cos(theta) first (sympy's simplify does not see the half angle's identity)."""
+    return sp.simplify(full_angle(e, sp.Symbol("theta", real=True))) == 0
 
 
 def euler():

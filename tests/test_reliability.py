@@ -334,9 +334,8 @@ BATTERY = [
          toml=expression_scene(NESTED), sub=True, timeout=20),
     Case("simulate-n-out-1e9", "simulate thesis_stable --spin 1000 --t-end 0.01 --n-out 1000000000",
          r"n.out", sub=True),
-    Case("euler-zxz-tilt-1e-6", "simulate thesis_stable --spin 1000 --set model.coordinates=euler-zxz "
-         "--set 'model.needs=[\"reduced\", \"full\"]' --tilt 1e-6 --t-end 1 --json", r"step|budget",
-         sub=True, bounded=True, timeout=60),
+    # (a z-x-z launch at tilt 1e-6 once ran into its step budget, the expanded energy's
+    # cancellation; the cancellation-free form completes it: tests/test_near_vertical.py)
     Case("simulate-t-end-1e9", SIM + " --t-end 1e9", r"t.end|step|budget", sub=True, bounded=True),
     Case("simulate-spin-1e12", "simulate thesis_stable --spin 1e12 --tilt 0.01 --t-end 1 --json",
          r"spin|step|budget", sub=True, bounded=True),

@@ -114,8 +114,16 @@ typedef struct {
 
 static void call_rhs(lev_ctx *c, const double *x, double *out)
 {
-    c->sys->rhs(x, c->sys->p, out);
+    const lev_system *s = c->sys;
+    s->rhs(x, s->p, out);
+    if (s->quad) s->quad(x, s->p, out + s->n - 1);   /* dW/dt: the quadrature, the last state */
     c->st->rhs_evals++;
+}
+
+/* The components an adaptive step's error norm takes: all but a quadrature (lev_system.quad). */
+static int normed(const lev_system *s)
+{
+    return s->quad ? s->n - 1 : s->n;
 }
 
 static double call_energy(lev_ctx *c, const double *x)
@@ -380,8 +388,8 @@ typedef struct {
     int n_b;
     int f_slot;             /* the slot of K that holds rhs(xn) after a step */
     double expo;            /* the step-size exponent, 1 / (order of the estimate + 1) */
-    double (*err)(int, const double *, double, const double *, const double *, double, double,
-                  const double *);
+    double (*err)(int, int, const double *, double, const double *, const double *, double,
+                  double, const double *);
     void (*prepare)(lev_ctx *, const double *, const double *, const double *, double, double *,
                     double *, double *);
     void (*eval)(lev_ctx *, double, double, const double *, const double *, double *, double *,
@@ -391,42 +399,44 @@ typedef struct {
 /* ---- Dormand-Prince 8(5,3), adaptive, with dense output ---- */
 
 /* Hairer's error norm: err5 and err3 combined, RMS over the components (scipy's DOP853).  The
- * weighted sums run over the stages with a nonzero weight, vectorised over the components. */
-LEV_FORCE_INLINE double dp_error_norm_n(int n, const double *K, double h, const double *x,
+ * weighted sums run over the stages with a nonzero weight, vectorised over the components.  K's
+ * stages have n components; the norm takes the first m (m = n - 1 leaves out a quadrature,
+ * lev_system.quad, which does not steer the steps, as CVODES' quadratures do not by default). */
+LEV_FORCE_INLINE double dp_error_norm_n(int n, int m, const double *K, double h, const double *x,
                                      const double *xn, double rtol, double atol,
                                      const double *atol_v)
 {
     static const int NZ[9] = {0, 5, 6, 7, 8, 9, 10, 11, 12};   /* DP_E5, DP_E3 != 0 */
     double s5[LEV_MAX_STATES], s3[LEV_MAX_STATES], r[LEV_MAX_STATES], e5 = 0.0, e3 = 0.0, denom;
     int i, q;
-    for (i = 0; i < n; i++) s5[i] = s3[i] = 0.0;
+    for (i = 0; i < m; i++) s5[i] = s3[i] = 0.0;
     for (q = 0; q < 9; q++) {
         const double *Kq = K + (size_t)NZ[q] * n, w5 = DP_E5[NZ[q]], w3 = DP_E3[NZ[q]];
-        for (i = 0; i < n; i++) {
+        for (i = 0; i < m; i++) {
             s5[i] = LEV_MADD(w5, Kq[i], s5[i]);
             s3[i] = LEV_MADD(w3, Kq[i], s3[i]);
         }
     }
     if (atol_v)
-        for (i = 0; i < n; i++) r[i] = 1.0 / (atol_v[i] + rtol * LEV_MAXABS(x[i], xn[i]));
+        for (i = 0; i < m; i++) r[i] = 1.0 / (atol_v[i] + rtol * LEV_MAXABS(x[i], xn[i]));
     else
-        for (i = 0; i < n; i++) r[i] = 1.0 / (atol + rtol * LEV_MAXABS(x[i], xn[i]));
-    for (i = 0; i < n; i++) {
+        for (i = 0; i < m; i++) r[i] = 1.0 / (atol + rtol * LEV_MAXABS(x[i], xn[i]));
+    for (i = 0; i < m; i++) {
         const double a5 = s5[i] * r[i], a3 = s3[i] * r[i];
         e5 += a5 * a5;
         e3 += a3 * a3;
     }
     if (e5 == 0.0 && e3 == 0.0) return 0.0;
     denom = e5 + 0.01 * e3;
-    return fabs(h) * e5 / sqrt(denom * (double)n);
+    return fabs(h) * e5 / sqrt(denom * (double)m);
 }
 
-static double dp_error_norm(int n, const double *K, double h, const double *x, const double *xn,
-                            double rtol, double atol, const double *atol_v)
+static double dp_error_norm(int n, int m, const double *K, double h, const double *x,
+                            const double *xn, double rtol, double atol, const double *atol_v)
 {
-    if (n == 12) return dp_error_norm_n(12, K, h, x, xn, rtol, atol, atol_v);
-    if (n == 4) return dp_error_norm_n(4, K, h, x, xn, rtol, atol, atol_v);
-    return dp_error_norm_n(n, K, h, x, xn, rtol, atol, atol_v);
+    if (n == 12 && m == 12) return dp_error_norm_n(12, 12, K, h, x, xn, rtol, atol, atol_v);
+    if (n == 4 && m == 4) return dp_error_norm_n(4, 4, K, h, x, xn, rtol, atol, atol_v);
+    return dp_error_norm_n(n, m, K, h, x, xn, rtol, atol, atol_v);
 }
 
 /* The three extra stages and the coefficients F[0..6] of the 7th-degree interpolant. */
@@ -486,16 +496,16 @@ static double rms_scaled(int n, const double *v, const double *x, double rtol, d
 static double dp_initial_step(lev_ctx *c, const double *x, const double *f, double span,
                               double hmax, double *tmp, double *f1)
 {
-    int i, n = c->sys->n;
+    int i, n = c->sys->n, m = normed(c->sys);
     double rtol = c->opt->rtol, atol = c->opt->atol, d0, d1, d2, h0, h1;
-    d0 = rms_scaled(n, x, x, rtol, atol, c->opt->atol_v);
-    d1 = rms_scaled(n, f, x, rtol, atol, c->opt->atol_v);
+    d0 = rms_scaled(m, x, x, rtol, atol, c->opt->atol_v);
+    d1 = rms_scaled(m, f, x, rtol, atol, c->opt->atol_v);
     h0 = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
     if (h0 > span) h0 = span;
     for (i = 0; i < n; i++) tmp[i] = x[i] + h0 * f[i];
     call_rhs(c, tmp, f1);
     for (i = 0; i < n; i++) tmp[i] = f1[i] - f[i];
-    d2 = rms_scaled(n, tmp, x, rtol, atol, c->opt->atol_v) / h0;
+    d2 = rms_scaled(m, tmp, x, rtol, atol, c->opt->atol_v) / h0;
     if (!isfinite(d2)) return h0;
     if (d1 <= 1e-15 && d2 <= 1e-15)
         h1 = fmax(1e-6, h0 * 1e-3);
@@ -525,18 +535,19 @@ static void vn_stages(lev_ctx *c, const double *x, const double *f, double h, do
     rk_combine(n, x, h, K, VN_B, 15, xn);
 }
 
-/* RMS over the components of h sum_i VN_D_i k_i / (atol_k + rtol max(|x_k|, |xn_k|)). */
-static double vn_error_norm(int n, const double *K, double h, const double *x, const double *xn,
-                            double rtol, double atol, const double *atol_v)
+/* RMS over the first m components of h sum_i VN_D_i k_i / (atol_k + rtol max(|x_k|, |xn_k|))
+ * (dp_error_norm_n says which m). */
+static double vn_error_norm(int n, int m, const double *K, double h, const double *x,
+                            const double *xn, double rtol, double atol, const double *atol_v)
 {
     double d[LEV_MAX_STATES], acc = 0.0;
     int i;
     rk_sum(n, K, VN_D, 16, d);
-    for (i = 0; i < n; i++) {
+    for (i = 0; i < m; i++) {
         const double e = d[i] * (h / ((atol_v ? atol_v[i] : atol) + rtol * LEV_MAXABS(x[i], xn[i])));
         acc += e * e;
     }
-    return sqrt(acc / (double)n);
+    return sqrt(acc / (double)m);
 }
 
 /* Dense output of order 9: a Verner step of theta h from the start of the step (F = rhs(yo)). */
@@ -716,7 +727,7 @@ LEV_FORCE_INLINE const double *adaptive_stage_arg(adaptive_run *r, int s, const 
         for (i = 0; i < n; i++) r->P[i] = LEV_MADD(a, Knew[i], r->P[i]);
     if (last) {
         add_compensated(n, r->x, r->h, r->P, r->comp, r->xn, r->comp_new);
-        r->err = m->err(n, r->K, r->h, r->x, r->xn, o->rtol, o->atol, o->atol_v);
+        r->err = m->err(n, normed(r->c->sys), r->K, r->h, r->x, r->xn, o->rtol, o->atol, o->atol_v);
         r->fac = 0.9 * pow(r->err, -m->expo);
         *dst = r->K + (size_t)m->f_slot * n;
         return r->xn;
@@ -1147,6 +1158,20 @@ static void gauss_predict(gauss_run *g, const double *x, long step)
         }
 }
 
+/* With a quadrature (lev_system.quad) jac wrote the (n - 1) x (n - 1) Jacobian of rhs row-major at
+ * the start of J: spread it to n x n with W's row and column zero (dW/dt depends on the state, but
+ * simplified Newton needs no exact matrix: W's stage equations are explicit in the others', and
+ * the iteration converges to the same stages). */
+static void quad_jacobian(double *J, int n)
+{
+    int m = n - 1, k, q;
+    for (k = m - 1; k >= 0; k--)          /* backwards: a target index is never below its source */
+        for (q = m - 1; q >= 0; q--)
+            J[(size_t)k * n + q] = J[(size_t)k * m + q];
+    for (k = 0; k < m; k++) J[(size_t)k * n + m] = 0.0;
+    for (q = 0; q < n; q++) J[(size_t)m * n + q] = 0.0;
+}
+
 /* Simplified Newton: M = I - h (A (x) J(x)), factored; a singular M falls back to fixed-point
  * iteration for the rest of the run. LEV_RUNNING, or LEV_NONFINITE for a non-finite Jacobian. */
 static int gauss_newton_matrix(gauss_run *g, const double *x)
@@ -1154,6 +1179,7 @@ static int gauss_newton_matrix(gauss_run *g, const double *x)
     int s = g->s, n = g->n, m = g->m, i, j, k, q;
     g->c->sys->jac(x, g->c->sys->p, g->J);
     g->st->jac_evals++;
+    if (g->c->sys->quad) quad_jacobian(g->J, n);
     for (i = 0; i < s; i++)
         for (j = 0; j < s; j++)
             for (k = 0; k < n; k++)
@@ -1317,7 +1343,8 @@ static int integrate_begin(int method, const lev_system *sys, const lev_options 
     if (!(opt->t_end > opt->t0) || !isfinite(opt->t0) || !isfinite(opt->t_end)) return LEV_BAD_INPUT;
     if (fixed && (!(opt->h > 0.0) || !isfinite(opt->h))) return LEV_BAD_INPUT;
     if (fixed && opt->t_out) return LEV_BAD_INPUT;
-    if (method == LEV_TAYLOR && (!sys->taylor || !(opt->rtol > 0.0))) return LEV_BAD_INPUT;
+    if (method == LEV_TAYLOR && (!sys->taylor || !(opt->rtol > 0.0) || sys->quad)) return LEV_BAD_INPUT;
+    if (sys->quad && n < 2) return LEV_BAD_INPUT;
     if (!fixed && (!(opt->rtol >= 0.0) || !(opt->atol >= 0.0) || !(opt->h >= 0.0)
                    || !(opt->h_max >= 0.0)))
         return LEV_BAD_INPUT;
@@ -1435,7 +1462,8 @@ static int lane_open(lanes_state *b, lane *l)
         l->k = b->next++;
         memset(&l->sys, 0, sizeof l->sys);
         memset(&l->opt, 0, sizeof l->opt);
-        if (b->setup(b->user, l->k, &l->sys, &l->opt, l->x) != 0 || l->sys.n > LEV_MAX_STATES) {
+        if (b->setup(b->user, l->k, &l->sys, &l->opt, l->x) != 0 || l->sys.n > LEV_MAX_STATES
+            || l->sys.quad) {
             memset(&l->st, 0, sizeof l->st);
             l->st.status = LEV_BAD_INPUT;
             b->done(b->user, l->k, LEV_BAD_INPUT, &l->st, l->x);

@@ -68,6 +68,13 @@ typedef struct {
     lev_fn energy;      /* a scalar invariant monitored after every step; NULL: none */
     const double *p;    /* parameter vector passed to every call */
     lev_taylor_fn taylor; /* LEV_TAYLOR: the Taylor coefficients; NULL: none */
+    lev_fn quad;        /* a quadrature: the last of the n states is W with dW/dt = quad(state, p)
+                           (one value; rhs gives the other n - 1 rates and reads none of W), so W
+                           is integrated inside the run by the method's own stages and dense
+                           output, left out of the adaptive error norm so that it does not steer
+                           the steps (the work of air friction, runtime/physics/friction.py);
+                           jac, if given, is then the (n - 1) x (n - 1) one of rhs, and LEV_TAYLOR
+                           and lev_integrate_lanes refuse it; NULL: none */
 } lev_system;
 
 typedef struct {

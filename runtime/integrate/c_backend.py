@@ -33,7 +33,7 @@ CSRC = Path(__file__).resolve().parent.parent / "csrc"
 class _System(ctypes.Structure):
     _fields_ = [("n", ctypes.c_int), ("rhs", ctypes.c_void_p), ("jac", ctypes.c_void_p),
                 ("energy", ctypes.c_void_p), ("p", ctypes.c_void_p),    # double *: an address
-                ("taylor", ctypes.c_void_p)]
+                ("taylor", ctypes.c_void_p), ("quad", ctypes.c_void_p)]
 
 
 class _Options(ctypes.Structure):
@@ -168,7 +168,7 @@ def run_c(lib: ctypes.CDLL, method: str, rhs: Any, x0, p, t_end: float, *, t0: f
           jac: Any = None, energy: Any = None, taylor: Any = None, box: Box | None = None,
           t_out: Sequence[float] | None = None, every: int = 0, max_samples: int | None = None,
           max_steps: int | None = None, h_max: float = 0.0, max_iter: int = 0,
-          energy_limit: float = 0.0) -> Result:
+          energy_limit: float = 0.0, quad: Any = None) -> Result:
     """Run one C integrator (no validation beyond the C's own; see ``integrate``).
 
     Samples: at the times ``t_out`` (DOP853 dense output), else every ``every``-th step plus the
@@ -177,7 +177,9 @@ def run_c(lib: ctypes.CDLL, method: str, rhs: Any, x0, p, t_end: float, *, t0: f
     max_steps: the step budget (attempted steps; status "step_budget"); None: the number of fixed
     steps, or runtime.integrate.budget.MAX_STEPS_CAP for DOP853. method "auto": the method resolve(rtol)
     picks (runtime/integrate/methods.py), named in Result.method. taylor: the part's Taylor
-    function (method "taylor"; its expansions are Result.iterations, and it makes no rhs call)."""
+    function (method "taylor"; its expansions are Result.iterations, and it makes no rhs call).
+    quad: a generated scalar function integrated as the last state of x0 (integrators.h's
+    lev_system.quad: rhs gives the other rates; the caller appends W(0) to x0 and its atol)."""
     bind(lib)
     requested, method = method, resolve(method, rtol, h or None)
     code = lookup(method).c_id
@@ -202,7 +204,7 @@ def run_c(lib: ctypes.CDLL, method: str, rhs: Any, x0, p, t_end: float, *, t0: f
     x[:] = x0
     out_x = out_x.reshape(max_samples, n)
     sysd = _System(n, fn_address(rhs), fn_address(jac), fn_address(energy), _addr(p),
-                   fn_address(taylor))
+                   fn_address(taylor), fn_address(quad))
     b = box or _NO_BOX
     opt = _Options(t0, t0 + t_end, h, rtol, float(atol), _addr(atol_v), h_max, max_steps,
                    1 if box is not None else 0, b.ix, b.iy, b.iz, b.z_lo, b.z_hi, b.r_max,

@@ -28,20 +28,25 @@ def _truncate_at_box(t, X, box: Box | None):
 CVODES_START = 100   # steps allowed on top of the even share in each output interval (the start)
 
 
-def integrate_casadi(part, method, x0, p, t_end, tol, h, box, n_out, scale, max_steps):
+def integrate_casadi(part, method, x0, p, t_end, tol, h, box, n_out, scale, max_steps, quad=None):
     """CasADi's integrators. The budget: CVODES counts its steps per call, one call per output
     time, so cvodes gets max_num_steps = max_steps / n_out + CVODES_START per output interval (an
     interval takes no step where the steps are longer than it: CVODES interpolates; the extra
     steps serve the start from a small first step), at most max_steps + CVODES_START n_out in all;
-    the fixed-step plugins run the budgeted steps only, to t = max_steps h."""
+    the fixed-step plugins run the budgeted steps only, to t = max_steps h. quad: the part's
+    scalar function whose integral is the last state of x0 (runtime/integrate/run.py), given to
+    the integrator as CasADi's quadrature ("quad"), which, as in C, does not steer the steps."""
     import casadi as ca
     plugin = lookup(method).engine
     F = part.casadi("rhs")
     n = x0.size
-    u = ca.MX.sym("u", n)
+    nx = n - (quad is not None)                 # the states; W, the last of x0, is the quadrature
+    u = ca.MX.sym("u", nx)
     pp = ca.MX.sym("p", F.size1_in(1), F.size2_in(1))
-    S = ca.DM(scale)
-    ode = F(S * u, pp) / S                      # scaled states: one scalar atol serves all
+    S = ca.DM(scale[:nx])
+    dae = {"x": u, "p": pp, "ode": F(S * u, pp) / S}   # scaled states: one scalar atol serves all
+    if quad is not None:
+        dae["quad"] = part.casadi(quad)(S * u, pp)
     opts: dict[str, Any] = {}
     n_steps = 0
     status, message = "completed", "completed: reached t_end"
@@ -62,12 +67,13 @@ def integrate_casadi(part, method, x0, p, t_end, tol, h, box, n_out, scale, max_
         if plugin == "collocation":
             opts.update({"interpolation_order": 3, "collocation_scheme": "legendre"})
     t_grid = np.linspace(0.0, t_run, n_out + 1)
-    integ = ca.integrator("lev_" + plugin, plugin, {"x": u, "p": pp, "ode": ode}, 0.0,
-                          list(t_grid[1:]), opts)
+    integ = ca.integrator("lev_" + plugin, plugin, dae, 0.0, list(t_grid[1:]), opts)
     start = time.perf_counter()
     try:
-        out = integ(x0=ca.DM(x0 / scale), p=ca.DM(p))
-        U = np.asarray(out["xf"].full()).T
+        out = integ(x0=ca.DM(x0[:nx] / scale[:nx]), p=ca.DM(p))
+        U = np.asarray(out["xf"].full()).T * scale[None, :nx]
+        if quad is not None:                    # W(t) = W(0) + the quadrature over [0, t]
+            U = np.hstack([U, x0[nx] + np.asarray(out["qf"].full()).T])
     except RuntimeError as err:
         U = np.full((n_out, n), np.nan)
         status, message = "solver_error", f"casadi {plugin}: {str(err).splitlines()[0]}"
@@ -76,7 +82,7 @@ def integrate_casadi(part, method, x0, p, t_end, tol, h, box, n_out, scale, max_
                                               f"before t_end (cvodes: more than {per_call} steps "
                                               "in one output interval)")
     wall = time.perf_counter() - start
-    X = np.vstack([x0[None, :], U * scale[None, :]])
+    X = np.vstack([x0[None, :], U])
     t = t_grid
     stats = integ.stats()
     if plugin == "cvodes":

@@ -35,6 +35,14 @@ Every run has a step budget (runtime/integrate/budget.py) and stops with status 
 used up: in C a counter compare per step, in CasADi CVODES' max_num_steps, in scipy a count of steps
 and of right-hand side calls.
 
+A ``quadrature`` (the name of a scalar function of the part, e.g. "dissipation", and the size of
+its integral) is integrated inside the run as one more state W, dW/dt = f(x), by every backend
+(C: integrators.h's lev_system.quad; CasADi: its integrators' "quad"; scipy: the right-hand side
+extended by f), by the method's own stages and dense output. In C and CasADi W does not steer the
+steps (it is left out of the error norm: the states are those of the run without it, in C bit for
+bit); scipy's solvers control it as one more state, atol tol * that size. The Result carries W at
+the samples (``work``, ``work_final``) and the states without it.
+
 Tolerances are made dimension-aware by a per-component ``scale`` (state magnitudes): every
 adaptive backend controls |local error_k| <= tol * (scale_k + |x_k|). The box (``Box``) stops a
 C or scipy run at the first exit (dense-output bisection in C, event root in scipy); CasADi has no
@@ -107,7 +115,8 @@ def integrate(part, x0, t_end: float, method: str = DEFAULT, tol: float | None =
               h: float | None = None, p=None, box: Box | None = None, n_out: int = 200,
               scale=None, monitor_energy: bool = False, max_steps: int | None = None,
               scipy_rhs: str = "auto", time_scale: float | None = None,
-              time_scale_what: str = "the fastest period") -> Result:
+              time_scale_what: str = "the fastest period",
+              quadrature: tuple[str, float] | None = None) -> Result:
     """Integrate `part` from x0 over [0, t_end] with `method` (see the module docstring).
 
     tol: adaptive methods (rtol = tol, atol_k = tol * scale_k). h: fixed-step methods.
@@ -116,16 +125,18 @@ def integrate(part, x0, t_end: float, method: str = DEFAULT, tol: float | None =
     it sets the default step budget and the limits of runtime.integrate.budget.check_options.
     max_steps: the step budget (None: runtime.integrate.budget.default_budget). A run that uses it up
     stops with status "step_budget". method "auto": the C method resolve(tol) picks (its name in
-    Result.method, the request in Result.details). Raises UserError for bad options."""
+    Result.method, the request in Result.details). quadrature: (kind, size), the part's function
+    `kind` integrated beside the state, atol tol * size (module docstring). Raises UserError for
+    bad options."""
     requested, method = method, resolve(method, tol, h)
     res = _integrate(part, x0, t_end, method, tol, h, p, box, n_out, scale, monitor_energy,
-                     max_steps, scipy_rhs, time_scale, time_scale_what)
+                     max_steps, scipy_rhs, time_scale, time_scale_what, quadrature)
     res.details.update(choice_details(requested, tol))
     return res
 
 
 def _integrate(part, x0, t_end, method, tol, h, p, box, n_out, scale, monitor_energy, max_steps,
-               scipy_rhs, time_scale, time_scale_what) -> Result:
+               scipy_rhs, time_scale, time_scale_what, quadrature=None) -> Result:
     x0 = _f64(x0)
     n = len(part.states)
     _validate(method, x0, n, t_end, tol, h, n_out, scale, time_scale, time_scale_what, max_steps)
@@ -133,13 +144,35 @@ def _integrate(part, x0, t_end, method, tol, h, p, box, n_out, scale, monitor_en
     budget = int(max_steps) if max_steps is not None else default_budget(method, t_end, h, time_scale)
     p = _f64(part.p if p is None else p)
     scale = default_scale(x0) if scale is None else _f64(scale)
+    quad = None
+    if quadrature is not None:
+        quad, size = quadrature
+        if not (math.isfinite(size) and size > 0):
+            raise ValueError(f"quadrature size {size!r}: a positive number")
+        if lookup(method).needs_taylor:
+            taylor_of(part)      # a part without coefficients (the full model) says that first
+            raise UserError(f"integrator {method} integrates no quadrature (the energy balance in "
+                            "air): choose dop853, vern9 or auto")
+        x0, scale = np.append(x0, 0.0), np.append(scale, float(size))
     backend = lookup(method).backend
     if backend == "c":
-        return _integrate_c(part, method, x0, p, t_end, tol, h, box, n_out, scale,
-                            monitor_energy, budget)
-    if backend == "casadi":
-        return integrate_casadi(part, method, x0, p, t_end, tol, h, box, n_out, scale, budget)
-    return integrate_scipy(part, method, x0, p, t_end, tol, box, n_out, scale, scipy_rhs, budget)
+        res = _integrate_c(part, method, x0, p, t_end, tol, h, box, n_out, scale,
+                           monitor_energy, budget, quad)
+    elif backend == "casadi":
+        res = integrate_casadi(part, method, x0, p, t_end, tol, h, box, n_out, scale, budget, quad)
+    else:
+        res = integrate_scipy(part, method, x0, p, t_end, tol, box, n_out, scale, scipy_rhs, budget,
+                              quad)
+    return res if quad is None else split_quadrature(res, n)
+
+
+def split_quadrature(res: Result, n: int) -> Result:
+    """The Result of a run with a quadrature as the last of n + 1 states: W moved to res.work and
+    res.work_final, the states (X, x_final) without it."""
+    X = np.atleast_2d(res.X)
+    res.work, res.work_final = X[:, n].copy(), float(res.x_final[n])
+    res.X, res.x_final = X[:, :n].copy(), res.x_final[:n].copy()
+    return res
 
 
 _GRIDS: dict = {}
@@ -173,18 +206,20 @@ def taylor_of(part):
     return fn
 
 
-def _integrate_c(part, method, x0, p, t_end, tol, h, box, n_out, scale, monitor_energy, max_steps):
+def _integrate_c(part, method, x0, p, t_end, tol, h, box, n_out, scale, monitor_energy, max_steps,
+                 quad=None):
     lib = _lib_of(part)
     rhs = part.c_function("rhs")
     energy = part.c_function("energy") if monitor_energy else None
+    quad = part.c_function(quad) if quad is not None else None
     if not lookup(method).fixed_step:
         t_out = output_grid(t_end, n_out)
         taylor = taylor_of(part) if lookup(method).needs_taylor else None
         return run_c(lib, method, rhs, x0, p, t_end, rtol=tol, atol=tol * scale, energy=energy,
-                     taylor=taylor, box=box, t_out=t_out, max_steps=max_steps)
+                     taylor=taylor, box=box, t_out=t_out, max_steps=max_steps, quad=quad)
     n_steps = fixed_steps(t_end, h)
     every = max(1, math.ceil(n_steps / n_out))
     jac = (part.c_function("jac") if lookup(method).needs_jacobian and _has_function(part, "jac")
            else None)
     return run_c(lib, method, rhs, x0, p, t_end, h=h, jac=jac, energy=energy, box=box,
-                 every=every, max_samples=n_steps // every + 3, max_steps=max_steps)
+                 every=every, max_samples=n_steps // every + 3, max_steps=max_steps, quad=quad)

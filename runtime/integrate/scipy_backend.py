@@ -34,7 +34,18 @@ class _CallBudget(Exception):
     """Raised by the counting right-hand side once the calls exceed the budget."""
 
 
-def integrate_scipy(part, method, x0, p, t_end, tol, box, n_out, scale, scipy_rhs, max_steps):
+def with_quadrature(f: Callable, part, p: np.ndarray, quad: str | None) -> Callable:
+    """f extended by the part's scalar function `quad` for a last state W (runtime/integrate/run.py):
+    (t, [x, W]) -> [f(t, x), quad(x)]; f itself without one. Unlike C's and CVODES' quadratures, W
+    here enters scipy's error norm (atol tol * its size) and so takes part in choosing the steps."""
+    if quad is None:
+        return f
+    name = f"{part.name}_{quad}"
+    return lambda t, y: np.append(f(t, y[:-1]), part.model.call(name, y[:-1], p))
+
+
+def integrate_scipy(part, method, x0, p, t_end, tol, box, n_out, scale, scipy_rhs, max_steps,
+                    quad=None):
     """scipy's solvers stepped one accepted step at a time (solve_ivp's own loop, with its dense
     output and box event), so that the run stops after max_steps steps, or once the right-hand
     side was called more than CALLS_PER_STEP * max_steps times (counted in the wrapper: implicit
@@ -42,6 +53,7 @@ def integrate_scipy(part, method, x0, p, t_end, tol, box, n_out, scale, scipy_rh
     import scipy.integrate
     from scipy.optimize import brentq
     f, kind = numpy_rhs(part, p, scipy_rhs)
+    f = with_quadrature(f, part, p, quad)
     calls = [0]
     call_cap = (16 + 2 * x0.size) * max_steps
 

@@ -52,6 +52,10 @@ class Result:
     energy0: float | None = None
     energy_max_dev: float | None = None
     details: dict = field(default_factory=dict)
+    # integrate's `quadrature`: W(t) = the integral of its integrand along the run, at the samples
+    # t (and work_final at t_final), integrated inside the run as one more state; None without
+    work: np.ndarray | None = None
+    work_final: float | None = None
 
     @property
     def ok(self) -> bool:

@@ -262,6 +262,7 @@ class Survey:
     singularities: list[Singularity]
     barriers: list[tuple[float, float]]   # (last finite below, first finite above) of each singularity
     extrema: list[float]                  # zeros of Phi_3, sorted
+    columns: dict[int, np.ndarray] = field(default_factory=dict)   # column(k), while the knots stand
 
     # ---- building blocks
     def row(self, z: float) -> np.ndarray:
@@ -272,6 +273,13 @@ class Survey:
         if z not in self.rows:
             self.rows[z] = self.row(z) if r is None else r
             bisect.insort(self.zs, z)
+            self.columns.clear()
+
+    def column(self, k: int) -> np.ndarray:
+        """Phi_k at the knots, in their order (kept until a knot is added; a copy to write on)."""
+        if k not in self.columns:
+            self.columns[k] = np.array([float(self.rows[z][k]) for z in self.zs])
+        return self.columns[k].copy()
 
     def _blocked(self, a: float, b: float) -> bool:
         return any(a < hi and b > lo for lo, hi in self.barriers)
@@ -307,19 +315,24 @@ class Survey:
             if 0 < z < math.inf and self._finite(z):
                 self._add_knot(z)
 
-    def zeros(self, value: Callable[[float, np.ndarray], float]) -> list[float]:
+    def zeros(self, value: Callable[[float, np.ndarray], float],
+              vals: np.ndarray | None = None) -> list[float]:
         """Every zero of value(z, row) between consecutive knots (sign changes and exact zeros),
         refined to adjacent doubles; a sign change across a pole or a non-finite sliver is recorded
-        as a singularity and cut out instead."""
+        as a singularity and cut out instead. vals: value at the knots, if the caller has them
+        (equilibria: one array operation, the same doubles)."""
         zs = list(self.zs)
-        vals = [value(z, self.rows[z]) for z in zs]
+        vals = np.array([value(z, self.rows[z]) for z in zs] if vals is None else vals, float)
+        # only knots that are exact zeros or open a sign change can give a zero: visit those alone
+        visit = np.flatnonzero((vals == 0) | np.append(vals[:-1] * vals[1:] < 0, False))
         out = []
-        for i, (z, v) in enumerate(zip(zs, vals)):
+        for i in visit.tolist():
+            z, v = zs[i], float(vals[i])
             if v == 0 and not any(lo < z < hi for lo, hi in self.barriers):
                 out.append(z)
             if i + 1 == len(zs):
                 break
-            z1, v1 = zs[i + 1], vals[i + 1]
+            z1, v1 = zs[i + 1], float(vals[i + 1])
             if not (v * v1 < 0) or self._blocked(z, z1):
                 continue
             f = lambda x: value(x, self.row(x))
@@ -359,8 +372,12 @@ class Survey:
         def F(z: float, r: np.ndarray) -> float:
             return 0.0 if z in marginal else mg + mu * float(r[2])
 
+        vals = mg + mu * self.column(2)         # F at the knots (the doubles F gives, at once)
+        for k, z in enumerate(self.zs):
+            if z in marginal:
+                vals[k] = 0.0
         out = []
-        for z in self.zeros(F):
+        for z in self.zeros(F, vals):
             if z in marginal:
                 out.append(Equilibrium(z, False, mu * float(self.row(z)[3]), True))
             else:
@@ -441,11 +458,41 @@ def hover_mass(onaxis: OnAxis, g: float, mu: float, z: float) -> float:
 def analyse(onaxis: OnAxis, m: float, g: float, A: float, C: float, mu: float,
             scale: float, span: tuple[float, float] | None = None) -> EquilibriumReport:
     """Everything of thesis 3.3.1-3.3.3 and the bands (runtime/physics/bands.py) for one top and plate."""
-    sv = survey(onaxis, scale, span)
+    return _report(survey(onaxis, scale, span), m, g, A, C, mu, bands=True)
+
+
+def _report(sv: Survey, m: float, g: float, A: float, C: float, mu: float, bands: bool) -> EquilibriumReport:
     rep = sv.report(m, g, mu)
-    rep.stable_bands, rep.adiabatic_bands = _bands.bands_of(
-        onaxis, sv.zs, [sv.rows[z] for z in sv.zs], rep.z_c, g, A, C, mu)
+    if bands:
+        rep.stable_bands, rep.adiabatic_bands = _bands.bands_of(
+            sv.onaxis, sv.zs, [sv.rows[z] for z in sv.zs], rep.z_c, g, A, C, mu)
     return rep
+
+
+TOP_PARAMS = ("m", "mu")       # the top's: m g + mu Phi_2 = 0 keeps them out of Phi (thesis 3.3.2)
+KEPT_SURVEYS = 64              # plates (parameter vectors but the top's) whose survey a model keeps
+
+
+def plate_survey(model, p: np.ndarray | None = None) -> Survey:
+    """survey() of a loaded model's plate at the parameters p, kept per model and keyed on p but
+    the top's mass and moment: the on-axis functions Phi_k are the plate's alone (thesis 3.3.1:
+    U = m g z + mu Phi_1), so a launch Monte Carlo, whose tops differ in m and mu only, surveys its
+    plate once, not once a launch. Each call gets its own copy, so that what one top's root search
+    adds to it (a pole found between knots) stays with that top: every answer is a fresh survey's."""
+    q = np.array(model.p if p is None else p, float)
+    for name in TOP_PARAMS:
+        if name in model.param_names:
+            q[model.param_names.index(name)] = 0.0
+    kept = model.__dict__.setdefault("_plate_surveys", {})
+    key = q.tobytes()
+    sv = kept.get(key)
+    if sv is None:
+        with naming_the_formula(model):
+            sv = survey(model_onaxis(model, p), scale_of(model, p), span_of(model))
+        if len(kept) < KEPT_SURVEYS:
+            kept[key] = sv
+    return Survey(sv.onaxis, sv.scale, sv.top, list(sv.zs), dict(sv.rows), list(sv.singularities),
+                  list(sv.barriers), list(sv.extrema), dict(sv.columns))
 
 
 def equilibria_of(model, p: np.ndarray | None = None, bands: bool = False) -> EquilibriumReport:
@@ -453,11 +500,9 @@ def equilibria_of(model, p: np.ndarray | None = None, bands: bool = False) -> Eq
     default the scene's; thesis 3.3.2-3.3.3); with bands=True also the stable and adiabatic bands.
     A model whose on-axis functions are nowhere finite is a UserError naming the scene's formula."""
     P = params_of(model, p)
-    onaxis, scale, span = model_onaxis(model, p), scale_of(model, p), span_of(model)
+    sv = plate_survey(model, p)
     with naming_the_formula(model):
-        if bands:
-            return analyse(onaxis, P["m"], P["g"], P["A"], P["C"], P["mu"], scale, span)
-        return survey(onaxis, scale, span).report(P["m"], P["g"], P["mu"])
+        return _report(sv, P["m"], P["g"], P["A"], P["C"], P["mu"], bands)
 
 
 @contextmanager

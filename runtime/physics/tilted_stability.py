@@ -15,9 +15,10 @@ A tilt couples what the axial symmetry keeps apart: where, on the level base, a 
 frequency crosses the vertical bounce's (sqrt(mu Phi_3 / m), thesis 3.3.3), the two may collide
 once the base is tilted, and a narrow band of instability opens inside the interval, of width
 about proportional to the tilt (thesis_stable: near 2727 rad/s, 1 rad/s wide at 1e-5 rad, 12 at
-1e-4). A scan on a grid would step over it; so the crossings are found on the level system
-(`bounce_crossings`) and probed, and the interval reported is the lowest of those found. Crossings
-of two transverse modes (coupled at second order in the tilt) are not probed. No sympy here.
+1e-4); the same where two transverse modes of opposite sense meet (coupled at second order). A
+scan on a grid would step over it; so the crossings are found on the level system and probed
+(runtime/physics/mode_crossings.py), and the interval reported is the lowest of those found.
+No sympy here.
 """
 from __future__ import annotations
 
@@ -28,8 +29,10 @@ import numpy as np
 
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.physics.eigen_route import EPS, growth_rate, spin_intervals_eigen
+from levitron.runtime.physics.mode_crossings import level_crossings, tilted_probes
 from levitron.runtime.physics.ray_algebra import RayCoefficients, spin_intervals_discriminant
 from levitron.runtime.physics.stability_result import StabilityResult, approximations_at_z_c, relative_gap
+from levitron.runtime.ui.human import Units
 from levitron.runtime.physics.tilted_equilibrium import FIXED, MIN_FRACTION, NoEquilibrium, TiltedTop
 
 LEVEL_ONLY = ("the discriminant route (thesis 3.3.9-3.3.16) applies to a level, aligned apparatus "
@@ -49,36 +52,7 @@ def reduced_jacobian(J: np.ndarray, states) -> np.ndarray:
     return J[np.ix_(keep, keep)]
 
 
-CROSSING_GRID = 400     # spins on the level system's log grid where crossings are looked for
-
-
-def bounce_crossings(jac0, states, lo: float, hi: float) -> list[float]:
-    """The spins in [lo, hi] where a transverse frequency of the level system jac0(sigma) (the
-    reduced 10x10 Jacobian at tilt 0: (z, p_z) decoupled) equals the bounce's, by sign changes on
-    a log grid refined by bisection to adjacent doubles' width (module docstring)."""
-    states = [s for s in states if s not in FIXED]
-    vert = [states.index("z"), states.index("p_z")]
-    rest = [i for i in range(len(states)) if i not in vert]
-
-    def gaps(sigma):
-        J = jac0(sigma)
-        w_z = np.abs(np.linalg.eigvals(J[np.ix_(vert, vert)]).imag).max()
-        w = np.sort(np.abs(np.linalg.eigvals(J[np.ix_(rest, rest)]).imag))[::2]
-        return w - w_z
-    grid = np.geomspace(lo, hi, CROSSING_GRID)
-    vals = [gaps(s) for s in grid]
-    out = []
-    for i in range(1, len(grid)):
-        for k in np.nonzero(np.sign(vals[i - 1]) * np.sign(vals[i]) < 0)[0]:
-            a, b, fa = grid[i - 1], grid[i], vals[i - 1][k]
-            while b - a > 4 * EPS * b:
-                mid = 0.5 * (a + b)
-                if np.sign(gaps(mid)[k]) == np.sign(fa):
-                    a = mid
-                else:
-                    b = mid
-            out.append(0.5 * (a + b))
-    return sorted(out)
+CROSSING_REACH = 1e-2   # a gap is sought this far (relative) from its level crossing
 
 
 def tilted_analysis(model, p: np.ndarray, top: TiltedTop | None = None) -> StabilityResult:
@@ -120,16 +94,21 @@ def tilted_analysis(model, p: np.ndarray, top: TiltedTop | None = None) -> Stabi
     def jac(sigma):
         return reduced_jacobian(jfast(eq.at_spin(sigma)).reshape(n, n), eq.states)
     t0 = time.perf_counter()
-    cross: list[float] = []
+    bounce: list[float] = []
+    transverse: list[float] = []
     if tilt != 0 and probes and level[0][1] < math.inf:    # level: the crossings stay harmless
         top0 = top.hamilton(0.0, probes[0])
         j0 = model.fast("full_jac", top.params_at(0.0))
 
         def jac0(sigma):
             return reduced_jacobian(j0(top0.at_spin(sigma)).reshape(n, n), eq.states)
-        cross += bounce_crossings(jac0, eq.states, level[0][0] / 2, 2 * level[0][1])
+        states = [s for s in eq.states if s not in FIXED]
+        vert = [states.index("z"), states.index("p_z")]
+        bounce, transverse = level_crossings(jac0, vert, [i for i in range(len(states)) if i not in vert],
+                                             level[0][0] / 2, 2 * level[0][1])
         # each crossing, and beside each gap it may open the stretches up to the level ends
-        ends = sorted(cross + [level[0][0] * (1 + 1e-6), level[0][1] * (1 - 1e-6)])
+        looked = tilted_probes(jac, bounce + transverse, CROSSING_REACH)
+        ends = sorted(looked + [level[0][0] * (1 + 1e-6), level[0][1] * (1 - 1e-6)])
         probes = probes + ends + [math.sqrt(a * b) for a, b in zip(ends, ends[1:])]
     eig = spin_intervals_eigen(jac, sigma_scale, probes)
     timings["eigenvalues"] = time.perf_counter() - t0
@@ -141,10 +120,14 @@ def tilted_analysis(model, p: np.ndarray, top: TiltedTop | None = None) -> Stabi
     elif len(bounded) > 1:
         (_, a), (b, _) = bounded[0], bounded[1]
         rate = growth_rate(jac(math.sqrt(a * b)))
-        why = (", where the tilt couples a transverse mode to the bounce"
-               if any(a < c < b for c in cross) else "")
+        def close_to(cross):
+            return any(a * (1 - CROSSING_REACH) < c < b * (1 + CROSSING_REACH) for c in cross)
+        why = (", where the tilt couples a transverse mode to the bounce" if close_to(bounce) else
+               ", where the tilt couples two transverse modes" if close_to(transverse) else "")
+        u = Units.of(g)
         reason = (f"{len(bounded)} disjoint spin intervals; spin_interval is the lowest: between it "
-                  f"and the next ({a:.6g}-{b:.6g} rad/s{why}) a tilt grows by e every {1 / rate:.3g} s")
+                  f"and the next ({a:.6g}-{b:.6g} {u.named('rad/s')}{why}) a tilt grows by e every "
+                  f"{1 / rate:.3g} {u.named('s')}")
     disc = level if aligned else []
     agree = relative_gap(disc, eig) <= 1e-6 if aligned else None
     res = StabilityResult(float(eq.position[2]), bounded[0] if bounded else None, disc, eig,

@@ -45,6 +45,18 @@ table{border-collapse:collapse}td,th{padding:.2em .8em;text-align:left;border-bo
 pre.toml{background:#f6f6f6;border:1px solid #ddd;padding:.6em;overflow-x:auto}"""
 
 
+# the page's parts that analyse the level base over a tilted one (on the axis, thesis 3.3.2)
+LEVEL_SECTIONS = ("equilibria and the stable band", "the set-up drawing")
+
+
+def tilted_note(eq: dict, u: Units) -> str:
+    """The page's line over a tilted base (plate.tilt): what answers for which base."""
+    return (f"The base is tilted by {u.angle(eq['tilt'])}: the top hovers {u.length(eq['offset'])} off the "
+            "axis, downhill. The spin interval, the stability map, the launch and the launch odds are "
+            "the tilted base's (started at that equilibrium; the odds' launches aimed at the level hover "
+            f"point); the {' and '.join(LEVEL_SECTIONS)} are the level base's (on the axis).")
+
+
 def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -> tuple[str, dict]:
     """The page and the facts it shows (SI numbers, for --json); provenance: the block of
     runtime/ui/provenance.py, shown at the foot of the page (its command rebuilds the page)."""
@@ -89,6 +101,9 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
             why = "; ".join(restate(h, u) for h in hints) or restate(res.reason or "", u)
             answer = f"No: {u.top(P['m'])} cannot levitate over this plate: {why}."
         parts.append(_p(answer, "answer"))
+        if res.equilibrium is not None:             # plate.tilt: say which parts answer for which base
+            facts["tilted_base"] = {"equilibrium": res.equilibrium, "level_base": list(LEVEL_SECTIONS)}
+            parts.append(_p(tilted_note(res.equilibrium, u), "note"))
         answer_at = len(parts)           # the stated reference values go here, once all are known
         setup = setup_of(model, bands=True)
         parts.append("<h2>The set-up, to scale</h2>")

@@ -15,6 +15,18 @@ scene declares it, derive/friction.py) from a launch drawn from distributions:
                   ("normal:1,0.005") or relative ("rel:0.5%")
     temperature   the magnets' temperature (degC), through the scene's temperature coefficients
 
+and the apparatus' imperfections (APPARATUS; issue 27), each sample setting a runtime parameter of
+a model that has the term (a scene without it is refused with the key that adds it):
+
+    base_tilt          the base's tilt from level (rad; runtime parameter base_tilt, plate.tilt)
+    base_tilt_azimuth  its downhill direction (rad from +x towards +y; base_tilt_azimuth)
+
+Over a tilted base the launch is still aimed where a person aims it: at the level hover point, on
+the plate's axis at the level hover height, the axis along the plate's normal (the top is spun on
+the lifter resting on the base), with the launch's tilt, offset and velocity spreads about that
+point. The person does not know the tilted equilibrium (runtime/physics/tilted_equilibrium.py): the
+base's tilt moves it away from the launch point, downhill, and the top must find it.
+
 Each is "normal:MEAN,SD", "uniform:LO,HI" or a number (fixed), given by a flag or the scene's
 [launch] table. The defaults scale with the scene (never SI magnitudes: scenes may be
 dimensionless): the spin normal about the geometric mean of the spin interval with a 10 % spread,
@@ -47,10 +59,62 @@ from levitron.runtime.integrate.methods import DEFAULT, lookup, refuse_on_full_m
 from levitron.runtime.ui.validate import count, number_text, real, spread_range, temperature
 
 INPUTS = ("spin", "tilt", "tilt_azimuth", "offset", "velocity", "mass", "strength", "temperature")
+
+
+@dataclass(frozen=True)
+class Apparatus:
+    """An imperfection of the apparatus sampled like a launch input (module docstring): each sample
+    sets the runtime parameter `param`, which a model has only where the scene declares `scene_key`
+    (derive/scene.py TILT_PARAMS). `moves`: a value other than 0 moves the equilibrium off the
+    launch point (so launches with no tilt, offset or velocity still test something). `default`:
+    the distribution when none is given, from the model (None: the model's own value, fixed)."""
+    name: str
+    param: str
+    unit: str
+    scene_key: str
+    moves: bool
+    default_text: str
+    default: object = None
+    direction_of: str | None = None     # the input whose direction this is: moot where that is fixed at 0
+
+
+def _downhill_default(model):
+    """Over an axially symmetric plate the downhill direction matters only relative to the launch's
+    own directions (offset along x, velocity along y, the tilt's azimuth): unknown to the person, so
+    uniform over the turn. Over a rectangle the plate's sides fix directions: the scene's own."""
+    from levitron.runtime.physics.stability import symmetry
+    if symmetry(model.scene.data["plate"], model.pvals()).name == "axial":
+        return Dist("uniform", 0.0, 2 * math.pi)
+    return Dist("fixed", float(model.pvals()["base_tilt_azimuth"]))
+
+
+# the apparatus inputs: another (a magnet's tilt, parameter moment_tilt) is one entry here
+APPARATUS = (
+    Apparatus("base_tilt", "base_tilt", "rad", "plate.tilt", True, "the scene's plate.tilt (0: level)"),
+    Apparatus("base_tilt_azimuth", "base_tilt_azimuth", "rad", "plate.tilt", False,
+              "uniform:0,2pi rad over an axially symmetric plate, else the scene's plate.tilt_azimuth; "
+              "the scene's where the base tilt is fixed at 0", _downhill_default, "base_tilt"),
+)
+ALL_INPUTS = INPUTS + tuple(a.name for a in APPARATUS)
 # what each input's numbers are (the module docstring): the SI unit of its JSON numbers, "1" for a
 # relative deviation d (mass m (1 + d), strength mu (1 + d)), "degC" for the temperature
 INPUT_UNITS = {"spin": "rad/s", "tilt": "rad", "tilt_azimuth": "rad", "offset": "m", "velocity": "m/s",
-               "mass": "1", "strength": "1", "temperature": "degC"}
+               "mass": "1", "strength": "1", "temperature": "degC", **{a.name: a.unit for a in APPARATUS}}
+
+
+def apparatus_of(model) -> tuple[Apparatus, ...]:
+    """The apparatus inputs this model has the terms of (the others it cannot sample)."""
+    return tuple(a for a in APPARATUS if a.param in model.param_names)
+
+
+def refuse_apparatus(model, given) -> None:
+    """A one-line UserError for an apparatus input given to a model without its term."""
+    have = {a.name for a in apparatus_of(model)}
+    for a in APPARATUS:
+        if a.name in given and a.name not in have:
+            raise UserError(f"launch {a.name}: scene '{model.scene.name}' has no {a.scene_key}, so its "
+                            f"model has no {a.param} to sample; pass --set {a.scene_key}=0 (or put "
+                            f"{a.scene_key} in the scene) and the launches set it")
 Z95 = 1.959963984540054          # the 97.5 % point of the standard normal
 MAX_N = 10**6
 BINS = 5
@@ -181,7 +245,7 @@ class Plan:
     """What every chunk of a Monte Carlo shares (picklable: sent to the workers)."""
     scene: str
     overrides: tuple
-    dists: tuple                 # ((input name, Dist), ...) in INPUTS order
+    dists: tuple                 # ((input name, Dist), ...) in ALL_INPUTS order (apparatus: the model's)
     n: int
     seed: int
     t_end: float
@@ -200,11 +264,14 @@ def defaults(model, interval, z_s: float) -> dict[str, Dist]:
            "temperature": Dist("fixed", float(model.scene.data.get("temperature", 20.0)))}
     if spin is not None:
         out["spin"] = Dist("normal", spin, 0.1 * spin)
+    for a in apparatus_of(model):
+        out[a.name] = a.default(model) if a.default else Dist("fixed", float(pv[a.param]))
     return out
 
 
 def samples(plan: Plan) -> dict[str, np.ndarray]:
-    """All n samples of every input, drawn in INPUTS order from PCG64(seed): the same everywhere."""
+    """All n samples of every input, drawn in ALL_INPUTS order from PCG64(seed): the same everywhere
+    (the apparatus inputs come last, so a level scene's draws are those of before)."""
     rng = np.random.Generator(np.random.PCG64(plan.seed))
     return {name: d.sample(rng, plan.n) for name, d in plan.dists}
 
@@ -241,7 +308,7 @@ def run_chunk(plan: Plan, indices) -> dict:
         if not (m > 0 and math.isfinite(mu)):
             points.append({"i": int(i), "t": 0.0, "status": "invalid", "z_s": math.nan, **used})
             continue
-        p = model.with_params({"m": m, "mu": mu})
+        p = model.with_params({"m": m, "mu": mu, **{a.param: float(S[a.name][i]) for a in apparatus_of(model)}})
         try:
             z_s = hover_height(model, p)
         except UserError:
@@ -299,7 +366,7 @@ def table_settings(table: Mapping) -> tuple[dict, dict]:
     (parse_dist checks them), and n, seed, success_time, t_end checked here under their own names
     ("[launch] n = 'many' must be a whole number"), for the CLI and the API alike; a flag or an
     argument given by the caller takes precedence over either."""
-    inputs = {k: table[k] for k in INPUTS if k in table}
+    inputs = {k: table[k] for k in ALL_INPUTS if k in table}
     checks = {"n": lambda v, label: count(v, label, low=1, high=MAX_N),
               "seed": lambda v, label: count(v, label, low=0),
               "success_time": lambda v, label: real(v, label, positive=True, unit="s", what="time"),
@@ -375,19 +442,24 @@ def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n
         raise UserError(f"--seed {seed!r} must be a whole number >= 0")
     if "full" not in model.parts:
         raise UserError("launch runs the full model: this scene's model.needs has no \"full\"; add it")
-    unknown = sorted(set(given) - set(INPUTS))
+    unknown = sorted(set(given) - set(ALL_INPUTS))
     if unknown:
-        raise UserError(f"unknown launch input {unknown[0]!r}: use one of {', '.join(INPUTS)}")
+        raise UserError(f"unknown launch input {unknown[0]!r}: use one of {', '.join(ALL_INPUTS)}")
+    refuse_apparatus(model, given)
     z_s = hover_height(model)
     interval = stability_of(model, z_s=z_s).spin_interval
     dists = defaults(model, interval, z_s)
     reference = {"mass": model.param("m"), "strength": 1.0}
     dists.update({k: parse_input(k, v, reference.get(k, 1.0)) for k, v in given.items()})
+    for a in apparatus_of(model):       # a direction of nothing (a level base) is not spread
+        d = dists.get(a.direction_of)
+        if a.direction_of and a.name not in given and not d.spread and d.a == 0:
+            dists[a.name] = Dist("fixed", float(model.pvals()[a.param]))
     if "spin" not in dists:
         raise UserError("the scene's top has no spin interval of linear stability at its hover height, "
                         "so there is no default spin: pass --spin normal:MEAN,SD")
     if all(dists[k].a == 0 and (dists[k].kind == "fixed" or dists[k].b == 0)
-           for k in ("tilt", "offset", "velocity")):
+           for k in ("tilt", "offset", "velocity") + tuple(a.name for a in apparatus_of(model) if a.moves)):
         raise UserError("tilt, offset and velocity are all exactly 0: every launch starts on the "
                         "invariant set (thesis 3.2.1), where the ideal top stays at any spin, so the "
                         "odds would test nothing; give a spread, e.g. --tilt uniform:0,0.02")
@@ -430,7 +502,8 @@ def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n
     refuse_on_full_model(method, "launch")
     if lookup(method).backend != "c" or lookup(method).fixed_step:
         raise UserError(f"launch runs adaptive C integrators only (dop853, vern9, auto), not {integrator!r}")
-    plan = Plan(scene_ref, tuple(overrides), tuple((k, dists[k]) for k in INPUTS), int(n), int(seed),
+    names = INPUTS + tuple(a.name for a in apparatus_of(model))
+    plan = Plan(scene_ref, tuple(overrides), tuple((k, dists[k]) for k in names), int(n), int(seed),
                 float(t_end), method, float(tol))
     workers = min(workers, runners.usable_cores())     # more processes than cores only queue
     # serial runs go in chunks of ~20 launches too, so that the progress bar moves (the verdicts do
@@ -505,7 +578,7 @@ def summarize(plan: Plan, results, success_time: float, interval, z_s: float, ta
         "outcomes": {s: status.count(s) for s in sorted(set(status))},
         "ranking": effects({k: v[~undecided] for k, v in S.items()}, ok[~undecided], dists),
         "inputs": {name: spec_text(name, d) for name, d in plan.dists},
-        "defaulted": sorted(set(INPUTS) - set(given)),
+        "defaulted": sorted(set(dists) - set(given)),
         "z_s": z_s, "spin_interval": list(interval) if interval else None,
         "spin_decay_time": tau, "integrator": plan.integrator, "tol": plan.tol,
         "verdicts": [None if u else bool(v) for v, u in zip(ok, undecided)],
@@ -516,8 +589,10 @@ def summarize(plan: Plan, results, success_time: float, interval, z_s: float, ta
 
 # the columns of `launches` (launch --save, Study.launch().launches) and the SI unit of each ("1": a
 # pure number; "text": the verdict): every input as the launch ran it, mass and strength absolute
+# (the apparatus' columns only where the model has their terms)
 LAUNCH_UNITS = {"launch": "1", "spin": "rad/s", "tilt": "rad", "tilt_azimuth": "rad", "offset": "m",
-                "velocity": "m/s", "mass": "kg", "strength": "1", "temperature": "degC", "mu": "A m^2",
+                "velocity": "m/s", "mass": "kg", "strength": "1", "temperature": "degC",
+                **{a.name: a.unit for a in APPARATUS}, "mu": "A m^2",
                 "z_s": "m", "verdict": "text", "floats": "1", "flight_time": "s"}
 LAUNCH_MEANING = {
     "launch": "the launch's index (its place in the seed's draw)",
@@ -529,16 +604,18 @@ LAUNCH_MEANING = {
     "verdict": "how the run ended, as `outcomes` names it (completed: still up at t_end; left_box: fell; "
                "cannot_hover; ...)",
     "floats": "1 if the flight reached the success time, else 0",
+    "base_tilt": "the base's tilt from level the launch ran over (rad; the model's base_tilt)",
+    "base_tilt_azimuth": "the base's downhill direction (rad from +x towards +y)",
     "flight_time": "how long the top floated (t_end for a run still up)"}
 
 
 def launches(S: Mapping[str, np.ndarray], pts: list[dict], ok: np.ndarray, t: np.ndarray) -> dict:
     """Every launch as data, one row each in the seed's order: the sampled inputs (spin, tilt,
-    tilt_azimuth, offset, velocity, temperature as drawn; mass and mu as the run used them,
+    tilt_azimuth, offset, velocity, temperature and the apparatus' as drawn; mass and mu as the run used them,
     strength as the factor 1 + d), the launch's hover height, its verdict (the run's status), whether
     it floats, and its flight time (LAUNCH_UNITS)."""
     out = {"launch": np.arange(len(pts))}
-    out.update({k: np.asarray(S[k], float) for k in INPUTS})
+    out.update({k: np.asarray(S[k], float) for k in S})
     out["mass"] = np.array([p["m"] for p in pts])
     out["strength"] = 1.0 + np.asarray(S["strength"], float)
     out["mu"] = np.array([p["mu"] for p in pts])
@@ -546,7 +623,7 @@ def launches(S: Mapping[str, np.ndarray], pts: list[dict], ok: np.ndarray, t: np
     out["verdict"] = np.array([p["status"] for p in pts])
     out["floats"] = ok.astype(np.int64)
     out["flight_time"] = np.asarray(t, float)
-    return {k: out[k] for k in LAUNCH_UNITS}
+    return {k: out[k] for k in LAUNCH_UNITS if k in out}
 
 
 def draw(result: dict, path, units, scene: str = ""):

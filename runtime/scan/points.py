@@ -1,6 +1,8 @@
 """One point of a map, set up and run: runtime.simulate's pieces (initial state, box, time scale,
 scales; thesis 3.1-3.3) shared by the Python path (`point_run`) and the C chunk driver
-(runtime/scan/chunk_c.py), so that both integrate the same problem."""
+(runtime/scan/chunk_c.py), so that both integrate the same problem. Over a tilted base (plate.tilt)
+a point starts where `simulate` starts: its perturbation (tilt, height) applied at the relative
+equilibrium off the axis (runtime/simulate/start.py tilted_start; issue 27)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -56,8 +58,36 @@ def point_setup(model, spin: float, tilt: float = 0.0, height: float = 0.0,
     T, what = sim.fastest_period(spin, pvals, stiffness)
     if lookup(integrator).fixed_step and h is None:
         h = default_step(T)
-    return PointSetup(pt, p, z_s, box, T, what, h, sim.launch_state(la, spin),
-                      sim.state_scales(pt, z_s, spin, pvals))
+    x0 = sim.launch_state(la, spin)
+    if "base_tilt" in model.param_names:
+        x0 = off_axis(model, memo, site_key, pt, p, z_s, spin, x0)
+    return PointSetup(pt, p, z_s, box, T, what, h, x0, sim.state_scales(pt, z_s, spin, pvals))
+
+
+def tilted_top(model, p: np.ndarray, z_s: float, memo: dict, site_key):
+    """The site's runtime.physics.tilted_equilibrium.TiltedTop, once per chunk and site (it keeps
+    the branch it found: the other spins' equilibria start from it)."""
+    from levitron.runtime.physics.tilted_equilibrium import TiltedTop
+    key = (site_key, "tilted")
+    if key not in memo:
+        memo[key] = TiltedTop(model, p, z_s)
+    return memo[key]
+
+
+def off_axis(model, memo: dict, site_key, pt, p: np.ndarray, z_s: float, spin: float,
+             x0: np.ndarray) -> np.ndarray:
+    """Over a tilted base: x0 less the unperturbed launch on the axis, at the relative equilibrium
+    at this spin (simulate's tilted_start); a NoEquilibrium (a one-line UserError) where the tilt
+    leaves the top none (`scan` checks every site before it runs)."""
+    from levitron.runtime.simulate import run as sim
+    key = (site_key, 0.0, 0.0)
+    if key not in memo:
+        memo[key] = sim.launch(pt, z_s, 0.0, 0.0, p)
+    level = sim.launch_state(memo[key], spin)
+    sigma = level[pt.states.index("p_zeta")] / model.pvals(p)["C"]
+    eq = tilted_top(model, p, z_s, memo, site_key).hamilton(model.pvals(p)["base_tilt"],
+                                                           sigma if sigma != 0 else 1.0)
+    return eq.at_spin(sigma) + (x0 - level)
 
 
 def point_run(model, spin: float, tilt: float = 0.0, height: float = 0.0, t_end: float = 1.0,

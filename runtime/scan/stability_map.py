@@ -146,8 +146,10 @@ class ScanResult:
             "linear": {
                 "spin_interval": [lin["spin_interval"] for lin in self.linear],
                 "z_s": [lin["z_s"] for lin in self.linear],
-                "note": "thesis 3.3 (exact discriminant route), one entry per value of the "
-                        f"{self.axis} axis; null where no spin stabilises",
+                "note": ("thesis 3.3 (exact discriminant route)" if "equilibrium" not in self.extra.get("public", {})
+                         else "the eigenvalue route at the equilibrium over the tilted base "
+                              "(runtime/physics/tilted_stability.py)")
+                        + f", one entry per value of the {self.axis} axis; null where no spin stabilises",
                 "agreement": self.agreement(),
             },
             "t_end": self.t_end,
@@ -198,6 +200,7 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
                                                         t_end, engine, base_tilt)
     t_wall = time.perf_counter()
     lin, hover, scene_lin, status_pre = _hover_and_linear(model, axis, others)
+    tilted = tilted_sites(model, axis, others, hover, status_pre)
     if t_end is None:
         t_end, basis = _default_t_end(model, axis, spins, lin, status_pre)
     else:
@@ -219,7 +222,8 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
                       extra={"scene_linear": scene_lin,
                              "public": {"integrator": integrator, "integrator_requested": requested,
                                         "tol": tol,
-                                        "base_tilt": base_tilt if axis != "tilt" else None}},
+                                        "base_tilt": base_tilt if axis != "tilt" else None,
+                                        **({"equilibrium": tilted} if tilted else {})}},
                       units=Units.of_scene(model.scene))
 
 
@@ -268,6 +272,40 @@ def _hover_and_linear(model, axis: str, others: np.ndarray):
             status_pre[j] = NO_HOVER
         lin.append(linear_interval(model, m))
     return lin, hover, linear_interval(model), status_pre
+
+
+START = ("every run starts at the top's relative equilibrium over the tilted base (as `simulate` "
+         "does), perturbed by the map's tilt (or height)")
+
+
+def tilted_sites(model, axis: str, others: np.ndarray, hover: list, status_pre: dict) -> dict | None:
+    """Over a tilted base (plate.tilt) every run starts at the top's relative equilibrium there
+    (runtime/scan/points.py off_axis): each site's is found here first. A mass without one is
+    marked as one that cannot hover (status_pre); a tilt or height map whose top has none is
+    refused in one line. Returns the scene's top's equilibrium (as stability --json's
+    `equilibrium`, with `start`), None over a level base."""
+    if "base_tilt" not in model.param_names:
+        return None
+    from levitron.runtime.physics.equilibrium import hover_height
+    from levitron.runtime.physics.tilted_equilibrium import NoEquilibrium, TiltedTop
+    tilt = model.pvals()["base_tilt"]
+    for j, z in enumerate(hover):
+        if j in status_pre or z is None:
+            continue
+        p = model.with_params({"m": float(others[j])}) if axis == "mass" else model.p
+        try:
+            TiltedTop(model, p, z).hamilton(tilt, 1.0)
+        except NoEquilibrium as exc:
+            if axis != "mass":
+                raise UserError(f"a map over a tilted base starts at the top's equilibrium there, "
+                                f"and {exc}") from None
+            status_pre[j] = NO_HOVER
+    try:
+        z = hover_height(model)
+        eq = TiltedTop(model, model.p, z).hamilton(tilt, 1.0)
+    except UserError:          # (a mass map) the scene's own top has no hover height or equilibrium
+        return {"tilt": tilt, "position": None, "start": START}
+    return {**eq.as_dict(z - model.pvals().get("moment_offset", 0.0)), "start": START}
 
 
 def _default_t_end(model, axis: str, spins: np.ndarray, lin: list, status_pre: dict):

@@ -128,10 +128,14 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
         raise UserError(f"the initial state is already outside the box (offset {offset} m vs half-width "
                         f"{bx.z_hi - z_s:.4g} m); pass a smaller --offset or a larger --box")
     scale = state_scales(pt, z_s, spin, pvals)
+    air = part == "full" and flight.has_friction(model)
+    # in air the work of friction is integrated inside the run (the energy balance's W)
+    work = (("dissipation", flight.energy_scale(pvals, z_s, spin, pt.energy(x0, p)))
+            if air else None)
     res = integrate(pt, x0, t_end, method=integrator, tol=tol if not entry.fixed_step else None,
                     h=h, p=p, box=bx, n_out=n_out, scale=scale,
-                    monitor_energy=entry.monitors_energy, time_scale=T, time_scale_what=what)
-    air = part == "full" and flight.has_friction(model)
+                    monitor_energy=entry.monitors_energy, time_scale=T, time_scale_what=what,
+                    quadrature=work)
     fl = None
     if air:
         # the ideal top's interval at z_s (rates set to 0); none where the plate's symmetry refuses it

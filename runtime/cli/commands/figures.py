@@ -50,9 +50,11 @@ def _solver_figures_current(outdir: Path, quick: bool) -> list[str] | None:
 
 
 def run(args) -> dict:
+    from levitron.runtime.physics.level_only import refuse_tilted
+    model = model_of(args)
+    refuse_tilted(model, "figures redraws the thesis's figures")      # before the folder is made
     outdir = Path(args.out)
     outdir.mkdir(parents=True, exist_ok=True)
-    model = model_of(args)
     kept = None if args.solvers else _solver_figures_current(outdir, args.quick)
     written = []
     if kept is None:      # the longest part in a new folder: its own progress line, not silence

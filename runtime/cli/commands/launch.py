@@ -22,19 +22,21 @@ DEFAULT_TEXT = {"spin": "normal about the geometric mean of the stable interval,
                 "tilt": "uniform:0,0.02 rad", "tilt_azimuth": "uniform:0,2pi rad",
                 "offset": "normal:0,(1 %% of z_s) m", "velocity": "normal:0,(1 %% of sqrt(g z_s)) m/s",
                 "mass": "a relative sd of 0.2 %%", "strength": "a relative sd of 0.5 %%",
-                "temperature": "the scene's temperature, degC"}
+                "temperature": "the scene's temperature, degC",
+                **{a.name: a.default_text.replace("%", "%%") for a in mc.APPARATUS}}
 
 
 def add_launch_arguments(parser) -> None:
     """Every flag of a launch Monte Carlo (launch, optimize --maximize launch-odds, trim): the
     inputs' distributions, n, seed, the success criterion, the integrator and the workers."""
-    for name in mc.INPUTS:
+    for name in mc.ALL_INPUTS:
         flag = "--" + name.replace("_", "-")
         if flag == "--temperature":          # the common --temperature sets the scene's own
             flag = "--temperature-spread"
         unit = {"mass": "the mass in kg, or rel:... a relative spread, e.g. rel:normal:0,0.002 or rel:0.2%%",
                 "strength": "a factor on the magnets, e.g. normal:1,0.005, or rel:... relative, e.g. rel:0.5%%",
-                }.get(name, mc.INPUT_UNITS[name])
+                **{a.name: f"{a.unit}; needs {a.scene_key} in the scene, e.g. --set {a.scene_key}=0"
+                   for a in mc.APPARATUS}}.get(name, mc.INPUT_UNITS[name])
         parser.add_argument(flag, dest=f"dist_{name}", default=None, metavar="DIST",
                             help=f"{name} ({unit}): normal:MEAN,SD, uniform:LO,HI or a number (default: "
                                  f"the scene's [launch] table, else {DEFAULT_TEXT[name]})")
@@ -60,7 +62,7 @@ def launch_request(args, scene) -> mc.Request:
         raise UserError(f"--workers {args.workers} must be at least 1 (1 = serial)")
     if args.scheduler is not None and args.workers != 1:
         raise UserError("pass either --workers N (local processes) or --scheduler ADDRESS (dask), not both")
-    given = {k: getattr(args, f"dist_{k}") for k in mc.INPUTS if getattr(args, f"dist_{k}") is not None}
+    given = {k: getattr(args, f"dist_{k}") for k in mc.ALL_INPUTS if getattr(args, f"dist_{k}") is not None}
     return mc.Request.of(scene.data.get("launch", {}), given, n=args.n, seed=args.seed,
                          success_time=args.success_time, t_end=args.t_end, integrator=args.integrator,
                          tol=args.tol, workers=args.workers, scheduler=args.scheduler)
@@ -81,11 +83,11 @@ def add_arguments(parser) -> None:
                              "floats (0/1) and flight time, one row per launch")
 
 
-def saved_block(path, rows: int, u: Units) -> dict:
+def saved_block(path, rows: int, u: Units, columns) -> dict:
     """The JSON's `saved`: the file and each column's unit in the scene's units (its meaning:
     docs/contract.md `launch --save`)."""
     return {"path": str(path), "rows": rows,
-            "columns": {k: u.named(v) for k, v in mc.LAUNCH_UNITS.items()}}
+            "columns": {k: u.named(mc.LAUNCH_UNITS[k]) for k in columns}}
 
 
 def run(args) -> dict:
@@ -102,7 +104,7 @@ def run(args) -> dict:
     out["saved"] = None
     if args.save is not None:
         out["saved"] = saved_block(trajectory_file.write_columns(args.save, table), len(table["launch"]),
-                                   Units.of_scene(scene))
+                                   Units.of_scene(scene), tuple(table))
     if args.out:         # the report's histogram: the censored runs' bar labelled (runtime/report/real_launch.py)
         from levitron.runtime.report.real_launch import histogram
         out["out"] = str(histogram(out, Path(args.out), Units.of_scene(scene), scene.name))

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from levitron.runtime.design.constraints import Constraint
 from levitron.runtime.errors import UserError
+from levitron.runtime.physics.level_only import refuse_tilted
 from levitron.runtime.ui.human import Units, lines, restate, sig
 from levitron.runtime.design.fit_height import fit_equilibrium_height
 from levitron.runtime.design.scene_keys import Vary
@@ -73,11 +74,13 @@ def run(args) -> dict:
         if varies or constraints:
             raise UserError("--fit-height takes --param, not --vary or --constrain")
         model = model_of(args)
+        refuse_tilted(model, "optimize fits and designs")
         out = fit_equilibrium_height(model, args.fit_height, args.param)
     elif args.fit is not None:
         from levitron.runtime.design.fit import fit, read_rows
         rows = read_rows(args.fit)
         model = model_of(args)
+        refuse_tilted(model, "optimize fits and designs")
         out = fit(model, rows, varies).as_dict()
     elif args.maximize == "launch-odds":
         from levitron.runtime.design.launch_design import maximize_launch_odds
@@ -98,6 +101,7 @@ def run(args) -> dict:
     else:
         from levitron.runtime.design.optimize import optimize
         model = model_of(args)
+        refuse_tilted(model, "optimize fits and designs")
         res = optimize(model, varies, args.maximize, constraints, args.grid)
         out = res.as_dict()
         from levitron.runtime.design import launch_design

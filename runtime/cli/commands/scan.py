@@ -156,6 +156,15 @@ def _row(axis: str, v, spins, up, status, u: Units) -> str:
     return head + f"{where} ({sum(up)} of {ran - len(stopped)}){tail}"
 
 
+def _tilted_line(eq: dict | None, u: Units) -> str:
+    """Over a tilted base: where the runs start (runtime/scan/stability_map.py tilted_sites)."""
+    if not eq:
+        return ""
+    where = (f"the top's equilibrium there, {u.length(eq['offset'])} off the axis" if eq.get("position")
+             else "each top's equilibrium there")
+    return f"base tilted by {u.angle(eq['tilt'])}: every run starts at {where}"
+
+
 def human(r: dict, scene=None) -> str:
     """Answer first: where it levitates (the runs of spins per row, "cannot hover" apart from
     "falls"), then the linear interval beside."""
@@ -174,6 +183,7 @@ def human(r: dict, scene=None) -> str:
         + (f"; {n_stopped} runs stopped early without a verdict (JSON status)" if n_stopped else ""),
         *rows,
         f"linear spin interval: {u.rate_span(*iv)}" if iv else "linear spin interval: none",
+        _tilted_line(r.get("equilibrium"), u),
         f"{duration(r['wall_s'])} of wall time, {r['runner']['kind']} runner",
         u.note,
         f"map: {r['out']}" if r.get("out") else "")
