@@ -29,6 +29,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 TIMING = {"wall_s", "cpu_s", "seconds", "time", "wall_s_per_point", "cpu_s_per_point",
           "wall_per_launch_s", "elapsed_s"}
+TIMEOUT_S = 300         # a case slower than this is recorded as timed out
 WALL = re.compile(r"(\d+(\.\d+)? ?(us|ms|s|min)( \d+ s)?|\d+ h \d+ min) of wall time")
 
 DIMENSIONLESS = """name = "unit_annulus"
@@ -64,8 +65,14 @@ def run(argv: list[str], tmp: Path, json_too: bool = True) -> dict:
     env = dict(os.environ, PYTHONHASHSEED="0", COLUMNS="100")
     out = {"argv": [strip_text(a, tmp) for a in argv]}
     for mode in (("json", ["--json"]), ("text", [])) if json_too else (("text", []),):
-        p = subprocess.run([sys.executable, "-m", "levitron", *argv, *mode[1]], capture_output=True,
-                           text=True, env=env, cwd=tmp, timeout=900)
+        try:
+            p = subprocess.run([sys.executable, "-m", "levitron", *argv, *mode[1]], capture_output=True,
+                               text=True, env=env, cwd=tmp, timeout=TIMEOUT_S)
+        except subprocess.TimeoutExpired:     # recorded as such, never a crash of the snapshot
+            out.setdefault("exit", {})[mode[0]] = "timeout"
+            out.setdefault("stderr", {})[mode[0]] = f"timed out after {TIMEOUT_S} s"
+            out[mode[0]] = None
+            continue
         out.setdefault("exit", {})[mode[0]] = p.returncode
         last = p.stderr.strip().splitlines()[-1:] if p.returncode else []
         out.setdefault("stderr", {})[mode[0]] = strip_text(last[0] if last else "", tmp)
