@@ -35,7 +35,7 @@ from levitron.runtime import lazy_surface as _lazy_surface  # noqa: E402  (needs
 __getattr__, __dir__, __all__ = _lazy_surface(__name__, {
     "DesignResult": "runtime.design.optimize", "Equilibria": "results", "Equilibrium": "results",
     "FitResult": "runtime.design.fit", "LaunchOdds": "results", "Propagator": "runtime.integrate.propagator",
-    "ScanResult": "runtime.scan.stability_map",
+    "Scan": "results", "ScanResult": "results",
     "SceneError": "derive.scene", "Simulation": "results", "Simulations": "results",
     "Stability": "results", "Study": "study", "Trim": "results", "UserError": "runtime.errors",
     "load": "study", "plate_from_magpylib": "from_magpylib"})

@@ -1,8 +1,8 @@
 """Typed results of the public API (SI units, thesis 3.3). Each answer lives beside the code that
 computes it and is re-exported here: Equilibria (runtime/physics/equilibria.py, its Equilibrium
-runtime/physics/equilibrium.py's), Simulation (runtime/simulate/simulation.py). The design and fit results are
-runtime.design.optimize.DesignResult and runtime.design.fit.FitResult; the scan result
-runtime.scan.stability_map.ScanResult.
+runtime/physics/equilibrium.py's), Simulation (runtime/simulate/simulation.py), Scan
+(runtime/scan/scan_answer.py; ScanResult its old name). The design and fit results are
+runtime.design.optimize.DesignResult and runtime.design.fit.FitResult.
 
 Every result has a short `repr` with units (the scene's: a dimensionless scene shows none but
 rad/time and time units; `units`, set by Study), and scipy-style `success` (bool) and `message` (one
@@ -20,13 +20,15 @@ from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.verdict import NO_HOVER
 from levitron.runtime.physics.equilibria import Equilibria
 from levitron.runtime.physics.equilibrium import Equilibrium
+from levitron.runtime.scan.scan_answer import Scan, ScanResult
 from levitron.runtime.simulate.simulation import NORMAL_ENDS, Simulation
 from levitron.runtime.ui.human import Units, quantity, restate, sig
 
 _SI = Units(si=True)
 
 
-__all__ = ["Equilibria", "Equilibrium", "LaunchOdds", "Simulation", "Simulations", "Stability", "Trim"]
+__all__ = ["Equilibria", "Equilibrium", "LaunchOdds", "Scan", "ScanResult", "Simulation", "Simulations", "Stability",
+           "Trim"]
 
 
 @dataclass(frozen=True)

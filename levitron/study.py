@@ -24,7 +24,7 @@ from levitron.runtime.physics.stability import stability_of
 from levitron.runtime.ui.human import Units, restate
 
 from . import arguments as arg
-from .results import Equilibria, LaunchOdds, Simulation, Simulations, Stability, Trim
+from .results import Equilibria, LaunchOdds, Scan, Simulation, Simulations, Stability, Trim
 
 # Study.simulate's options: runtime.simulate.run.simulate's keywords, and the command line's names
 SIMULATE_OPTIONS = ("tilt", "offset", "t_end", "integrator", "tol", "box", "plot", "part", "h",
@@ -304,8 +304,9 @@ class Study:
         return Propagator(pt, integrator, arg.number(tol, "tol"), scale=scale, box=bx)
 
     @_in_scene_units
-    def scan(self, spins: Sequence[float], axis: str, values: Sequence[float], **options):
-        """A stability map: runtime.scan.stability_map.ScanResult over spins (rad/s) and one second axis:
+    def scan(self, spins: Sequence[float], axis: str, values: Sequence[float], **options) -> Scan:
+        """A stability map: runtime/scan/scan_answer.py's Scan (the answer `levitron scan` prints;
+        its actions plot(path) and save(path)) over spins (rad/s) and one second axis:
 
         * "tilt": the initial tilt of the axis (rad);
         * "mass": the top's mass (kg), each started at its own hover height;

@@ -12,6 +12,7 @@ import pytest
 import levitron as lev
 from levitron.runtime.cli import main as cli
 from levitron.runtime.physics.equilibria import Equilibria
+from levitron.runtime.scan.scan_answer import Scan
 from levitron.runtime.simulate.simulation import Simulation
 
 SCENE = "thesis_stable"
@@ -110,3 +111,59 @@ def test_simulate_returns_no_file_unless_asked(study, tmp_path):
     assert (tmp_path / "a.png").stat().st_size > 5000
     names, table = trajectory_file.read(tmp_path / "a.csv")
     assert table.shape == (RUN["n_out"] + 1, len(names))
+
+
+MAP = dict(spins=[300.0, 1300.0], axis="tilt", values=[0.01, 0.03], t_end=1.0)
+MAP_ARGV = ["scan", SCENE, "--spin", "300:1300:2", "--tilt", "0.01:0.03:2", "--t-end", "1"]
+
+
+@pytest.fixture(scope="module")
+def scan_map(study):
+    return study.scan(MAP["spins"], MAP["axis"], MAP["values"], t_end=MAP["t_end"])
+
+
+def test_scan_is_one_answer_for_the_api_and_the_command_line(scan_map, capsys):
+    assert type(scan_map) is Scan and lev.Scan is Scan and lev.ScanResult is Scan
+    out = _cli_json(capsys, *MAP_ARGV)
+    assert out.pop("out") is None and "saved" not in out      # the command's own keys
+    _same(out, cli._clean(scan_map.as_json()), skip=("wall_s", "cpu_s", "provenance"))
+    assert out["scene"] == SCENE and out["points"] == scan_map.points == 4
+
+
+def test_scan_points_are_single_simulations(study, scan_map):
+    """Every point of the map is the run Study.simulate makes from the same start (an independent
+    route: one Python-driven run per point against the C chunk driver), to the last bit of
+    t_survived; the counts add up to the grid and to the JSON's map."""
+    from levitron.runtime.scan.points import N_OUT
+    for i, spin in enumerate(MAP["spins"]):
+        for j, tilt in enumerate(MAP["values"]):
+            sim = study.simulate(spin, tilt=tilt, t_end=MAP["t_end"], n_out=N_OUT)
+            assert scan_map.levitating[i, j] == sim.levitating
+            assert scan_map.t_survived[i, j] == sim.t_survived
+            assert scan_map.status[i][j] == sim.status
+    assert scan_map.levitating.tolist() == [[False, False], [True, True]]    # 300 rad/s: below the interval
+    c = scan_map.counts
+    assert c == {"levitating": 2, "fell": 2, "no_verdict": 0, "cannot_hover": 0}
+    assert sum(c.values()) == scan_map.points
+    assert c["levitating"] == sum(map(sum, scan_map.as_json()["levitating"]))
+
+
+def test_scan_actions_write_the_map_and_its_points(scan_map, tmp_path, capsys):
+    """save writes one row a point that reads back as the JSON's nested lists; plot draws the
+    map; the command's --save and --out call them."""
+    from levitron.runtime.simulate import trajectory_file
+    d = scan_map.as_json()
+    cols = trajectory_file.read_columns(scan_map.save(tmp_path / "map.npz"))
+    assert list(cols) == ["spin", "tilt", "levitating", "t_survived", "status"]
+    assert cols["spin"].reshape(2, 2).tolist() == [[s, s] for s in d["grid"]["spin"]]
+    assert cols["tilt"].reshape(2, 2).tolist() == [d["grid"]["tilt"]] * 2
+    assert cols["levitating"].reshape(2, 2).tolist() == d["levitating"]
+    assert cols["t_survived"].reshape(2, 2).tolist() == d["t_survived"]
+    assert cols["status"].reshape(2, 2).tolist() == d["status"]
+    assert scan_map.plot(tmp_path / "map.png") == str(tmp_path / "map.png")
+    assert (tmp_path / "map.png").stat().st_size > 10_000
+    out = _cli_json(capsys, *MAP_ARGV, "--save", str(tmp_path / "cli.csv"), "--out", str(tmp_path / "cli.png"))
+    assert out["saved"] == str(tmp_path / "cli.csv") and out["out"] == str(tmp_path / "cli.png")
+    csv = trajectory_file.read_columns(tmp_path / "cli.csv")
+    assert csv["t_survived"].tolist() == cols["t_survived"].tolist()      # %.17g: every double back
+    assert csv["status"].tolist() == cols["status"].tolist()

@@ -66,7 +66,6 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
     from levitron.runtime.simulate.setup_shape import setup_of
     from levitron.runtime.scan import stability_map as sc
     from levitron.runtime.scan.physics import slow_period, spins_around
-    from levitron.runtime.scan.plot import draw as draw_map
     from levitron.runtime.simulate import animation
     from levitron.runtime.simulate.run import simulate
 
@@ -140,13 +139,13 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
             tilts = np.linspace(0.005, 0.1, MAP_TILTS)
             m = sc.scan(model, scene_ref, list(overrides), spins, "tilt", tilts, t_end=T, quiet=True)
             facts["map"] = {"spins": spins.tolist(), "tilts": tilts.tolist(), "t_end": T,
-                            "fraction_levitating": m.as_dict()["fraction_levitating"]}
+                            "fraction_levitating": m.as_json()["fraction_levitating"]}
             parts.append("<h2>A small stability map</h2>")
             parts.append(_p(f"{MAP_SPINS} spins x {MAP_TILTS} tilts, each run one slow period "
                             f"({u.time(T)}); levitating at "
                             f"{sig(100 * facts['map']['fraction_levitating'], 3)}% of the points. "
                             "A sketch: `levitron scan` draws a finer, longer one.", "note"))
-            parts.append(_png(draw_map(m, tmp / "map.png", f"{scene.name}: levitating vs spin and tilt", u)))
+            parts.append(_png(Path(m.plot(tmp / "map.png"))))
             stage(3)
             # in air the whole flight, to the fall (simulate's default run length); else 3 slow periods
             sim = simulate(model, spin=spin, tilt=LAUNCH_TILT, t_end=None if air else LAUNCH_PERIODS * T,
