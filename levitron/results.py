@@ -1,8 +1,8 @@
 """Typed results of the public API (SI units, thesis 3.3). Each answer lives beside the code that
 computes it and is re-exported here: Equilibria (runtime/physics/equilibria.py, its Equilibrium
 runtime/physics/equilibrium.py's), Simulation (runtime/simulate/simulation.py), Scan
-(runtime/scan/scan_answer.py; ScanResult its old name). The design and fit results are
-runtime.design.optimize.DesignResult and runtime.design.fit.FitResult.
+(runtime/scan/scan_answer.py; ScanResult its old name), LaunchOdds (runtime/scan/launch_answer.py).
+The design and fit results are runtime.design.optimize.DesignResult and runtime.design.fit.FitResult.
 
 Every result has a short `repr` with units (the scene's: a dimensionless scene shows none but
 rad/time and time units; `units`, set by Study), and scipy-style `success` (bool) and `message` (one
@@ -20,6 +20,7 @@ from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.verdict import NO_HOVER
 from levitron.runtime.physics.equilibria import Equilibria
 from levitron.runtime.physics.equilibrium import Equilibrium
+from levitron.runtime.scan.launch_answer import LaunchOdds
 from levitron.runtime.scan.scan_answer import Scan, ScanResult
 from levitron.runtime.simulate.simulation import NORMAL_ENDS, Simulation
 from levitron.runtime.ui.human import Units, quantity, restate, sig
@@ -68,67 +69,6 @@ class Stability:
         z = "None" if self.z_s is None else quantity(u, self.z_s, "m")
         k = "None" if self.stiffness is None else quantity(u, self.stiffness, "N/m", ".4g")
         return f"Stability(spin_interval={iv}, z_s={z}, stiffness={k}, success={self.success})"
-
-
-@dataclass(frozen=True, repr=False)
-class LaunchOdds:
-    """Launch odds by Monte Carlo (runtime/scan/launch_odds.py, docs/contract.md `launch`): probability of
-    floating at least success_time (s), its 95 % Wilson interval, flight-time median and quartiles
-    (s), the inputs ranked by their effect on the success rate; details: every key of the JSON;
-    launches: every launch as data, {column: array of length n} (launch_odds.LAUNCH_UNITS: the
-    inputs as run, mass in kg and mu absolute, strength the factor 1 + d, z_s, verdict, floats,
-    flight_time), the table `levitron launch --save` writes; `save(path)` writes it too."""
-
-    probability: float
-    probability_ci95: tuple[float, float]
-    n: int
-    success_time: float
-    flight_time: dict
-    ranking: list
-    details: dict = field(repr=False, default_factory=dict)
-    units: Units = field(default=_SI, repr=False, compare=False)   # how repr and message show numbers
-    launches: dict = field(repr=False, default_factory=dict, compare=False)
-
-    def save(self, path) -> str:
-        """Write the launches to a .csv, .npz or .parquet file (runtime/simulate/trajectory_file.py)."""
-        from levitron.runtime.simulate import trajectory_file
-        return str(trajectory_file.write_columns(path, self.launches, flag="save"))
-
-    # a sample's verdict: its run ended normally, or it cannot hover (a launch that fails, no solver's)
-    VERDICTS = NORMAL_ENDS + ("cannot_hover",)
-
-    def _failed(self) -> dict:
-        return {k: v for k, v in self.details.get("outcomes", {}).items() if k not in self.VERDICTS}
-
-    @property
-    def success(self) -> bool:
-        """Every sample has its verdict: its run ended normally (reached t_end, or the top left the
-        box), or its top cannot hover; not a solver failure or a step budget."""
-        return not self._failed()
-
-    @property
-    def message(self) -> str:
-        lo, hi = self.probability_ci95
-        decided = self.n - self.details.get("no_verdict", 0)     # the odds leave out the runs with no verdict
-        text = (f"{sig(100 * self.probability, 3)}% of {decided} launches float at least "
-                f"{quantity(self.units, self.success_time, 's', '.4g')} (95% Wilson interval "
-                f"{sig(100 * lo, 3)}-{sig(100 * hi, 3)}%)")
-        failed = self._failed()
-        if failed:
-            text += (f"; {sum(failed.values())} runs did not end normally "
-                     f"({', '.join(f'{k} {v}' for k, v in sorted(failed.items()))})")
-        return text
-
-    def __repr__(self) -> str:
-        lo, hi = self.probability_ci95
-        ft = self.flight_time
-        top = f", most: {self.ranking[0][0]}" if self.ranking else ""
-        u = self.units
-        return (f"LaunchOdds(probability={self.probability:.3g} [{lo:.3g}, {hi:.3g}], n={self.n}, "
-                f"success_time={quantity(u, self.success_time, 's', '.4g')}, flight_time median "
-                f"{quantity(u, ft['median'], 's', '.4g')} (quartiles {ft['q1']:.4g}-"
-                f"{quantity(u, ft['q3'], 's', '.4g')})"
-                f"{top}, success={self.success})")
 
 
 @dataclass(frozen=True, repr=False)

@@ -255,11 +255,7 @@ class Study:
         holds every launch as arrays (its inputs as run, verdict, flight time)."""
         from levitron.runtime.scan.launch_odds import Request
         request = Request.of(self.scene.data.get("launch", {}), inputs, n=n, seed=seed, **options)
-        out = request.run(self.model, self._ref(), self.overrides, quiet=True)
-        table = out.pop("launches")
-        return LaunchOdds(out["probability"], tuple(out["probability_ci95"]), out["n"],
-                          out["success_time"], {k: out["flight_time"][k] for k in ("median", "q1", "q3")},
-                          [(e["input"], e["effect"]) for e in out["ranking"]], out, self.units, table)
+        return request.run(self.model, self._ref(), self.overrides, quiet=True)
 
     @_in_scene_units
     def trim(self, n: int | None = None, seed: int | None = None,

@@ -12,6 +12,7 @@ import pytest
 import levitron as lev
 from levitron.runtime.cli import main as cli
 from levitron.runtime.physics.equilibria import Equilibria
+from levitron.runtime.scan.launch_answer import LaunchOdds
 from levitron.runtime.scan.scan_answer import Scan
 from levitron.runtime.simulate.simulation import Simulation
 
@@ -167,3 +168,57 @@ def test_scan_actions_write_the_map_and_its_points(scan_map, tmp_path, capsys):
     csv = trajectory_file.read_columns(tmp_path / "cli.csv")
     assert csv["t_survived"].tolist() == cols["t_survived"].tolist()      # %.17g: every double back
     assert csv["status"].tolist() == cols["status"].tolist()
+
+
+ODDS = dict(n=12, seed=3, t_end=0.5)
+ODDS_ARGV = ["launch", SCENE, "--n", "12", "--seed", "3", "--t-end", "0.5"]
+
+
+@pytest.fixture(scope="module")
+def odds(study):
+    return study.launch(**ODDS)
+
+
+def test_launch_odds_is_one_answer_for_the_api_and_the_command_line(odds, capsys):
+    from levitron.runtime.scan import launch_odds as mc
+    assert type(odds) is LaunchOdds and lev.LaunchOdds is LaunchOdds
+    out = _cli_json(capsys, *ODDS_ARGV)
+    assert out.pop("saved") is None and out.pop("out") is None        # the command's own keys
+    _same(out, cli._clean(odds.as_json()))
+    assert out["scene"] == SCENE and "launches" not in out            # the table goes to --save
+    # the runtime returns the same answer the API does
+    again = mc.Request({}, **ODDS).run(lev.load(SCENE).model, SCENE, [], quiet=True)
+    assert type(again) is LaunchOdds and again["verdicts"] == odds["verdicts"]
+
+
+def test_launch_odds_hold_against_their_own_launches(odds):
+    """The odds are the launches' own count (the table's floats column, the flight times against
+    the success time) and their interval Wilson's score interval by hand (Wilson 1927, z = 1.96)."""
+    t = odds.launches["flight_time"]
+    floats = t >= odds.success_time * (1 - 1e-12)
+    assert odds.launches["floats"].tolist() == floats.astype(int).tolist()
+    decided = odds.n - odds["no_verdict"]
+    k = int(floats.sum())
+    assert odds["successes"] == k and odds.probability == k / decided
+    z, p = 1.959963984540054, k / decided
+    mid = (p + z * z / (2 * decided)) / (1 + z * z / decided)
+    half = z * np.sqrt(p * (1 - p) / decided + z * z / (4 * decided ** 2)) / (1 + z * z / decided)
+    assert odds.probability_ci95 == pytest.approx((mid - half, mid + half), rel=1e-12, abs=1e-15)
+    assert odds.flight_time["median"] == pytest.approx(float(np.median(t)), rel=1e-15)
+    assert odds["flight_time"]["values"] == t.tolist()
+
+
+def test_launch_odds_actions_write_the_launches_and_the_histogram(odds, tmp_path, capsys):
+    from levitron.runtime.simulate import trajectory_file
+    cols = trajectory_file.read_columns(odds.save(tmp_path / "odds.npz"))
+    assert list(cols) == list(odds.launches)
+    for name, col in odds.launches.items():
+        assert np.array_equal(cols[name], col), name
+    assert odds.plot(tmp_path / "odds.png") == str(tmp_path / "odds.png")
+    assert (tmp_path / "odds.png").stat().st_size > 5000
+    out = _cli_json(capsys, *ODDS_ARGV, "--save", str(tmp_path / "cli.csv"), "--out", str(tmp_path / "cli.png"))
+    assert out["saved"]["path"] == str(tmp_path / "cli.csv") and out["saved"]["rows"] == ODDS["n"]
+    assert out["out"] == str(tmp_path / "cli.png") and (tmp_path / "cli.png").stat().st_size > 5000
+    csv = trajectory_file.read_columns(tmp_path / "cli.csv")
+    assert csv["flight_time"].tolist() == cols["flight_time"].tolist()
+    assert csv["verdict"].tolist() == cols["verdict"].tolist()

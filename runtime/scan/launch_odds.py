@@ -56,6 +56,7 @@ from levitron.runtime.errors import UserError
 from levitron.runtime.physics.friction import has_friction
 from levitron.runtime.integrate.verdict import stopped_early
 from levitron.runtime.integrate.methods import DEFAULT, lookup, refuse_on_full_model, resolve
+from levitron.runtime.scan.launch_answer import LaunchOdds
 from levitron.runtime.ui.validate import count, number_text, real, spread_range, temperature
 
 INPUTS = ("spin", "tilt", "tilt_azimuth", "offset", "velocity", "mass", "strength", "temperature")
@@ -418,7 +419,7 @@ class Request:
         return Request(self.given, self.n, int(seed), self.success_time, self.t_end, self.integrator,
                        self.tol, self.workers, self.scheduler)
 
-    def run(self, model, scene_ref: str, overrides, quiet: bool = False, pool=None) -> dict:
+    def run(self, model, scene_ref: str, overrides, quiet: bool = False, pool=None) -> LaunchOdds:
         """monte_carlo of this request on (model, its scene reference and overrides); pool: a
         runners.KeptPool its local workers run in (a design's Monte Carlos share one)."""
         return monte_carlo(model, scene_ref, overrides, self.given, n=self.n, seed=self.seed,
@@ -430,9 +431,10 @@ class Request:
 def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n: int = 1000,
                 seed: int = 0, success_time: float | None = None, t_end: float | None = None,
                 integrator: str = DEFAULT, tol: float = 1e-8, workers: int = 1,
-                scheduler: str | None = None, quiet: bool = False, pool=None) -> dict:
-    """The launch odds of the module docstring. given: input name -> a distribution spec (flags or
-    the scene's [launch] table, flags first); others take `defaults`."""
+                scheduler: str | None = None, quiet: bool = False, pool=None) -> LaunchOdds:
+    """The launch odds of the module docstring (runtime/scan/launch_answer.py's LaunchOdds). given:
+    input name -> a distribution spec (flags or the scene's [launch] table, flags first); others
+    take `defaults`."""
     from levitron.runtime.scan import runners
     from levitron.runtime.physics.equilibrium import hover_height
     from levitron.runtime.physics.stability import stability_of
@@ -521,7 +523,7 @@ def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n
         results = runners.run_processes(plan, chunks, workers, quiet, fn=run_chunk, what="launch", pool=pool)
     else:
         results = runners.run_serial(plan, chunks, quiet, fn=run_chunk, what="launch")
-    return summarize(plan, results, success_time, interval, z_s, tau, given, warnings)
+    return LaunchOdds.of(summarize(plan, results, success_time, interval, z_s, tau, given, warnings), model)
 
 
 def centre(d: Dist) -> float:
