@@ -33,7 +33,7 @@ from levitron.runtime import lazy_surface as _lazy_surface  # noqa: E402  (needs
 # the public names, loaded on first use: `import levitron` (and `python -m levitron.derive`, the
 # command line's start) costs no numpy, casadi or scipy
 __getattr__, __dir__, __all__ = _lazy_surface(__name__, {
-    "DesignResult": "runtime.design.optimize", "Equilibria": "results", "Equilibrium": "results",
+    "Design": "results", "DesignResult": "results", "Equilibria": "results", "Equilibrium": "results",
     "FitResult": "runtime.design.fit", "LaunchOdds": "results", "Propagator": "runtime.integrate.propagator",
     "Scan": "results", "ScanResult": "results",
     "SceneError": "derive.scene", "Simulation": "results", "Simulations": "results",

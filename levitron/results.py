@@ -1,8 +1,9 @@
 """Typed results of the public API (SI units, thesis 3.3). Each answer lives beside the code that
 computes it and is re-exported here: Equilibria (runtime/physics/equilibria.py, its Equilibrium
 runtime/physics/equilibrium.py's), Simulation (runtime/simulate/simulation.py), Scan
-(runtime/scan/scan_answer.py; ScanResult its old name), LaunchOdds (runtime/scan/launch_answer.py).
-The design and fit results are runtime.design.optimize.DesignResult and runtime.design.fit.FitResult.
+(runtime/scan/scan_answer.py; ScanResult its old name), LaunchOdds (runtime/scan/launch_answer.py),
+Design (runtime/design/design_answer.py; DesignResult its old name). The fit result is
+runtime.design.fit.FitResult.
 
 Every result has a short `repr` with units (the scene's: a dimensionless scene shows none but
 rad/time and time units; `units`, set by Study), and scipy-style `success` (bool) and `message` (one
@@ -16,6 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from levitron.runtime.design.design_answer import Design, DesignResult
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.verdict import NO_HOVER
 from levitron.runtime.physics.equilibria import Equilibria
@@ -28,8 +30,8 @@ from levitron.runtime.ui.human import Units, quantity, restate, sig
 _SI = Units(si=True)
 
 
-__all__ = ["Equilibria", "Equilibrium", "LaunchOdds", "Scan", "ScanResult", "Simulation", "Simulations", "Stability",
-           "Trim"]
+__all__ = ["Design", "DesignResult", "Equilibria", "Equilibrium", "LaunchOdds", "Scan", "ScanResult", "Simulation",
+           "Simulations", "Stability", "Trim"]
 
 
 @dataclass(frozen=True)

@@ -13,7 +13,6 @@ from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.physics import stability_casadi as sc
 from levitron.runtime.model.scenes import load_scene
 from levitron.runtime.design.constraints import Constraint
-from levitron.runtime.design.optimize import DesignResult
 from levitron.runtime.design.optimize import optimize as _optimize
 from levitron.runtime.errors import UserError
 from levitron.runtime.design.fit import FitResult, Row, read_rows
@@ -24,7 +23,7 @@ from levitron.runtime.physics.stability import stability_of
 from levitron.runtime.ui.human import Units, restate
 
 from . import arguments as arg
-from .results import Equilibria, LaunchOdds, Scan, Simulation, Simulations, Stability, Trim
+from .results import Design, Equilibria, LaunchOdds, Scan, Simulation, Simulations, Stability, Trim
 
 # Study.simulate's options: runtime.simulate.run.simulate's keywords, and the command line's names
 SIMULATE_OPTIONS = ("tilt", "offset", "t_end", "integrator", "tol", "box", "plot", "part", "h",
@@ -339,7 +338,7 @@ class Study:
     # ---- design and fitting
     @_in_scene_units
     def optimize(self, maximize: str, vary: Mapping[str, tuple[float, float]],
-                 constrain: Sequence[str] = (), grid: int = 20) -> DesignResult:
+                 constrain: Sequence[str] = (), grid: int = 20) -> Design:
         """Maximise spin-range or spin-ratio over scene keys in boxes {key: (lo, hi)}, with
         constraints such as "stiffness>=1" (runtime/design/optimize.py; IPOPT, verified)."""
         constrain = arg.names(constrain, "constrain")

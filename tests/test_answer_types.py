@@ -11,6 +11,7 @@ import pytest
 
 import levitron as lev
 from levitron.runtime.cli import main as cli
+from levitron.runtime.design.design_answer import Design
 from levitron.runtime.physics.equilibria import Equilibria
 from levitron.runtime.scan.launch_answer import LaunchOdds
 from levitron.runtime.scan.scan_answer import Scan
@@ -222,3 +223,44 @@ def test_launch_odds_actions_write_the_launches_and_the_histogram(odds, tmp_path
     csv = trajectory_file.read_columns(tmp_path / "cli.csv")
     assert csv["flight_time"].tolist() == cols["flight_time"].tolist()
     assert csv["verdict"].tolist() == cols["verdict"].tolist()
+
+
+VARY = {"top.mass": (0.0505, 0.0524)}
+VARY_ARGV = ["optimize", SCENE, "--maximize", "spin-range", "--vary", "top.mass=0.0505:0.0524"]
+
+
+@pytest.fixture(scope="module")
+def design(study):
+    return study.optimize("spin-range", VARY)
+
+
+def test_design_is_one_answer_for_the_api_and_the_command_line(design, capsys):
+    assert type(design) is Design and lev.Design is Design and lev.DesignResult is Design
+    out = _cli_json(capsys, *VARY_ARGV)
+    assert "written" not in out                   # the command's own key, only with --write-scene
+    _same(out, cli._clean(design.as_json()))
+    assert out["scene"] == SCENE == design.scene.name
+
+
+def test_design_optimum_holds_by_the_stability_route(design):
+    """At the optimum the scene's own stability answer (Study.stability on the scene loaded with the
+    optimum, the exact discriminant route) gives the design's interval and objective."""
+    at = lev.load(SCENE, design.optimum).stability()
+    assert at.spin_interval == pytest.approx(design.spin_interval, rel=1e-9)
+    assert design.value == pytest.approx(at.spin_interval[1] - at.spin_interval[0], rel=1e-9)
+    assert at.z_s == pytest.approx(design.z_s, rel=1e-12)
+
+
+def test_design_writes_the_scene_at_its_optimum(design, tmp_path, capsys):
+    """write_scene writes a scene that loads back with the optimum's key and the design's answer;
+    --write-scene calls it."""
+    path = design.write_scene(tmp_path / "best.toml")
+    assert path == str(tmp_path / "best.toml")
+    text = (tmp_path / "best.toml").read_text()
+    assert text.startswith("# levitron optimize thesis_stable --maximize spin-range: top.mass = ")
+    again = lev.load(path)
+    assert again.value("top.mass") == design.optimum["top.mass"]
+    assert again.stability().spin_interval == pytest.approx(design.spin_interval, rel=1e-9)
+    out = _cli_json(capsys, *VARY_ARGV, "--write-scene", str(tmp_path / "cli.toml"))
+    assert out["written"] == str(tmp_path / "cli.toml")
+    assert (tmp_path / "cli.toml").read_text() == text

@@ -1,7 +1,7 @@
 """CasADi design and fitting on scene keys: IPOPT on exact derivatives, fits with standard errors, the
 strength that puts a top at a height, scene writing.
 
-Public surface: Constraint, DesignResult, FitResult, Vary, fit, optimize. Names load lazily (PEP
+Public surface: Constraint, Design (DesignResult its old name), FitResult, Vary, fit, optimize. Names load lazily (PEP
 562), so importing the package costs nothing.
 """
 from __future__ import annotations
@@ -10,7 +10,8 @@ from levitron.runtime import lazy_surface
 
 _EXPORTS = {
     "Constraint": "constraints",
-    "DesignResult": "optimize",
+    "Design": "design_answer",
+    "DesignResult": "design_answer",
     "FitResult": "fit",
     "Vary": "scene_keys",
     "fit": "fit",
