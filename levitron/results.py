@@ -2,8 +2,8 @@
 computes it and is re-exported here: Equilibria (runtime/physics/equilibria.py, its Equilibrium
 runtime/physics/equilibrium.py's), Simulation (runtime/simulate/simulation.py), Scan
 (runtime/scan/scan_answer.py; ScanResult its old name), LaunchOdds (runtime/scan/launch_answer.py),
-Design (runtime/design/design_answer.py; DesignResult its old name). The fit result is
-runtime.design.fit.FitResult.
+Design (runtime/design/design_answer.py; DesignResult its old name), Fit
+(runtime/design/fit_answer.py; FitResult its old name).
 
 Every result has a short `repr` with units (the scene's: a dimensionless scene shows none but
 rad/time and time units; `units`, set by Study), and scipy-style `success` (bool) and `message` (one
@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from levitron.runtime.design.design_answer import Design, DesignResult
+from levitron.runtime.design.fit_answer import Fit, FitResult
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.verdict import NO_HOVER
 from levitron.runtime.physics.equilibria import Equilibria
@@ -30,8 +31,8 @@ from levitron.runtime.ui.human import Units, quantity, restate, sig
 _SI = Units(si=True)
 
 
-__all__ = ["Design", "DesignResult", "Equilibria", "Equilibrium", "LaunchOdds", "Scan", "ScanResult", "Simulation",
-           "Simulations", "Stability", "Trim"]
+__all__ = ["Design", "DesignResult", "Equilibria", "Equilibrium", "Fit", "FitResult", "LaunchOdds", "Scan",
+           "ScanResult", "Simulation", "Simulations", "Stability", "Trim"]
 
 
 @dataclass(frozen=True)

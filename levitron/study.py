@@ -15,7 +15,7 @@ from levitron.runtime.model.scenes import load_scene
 from levitron.runtime.design.constraints import Constraint
 from levitron.runtime.design.optimize import optimize as _optimize
 from levitron.runtime.errors import UserError
-from levitron.runtime.design.fit import FitResult, Row, read_rows
+from levitron.runtime.design.fit import Row, read_rows
 from levitron.runtime.design.fit import fit as _fit
 from levitron.runtime.model.load import NEEDS_OF_PART, Model, load_model
 from levitron.runtime.design.scene_keys import Vary, key_value, pvector, with_values
@@ -23,7 +23,7 @@ from levitron.runtime.physics.stability import stability_of
 from levitron.runtime.ui.human import Units, restate
 
 from . import arguments as arg
-from .results import Design, Equilibria, LaunchOdds, Scan, Simulation, Simulations, Stability, Trim
+from .results import Design, Equilibria, Fit, LaunchOdds, Scan, Simulation, Simulations, Stability, Trim
 
 # Study.simulate's options: runtime.simulate.run.simulate's keywords, and the command line's names
 SIMULATE_OPTIONS = ("tilt", "offset", "t_end", "integrator", "tol", "box", "plot", "part", "h",
@@ -346,7 +346,7 @@ class Study:
                          maximize, [Constraint.parse(c) for c in constrain], grid)
 
     @_in_scene_units
-    def fit(self, data: str | Path | Sequence[Row], vary: Mapping[str, tuple[float, float]]) -> FitResult:
+    def fit(self, data: str | Path | Sequence[Row], vary: Mapping[str, tuple[float, float]]) -> Fit:
         """Least squares of scene keys to measurements (a CSV path or runtime.design.fit.Row list)."""
         rows = read_rows(data) if isinstance(data, (str, Path)) else data
         return _fit(self.model, rows, _varies(vary))

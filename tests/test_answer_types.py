@@ -12,6 +12,7 @@ import pytest
 import levitron as lev
 from levitron.runtime.cli import main as cli
 from levitron.runtime.design.design_answer import Design
+from levitron.runtime.design.fit_answer import Fit
 from levitron.runtime.physics.equilibria import Equilibria
 from levitron.runtime.scan.launch_answer import LaunchOdds
 from levitron.runtime.scan.scan_answer import Scan
@@ -264,3 +265,40 @@ def test_design_writes_the_scene_at_its_optimum(design, tmp_path, capsys):
     out = _cli_json(capsys, *VARY_ARGV, "--write-scene", str(tmp_path / "cli.toml"))
     assert out["written"] == str(tmp_path / "cli.toml")
     assert (tmp_path / "cli.toml").read_text() == text
+
+
+FIT_CSV = """quantity,value,sigma,overrides
+z_s,0.1065,1e-4,top.mass=0.0515
+z_s,0.1052,1e-4,top.mass=0.0518
+z_s,0.1078,1e-4,top.mass=0.0512
+"""
+FIT_VARY = {"plate.murho": (-0.003, -0.0023)}
+
+
+@pytest.fixture(scope="module")
+def fit_data(tmp_path_factory):
+    path = tmp_path_factory.mktemp("fit") / "heights.csv"
+    path.write_text(FIT_CSV)
+    return path
+
+
+def test_fit_is_one_answer_for_the_api_and_the_command_line(study, fit_data, capsys):
+    fit = study.fit(fit_data, FIT_VARY)
+    assert type(fit) is Fit and lev.Fit is Fit and lev.FitResult is Fit
+    out = _cli_json(capsys, "optimize", SCENE, "--fit", str(fit_data), "--vary", "plate.murho=-0.003:-0.0023")
+    _same(out, cli._clean(fit.as_json()))
+    assert out["scene"] == SCENE
+
+
+def test_fit_residuals_hold_by_the_equilibrium_route(study, fit_data):
+    """Each residual's model value is the hover height of the scene loaded at the fitted key with the
+    row's overrides (Study.stability: the float equilibrium route, not the fit's CasADi one), and
+    chi2 is the sum of the normalised residuals squared."""
+    fit = study.fit(fit_data, FIT_VARY)
+    murho = fit.parameters["plate.murho"]["value"]
+    for r in fit.residuals:
+        z = lev.load(SCENE, {"plate.murho": murho, **r["overrides"]}).stability().z_s
+        assert r["model"] == pytest.approx(z, rel=1e-10)
+        assert r["normalized"] == pytest.approx((z - r["value"]) / r["sigma"], rel=1e-6, abs=1e-9)
+    assert fit.chi2 == pytest.approx(sum(r["normalized"] ** 2 for r in fit.residuals), rel=1e-12)
+    assert fit.dof == 2 and fit.success

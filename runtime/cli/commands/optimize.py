@@ -82,7 +82,7 @@ def run(args) -> dict:
         rows = read_rows(args.fit)
         model = model_of(args)
         refuse_tilted(model, "optimize fits and designs")
-        out = fit(model, rows, varies).as_dict()
+        out = fit(model, rows, varies).as_json()     # the answer: runtime/design/fit_answer.py's Fit
     elif args.maximize == "launch-odds":
         from levitron.runtime.design.launch_design import maximize_launch_odds
         if constraints:
