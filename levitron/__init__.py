@@ -33,9 +33,9 @@ from levitron.runtime import lazy_surface as _lazy_surface  # noqa: E402  (needs
 # the public names, loaded on first use: `import levitron` (and `python -m levitron.derive`, the
 # command line's start) costs no numpy, casadi or scipy
 __getattr__, __dir__, __all__ = _lazy_surface(__name__, {
-    "DesignResult": "runtime.design.optimize", "Equilibria": "results", "Equilibrium": "results",
-    "FitResult": "runtime.design.fit", "LaunchOdds": "results", "Propagator": "runtime.integrate.propagator",
-    "ScanResult": "runtime.scan.stability_map",
+    "Design": "results", "DesignResult": "results", "Equilibria": "results", "Equilibrium": "results",
+    "Fit": "results", "FitResult": "results", "LaunchOdds": "results", "Propagator": "runtime.integrate.propagator",
+    "Scan": "results", "ScanResult": "results",
     "SceneError": "scene.checks", "Simulation": "results", "Simulations": "results",
     "Stability": "results", "Study": "study", "Trim": "results", "UserError": "runtime.errors",
     "load": "study", "plate_from_magpylib": "from_magpylib"})

@@ -1,13 +1,14 @@
-"""Typed results of the public API (SI units, thesis 3.3). The design and fit results are
-runtime.design.optimize.DesignResult and runtime.design.fit.FitResult; the scan result
-runtime.scan.stability_map.ScanResult.
+"""Typed results of the public API (SI units, thesis 3.3). Each answer lives beside the code that
+computes it and is re-exported here: Equilibria (runtime/physics/equilibria.py, its Equilibrium
+runtime/physics/equilibrium.py's), Simulation (runtime/simulate/simulation.py), Scan
+(runtime/scan/scan_answer.py; ScanResult its old name), LaunchOdds (runtime/scan/launch_answer.py),
+Design (runtime/design/design_answer.py; DesignResult its old name), Fit
+(runtime/design/fit_answer.py; FitResult its old name).
 
 Every result has a short `repr` with units (the scene's: a dimensionless scene shows none but
 rad/time and time units; `units`, set by Study), and scipy-style `success` (bool) and `message` (one
-sentence): for Equilibria, whether the top has a vertically stable hover height; for Stability,
-whether a spin rate stabilises it (a stable spin interval exists); for Simulation, whether the run
-ended normally (reached t_end or left the box, like solve_ivp's terminal event) rather than by a
-solver failure or its step budget; `levitating` says whether the top stayed up; for LaunchOdds,
+sentence): for Stability,
+whether a spin rate stabilises it (a stable spin interval exists); for LaunchOdds,
 whether every sample has its verdict (a run that ended normally, or a top that cannot hover).
 """
 from __future__ import annotations
@@ -16,75 +17,22 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from levitron.runtime.design.design_answer import Design, DesignResult
+from levitron.runtime.design.fit_answer import Fit, FitResult
 from levitron.runtime.errors import UserError
-from levitron.runtime.integrate.verdict import DOWN, NO_HOVER, UP
-from levitron.runtime.ui.human import Units, restate, sig
+from levitron.runtime.integrate.verdict import NO_HOVER
+from levitron.runtime.physics.equilibria import Equilibria
+from levitron.runtime.physics.equilibrium import Equilibrium
+from levitron.runtime.scan.launch_answer import LaunchOdds
+from levitron.runtime.scan.scan_answer import Scan, ScanResult
+from levitron.runtime.simulate.simulation import NORMAL_ENDS, Simulation
+from levitron.runtime.ui.human import Units, quantity, restate, sig
 
 _SI = Units(si=True)
 
 
-def _q(units: Units, value: float, si_unit: str, fmt: str = ".6g") -> str:
-    """A number and its unit as the scene shows it: "0.106 m" (SI), "0.106" in a dimensionless
-    scene, where a rate is "rad/time" and a time "time units" (runtime/ui/human.py Units)."""
-    return f"{value:{fmt}} {units.unit(si_unit)}".rstrip()
-NORMAL_ENDS = (UP, DOWN)    # the runs with a verdict (runtime/integrate/verdict.py): the run itself succeeded
-
-
-@dataclass(frozen=True)
-class Equilibrium:
-    """One vertical equilibrium (thesis 3.3.2): z (m), vertically_stable (mu Phi_3 > 0, 3.3.3),
-    stiffness U'' = mu Phi_3 (N/m), marginal (a double root at z_c)."""
-
-    z: float
-    vertically_stable: bool
-    stiffness: float
-    marginal: bool
-    units: Units = field(default=_SI, repr=False, compare=False)   # how repr and message show numbers
-
-    def __repr__(self) -> str:
-        kind = "marginal" if self.marginal else "stable" if self.vertically_stable else "unstable"
-        u = self.units
-        return (f"Equilibrium(z={_q(u, self.z, 'm')}, vertically {kind}, "
-                f"stiffness={_q(u, self.stiffness, 'N/m', '.4g')})")
-
-
-@dataclass(frozen=True)
-class Equilibria:
-    """The equilibria of the top (thesis 3.3.1-3.3.3): equilibria; z_c (m, zero of Phi_3) and
-    max_mass (kg, m(z_c)), None if the field holds no top; stable_band: heights (m) and masses (kg)
-    where some spin stabilises a top hovering there (docs/contract.md), None if there is none."""
-
-    equilibria: list[Equilibrium]
-    z_c: float | None
-    max_mass: float | None
-    stable_band_z: tuple[float, float] | None
-    stable_band_mass: tuple[float, float] | None
-    units: Units = field(default=_SI, repr=False, compare=False)   # how repr and message show numbers
-
-    @property
-    def success(self) -> bool:
-        """A vertically stable hover height exists."""
-        return any(e.vertically_stable for e in self.equilibria)
-
-    @property
-    def message(self) -> str:
-        stable = [e.z for e in self.equilibria if e.vertically_stable]
-        u = self.units
-        head = (f"hovers vertically stable at z = {_q(u, stable[0], 'm')}" if stable
-                else "no vertically stable hover height")
-        band = ("no stable band" if self.stable_band_z is None else
-                f"stable band z {self.stable_band_z[0]:.6g}-{_q(u, self.stable_band_z[1], 'm')}, mass "
-                f"{self.stable_band_mass[0]:.6g}-{_q(u, self.stable_band_mass[1], 'kg')}")
-        return f"{head}; {band}"
-
-    def __repr__(self) -> str:
-        u = self.units
-        zs = ", ".join(f"{_q(u, e.z, 'm')} ({'stable' if e.vertically_stable else 'unstable'})"
-                       for e in self.equilibria) or "none"
-        band = "None" if self.stable_band_z is None else \
-            f"z {self.stable_band_z[0]:.6g}-{_q(u, self.stable_band_z[1], 'm')}"
-        zc = "None" if self.z_c is None else _q(u, self.z_c, "m")
-        return f"Equilibria([{zs}], z_c={zc}, stable_band={band}, success={self.success})"
+__all__ = ["Design", "DesignResult", "Equilibria", "Equilibrium", "Fit", "FitResult", "LaunchOdds", "Scan",
+           "ScanResult", "Simulation", "Simulations", "Stability", "Trim"]
 
 
 @dataclass(frozen=True)
@@ -114,139 +62,16 @@ class Stability:
             return f"no stable spin interval: {restate(self.reason, self.units) or 'no stable hover height'}"
         lo, hi = self.spin_interval
         u = self.units
-        return f"stable for spin {lo:.6g}-{_q(u, hi, 'rad/s')} at z_s = {_q(u, self.z_s, 'm')}" + \
+        return f"stable for spin {lo:.6g}-{quantity(u, hi, 'rad/s')} at z_s = {quantity(u, self.z_s, 'm')}" + \
             (f" ({self.reason})" if self.reason else "")
 
     def __repr__(self) -> str:
         u = self.units
         iv = "None" if self.spin_interval is None else \
             f"{sig(self.spin_interval[0], 6)}-{sig(self.spin_interval[1], 6)} {u.unit('rad/s')}"
-        z = "None" if self.z_s is None else _q(u, self.z_s, "m")
-        k = "None" if self.stiffness is None else _q(u, self.stiffness, "N/m", ".4g")
+        z = "None" if self.z_s is None else quantity(u, self.z_s, "m")
+        k = "None" if self.stiffness is None else quantity(u, self.stiffness, "N/m", ".4g")
         return f"Stability(spin_interval={iv}, z_s={z}, stiffness={k}, success={self.success})"
-
-
-@dataclass(frozen=True)
-class Simulation:
-    """One trajectory from the hover height (docs/contract.md `simulate`): levitating (None for a
-    launch on the invariant set, which tests nothing, or a run that stopped early without a verdict,
-    runtime/integrate/verdict.py: details["untested"] says why); t_survived
-    (s); max_excursion (m); energy_drift (relative; in air the energy balance's residual);
-    rhs_evals; wall_s (s); final_state (the model's states, SI); details: every key of the
-    command's JSON (in air also "flight": flight time, fall spin, the adiabatic t_cross);
-    trajectory: the samples as data, {column: array}: t (s), the states (SI), energy (J), L_z,
-    L_n (kg m^2/s) and tilt (rad); `save(path)` writes them to .csv, .npz or .parquet."""
-
-    levitating: bool | None
-    t_survived: float
-    max_excursion: float
-    energy_drift: float
-    rhs_evals: int
-    wall_s: float
-    final_state: dict
-    details: dict = field(repr=False, default_factory=dict)
-    trajectory: dict = field(repr=False, default_factory=dict)
-    units: Units = field(default=_SI, repr=False, compare=False)   # how repr and message show numbers
-
-    def save(self, path) -> str:
-        """Write the trajectory to a .csv, .npz or .parquet file (runtime/simulate/trajectory_file.py)."""
-        import numpy as np
-
-        from levitron.runtime.simulate import trajectory_file
-        names = list(self.trajectory)
-        return str(trajectory_file.write(path, names, np.column_stack([self.trajectory[n] for n in names]),
-                                        "Simulation.save"))
-
-    @property
-    def status(self) -> str:
-        return str(self.details.get("status", "completed" if self.levitating else "unknown"))
-
-    def _repr_html_(self) -> str:
-        """In a notebook: the run animated (runtime/simulate/animation.py: the top over its base to
-        scale, its trace, spin and height against time; inline, offline), under its repr."""
-        import html
-
-        from levitron.runtime.simulate import animation
-        head = f"<pre>{html.escape(repr(self))}</pre>"
-        setup = self.details.get("setup")
-        if not self.trajectory or setup is None or self.details.get("coordinates") is None:
-            return head
-        return head + animation.fragment(animation.frames(self.trajectory, self.details, setup, self.units),
-                                         self.message)
-
-    @property
-    def success(self) -> bool:
-        """The run ended normally: reached t_end, or stopped when the top left the box."""
-        return self.status in NORMAL_ENDS
-
-    @property
-    def message(self) -> str:
-        return str(self.details.get("message") or self.status)
-
-    def __repr__(self) -> str:
-        u = self.units
-        return (f"Simulation(levitating={self.levitating}, t_survived={self.t_survived:.6g} of "
-                f"{_q(u, self.details.get('t_end', float('nan')), 's')}, energy_drift={self.energy_drift:.2g}, "
-                f"status={self.status!r}, success={self.success})")
-
-@dataclass(frozen=True, repr=False)
-class LaunchOdds:
-    """Launch odds by Monte Carlo (runtime/scan/launch_odds.py, docs/contract.md `launch`): probability of
-    floating at least success_time (s), its 95 % Wilson interval, flight-time median and quartiles
-    (s), the inputs ranked by their effect on the success rate; details: every key of the JSON;
-    launches: every launch as data, {column: array of length n} (launch_odds.LAUNCH_UNITS: the
-    inputs as run, mass in kg and mu absolute, strength the factor 1 + d, z_s, verdict, floats,
-    flight_time), the table `levitron launch --save` writes; `save(path)` writes it too."""
-
-    probability: float
-    probability_ci95: tuple[float, float]
-    n: int
-    success_time: float
-    flight_time: dict
-    ranking: list
-    details: dict = field(repr=False, default_factory=dict)
-    units: Units = field(default=_SI, repr=False, compare=False)   # how repr and message show numbers
-    launches: dict = field(repr=False, default_factory=dict, compare=False)
-
-    def save(self, path) -> str:
-        """Write the launches to a .csv, .npz or .parquet file (runtime/simulate/trajectory_file.py)."""
-        from levitron.runtime.simulate import trajectory_file
-        return str(trajectory_file.write_columns(path, self.launches, flag="save"))
-
-    # a sample's verdict: its run ended normally, or it cannot hover (a launch that fails, no solver's)
-    VERDICTS = NORMAL_ENDS + ("cannot_hover",)
-
-    def _failed(self) -> dict:
-        return {k: v for k, v in self.details.get("outcomes", {}).items() if k not in self.VERDICTS}
-
-    @property
-    def success(self) -> bool:
-        """Every sample has its verdict: its run ended normally (reached t_end, or the top left the
-        box), or its top cannot hover; not a solver failure or a step budget."""
-        return not self._failed()
-
-    @property
-    def message(self) -> str:
-        lo, hi = self.probability_ci95
-        decided = self.n - self.details.get("no_verdict", 0)     # the odds leave out the runs with no verdict
-        text = (f"{sig(100 * self.probability, 3)}% of {decided} launches float at least "
-                f"{_q(self.units, self.success_time, 's', '.4g')} (95% Wilson interval "
-                f"{sig(100 * lo, 3)}-{sig(100 * hi, 3)}%)")
-        failed = self._failed()
-        if failed:
-            text += (f"; {sum(failed.values())} runs did not end normally "
-                     f"({', '.join(f'{k} {v}' for k, v in sorted(failed.items()))})")
-        return text
-
-    def __repr__(self) -> str:
-        lo, hi = self.probability_ci95
-        ft = self.flight_time
-        top = f", most: {self.ranking[0][0]}" if self.ranking else ""
-        u = self.units
-        return (f"LaunchOdds(probability={self.probability:.3g} [{lo:.3g}, {hi:.3g}], n={self.n}, "
-                f"success_time={_q(u, self.success_time, 's', '.4g')}, flight_time median "
-                f"{_q(u, ft['median'], 's', '.4g')} (quartiles {ft['q1']:.4g}-{_q(u, ft['q3'], 's', '.4g')})"
-                f"{top}, success={self.success})")
 
 
 @dataclass(frozen=True, repr=False)
@@ -344,7 +169,7 @@ class Simulations:
         no = np.flatnonzero(self.status == NO_HOVER)
         ran = n - no.size
         text = (f"{ran} runs ended normally; {lev} stayed up for the whole "
-                f"{_q(self.units, self.details.get('t_end'), 's')}") if ran else "no launch ran"
+                f"{quantity(self.units, self.details.get('t_end'), 's')}") if ran else "no launch ran"
         if np.any(self.untested):
             text += f"; {int(np.sum(self.untested))} launched on the invariant set test nothing"
         if no.size:
@@ -361,6 +186,6 @@ class Simulations:
         t_end = self.details.get("t_end")
         return (f"Simulations(n={n}, levitating={lev} of {n - int(np.sum(self.untested))} tested, "
                 f"t_survived={np.min(ts):.6g}-{np.max(ts):.6g} of "
-                f"{_q(self.units, float('nan') if t_end is None else t_end, 's')}, "
+                f"{quantity(self.units, float('nan') if t_end is None else t_end, 's')}, "
                 + (f"cannot hover={no}, " if no else "")
                 + f"lanes={self.details.get('lanes')}, success={self.success})")

@@ -14,17 +14,17 @@ from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.physics import stability_casadi as sc
 from levitron.runtime.model.scenes import load_scene
 from levitron.runtime.design.constraints import Constraint
-from levitron.runtime.design.optimize import DesignResult
 from levitron.runtime.design.optimize import optimize as _optimize
 from levitron.runtime.errors import UserError
-from levitron.runtime.design.fit import FitResult, Row, fit as _fit, read_rows
+from levitron.runtime.design.fit import Row, read_rows
+from levitron.runtime.design.fit import fit as _fit
 from levitron.runtime.model.load import NEEDS_OF_PART, Model, load_model
 from levitron.runtime.design.scene_keys import Vary, key_value, pvector, with_values
 from levitron.runtime.physics.stability import stability_of
 from levitron.runtime.ui.human import Units, restate
 
 from . import arguments as arg
-from .results import Equilibria, Equilibrium, LaunchOdds, Simulation, Simulations, Stability, Trim
+from .results import Design, Equilibria, Fit, LaunchOdds, Scan, Simulation, Simulations, Stability, Trim
 
 # Study.simulate's options: runtime.simulate.run.simulate's keywords, and the command line's names
 SIMULATE_OPTIONS = ("tilt", "offset", "t_end", "integrator", "tol", "box", "plot", "part", "h",
@@ -164,14 +164,9 @@ class Study:
     # ---- physics
     @_in_scene_units
     def equilibria(self) -> Equilibria:
-        """Vertical equilibria, z_c, the largest mass and the stable band (thesis 3.3.1-3.3.3)."""
-        rep = eqm.equilibria_of(self.model, bands=True)
-        band = rep.stable_band
-        u = self.units
-        return Equilibria([Equilibrium(e.z, e.vertically_stable, e.stiffness, e.marginal, u)
-                           for e in rep.equilibria], rep.z_c, rep.max_mass,
-                          None if band is None else tuple(band.z),
-                          None if band is None else tuple(band.mass), u)
+        """Vertical equilibria, z_c, the largest mass and the stable band (thesis 3.3.1-3.3.3):
+        runtime/physics/equilibria.py's answer, the one `levitron equilibrium` prints."""
+        return Equilibria.of(self.model)
 
     @_in_scene_units
     def stability(self, height: float | None = None) -> Stability:
@@ -196,15 +191,19 @@ class Study:
         in air the run ends when the top falls: details["flight"]), integrator, tol, box (m),
         plot (path), part, h or step (s), n_out, azimuth or tilt_azimuth (rad), as the command
         line's flags)."""
+        from levitron.runtime.simulate import trajectory_file
         from levitron.runtime.simulate.run import simulate
         options = _options(options, SIMULATE_OPTIONS, "simulate option",
                            ("tilt", "offset", "t_end", "tol", "box", "h", "azimuth"))
-        out = simulate(self.model, arg.number(spin, "spin"), trajectory=True, **options)
-        samples = out.pop("trajectory")
-        return Simulation(out["levitating"], float(out["t_survived"]),
-                          float(out["max_excursion"]), float(out["energy_drift"]),
-                          int(out["rhs_evals"]), float(out["wall_s"]), dict(out["final_state"]),
-                          out, samples, self.units)
+        plot, save = options.pop("plot", None), options.pop("save", None)
+        if save is not None:
+            trajectory_file.check_path(save)
+        sim = simulate(self.model, arg.number(spin, "spin"), **options)
+        if plot is not None:
+            sim.plot(plot)
+        if save is not None:
+            sim.save(save, flag="--save")
+        return sim
 
     @_in_scene_units
     def simulate_many(self, spin, **options) -> Simulations:
@@ -256,11 +255,7 @@ class Study:
         holds every launch as arrays (its inputs as run, verdict, flight time)."""
         from levitron.runtime.scan.launch_odds import Request
         request = Request.of(self.scene.data.get("launch", {}), inputs, n=n, seed=seed, **options)
-        out = request.run(self.model, self._ref(), self.overrides, quiet=True)
-        table = out.pop("launches")
-        return LaunchOdds(out["probability"], tuple(out["probability_ci95"]), out["n"],
-                          out["success_time"], {k: out["flight_time"][k] for k in ("median", "q1", "q3")},
-                          [(e["input"], e["effect"]) for e in out["ranking"]], out, self.units, table)
+        return request.run(self.model, self._ref(), self.overrides, quiet=True)
 
     @_in_scene_units
     def trim(self, n: int | None = None, seed: int | None = None,
@@ -305,8 +300,9 @@ class Study:
         return Propagator(pt, integrator, arg.number(tol, "tol"), scale=scale, box=bx)
 
     @_in_scene_units
-    def scan(self, spins: Sequence[float], axis: str, values: Sequence[float], **options):
-        """A stability map: runtime.scan.stability_map.ScanResult over spins (rad/s) and one second axis:
+    def scan(self, spins: Sequence[float], axis: str, values: Sequence[float], **options) -> Scan:
+        """A stability map: runtime/scan/scan_answer.py's Scan (the answer `levitron scan` prints;
+        its actions plot(path) and save(path)) over spins (rad/s) and one second axis:
 
         * "tilt": the initial tilt of the axis (rad);
         * "mass": the top's mass (kg), each started at its own hover height;
@@ -343,7 +339,7 @@ class Study:
     # ---- design and fitting
     @_in_scene_units
     def optimize(self, maximize: str, vary: Mapping[str, tuple[float, float]],
-                 constrain: Sequence[str] = (), grid: int = 20) -> DesignResult:
+                 constrain: Sequence[str] = (), grid: int = 20) -> Design:
         """Maximise spin-range or spin-ratio over scene keys in boxes {key: (lo, hi)}, with
         constraints such as "stiffness>=1" (runtime/design/optimize.py; IPOPT, verified)."""
         constrain = arg.names(constrain, "constrain")
@@ -351,7 +347,7 @@ class Study:
                          maximize, [Constraint.parse(c) for c in constrain], grid)
 
     @_in_scene_units
-    def fit(self, data: str | Path | Sequence[Row], vary: Mapping[str, tuple[float, float]]) -> FitResult:
+    def fit(self, data: str | Path | Sequence[Row], vary: Mapping[str, tuple[float, float]]) -> Fit:
         """Least squares of scene keys to measurements (a CSV path or runtime.design.fit.Row list)."""
         rows = read_rows(data) if isinstance(data, (str, Path)) else data
         return _fit(self.model, rows, _varies(vary))

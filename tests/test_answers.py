@@ -203,7 +203,7 @@ def test_unbounded_edge_is_refused_and_says_where(thesis_model, monkeypatch):
 # ---- item 5: scan summaries show the runs as they are; "cannot hover" is not "fell"
 
 def _scan_result(levitating, status=None, axis="tilt"):
-    """A scan's JSON as the command makes it (runtime/scan/stability_map.py ScanResult.as_dict), 4 spins x 1 row."""
+    """A scan's JSON as the command makes it (runtime/scan/scan_answer.py Scan.as_json), 4 spins x 1 row."""
     spins = [9.5, 10.5, 11.5, 12.5]
     return {"axes": ["spin", axis], "grid": {"spin": spins, axis: [0.01]},
             "levitating": [[v] for v in levitating],

@@ -116,5 +116,5 @@ def test_a_fit_returns_covariance_and_correlation(study):
     for i, k in enumerate(fit.keys):
         assert np.sqrt(cov[i, i]) == pytest.approx(fit.parameters[k]["stderr"], rel=1e-12)
     assert np.allclose(np.diag(cor), 1) and abs(cor[0, 1]) <= 1
-    d = fit.as_dict()
+    d = fit.as_json()
     assert d["keys"] == ["plate.murho", "top.C"] and np.allclose(d["correlation"], cor)

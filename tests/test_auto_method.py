@@ -95,8 +95,8 @@ def test_scan_auto_equals_the_chosen_method(model):
         ref = sc.scan(model, "thesis", SET, integrator="vern9", engine=engine, **grid)
         got = sc.scan(model, "thesis", SET, integrator=AUTO, engine=engine, **grid)
         assert got.status == ref.status and got.runner["engine"] == engine
-        assert got.as_dict()["integrator"] == "vern9"
-        assert got.as_dict()["integrator_requested"] == AUTO
+        assert got.as_json()["integrator"] == "vern9"
+        assert got.as_json()["integrator_requested"] == AUTO
         np.testing.assert_array_equal(got.t_survived, ref.t_survived)
         np.testing.assert_array_equal(got.levitating, ref.levitating)
         assert got.rhs_evals == ref.rhs_evals          # dop853's differ: the same method ran

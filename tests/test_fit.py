@@ -40,7 +40,7 @@ def test_synthetic_fit_recovers_the_truth():
         assert got["stderr"] > 0
         assert abs(got["value"] - true) <= 2 * got["stderr"], (key, got, true)
     assert res.chi2 == pytest.approx(sum(r["normalized"] ** 2 for r in res.residuals))
-    out = res.as_dict()
+    out = res.as_json()
     assert set(out["parameters"]["top.C"]) >= {"value", "stderr"} and out["residuals"]
 
 

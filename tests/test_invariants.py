@@ -78,11 +78,11 @@ def test_one_run_computes_its_per_sample_quantities_once(thesis_model, monkeypat
     rows = type(thesis_model).rows
     monkeypatch.setattr(type(thesis_model), "rows",
                         lambda self, name, X, p=None: calls.append(name) or rows(self, name, X, p))
-    r = sim.simulate(thesis_model, spin=1000.0, tilt=0.01, t_end=0.05, trajectory=True)
+    r = sim.simulate(thesis_model, spin=1000.0, tilt=0.01, t_end=0.05)
     assert sorted(calls) == ["full_axis", "full_invariants"]   # the launch needs no rhs (p = M qdot)
-    X = np.column_stack([r["trajectory"][s] for s in thesis_model.part("full").states])
+    X = np.column_stack([r.trajectory[s] for s in thesis_model.part("full").states])
     pt = thesis_model.part("full")
     both = inv.invariants(pt, X, thesis_model.p)
-    assert np.array_equal(r["trajectory"]["L_z"], both[:, 0])
-    assert np.array_equal(r["trajectory"]["L_n"], both[:, 1])
-    assert np.array_equal(r["trajectory"]["tilt"], inv.tilt_of(pt, X))
+    assert np.array_equal(r.trajectory["L_z"], both[:, 0])
+    assert np.array_equal(r.trajectory["L_n"], both[:, 1])
+    assert np.array_equal(r.trajectory["tilt"], inv.tilt_of(pt, X))

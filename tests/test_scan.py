@@ -114,7 +114,7 @@ def test_mass_axis_each_top_at_its_own_hover_height(model):
     zs = [li["z_s"] for li in res.linear]
     assert zs[0] > zs[1] > 0 and zs[2] is None
     assert res.linear[0]["spin_interval"] is None and res.linear[1]["spin_interval"] is not None
-    d = res.as_dict()
+    d = res.as_json()
     assert d["grid"]["mass"] == [0.040, 0.0515, 0.070] and d["base_tilt"] == sc.BASE_TILT
 
 
@@ -195,7 +195,7 @@ def _stopped_early_map():
     ts = np.array([[1.7e-6, 0.5]] * 3)
     status = [["step_budget", "completed"] for _ in spins]
     lin = [{"spin_interval": [459.6, 2740.0], "z_s": 0.1065}] * 2
-    return sc.ScanResult("tilt", spins, tilts, lev, ts, status, lin, 0.5, {"given": True}, 0.1,
+    return sc.Scan("tilt", spins, tilts, lev, ts, status, lin, 0.5, {"given": True}, 0.1,
                          {"kind": "serial", "workers": 1}, 0, 0.1)
 
 
@@ -207,7 +207,7 @@ def test_runs_stopped_early_are_no_verdict_not_falls(tmp_path, legend_texts):
     from levitron.runtime.cli.commands.scan import human
     from levitron.runtime.scan.plot import draw
     res = _stopped_early_map()
-    r = res.as_dict()
+    r = res.as_json()
     r.update(points=6, runner={"kind": "serial", "workers": 1}, wall_s=0.1)
     text = human(r)
     row = next(line for line in text.splitlines() if "tilt 1e-5" in line)

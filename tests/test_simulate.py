@@ -98,10 +98,12 @@ def test_eq_3_2_9_initial_state_spin_and_momenta(model):
 
 
 def test_simulate_json_contract_and_plot(model, tmp_path):
-    out = simulate(model, spin=200.0, tilt=0.01, offset=1e-3, t_end=0.05, plot=tmp_path / "t.png")
+    run = simulate(model, spin=200.0, tilt=0.01, offset=1e-3, t_end=0.05)
+    out = run.as_json()
     for k in DESIGN_KEYS:
         assert k in out
     json.dumps(out)   # serialisable
+    assert run.plot(tmp_path / "t.png") == str(tmp_path / "t.png")
     assert (tmp_path / "t.png").stat().st_size > 5000
     assert set(out["final_state"]) == set(model.part("full").states)
     assert out["box"]["z"][1] - out["z_s"] == pytest.approx(0.5 * out["z_s"])   # scales with z_s

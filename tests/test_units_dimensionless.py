@@ -155,10 +155,10 @@ def test_no_si_unit_in_design_and_scan_results(scene):
     scan = study.scan([40.0, 60.0], "tilt", [0.01], t_end=5.0)
     texts = [repr(design), design.message, repr(scan), scan.message]
     assert all(si_units(t) == [] for t in texts), [(t, si_units(t)) for t in texts if si_units(t)]
-    assert design.as_dict()["objective_unit"] == "rad/time"
-    assert scan.as_dict()["units"] == {"spin": "rad/time", "tilt": "rad"}
+    assert design.as_json()["objective_unit"] == "rad/time"
+    assert scan.as_json()["units"] == {"spin": "rad/time", "tilt": "rad"}
     si = lev.load("thesis_stable").scan([1000.0], "tilt", [0.01], t_end=0.05)
-    assert si_units(si.message) == ["s"] and si.as_dict()["units"]["spin"] == "rad/s"
+    assert si_units(si.message) == ["s"] and si.as_json()["units"]["spin"] == "rad/s"
 
 
 # an SI unit named as a word, not after a number: "a positive number in m", "(m)", "number rad/s"

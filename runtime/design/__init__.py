@@ -1,8 +1,8 @@
 """CasADi design and fitting on scene keys: IPOPT on exact derivatives, fits with standard errors, the
 strength that puts a top at a height, scene writing.
 
-Public surface: Constraint, DesignResult, FitResult, Vary, fit, optimize. Names load lazily (PEP
-562), so importing the package costs nothing.
+Public surface: Constraint, Design (DesignResult its old name), Fit (FitResult its old name), Vary,
+fit, optimize. Names load lazily (PEP 562), so importing the package costs nothing.
 """
 from __future__ import annotations
 
@@ -10,8 +10,10 @@ from levitron.runtime import lazy_surface
 
 _EXPORTS = {
     "Constraint": "constraints",
-    "DesignResult": "optimize",
-    "FitResult": "fit",
+    "Design": "design_answer",
+    "DesignResult": "design_answer",
+    "Fit": "fit_answer",
+    "FitResult": "fit_answer",
     "Vary": "scene_keys",
     "fit": "fit",
     "optimize": "optimize",

@@ -18,7 +18,7 @@ from __future__ import annotations
 import csv
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -26,6 +26,7 @@ import numpy as np
 from levitron.runtime.physics import stability_casadi as sc
 from levitron.runtime.errors import UserError
 from levitron.runtime.ui.validate import number_text
+from levitron.runtime.design.fit_answer import Fit, FitResult  # noqa: F401 (FitResult: its old name)
 from levitron.runtime.design.scene_keys import KeyMap, Vary, key_value, with_values
 from levitron.runtime.ui import progress
 from levitron.runtime.ui.validate import real
@@ -153,69 +154,6 @@ def read_rows(path: str | Path) -> list[Row]:
         rows.append(check_row(Row(rec.get("quantity", ""), value, sigma, tuple(over)),
                               f"--fit {path} line {n}"))
     return check_rows(rows, f"--fit {path}")
-
-
-@dataclass
-class FitResult:
-    """A least-squares fit (docs/contract.md `optimize`, fits).
-
-    parameters: scene key -> {value, stderr, at_bound} (the key's unit); residuals: per row
-    {quantity, value, model, sigma, normalized = (model - value) / sigma}; chi2 = sum normalized^2
-    with dof = rows - keys; iterations of Gauss-Newton; solver_status; covariance (the keys'
-    units squared, order `keys`) = diag(x) (J^T J)^-1 diag(x) of the weighted Jacobian in log x,
-    correlation its normalised form; warnings: plain sentences (a key at its --vary bound, a poor
-    fit: p-value below POOR_P, or with dof = 0 a residual beyond POOR_SIGMA)."""
-
-    parameters: dict[str, dict[str, float]]
-    residuals: list[dict]
-    chi2: float
-    dof: int
-    iterations: int
-    solver_status: str
-    start: dict[str, float]
-    covariance: np.ndarray | None = None
-    warnings: list[str] = field(default_factory=list)
-
-    @property
-    def keys(self) -> list[str]:
-        return list(self.parameters)
-
-    @property
-    def correlation(self) -> np.ndarray | None:
-        if self.covariance is None:
-            return None
-        d = np.sqrt(np.diag(self.covariance))
-        return self.covariance / np.outer(d, d)
-
-    @property
-    def success(self) -> bool:
-        """scipy-style: Gauss-Newton converged (a failure raises a UserError instead)."""
-        return self.solver_status == "converged"
-
-    @property
-    def message(self) -> str:
-        return "; ".join([f"Gauss-Newton {self.solver_status} in {self.iterations} iterations: chi2 "
-                          f"{self.chi2:.4g} with {self.dof} degrees of freedom", *self.warnings])
-
-    def __repr__(self) -> str:
-        keys = ", ".join(f"{k}={v['value']:.6g}+-{v['stderr']:.2g}" for k, v in self.parameters.items())
-        return (f"FitResult({keys}, chi2={self.chi2:.4g}, dof={self.dof}, success={self.success}, "
-                f"warnings={len(self.warnings)})")
-
-    def as_dict(self) -> dict:
-        cov, cor = self.covariance, self.correlation
-        return {"objective": self.chi2, "objective_name": "chi2",
-                "success": self.success, "message": self.message, "warnings": self.warnings,
-                "keys": self.keys,
-                "covariance": None if cov is None else cov.tolist(),
-                "correlation": None if cor is None else cor.tolist(),
-                "optimum": {k: v["value"] for k, v in self.parameters.items()},
-                "parameters": self.parameters, "residuals": self.residuals, "dof": self.dof,
-                "solver_status": self.solver_status, "iterations": self.iterations,
-                "start": self.start,
-                "verification": {"float_route": self.chi2, "grid_best": None, "grid_points": 0,
-                                 "note": "fits are checked by the rank of the Jacobian and the "
-                                         "float routes at the optimum (each row's start)"}}
 
 
 # the CasADi Function (runtime/physics/stability_casadi.py FUNCTIONS) that gives each quantity
@@ -431,7 +369,7 @@ def _gauss_newton(prob: _Problem, x, lo, hi, keys):
     return x, vals, r, J, cost, it
 
 
-def fit(model, rows: Sequence[Row], varies: Sequence[Vary]) -> FitResult:
+def fit(model, rows: Sequence[Row], varies: Sequence[Vary]) -> Fit:
     """Least squares over the varied keys (module docstring), from the scene's values. The
     iterations start their rootfinders warm (`_Problem`); the optimum is checked by a cold
     evaluation there, and a disagreement beyond WARM_RTOL reruns the fit cold throughout."""
@@ -470,14 +408,14 @@ def fit(model, rows: Sequence[Row], varies: Sequence[Vary]) -> FitResult:
     poor = poor_fit(cost, len(rows) - len(keys), r)
     if poor:
         warnings.append(poor)
-    return FitResult(
+    return Fit(
         parameters={k: {"value": float(v), "stderr": float(s), "at_bound": k in at_bound}
                     for k, v, s in zip(keys, x, stderr)},
         residuals=[{"quantity": row.quantity, "value": row.value, "model": float(m),
                     "sigma": row.sigma, "normalized": float(res),
                     "overrides": dict(row.overrides)} for row, m, res in zip(rows, vals, r)],
         chi2=cost, dof=len(rows) - len(keys), iterations=it, solver_status=status, start=start,
-        covariance=cov_log * np.outer(x, x), warnings=warnings)
+        covariance=cov_log * np.outer(x, x), warnings=warnings, scene=model.scene.name)
 
 
 def poor_fit(chi2: float, dof: int, normalized) -> str | None:

@@ -38,6 +38,7 @@ import numpy as np
 from levitron.runtime.design.scene_keys import Vary, key_value
 from levitron.runtime.errors import UserError
 from levitron.runtime.scan import launch_odds as mc
+from levitron.runtime.scan import spreads
 
 GRID = {1: 7, 2: 5, 3: 3}       # points a key of each grid, by the number of keys
 ZOOMS = 2
@@ -66,7 +67,7 @@ class Pinned:
         interval for the default spin), at the box's middle, else its first grid point that can."""
         keys = [v.key for v in varies]
         if "top.mass" in keys and "mass" in request.given and \
-                not str(request.given["mass"]).strip().lower().startswith(mc.REL):
+                not str(request.given["mass"]).strip().lower().startswith(spreads.REL):
             raise UserError("--vary top.mass moves the top's mass, so its spread must be relative: "
                             "write --mass rel:normal:0,0.002 (or rel:0.2%)")
         tries = [None, tuple(0.5 * (v.lo + v.hi) for v in varies),

@@ -43,25 +43,20 @@ import os
 import sys
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import casadi as ca
 import numpy as np
 
-from levitron.scene.load import Scene
-
 from levitron.runtime.design import edge as design_edge
 from levitron.runtime.physics import stability_casadi as sc
 from levitron.runtime.design.constraints import Constraint
+from levitron.runtime.design.design_answer import OBJECTIVES, Design, DesignResult  # noqa: F401 (DesignResult: its old name)
 from levitron.runtime.errors import UserError
 from levitron.runtime.physics.ray_algebra import RayCoefficients, ray_cubic
 from levitron.runtime.design.scene_keys import KeyMap, Vary, key_value
-from levitron.runtime.ui.human import Units
 from levitron.runtime.ui.validate import count
 
-OBJECTIVES = {"spin-range": ("sigma_hi - sigma_lo", "rad/s"),
-              "spin-ratio": ("sigma_hi / sigma_lo", "1"),
-              "mass-window": ("(m_hi - m_lo) / m_hi", "1")}
 BAND_CONSTRAINTS = ("z_s", "stiffness")   # the constraints mass-window takes (the scene's top)
 VERIFY_RTOL = 1e-8
 THIRD_ROOT_MARGIN = 1e-3   # stability_casadi simple_neighbours >= this: the ends are neighbouring simple roots
@@ -166,73 +161,6 @@ def third_root_margin(model, p, z_s: float, lo: float, hi: float) -> float:
 def grid_points(varies: Sequence[Vary], n: int) -> list[tuple[float, ...]]:
     axes = [np.linspace(v.lo, v.hi, n) for v in varies]
     return list(itertools.product(*axes))
-
-
-@dataclass
-class DesignResult:
-    """A verified design optimum (docs/contract.md `optimize`).
-
-    objective: name; value: objective at the optimum (spin-range in rad/s, spin-ratio
-    and mass-window dimensionless); optimum: scene key -> value (the key's unit,
-    docs/scenes.md); start: where IPOPT started (the grid's best point); z_s (m), stiffness (N/m),
-    spin_interval (rad/s; None where it has none) of the scene's top at the optimum; band (mass-window:
-    {"z": [z_lo, z_hi] m, "mass": [m_lo, m_hi] kg}, the float route's); scene: the re-validated
-    scene at the optimum; verification: float_route (the objective by the exact float routes),
-    grid_best, grid_points, grid_feasible, max_relative_gap (NLP vs float route)."""
-
-    objective: str
-    value: float
-    optimum: dict[str, float]
-    start: dict[str, float]
-    start_value: float
-    scene_value: float | None
-    solver_status: str
-    iterations: int
-    z_s: float | None
-    stiffness: float | None
-    spin_interval: tuple[float, float] | None
-    band: dict | None
-    constraints: list[str]
-    verification: dict
-    scene: Scene = field(repr=False)
-    wall_s: float = 0.0
-    at_bound: dict[str, str] = field(default_factory=dict)   # key -> "lower" | "upper" (--vary bound)
-    warnings: list[str] = field(default_factory=list)        # plain sentences: at a bound, vanishing stiffness
-
-    @property
-    def success(self) -> bool:
-        """scipy-style: IPOPT succeeded and the answer passed every check (a failure raises instead)."""
-        return True
-
-    @property
-    def message(self) -> str:
-        """scipy-style: IPOPT's status, then every warning."""
-        return "; ".join([f"{self.solver_status}: {self.objective} {self.value:.6g} "
-                          f"{self.objective_unit}", *self.warnings])
-
-    @property
-    def objective_unit(self) -> str:
-        """The objective's unit: rad/s, 1; rad/time in a dimensionless scene."""
-        return Units.of_scene(self.scene).named(OBJECTIVES[self.objective][1])
-
-    def __repr__(self) -> str:
-        keys = ", ".join(f"{k}={v:.6g}" for k, v in self.optimum.items())
-        return (f"DesignResult({self.objective}={self.value:.6g} {self.objective_unit} at "
-                f"{keys}, success={self.success}, warnings={len(self.warnings)})")
-
-    def as_dict(self) -> dict:
-        return {"objective": self.value, "objective_name": self.objective,
-                "at_bound": self.at_bound, "warnings": self.warnings,
-                "success": self.success, "message": self.message,
-                "objective_unit": self.objective_unit,
-                "objective_formula": OBJECTIVES[self.objective][0],
-                "optimum": self.optimum, "start": self.start, "start_objective": self.start_value,
-                "scene_objective": self.scene_value,
-                "solver_status": self.solver_status, "iterations": self.iterations,
-                "z_s": self.z_s, "stiffness": self.stiffness,
-                "spin_interval": None if self.spin_interval is None else list(self.spin_interval),
-                "band": self.band, "constraints": self.constraints,
-                "verification": self.verification, "wall_s": self.wall_s}
 
 
 @contextlib.contextmanager
@@ -434,7 +362,7 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
     scene_x = [key_value(model.scene.data, k) for k in keys]
     inside = all(v.lo <= s <= v.hi for v, s in zip(varies, scene_x))
     scene_pt = evaluate(model, keymap, scene_x, objective, constraints) if inside else None
-    return DesignResult(
+    return Design(
         objective=objective, value=check.value, optimum=dict(zip(keys, map(float, x))),
         start=dict(zip(keys, start.x)), start_value=start.value,
         scene_value=None if scene_pt is None else scene_pt.value,

@@ -41,6 +41,7 @@ from levitron.scene.plates.expression import formulas, z_range
 
 from levitron.runtime.physics import bands as _bands
 from levitron.runtime.errors import UserError
+from levitron.runtime.ui.human import Units, quantity
 
 OnAxis = Callable[[float], Sequence[float]]  # z -> [Phi_0, Phi_1, ..., Phi_K], K >= 3
 
@@ -83,12 +84,21 @@ def model_onaxis(model, p: np.ndarray | None = None) -> Callable[[float], np.nda
 
 # ----------------------------------------------------------------------------- results
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Equilibrium:
+    """One vertical equilibrium (thesis 3.3.2): z (m), vertically_stable (mu Phi_3 > 0, 3.3.3),
+    stiffness U'' = mu Phi_3 (N/m), marginal (a double root at z_c)."""
     z: float
     vertically_stable: bool
     stiffness: float         # U''(z) = mu Phi_3(z) (thesis 3.3.3)
     marginal: bool = False   # a double root (the mass is the plate's maximum): U'' = 0
+    units: Units = field(default=Units(si=True), compare=False)   # how repr shows numbers
+
+    def __repr__(self) -> str:
+        kind = "marginal" if self.marginal else "stable" if self.vertically_stable else "unstable"
+        u = self.units
+        return (f"Equilibrium(z={quantity(u, self.z, 'm')}, vertically {kind}, "
+                f"stiffness={quantity(u, self.stiffness, 'N/m', '.4g')})")
 
     def as_dict(self) -> dict:
         return {"z": self.z, "vertically_stable": self.vertically_stable,

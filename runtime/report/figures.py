@@ -313,7 +313,6 @@ def figure_3_8(model, path: Path, scene_ref: str, overrides=(), quick: bool = Fa
     from levitron.runtime.physics.stability import stability_of
     from levitron.runtime.scan import stability_map as sc
     from levitron.runtime.scan.physics import slow_period, spins_around
-    from levitron.runtime.scan.plot import draw as draw_map
     u = Units.of_scene(model.scene)
     m = model.param("m")
     if "full" not in model.parts:
@@ -347,7 +346,7 @@ def figure_3_8(model, path: Path, scene_ref: str, overrides=(), quick: bool = Fa
     T = slow_period(model, m, z_s, math.sqrt(iv[0] * iv[1])) if z_s else \
         slow_period(model, m_ref, z_ref, math.sqrt(iv[0] * iv[1]))
     result = sc.scan(model, scene_ref, list(overrides), spins, "tilt", tilts, t_end=T, quiet=True)
-    return draw_map(result, path, title, u)
+    return Path(result.plot(path, title))
 
 
 SCENE_FIGURES = (("3.4", "fig3_4_phase_portrait"), ("3.5", "fig3_5_equilibrium"),

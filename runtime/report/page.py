@@ -22,7 +22,7 @@ import numpy as np
 
 from levitron.scene import plates
 
-from levitron.runtime.physics import equilibrium as eqm
+from levitron.runtime.physics.equilibria import Equilibria
 from levitron.runtime.report.html_parts import p as _p, png as _png, table as _table
 from levitron.runtime.ui import progress, reference
 from levitron.runtime.ui.atomic import sweep
@@ -66,7 +66,6 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
     from levitron.runtime.simulate.setup_shape import setup_of
     from levitron.runtime.scan import stability_map as sc
     from levitron.runtime.scan.physics import slow_period, spins_around
-    from levitron.runtime.scan.plot import draw as draw_map
     from levitron.runtime.simulate import animation
     from levitron.runtime.simulate.run import simulate
 
@@ -84,15 +83,15 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
                             [1, 1, 3, 2] + ([4] if air else [])) as stage:
         stage(0)
         tmp = Path(tmp)
-        rep = eqm.equilibria_of(model, bands=True)
+        rep = Equilibria.of(model)
+        eq_json = rep.as_json()
         band = rep.stable_band
-        facts["equilibria"] = [e.as_dict() for e in rep.equilibria]
-        facts["stable_band"] = band.as_dict() if band is not None else None
+        facts["equilibria"], facts["stable_band"] = eq_json["equilibria"], eq_json["stable_band"]
         res = stability_of(model)
         iv = res.spin_interval
         facts["spin_interval"] = list(iv) if iv else None
         facts["z_s"] = res.z_s
-        hints = eqm.hover_reasons(rep, P["m"])
+        hints = rep.reasons
         facts["hints"] = hints
         if iv:
             answer = (f"{u.top(P['m']).capitalize()} hovers at {u.length(facts['z_s'])} and is stable "
@@ -140,19 +139,18 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
             tilts = np.linspace(0.005, 0.1, MAP_TILTS)
             m = sc.scan(model, scene_ref, list(overrides), spins, "tilt", tilts, t_end=T, quiet=True)
             facts["map"] = {"spins": spins.tolist(), "tilts": tilts.tolist(), "t_end": T,
-                            "fraction_levitating": m.as_dict()["fraction_levitating"]}
+                            "fraction_levitating": m.as_json()["fraction_levitating"]}
             parts.append("<h2>A small stability map</h2>")
             parts.append(_p(f"{MAP_SPINS} spins x {MAP_TILTS} tilts, each run one slow period "
                             f"({u.time(T)}); levitating at "
                             f"{sig(100 * facts['map']['fraction_levitating'], 3)}% of the points. "
                             "A sketch: `levitron scan` draws a finer, longer one.", "note"))
-            parts.append(_png(draw_map(m, tmp / "map.png", f"{scene.name}: levitating vs spin and tilt", u)))
+            parts.append(_png(Path(m.plot(tmp / "map.png"))))
             stage(3)
             # in air the whole flight, to the fall (simulate's default run length); else 3 slow periods
-            run = simulate(model, spin=spin, tilt=LAUNCH_TILT, t_end=None if air else LAUNCH_PERIODS * T,
-                           plot=tmp / "launch.png", trajectory=True, n_out=AIR_SAMPLES if air else 2000)
-            traj = run.pop("trajectory")
-            run.pop("setup")
+            sim = simulate(model, spin=spin, tilt=LAUNCH_TILT, t_end=None if air else LAUNCH_PERIODS * T,
+                           n_out=AIR_SAMPLES if air else 2000)
+            run = sim.as_json()
             facts["launch"] = {k: run[k] for k in ("levitating", "t_survived", "max_tilt",
                                                    "max_height_deviation", "energy_drift")}
             facts["launch"]["spin"] = spin
@@ -166,8 +164,8 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
                                f"{u.time(run['t_survived'])}")
                             + f"; largest tilt {u.angle(run['max_tilt'])}, "
                             f"energy {'balance residual' if air else 'drift'} {sig(run['energy_drift'], 2)}"))
-            parts.append(_png(Path(run["plot"])))
-            data = animation.frames(traj, run, setup, u)
+            parts.append(_png(Path(sim.plot(tmp / "launch.png"))))
+            data = sim.animation(setup)
             facts["animation"] = {"frames": len(data["t"]), "speed": data["speed"], "precession": data["precession"]}
             parts.insert(launch_at, "<h2>A launch to watch</h2>" + animation.fragment(
                 data, f"The typical launch below ({how}), played: spin {u.rate(spin)}, tilt "

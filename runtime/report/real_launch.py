@@ -10,8 +10,6 @@ from __future__ import annotations
 import html
 from pathlib import Path
 
-import numpy as np
-
 from levitron.runtime.report.html_parts import table as _table
 from levitron.runtime.ui.human import Units, sig, span
 
@@ -58,41 +56,11 @@ def _noise(effect: dict) -> str:
     return f", within the noise of {sig(100 * effect['noise'], 2)} points"
 
 
-def histogram(odds: dict, path: Path, u: Units, scene: str) -> Path:
-    """The flight times of the odds' launches, axis fitted to them, the censored runs (still up at
-    the run's end) as a bar of their own, labelled."""
-    from levitron.runtime.ui.plotting import pyplot, save_figure, style
-    plt = pyplot()
-    style()
-    tu = "s" if u.si else "time units"
-    t = np.asarray(odds["flight_time"]["values"], float)
-    t_end = odds["t_end"]
-    up = t >= t_end * (1 - 1e-12)
-    fig, ax = plt.subplots(figsize=(7, 3.6))
-    width = t_end / 40
-    if np.any(~up):
-        ax.hist(t[~up], bins=np.arange(0, t_end + width, width), color="C0", label="fell")
-    if np.any(up):
-        ax.bar([t_end + width], [int(up.sum())], width=width, color="C2",
-               label=f"still floating at the run's end ({int(up.sum())})")
-        ax.annotate(f"{int(up.sum())} still up", (t_end + width, int(up.sum())), ha="center", va="bottom",
-                    fontsize=8)
-    ax.axvline(odds["success_time"], color="C3", ls="--", label=f"success time {sig(odds['success_time'], 4)} {tu}")
-    ax.set_xlim(0, t_end + 2 * width)
-    ax.set_xlabel(f"flight time ({tu})")
-    ax.set_ylabel("launches")
-    lo, hi = odds["probability_ci95"]
-    ax.set_title(f"{scene}: {sig(100 * odds['probability'], 3)} % of {odds['n']} launches float "
-                 f"(95 % interval {sig(100 * lo, 3)}-{sig(100 * hi, 3)} %)", fontsize="medium")
-    ax.legend(loc="upper left", fontsize="small")
-    fig.tight_layout()
-    return save_figure(fig, path)
-
-
 def section(model, scene_ref: str, overrides, run: dict, u: Units, tmp: Path, png) -> tuple[str, dict]:
     """The section's HTML and its facts (SI). run: the report's flight (simulate's answer)."""
     from levitron.runtime.integrate.verdict import stopped_early
     from levitron.runtime.scan import launch_odds as mc
+    from levitron.runtime.scan import spreads
     fl = run["flight"]
     facts = {"flight_time": fl["flight_time"] if fl["fell"] else None, "t_cross": fl["t_cross"],
              "fall_spin": fl["fall_spin"] if fl["fell"] else None}
@@ -119,7 +87,7 @@ def section(model, scene_ref: str, overrides, run: dict, u: Units, tmp: Path, pn
     facts["odds"]["ranking"] = [{"input": e["input"], "effect": e["effect"], "noise": e["noise"]}
                                 for e in odds["ranking"]]
     spread = [_input_text(k, v, u) for k, v in odds["inputs"].items()
-              if k != "temperature" or mc.parse_dist(k, v).kind != "fixed"]
+              if k != "temperature" or spreads.parse_dist(k, v).kind != "fixed"]
     ranked = [f"{e['input']} (the success rate over its quintiles varies by {sig(100 * e['effect'], 2)} "
               f"points{_noise(e)})" for e in odds["ranking"][:3]]
     windows = mass_windows(model)
@@ -131,7 +99,7 @@ def section(model, scene_ref: str, overrides, run: dict, u: Units, tmp: Path, pn
            f"<p class=\"note\">The launch spread used (seed {odds['seed']}): {html.escape('; '.join(spread))}. "
            "`levitron launch` runs more launches and takes other spreads.</p>",
            f"<p>What matters most: {html.escape('; '.join(ranked))}.</p>" if ranked else "",
-           png(histogram(odds, tmp / "odds.png", u, model.scene.name)),
+           png(Path(odds.plot(tmp / "odds.png"))),
            "<h3>The masses that hover, and the temperature</h3>",
            _table([(f"{sig(w['temperature'], 3)} degC" + (" (the scene's)" if i == 1 else ""),
                     f"mass {span(*w['mass'], u.mass)}, heights {u.length_span(*w['z'])}"

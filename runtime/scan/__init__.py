@@ -1,15 +1,16 @@
 """Many runs on the chunked C driver: stability maps (serial, local processes, dask), the launch
 Monte Carlo and batched simulations.
 
-Public surface: ScanResult, monte_carlo, scan, simulate_many, wilson. Names load lazily (PEP 562),
-so importing the package costs nothing.
+Public surface: Scan (the map's answer; ScanResult its old name), monte_carlo, scan, simulate_many,
+wilson. Names load lazily (PEP 562), so importing the package costs nothing.
 """
 from __future__ import annotations
 
 from levitron.runtime import lazy_surface
 
 _EXPORTS = {
-    "ScanResult": "stability_map",
+    "Scan": "scan_answer",
+    "ScanResult": "scan_answer",
     "monte_carlo": "launch_odds",
     "scan": "stability_map",
     "simulate_many": "batch",

@@ -1,4 +1,4 @@
-"""The picture of a stability map (thesis fig. 3.8; runtime/scan/stability_map.py's ScanResult)."""
+"""The picture of a stability map (thesis fig. 3.8; runtime/scan/scan_answer.py's Scan: its plot action)."""
 from __future__ import annotations
 
 from pathlib import Path

@@ -37,7 +37,8 @@ The linear stability interval (thesis 3.3, runtime.physics.stability.analyse: ex
 reported beside the map, per value of the second axis (it changes only with the mass), together
 with the fraction of grid points where the nonlinear run agrees with it.
 
-This module orchestrates the map (`scan`, `ScanResult`). The pieces, one idea each:
+This module orchestrates the map (`scan`); its answer is runtime/scan/scan_answer.py's `Scan`. The
+pieces, one idea each:
 runtime/scan/grid.py (the axes and their ranges), runtime/scan/runners.py (one grid point, the
 chunks of the grid, and the serial, process and dask runners), runtime/scan/chunk_c.py (a chunk in one
 C call: runtime/csrc/scan_driver.c), runtime/scan/physics.py (the linear interval and the slow
@@ -52,14 +53,14 @@ import math
 import sys
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass, field
 
 import numpy as np
 
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.methods import DEFAULT, default_step, refuse_on_full_model
-from levitron.runtime.integrate.verdict import NO_HOVER, stopped_early
-from levitron.runtime.scan.grid import AXES, MAX_POINTS, UNITS, check_axis
+from levitron.runtime.integrate.verdict import NO_HOVER
+from levitron.runtime.scan.grid import AXES, MAX_POINTS, check_axis
+from levitron.runtime.scan.scan_answer import Scan
 from levitron.runtime.scan.physics import linear_interval, reference_spin, slow_period
 from levitron.runtime.scan.points import N_OUT
 from levitron.runtime.simulate.start import PERIODS   # default run length in slow periods (docstring)
@@ -80,87 +81,6 @@ from levitron.runtime.ui.validate import axis_values, count, real
 BASE_TILT = 0.01       # rad, the seed tilt of mass and height scans
 CHUNKS_PER_WORKER = 8  # chunks per worker (process or dask thread): the last ones balance the load
 ENGINES = ("c", "python")
-
-
-@dataclass
-class ScanResult:
-    axis: str
-    spins: np.ndarray
-    others: np.ndarray
-    levitating: np.ndarray
-    t_survived: np.ndarray
-    status: list
-    linear: list                  # per value of the other axis: linear_interval dicts
-    t_end: float
-    t_end_basis: dict
-    wall_s: float
-    runner: dict
-    rhs_evals: int
-    cpu_s: float
-    extra: dict = field(default_factory=dict)
-    units: Units = field(default_factory=lambda: Units(si=True))    # the scene's: its message's units
-
-    @property
-    def success(self) -> bool:
-        """scipy-style: every point that could be run ended normally (reached t_end or left the
-        box); points without a hover height were not run and do not count."""
-        return not any(stopped_early(st) for row in self.status for st in row)
-
-    @property
-    def message(self) -> str:
-        bad = sorted({st for row in self.status for st in row if stopped_early(st)})
-        return (f"levitating at {100 * float(self.levitating.mean()):.3g}% of {self.levitating.size} "
-                f"points (spin x {self.axis}, t_end {self.t_end:.4g} {self.units.named('s')} each)"
-                + (f"; runs ended by {', '.join(bad)}" if bad else ""))
-
-    def __repr__(self) -> str:
-        return (f"ScanResult(spin {self.spins.size} x {self.axis} {self.others.size}, levitating "
-                f"{int(self.levitating.sum())} of {self.levitating.size}, "
-                f"t_end={self.t_end:.4g} {self.units.named('s')}, success={self.success})")
-
-    def agreement(self) -> float | None:
-        """Fraction of grid points where 'levitating' equals 'spin inside the linear interval'."""
-        pred = np.zeros_like(self.levitating)
-        have = False
-        for j, lin in enumerate(self.linear):
-            iv = lin.get("spin_interval")
-            if iv is not None:
-                have = True
-                pred[:, j] = (self.spins >= iv[0]) & (self.spins <= iv[1])
-        if not have:
-            return None
-        return float(np.mean(pred == self.levitating))
-
-    def as_dict(self) -> dict:
-        scene_lin = self.linear[0] if self.axis != "mass" else self.extra.get("scene_linear")
-        return {
-            "axes": ["spin", self.axis],
-            "grid": {"spin": self.spins.tolist(), self.axis: self.others.tolist()},
-            "units": {"spin": self.units.named(UNITS["spin"]), self.axis: self.units.named(UNITS[self.axis])},
-            "spin_hz": (self.spins / (2 * math.pi)).tolist(),
-            "levitating": self.levitating.tolist(),
-            "t_survived": self.t_survived.tolist(),
-            "status": self.status,
-            "fraction_levitating": float(self.levitating.mean()),
-            "spin_interval": None if scene_lin is None else scene_lin["spin_interval"],
-            "linear": {
-                "spin_interval": [lin["spin_interval"] for lin in self.linear],
-                "z_s": [lin["z_s"] for lin in self.linear],
-                "note": ("thesis 3.3 (exact discriminant route)" if "equilibrium" not in self.extra.get("public", {})
-                         else "the eigenvalue route at the equilibrium over the tilted base "
-                              "(runtime/physics/tilted_stability.py)")
-                        + f", one entry per value of the {self.axis} axis; null where no spin stabilises",
-                "agreement": self.agreement(),
-            },
-            "t_end": self.t_end,
-            "t_end_basis": self.t_end_basis,
-            "wall_s": self.wall_s,
-            "cpu_s": self.cpu_s,
-            "rhs_evals": self.rhs_evals,
-            "points": int(self.levitating.size),
-            "runner": self.runner,
-            **self.extra.get("public", {}),
-        }
 
 
 def check_run_options(model, axis: str, spins: np.ndarray, others: np.ndarray, hover: Sequence,
@@ -192,7 +112,7 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
          others: np.ndarray, t_end: float | None = None, integrator: str = DEFAULT,
          tol: float | None = 1e-9, workers: int = 1, scheduler: str | None = None,
          base_tilt: float = BASE_TILT, h: float | None = None, quiet: bool = False,
-         engine: str = "c", scheduler_timeout: float | None = None) -> ScanResult:
+         engine: str = "c", scheduler_timeout: float | None = None) -> Scan:
     """Run the map (module docstring). scene_ref/overrides let the workers load the same model.
     engine "c": chunks of points through the C chunk driver (runtime/scan/chunk_c.py) when the integrator
     is a C one; "python": one runtime.simulate.run-style run per point (the reference path)."""
@@ -216,7 +136,7 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
                                        quiet)
     lev, ts, status, rhs = _assemble(spins, others, status_pre,
                                      [r for c in chunk_results for r in c["points"]])
-    return ScanResult(axis, spins, others, lev, ts, status, lin, float(t_end), basis,
+    return Scan(axis, spins, others, lev, ts, status, lin, float(t_end), basis,
                       time.perf_counter() - t_wall, runner, rhs,
                       sum(c["cpu_s"] for c in chunk_results),
                       extra={"scene_linear": scene_lin,
@@ -224,7 +144,7 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
                                         "tol": tol,
                                         "base_tilt": base_tilt if axis != "tilt" else None,
                                         **({"equilibrium": tilted} if tilted else {})}},
-                      units=Units.of_scene(model.scene))
+                      units=Units.of_scene(model.scene), scene=model.scene.name)
 
 
 def _checked(axis: str, spins, others, workers, scheduler, t_end, engine: str, base_tilt):

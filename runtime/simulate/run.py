@@ -34,7 +34,6 @@ axis (R_bs -> Q_z(alpha) R_bs), computed here from the rotation matrices of deri
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 
@@ -47,13 +46,11 @@ from levitron.runtime.integrate.methods import AUTO, DEFAULT, auto_note, default
 from levitron.runtime.integrate.verdict import no_verdict_reason, verdict
 
 from levitron.runtime.physics import friction as flight
-from levitron.runtime.simulate import trajectory_file
-from levitron.runtime.ui.human import Units
 from levitron.runtime.physics.stability import onaxis_refusal, stability_of
 from levitron.runtime.simulate.invariants import (  # noqa: F401 (the run's pieces, by name: sim.X)
     Samples, angular_momentum_z, deviations, invariants, largest_deviation, rows_of, spin_momentum, spin_rate,
     tilt_of)
-from levitron.runtime.simulate.plot import draw, draw_flight
+from levitron.runtime.simulate.simulation import Simulation
 from levitron.runtime.simulate.rotations import (  # noqa: F401
     ANGLES, DEFAULT_AZIMUTH, SPIN_ANGLE, TILT_ANGLE, angle_generator_z, coordinates_of, rotation_bs,
     rotation_bs_derivatives, tilt_angles)
@@ -83,21 +80,18 @@ def default_t_end(model, part: str, p) -> float:
 def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
              t_end: float | None = None,
              integrator: str = DEFAULT, tol: float | None = 1e-9, box: float | None = None,
-             plot: str | Path | None = None, part: str = "full", h: float | None = None,
+             part: str = "full", h: float | None = None,
              n_out: int = 2000, params: dict | None = None,
-             azimuth: float = DEFAULT_AZIMUTH, save: str | Path | None = None,
-             trajectory: bool = False) -> dict:
-    """Run one trajectory and answer docs/contract.md's `simulate` keys (plus details).
+             azimuth: float = DEFAULT_AZIMUTH) -> Simulation:
+    """Run one trajectory: the answer (runtime/simulate/simulation.py) holds docs/contract.md's
+    `simulate` keys (its as_json()) and the samples; plot(path), save(path), animate(path) draw,
+    write and animate them.
 
     box: the half-width of the box (m), default z_s / 2. params: parameter values overriding the
     scene's for this run (names of manifest.json `parameters`). integrator: a name of
     runtime/integrate/methods.py or "auto" (resolved from tol: the answer's `integrator` is the
     method that ran, `integrator_requested` the name asked for, `integrator_choice` auto's reason).
-    tilt None: DEFAULT_TILT for the full model, 0 for the reduced one; t_end None: default_t_end.
-    save: write the samples to a .csv, .npz or .parquet file (runtime/simulate/trajectory_file.py; `saved` names it);
-    trajectory: also return them as out["trajectory"] = {column: array} (not JSON: the API's)."""
-    if save is not None:
-        trajectory_file.check_path(save)
+    tilt None: DEFAULT_TILT for the full model, 0 for the reduced one; t_end None: default_t_end."""
     spin = real(spin, "--spin", unit="rad/s")
     tilt = None if tilt is None else real(tilt, "--tilt", max_abs=math.pi, unit="rad")
     offset = real(offset, "--offset", unit="m")
@@ -149,7 +143,7 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
         fl = flight.flight(model, pt, p, res, x0, spin, z_s, t_end, iv,
                            lambda X: spin_rate(pt, X, pvals["C"], p))
     ps = Samples.of(pt, res, x0, p)
-    out = summarize(pt, res, x0, p, z_s, bx, spin, tilt, offset, t_end, integrator, tol, h, plot, fl, ps)
+    out = summarize(pt, res, x0, p, z_s, bx, spin, tilt, offset, t_end, integrator, tol, h, fl, ps)
     out["tilt_azimuth"] = azimuth
     if tilted_note is not None:
         out["note"] = tilted_note
@@ -161,14 +155,8 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
     out["integrator_requested"] = requested
     if requested == AUTO:
         out["integrator_choice"] = auto_note(tol)
-    if save is not None or trajectory:
-        names, table = trajectory_table(pt, res, p, ps)
-        out["saved"] = str(trajectory_file.write(save, names, table)) if save is not None else None
-        if trajectory:
-            from levitron.runtime.simulate.setup_shape import setup_of
-            out["trajectory"] = {n: table[:, i] for i, n in enumerate(names)}
-            out["setup"] = setup_of(model, p)       # what an animation draws (animation.py)
-    return out
+    names, table = trajectory_table(pt, res, p, ps)
+    return Simulation.of(out, {n: table[:, i] for i, n in enumerate(names)}, model, p)
 
 
 def trajectory_table(pt, res: Result, p, ps: Samples | None = None) -> tuple[list[str], np.ndarray]:
@@ -184,10 +172,10 @@ def trajectory_table(pt, res: Result, p, ps: Samples | None = None) -> tuple[lis
 
 
 def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, integrator, tol, h,
-              plot, fl: dict | None = None, ps: Samples | None = None) -> dict:
-    """simulate's answer. fl: the flight block of a run in air (runtime/physics/friction.py); there the energy
-    drift is the residual of the energy balance and L.n is compared with its exponential decay.
-    ps: the run's Samples (Samples.of), if computed already."""
+              fl: dict | None = None, ps: Samples | None = None) -> dict:
+    """simulate's keys (docs/contract.md). fl: the flight block of a run in air
+    (runtime/physics/friction.py); there the energy drift is the residual of the energy balance
+    and L.n is compared with its exponential decay. ps: the run's Samples (Samples.of), if computed already."""
     s = list(pt.states)
     X = res.X
     ps = Samples.of(pt, res, x0, p) if ps is None else ps
@@ -235,7 +223,6 @@ def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, i
                                               ps.invariants[:-1]),
         "part": pt.name if hasattr(pt, "name") else None,
         "coordinates": coordinates_of(pt),
-        "plot": None,
     }
     if fl is not None:
         out["flight"] = fl
@@ -244,14 +231,6 @@ def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, i
         out["energy_drift_final"] = None
         out["conserved_max_deviation"] = {"energy_balance": fl["energy_balance"], "L_z": None,
                                           "L_n_decay": fl["spin_decay_deviation"]}
-    if plot:
-        scene = getattr(getattr(pt, "model", None), "scene", None)
-        u = Units.of_scene(scene) if scene is not None else Units.of(pv.get("g"))
-        name = getattr(scene, "name", "")
-        if fl is not None:
-            out["plot"] = str(draw_flight(res.t, z - z_s, spin_rate(pt, X, pv["C"], p), plot, out, u, name))
-        else:
-            out["plot"] = str(draw(res.t, z - z_s, r, tilt_t, plot, out, u, name))
     return out
 
 

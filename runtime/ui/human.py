@@ -191,6 +191,12 @@ class Units:
         return f"{sig(b * 1e3, 4)} mT" if abs(b) < 1 else f"{sig(b, 4)} T"
 
 
+def quantity(units: Units, value: float, si_unit: str, fmt: str = ".6g") -> str:
+    """A number and its unit as the scene shows it: "0.106 m" (SI), "0.106" in a dimensionless
+    scene, where a rate is "rad/time" and a time "time units" (the answers' repr and message)."""
+    return f"{value:{fmt}} {units.unit(si_unit)}".rstrip()
+
+
 def apart(lo, hi, digits: int = 4) -> str:
     """"lo-hi" at `digits` significant digits, or more (up to 6) where the ends would print alike."""
     d = digits

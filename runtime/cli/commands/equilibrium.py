@@ -1,16 +1,14 @@
 """`levitron equilibrium SCENE`: vertical equilibria, z_c, the largest mass, the stable band.
 
-Thesis 3.3.1-3.3.3 and the stable band of docs/contract.md (runtime/physics/equilibrium.py); beside it the
-adiabatic (Berry-Simon) band, never instead.
+Thesis 3.3.1-3.3.3 and the stable band of docs/contract.md: the answer is runtime/physics/equilibria.py's
+Equilibria (its as_json(), and `plot` with --plot); beside the band the adiabatic (Berry-Simon) one, never instead.
 """
 from __future__ import annotations
 
-import time
-
-from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.physics.bands import edge_note
+from levitron.runtime.physics.equilibria import Equilibria
 from levitron.runtime.ui.human import Units, lines, restate, span
-from levitron.runtime.ui.reference import MODIFIED, stated
+from levitron.runtime.ui.reference import MODIFIED
 from levitron.runtime.ui.plotting import check_plot_path
 from levitron.runtime.cli.commands.common import model_of
 
@@ -24,43 +22,11 @@ def add_arguments(parser) -> None:
                         help="also draw the equilibrium condition (thesis fig. 3.5) into FILE (.png)")
 
 
-def _band(b):
-    return None if b is None else b.as_dict()
-
-
 def run(args) -> dict:
     if args.plot is not None:
         check_plot_path(args.plot)
     model = model_of(args)
-    m = eqm.params_of(model)["m"]
-    t0 = time.perf_counter()
-    rep = eqm.equilibria_of(model, bands=True)
-    wall = time.perf_counter() - t0
-    band = rep.stable_band
-    reasons = eqm.hover_reasons(rep, m)
-    out = {
-        "scene": model.scene.name,
-        "mass": m,
-        "equilibria": [e.as_dict() for e in rep.equilibria],
-        "singularities": [s.as_dict() for s in rep.singularities],
-        "z_c": rep.z_c,
-        "max_mass": rep.max_mass,
-        "stable_band": _band(band),
-        "stable_bands": [b.as_dict() for b in rep.stable_bands],
-        "adiabatic_band": _band(rep.adiabatic_band),
-        "adiabatic_note": "Berry-Simon: |B| has a minimum on the axis (sign(Phi_1) Phi_3 > 0 and "
-                          "Phi_2^2 > 2 Phi_1 Phi_3); an approximation for fast spin, reported beside "
-                          "the exact band, never instead",
-        "reason": "; ".join(reasons) if reasons else None,
-        "length_scale": eqm.scale_of(model),
-        "z_range": list(eqm.span_of(model) or ()) or None,
-        "reference": {"z_stable": stated(model.scene, "z_stable")},
-        "wall_s": wall,
-    }
-    if "base_tilt" in model.param_names:
-        out["note"] = ("plate.tilt: these are the level base's equilibria on the axis (the band "
-                       "too); over the tilted base the top hovers off the axis: `levitron stability` "
-                       "gives where, and its spin interval")
+    out = Equilibria.of(model).as_json()
     if args.plot:
         from pathlib import Path
 

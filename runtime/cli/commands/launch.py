@@ -2,9 +2,9 @@
 (docs/contract.md `launch`; runtime/scan/launch_odds.py)."""
 from __future__ import annotations
 
-from pathlib import Path
 
 from levitron.runtime.scan import launch_odds as mc
+from levitron.runtime.scan import spreads
 from levitron.runtime.simulate import trajectory_file
 from levitron.runtime.errors import UserError
 from levitron.runtime.ui.human import Units, lines, sig
@@ -98,18 +98,13 @@ def run(args) -> dict:
     scene = scene_of(args)
     request = launch_request(args, scene)
     model = model_of(args)
-    out = request.run(model, scene_ref(scene, args), args.set, quiet=args.quiet)
-    out["scene"] = scene.name
-    table = out.pop("launches")        # the JSON stays its size: the table goes to --save
+    odds = request.run(model, scene_ref(scene, args), args.set, quiet=args.quiet)
+    out = odds.as_json()        # the JSON stays its size: the launches' table goes to --save
     out["saved"] = None
     if args.save is not None:
-        out["saved"] = saved_block(trajectory_file.write_columns(args.save, table), len(table["launch"]),
-                                   Units.of_scene(scene), tuple(table))
-    if args.out:         # the report's histogram: the censored runs' bar labelled (runtime/report/real_launch.py)
-        from levitron.runtime.report.real_launch import histogram
-        out["out"] = str(histogram(out, Path(args.out), Units.of_scene(scene), scene.name))
-    else:
-        out["out"] = None
+        out["saved"] = saved_block(odds.save(args.save, flag="--save"), len(odds.launches["launch"]),
+                                   odds.units, tuple(odds.launches))
+    out["out"] = odds.plot(args.out) if args.out else None
     return out
 
 
@@ -143,7 +138,7 @@ def _temperature_matters(spec: str, scene) -> bool:
     """Whether the launches' temperature says anything: it is spread, or the scene's magnets have a
     temperature coefficient (without one, and fixed, it changes nothing: not shown, which also
     keeps degC out of a dimensionless scene that does not model temperature)."""
-    if mc.parse_dist("temperature", spec).spread or scene is None:
+    if spreads.parse_dist("temperature", spec).spread or scene is None:
         return True
     data = scene.data
     return any(float(data.get(t, {}).get("temperature_coefficient", 0.0)) != 0.0 for t in ("plate", "top"))

@@ -4,7 +4,8 @@
     --fit DATA.csv --vary KEY=LO:HI [...]
     --fit-height Z [--param KEY]   (a scene key, e.g. plate.murho, or a parameter name, e.g. mu)
 
-Design: runtime/design/optimize.py (IPOPT, verified by a grid and the float routes); fitting:
+Design: runtime/design/optimize.py (IPOPT, verified by a grid and the float routes; its answer
+runtime/design/design_answer.py's Design, whose as_json() this prints); fitting:
 runtime/design/fit.py (Gauss-Newton, exact Jacobians); --fit-height: runtime/design/fit_height.py.
 """
 from __future__ import annotations
@@ -81,7 +82,7 @@ def run(args) -> dict:
         rows = read_rows(args.fit)
         model = model_of(args)
         refuse_tilted(model, "optimize fits and designs")
-        out = fit(model, rows, varies).as_dict()
+        out = fit(model, rows, varies).as_json()     # the answer: runtime/design/fit_answer.py's Fit
     elif args.maximize == "launch-odds":
         from levitron.runtime.design.launch_design import maximize_launch_odds
         if constraints:
@@ -103,7 +104,7 @@ def run(args) -> dict:
         model = model_of(args)
         refuse_tilted(model, "optimize fits and designs")
         res = optimize(model, varies, args.maximize, constraints, args.grid)
-        out = res.as_dict()
+        out = res.as_json()      # the answer (runtime/design/design_answer.py), then what the face adds
         from levitron.runtime.design import launch_design
         if launch_design.worth_the_launches(model):
             scene = scene_of(args)
@@ -118,10 +119,7 @@ def run(args) -> dict:
             if "warning" in cost:
                 out["warnings"] = [*out["warnings"], cost["warning"]]
         if args.write_scene:
-            from levitron.runtime.design.scene_write import write_scene
-            note = (f"levitron optimize {model.scene.name} --maximize {args.maximize}: "
-                    + ", ".join(f"{k} = {v:.6g}" for k, v in res.optimum.items()))
-            out["written"] = str(write_scene(res.scene, args.write_scene, note))
+            out["written"] = res.write_scene(args.write_scene)
     out["scene"] = model.scene.name
     return out
 

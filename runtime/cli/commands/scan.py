@@ -1,6 +1,6 @@
 """`levitron scan SCENE`: a stability map over spin and tilt, mass or height (docs/contract.md `scan`;
-thesis fig. 3.8 after Gans et al.). The map is runtime/scan/stability_map.py's (grid: grid.py, picture:
-plot.py)."""
+thesis fig. 3.8 after Gans et al.). The map is runtime/scan/stability_map.py's (grid: grid.py), the
+answer runtime/scan/scan_answer.py's Scan (its as_json()); --out and --save are its actions."""
 from __future__ import annotations
 
 import re
@@ -11,9 +11,9 @@ from levitron.runtime.ui.human import Units, duration, lines, sig
 from levitron.runtime.integrate import verdict
 from levitron.runtime.integrate.methods import DEFAULT, FULL_MODEL_METHODS, lookup
 from levitron.runtime.integrate.verdict import NO_HOVER
+from levitron.runtime.simulate import trajectory_file
 from levitron.runtime.ui.plotting import check_plot_path
 from levitron.runtime.scan.grid import check_axis, check_grid_size, parse_range, pick_axis
-from levitron.runtime.scan.plot import draw
 from levitron.runtime.scan.runners import CONNECT_TIMEOUT_S
 from levitron.runtime.ui.validate import real
 from levitron.runtime.model.scenes import scene_ref
@@ -68,6 +68,9 @@ def add_arguments(parser) -> None:
                         help="with --scheduler: how long to wait for the scheduler's answer and for a "
                              f"worker, s (default {CONNECT_TIMEOUT_S:g})")
     parser.add_argument("--out", default=None, metavar="FILE.png", help="draw the map to FILE.png")
+    parser.add_argument("--save", default=None, metavar="FILE",
+                        help="write the map's points to FILE.csv, .npz or .parquet, one row a point: spin, "
+                             "the other axis, levitating, t_survived, status")
 
 
 def run(args) -> dict:
@@ -88,6 +91,8 @@ def run(args) -> dict:
     lookup(args.integrator)   # an unknown name is a one-line UserError
     if args.out is not None:
         check_plot_path(args.out, "--out")
+    if args.save is not None:
+        trajectory_file.check_path(args.save)
     scene = scene_of(args)
     model = model_of(args)
     ref = scene_ref(scene, args.scene)
@@ -96,12 +101,10 @@ def run(args) -> dict:
                   scheduler=args.scheduler, base_tilt=args.base_tilt, h=args.step,
                   quiet=args.quiet, scheduler_timeout=None if args.scheduler_timeout is None else real(
                       args.scheduler_timeout, "--scheduler-timeout", positive=True, max_abs=3600, unit="s"))
-    out = {"scene": scene.name}
-    out.update(res.as_dict())
-    out["out"] = None
-    if args.out:
-        out["out"] = str(draw(res, args.out, f"{scene.name}: levitating vs spin and {axis}",
-                                  Units.of_scene(scene)))
+    out = res.as_json()
+    out["out"] = res.plot(args.out) if args.out else None
+    if args.save is not None:
+        out["saved"] = res.save(args.save, flag="--save")
     return out
 
 
@@ -186,4 +189,5 @@ def human(r: dict, scene=None) -> str:
         _tilted_line(r.get("equilibrium"), u),
         f"{duration(r['wall_s'])} of wall time, {r['runner']['kind']} runner",
         u.note,
-        f"map: {r['out']}" if r.get("out") else "")
+        f"map: {r['out']}" if r.get("out") else "",
+        f"points: {r['saved']}" if r.get("saved") else "")

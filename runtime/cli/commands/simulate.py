@@ -1,8 +1,10 @@
-"""`levitron simulate SCENE`: one trajectory from the stable hover height (docs/contract.md)."""
+"""`levitron simulate SCENE`: one trajectory from the stable hover height (docs/contract.md): the
+answer is runtime/simulate/simulation.py's Simulation (its as_json()); --plot, --save and --animate
+are its actions, and a full-model run without air friction adds `linear`."""
 from __future__ import annotations
 
 from levitron.runtime.errors import UserError
-from levitron.runtime.simulate import animation
+from levitron.runtime.simulate import animation, trajectory_file
 from levitron.scene.plates.symmetry import symmetry
 from levitron.runtime.simulate.start import linear_context
 from levitron.runtime.ui.human import Units, duration, lines, restate, sig
@@ -63,15 +65,18 @@ def run(args) -> dict:
         if args.part != "full":
             raise UserError("--animate draws the whole top: drop --part reduced (the reduced model has no tilt)")
     model = model_of(args)
-    r = simulate(model, spin=args.spin, tilt=args.tilt, offset=args.offset, t_end=args.t_end,
-                 integrator=args.integrator, tol=args.tol, box=args.box, plot=args.plot,
-                 part=args.part, h=args.step, n_out=args.n_out,
-                 azimuth=args.tilt_azimuth, save=args.save, trajectory=animate is not None)
+    if args.save is not None:
+        trajectory_file.check_path(args.save)
+    sim = simulate(model, spin=args.spin, tilt=args.tilt, offset=args.offset, t_end=args.t_end,
+                   integrator=args.integrator, tol=args.tol, box=args.box, part=args.part, h=args.step,
+                   n_out=args.n_out, azimuth=args.tilt_azimuth)
+    r = sim.as_json()
+    r["plot"] = sim.plot(args.plot) if args.plot else None
+    if args.save is not None:
+        r["saved"] = sim.save(args.save, flag="--save")
     if animate is not None:
-        u = Units.of_scene(model.scene)
-        data = animation.frames(r.pop("trajectory"), r, r.pop("setup"), u)
-        r["animation"] = str(animation.write(animate, data, f"{model.scene.name}: a launch at "
-                                             f"{u.rate(args.spin)}"))
+        r["animation"] = sim.animate(animate, f"{model.scene.name}: a launch at "
+                                     f"{Units.of_scene(model.scene).rate(args.spin)}")
     if args.part == "full" and "flight" not in r:      # in air the flight line gives the limits
         r["linear"] = linear_context(model, model.p, r["z_s"], args.spin)
     return r
