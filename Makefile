@@ -41,9 +41,9 @@ test: setup
 test-slow: setup
 	$(PY) -m pytest -q -n $(TEST_WORKERS) --dist worksteal -m slow
 
-# The property-based tests (tests/test_properties.py) with 20 times the CI examples, random seeds.
+# The property-based tests (tests/battery/test_properties.py) with 20 times the CI examples, random seeds.
 fuzz: setup
-	HYPOTHESIS_PROFILE=fuzz $(PY) -m pytest -q tests/test_properties.py --hypothesis-show-statistics
+	HYPOTHESIS_PROFILE=fuzz $(PY) -m pytest -q tests/battery/test_properties.py --hypothesis-show-statistics
 
 # Every benchmark of the registry runtime/bench/kinds.py on its scenes (`levitron bench SCENE
 # --kind KIND`): work-precision against heyoka (the optional extra `bench`) and the other backends,

@@ -1,5 +1,5 @@
 """The levitron runtime: numerics on generated models, in one subpackage per idea (README, "What is
-where"; tests/test_layers.py keeps their layers). `lazy_surface` gives each subpackage's
+where"; tests/house/test_layers.py keeps their layers). `lazy_surface` gives each subpackage's
 `__init__` its public names, loaded on first use (PEP 562), so importing a package costs nothing."""
 from __future__ import annotations
 

@@ -6,5 +6,5 @@ validators and `SceneError` checks.py); the plate registry's scene side, one mod
 (plates/: keys, resolver, structural decisions, docs/scenes.md); the input hash of a generated
 model (inputs.py) and its files' digests (digest.py); where scenes/ and generated/ are (paths.py);
 MU0 (constants.py); the kill tests' fault points (faults.py). derive/ (sympy) and runtime/ (numpy,
-casadi, C) both stand on it; it imports neither (tests/test_layers.py).
+casadi, C) both stand on it; it imports neither (tests/house/test_layers.py).
 """

@@ -89,7 +89,7 @@ def structure(data: dict) -> dict:
 def input_hash(data: dict) -> str:
     """The hash of `structure(data)`, every source of derive/, the tools' versions and MU0: the one
     number of scene/ that generated code holds (derive/plate_fields/plate.py MU0_SYM); scene/'s
-    sources are not hashed (tests/test_layers.py holds what derive/ takes from scene/)."""
+    sources are not hashed (tests/house/test_layers.py holds what derive/ takes from scene/)."""
     payload = {"structure": spelled_alike(structure(data)), "derive": sources_hash(),
                "versions": tool_versions(), "constants": {"MU0": MU0}}
     return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from levitron.scene.load import load_scene  # noqa: E402
@@ -29,7 +29,7 @@ def derived_model():
     """derived_model(scene_name, *overrides) -> the Model of a scene variant, as a user gets it
     (runtime/model/load.py load_model: derived once into $LEVITRON_CACHE, verified, then reused by
     every test, worker and run that asks for the same variant; tests of derivation itself,
-    tests/test_generated.py and tests/test_artefacts.py, derive afresh)."""
+    tests/derive/test_generated.py and tests/runtime/model/test_artefacts.py, derive afresh)."""
     from levitron.runtime.model.load import load_model
     cache = {}
 
@@ -82,7 +82,7 @@ def legend_texts(monkeypatch):
 
 
 def _slow_tier() -> set[str]:
-    """The node ids of tests/slow.txt (tests/slow_tier.py writes it)."""
+    """The node ids of tests/slow.txt (tests/tools/slow_tier.py writes it)."""
     lines = (ROOT / "tests" / "slow.txt").read_text().splitlines()
     return {line.split("\t")[0] for line in lines if line.strip() and not line.startswith("#")}
 
@@ -100,4 +100,4 @@ def pytest_collection_modifyitems(config, items):
     missing = sorted(slow - seen)
     if whole and missing and not config.getoption("keyword"):
         raise pytest.UsageError(f"tests/slow.txt names {len(missing)} tests that do not exist, e.g. "
-                                f"{missing[0]}: regenerate it (python tests/slow_tier.py DURATIONS.log)")
+                                f"{missing[0]}: regenerate it (python tests/tools/slow_tier.py DURATIONS.log)")

@@ -19,7 +19,7 @@ Math. 14, 2005, section 2.2; the method heyoka compiles, runtime/bench/heyoka.py
 tan is sin / cos, sinh, cosh and tanh are written with exp. The constants of f (what depends on
 the parameters only) are computed once, as scalars; only what depends on the state becomes a
 series. Degree 0 of every node is the node's plain value, so
-x^[1] is f(x) as the rhs computes it, to its rounding (tests/test_taylor.py).
+x^[1] is f(x) as the rhs computes it, to its rounding (tests/derive/test_taylor.py).
 
 The generated C (derive/emit/c/templates/model.c.j2):
 
@@ -42,7 +42,7 @@ import sympy as sp
 from .lower import Lowered
 
 # out's and the nodes' capacity; runtime/csrc/integrators.h's LEV_TAYLOR_MAX_ORDER caps the order at
-# the same number (tests/test_taylor.py): ceil(-ln tol / 2 + 1) <= 32 down to tol 1e-26 (TOL_MIN 1e-15: 19)
+# the same number (tests/derive/test_taylor.py): ceil(-ln tol / 2 + 1) <= 32 down to tol 1e-26 (TOL_MIN 1e-15: 19)
 TAYLOR_MAX_ORDER = 32
 PARTS = ("reduced",)       # the parts that get a Taylor function
 

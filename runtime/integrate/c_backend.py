@@ -3,7 +3,7 @@
 The whole trajectory runs inside C over a generated right-hand side, with no Python call per step.
 The ctypes mirrors of the C structs are checked against the sizes the library exports
 (lev_sizeof_*) before the first call; the method ids come from runtime/integrate/methods.py, which
-tests/test_budgets.py checks against the library's own table (lev_method_id). Every run has a step
+tests/runtime/integrate/test_budgets.py checks against the library's own table (lev_method_id). Every run has a step
 budget (max_steps > 0: the C refuses a run without one).
 """
 from __future__ import annotations

@@ -2,7 +2,7 @@
 
 Each entry says its name (the CLI choice), its backend ("c": runtime/csrc/integrators.c; "casadi";
 "scipy"), its id in the C enum ``lev_method`` (C methods; the library exports the same numbers
-through ``lev_method_id`` and tests/test_budgets.py checks both sides), whether it takes a fixed step
+through ``lev_method_id`` and tests/runtime/integrate/test_budgets.py checks both sides), whether it takes a fixed step
 (``h``) or controls its error adaptively (``tol``), whether it uses the generated Jacobian, and
 whether the energy is monitored in C after every step. runtime.integrate.run, runtime.simulate.run,
 runtime.scan.stability_map, runtime.bench.work_precision and the CLI read it; nothing else lists integrators.
@@ -83,7 +83,7 @@ def default_step(fastest_period: float) -> float:
 # bounds of 1e-10 to 1e-11 (1e-11 for thesis_stable), vern9 below.
 AUTO_VERN9_BELOW_TOL = 1e-10
 # `auto` in the name lookup (its facts are those of both candidates: C, adaptive, energy in C);
-# not in TABLE, which lists the methods that run (tests/test_budgets.py checks TABLE against C)
+# not in TABLE, which lists the methods that run (tests/runtime/integrate/test_budgets.py checks TABLE against C)
 AUTO_ENTRY = Integrator(AUTO, "c", False, monitors_energy=True)
 
 BY_NAME: dict[str, Integrator] = {**{i.name: i for i in TABLE}, AUTO: AUTO_ENTRY}

@@ -13,7 +13,7 @@ buffer the C integrates in place, runs lev_integrate_job (one ctypes call with o
 struct lev_job of runtime/csrc/integrators.h) and returns a copy of the final state, so an
 optimisation loop or a sweep pays about 1 us of Python per run (`levitron bench`'s per_call,
 reports/<scene>/bench_reduced.json). The numbers are those of ``integrate`` with the same method,
-tolerance, scale and parameters, bit for bit (tests/test_propagator.py): the same C call.
+tolerance, scale and parameters, bit for bit (tests/runtime/integrate/test_propagator.py): the same C call.
 
 No samples. Without a box a run goes to t_end, or stops with a UserError naming why (its status);
 with a Box (runtime/integrate/trajectory.py, the one `simulate` uses) a run that leaves it stops

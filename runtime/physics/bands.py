@@ -6,7 +6,7 @@ exact route "discriminant", runtime/physics/ray_algebra.py, thesis 3.3.11-3.3.16
 
 Beside it the adiabatic band of Berry and Simon: |B| has a minimum. With B = -grad(phi) and the
 expansion of thesis 2.2.7, |B|^2 = Phi_1^2 + r^2 (Phi_2^2/4 - Phi_1 Phi_3/2) + O(r^4)
-(tests/test_stability_derivation.py checks this), so the conditions on the axis are
+(tests/derive/test_stability_derivation.py checks this), so the conditions on the axis are
     d^2|B|/dz^2 = sign(Phi_1) Phi_3 > 0   and   Phi_2^2 - 2 Phi_1 Phi_3 > 0,
 equivalently (thesis 3.3.14) g31 < 0 and g21^2 + g31 > 0.
 

@@ -5,7 +5,7 @@ scipy.special ...), ten times the rest of `levitron stability`, for one scalar r
 This is a line-by-line transcription of scipy's C routine (scipy/optimize/Zeros/brentq.c, Charles
 Harris; Brent 1973, ch. 4) in Python floats, which are the same IEEE doubles with the same
 operations in the same order, so it returns the same double as scipy.optimize.brentq
-(tests/test_brent.py compares the two bit for bit on thousands of brackets).
+(tests/runtime/physics/test_brent.py compares the two bit for bit on thousands of brackets).
 """
 from __future__ import annotations
 

@@ -73,7 +73,7 @@ def balancing(J: np.ndarray) -> np.ndarray:
     """Diagonal scaling d (powers of 2) with D^-1 J D balanced, reusable for nearby J: LAPACK 3.12's
     dgebal with job 'S' (scale, no permutation), what scipy.linalg.matrix_balance(J, permute=False)
     calls, written out here because importing scipy.linalg is a third of `levitron stability`'s
-    start-up. tests/test_balance.py checks d against scipy's. Any d keeps on_imaginary_axis's bound
+    start-up. tests/runtime/physics/test_balance.py checks d against scipy's. Any d keeps on_imaginary_axis's bound
     valid; this one makes it tight."""
     A = np.array(J, dtype=float)
     n = A.shape[0]

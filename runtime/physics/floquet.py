@@ -16,7 +16,7 @@ is then parallel to grad H there, so no further multiplier is trivial.)
 
 At b = 0 the orbit is the aligned top's relative equilibrium and M = exp(T J) on the reduced
 Jacobian J of the eigen route (runtime/physics/tilted_stability.py): the multipliers are
-exp(T lambda) and the window is the eigen route's (tests/test_floquet.py). With b != 0 the forcing
+exp(T lambda) and the window is the eigen route's (tests/runtime/physics/test_floquet.py). With b != 0 the forcing
 at the spin couples modes whose multipliers meet on the unit circle at b = 0 (where
 (omega_j -+ omega_k) / sigma is an integer: a parametric resonance); a narrow tongue of
 instability may open there, of width growing with b. So, as for the base tilt's gaps, those meeting
@@ -25,8 +25,8 @@ log grid of spins around the aligned window (inside it only: outside, the aligne
 already). A spin where the orbit cannot be continued from the aligned top counts as unstable: on
 the peer's loop trap at b = 0.02 the window's lower end is such a spin, where the period 2 pi / sigma
 has an extremum along the family of orbits (Newton's Jacobian turns singular while no multiplier
-leaves the circle), and a simulated top 0.1 % below it is lost (tests/test_floquet.py). Every change of the
-verdict is bisected to SPIN_RTOL.
+leaves the circle), and a simulated top 0.1 % below it is lost (tests/runtime/physics/test_floquet.py).
+Every change of the verdict is bisected to SPIN_RTOL.
 No sympy here.
 """
 from __future__ import annotations

@@ -5,7 +5,7 @@ stable iff N(t) = t^4 - t^3 + (g1 + g3) t^2 - g3 t + g1 g3 - g2^2 (3.3.11) has f
 g_i scale as 1/sigma^2 (3.3.10): g_i = s c_i with s = 1/sigma^2, so the spin rate moves along a ray
 in coefficient space (3.3.13). The critical spins are the positive roots s of G(s c)/s^3, a cubic
 (G is the discriminant 3.3.12, hard-coded below as `G_TERMS` and regenerated from
-tests/helpers/stability_derivation.py by tests/test_stability_derivation.py). In the thesis's variables the ray
+tests/helpers/stability_derivation.py by tests/derive/test_stability_derivation.py). In the thesis's variables the ray
 parameter is l = g1 = c1 s, i.e. sigma^2 = mu Phi_1 / (l rho^2 A) (3.3.19-3.3.21).
 
 Well-conditioned formulation: the sign of the discriminant near its zero is ill-conditioned in
@@ -363,7 +363,7 @@ def has_bounded_spin_interval(c: RayCoefficients) -> bool:
     band asks at every height. The critical s come from floats when `_float_critical_s` trusts
     them, else from the exact isolation; each piece is classified by `_four_real_filtered` (exact
     when ambiguous). About 20x faster than the exact route on a band scan, with the same answer
-    (tests/test_equilibrium.py compares the two at every height of every scene's band scan)."""
+    (tests/runtime/physics/test_equilibrium.py compares the two at every height of every scene's band scan)."""
     ints, _ = ray_cubic_int(c)
     s_roots = _float_critical_s(ints)
     if s_roots is None:

@@ -3,7 +3,7 @@
 Every symbolic piece is sympy's: the plate's on-axis functions Phi_0..Phi_K (thesis eq.
 2.2.6) are the generated CasADi Function `onaxis` (generated/<scene>/onaxis.casadi), and the ray
 polynomial G (thesis eq. 3.3.12) is derived in sympy by tests/helpers/stability_derivation.py and
-committed as `runtime.physics.ray_algebra.G_TERMS` (tests/test_stability_derivation.py regenerates
+committed as `runtime.physics.ray_algebra.G_TERMS` (tests/derive/test_stability_derivation.py regenerates
 it). This module only composes them:
 
 * z_s: root of F(z; p) = m g + mu Phi_2(z) (thesis 3.3.2) with mu Phi_3 > 0 (3.3.3);

@@ -11,7 +11,7 @@ time on the lane variant of the rhs where it verifies: no Python per run or per 
 
 Each run is the one simulate() makes with the same options, without its samples and energy
 monitor (neither changes a step), so the status, survival time, rhs count and final state are
-simulate()'s, bit for bit (tests/test_batch.py). A launch whose top cannot hover (its parameters
+simulate()'s, bit for bit (tests/runtime/scan/test_batch.py). A launch whose top cannot hover (its parameters
 give no stable hover height) is a result with its reason, the others run as before. In air the
 run stops when the top leaves the box, as simulate()'s; the flight block (fall spin, adiabatic
 prediction) needs the samples and is simulate()'s alone.

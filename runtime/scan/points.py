@@ -97,7 +97,7 @@ def point_run(model, spin: float, tilt: float = 0.0, height: float = 0.0, t_end:
     summary), with two differences: the hover height z_s may be given (a scan finds it once per
     mass, not once per point: it costs more than a short run), and the top may start displaced to
     z_0 = z_s (1 + height), at rest vertically; box and checks stay centred on z_s (thesis 3.3.2).
-    With height = 0 the result is simulate()'s, number for number (tests/test_scan.py)."""
+    With height = 0 the result is simulate()'s, number for number (tests/runtime/scan/test_scan.py)."""
     from levitron.runtime.simulate import run as sim
     from levitron.runtime.integrate.run import integrate
     from levitron.runtime.integrate.methods import lookup, resolve

@@ -6,7 +6,7 @@ chunks (`split`); a chunk runs in one thread (`run_chunk`): for the C integrator
 chunk driver (runtime/scan/chunk_c.py: one C call per chunk, no Python per run, no output samples, no
 energy monitor), otherwise (or with engine "python") one `point_run` per point, which is
 runtime.simulate.run.simulate number for number. Both give the same status and survival time per point
-(tests/test_scan_driver.py).
+(tests/runtime/scan/test_scan_driver.py).
 
 Runners: serial, local processes (concurrent.futures.ProcessPoolExecutor, spawn; each worker loads
 the model once in its initializer, and the compiled C library is found in the content-hash cache

@@ -1,7 +1,7 @@
 """The top's orientation in numpy: the elementary rotations of thesis eqs. 2.1.6-2.1.8 (z-x-z) and
 3.2.3-3.2.5 (Tait-Bryan), R_bs and its derivatives, the generator of a rotation about the lab z
 axis, and the angles of a tilted axis. Mirrors of derive/kinematics.py, checked against the
-generated `full_axis` at random angles (tests/test_invariants.py)."""
+generated `full_axis` at random angles (tests/derive/test_invariants.py)."""
 from __future__ import annotations
 
 import math

@@ -2,7 +2,7 @@
 
 One module per plate kind in this package defines `KIND` (scene/plates/base.py says what a kind
 declares). The derive side is derive/plate_fields/<kind>.py (the sympy builder), the runtime
-side runtime/physics/plates/<kind>.py (the exact field); tests/test_plate_registry.py checks that the three
+side runtime/physics/plates/<kind>.py (the exact field); tests/scene/test_plate_registry.py checks that the three
 registries have the same kinds. Adding a plate kind is one file on each side.
 
 Functions over a scene's [plate] table (validated by scene/load.py), compound parts included:

@@ -12,7 +12,7 @@ A kind is one module of scene/plates/ defining `KIND = PlateKind(...)`:
   so that the input hash (scene/inputs.py) covers it;
 - `length_keys`: the resolved parameters that are lengths (the plate's length scale);
 - `units`: the SI units of its other resolved parameters ("rho": "T m", ...), where they have one;
-- `example`: a TOML [plate] table that validates (tests/test_plate_registry.py checks it).
+- `example`: a TOML [plate] table that validates (tests/scene/test_plate_registry.py checks it).
 """
 from __future__ import annotations
 

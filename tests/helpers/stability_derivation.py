@@ -23,7 +23,7 @@ Conventions (DESIGN.md): U = m g z - mu n.B, B = -grad(phi), Phi_k = d^k Phi0/dz
 second order in r is thesis eq. 2.2.7. P1, P2, P3 below stand for Phi_1(z_s), Phi_2(z_s), Phi_3(z_s).
 
 The runtime needs only numbers: `ray_polynomial_terms()` gives the discriminant G as integer
-monomial terms, which runtime/physics/ray_algebra.py hard-codes (tests/test_stability_derivation.py regenerates
+monomial terms, which runtime/physics/ray_algebra.py hard-codes (tests/derive/test_stability_derivation.py regenerates
 them from here and asserts equality).
 """
 from __future__ import annotations

@@ -26,7 +26,7 @@ from ...doubles import DoubleRangeError, c_literal
 
 MAX_INLINE_POWER = 8
 FMA = "LEV_FMA"
-# what every C file of printed expressions needs first (model.c.j2 and tests/test_c_vs_casadi.py):
+# what every C file of printed expressions needs first (model.c.j2 and tests/c/test_c_vs_casadi.py):
 # contraction off, math.h and LEV_FMA
 FMA_PRELUDE = """#if defined(__clang__)
 #pragma STDC FP_CONTRACT OFF

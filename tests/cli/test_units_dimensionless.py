@@ -1,0 +1,158 @@
+"""A dimensionless scene (`units = "dimensionless"`, g = 1) shows no SI unit
+anywhere: every command's plain text, every plot's text (titles, axis labels, legends, colour
+bars) and the report's page. Wall times stay seconds: they are the computer's, not the scene's."""
+from __future__ import annotations
+
+import html
+import re
+
+import matplotlib.figure
+import matplotlib.text
+import pytest
+
+from levitron.runtime.cli import main as cli
+
+from tests.helpers.dimensionless import SCENE, SI, si_units
+
+
+def test_the_grep_finds_si_units():
+    assert si_units("z 15.74 cm, spin (rad/s), t_end = 208 s, moment -1 A m^2, 3 N/m, v 0.1 m/s") == \
+        ["cm", "s", "A m^2", "N/m", "m/s", "(rad/s)"]
+    assert si_units("30.28-119.1 rad/time, tilt 0.01 rad (0.573 deg), 417 ms of wall time, "
+                    "height (fraction of z_s), z 0.9948-1.102") == []
+
+
+@pytest.fixture(scope="module")
+def scene(tmp_path_factory):
+    path = tmp_path_factory.mktemp("dimless") / "unit_annulus.toml"
+    path.write_text(SCENE)
+    return str(path)
+
+
+@pytest.fixture
+def plot_texts(monkeypatch):
+    """Every text of every figure saved while the test runs."""
+    seen = []
+    save = matplotlib.figure.Figure.savefig
+
+    def recording(fig, *a, **k):
+        seen.extend(t.get_text() for t in fig.findobj(matplotlib.text.Text) if t.get_text())
+        return save(fig, *a, **k)
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", recording)
+    return seen
+
+
+COMMANDS = {
+    "info": [],
+    "equilibrium": ["--plot", "{tmp}/eq.png"],
+    "stability": [],
+    "stability-height": ["--height", "1.05"],
+    "field": ["--at", "0.1,0,0.5"],
+    "simulate": ["--spin", "60", "--tilt", "0.01", "--t-end", "20", "--plot", "{tmp}/sim.png"],
+    "scan-tilt": ["--spin", "30:110:3", "--tilt", "0.01:0.05:2", "--out", "{tmp}/map.png"],
+    "scan-mass": ["--spin", "30:110:3", "--mass", "0.98:1.03:3", "--t-end", "20", "--out", "{tmp}/m.png"],
+    "scan-height": ["--spin", "30:110:3", "--height", "-0.1:0.1:3", "--t-end", "20", "--out", "{tmp}/h.png"],
+    "optimize": ["--maximize", "spin-range", "--vary", "top.mass=0.98:1.01"],
+    # 2e-6 to 4e-6 below the largest mass that hovers (1.0199985): the vanishing-stiffness warning
+    "optimize-edge": ["--maximize", "spin-range", "--vary", "top.mass=1.0199945:1.0199965"],
+    "optimize-fit-height": ["--fit-height", "1.0"],
+    "report": ["--out", "{tmp}/r.html"],
+    "launch": ["--n", "12", "--t-end", "20", "--out", "{tmp}/launch.png", "--save", "{tmp}/launch.csv"],
+    "figures": ["--out", "{tmp}/figs", "--quick"],
+}
+
+
+@pytest.mark.parametrize("name", list(COMMANDS))
+def test_no_si_unit_in_a_dimensionless_scene(name, scene, tmp_path, plot_texts, capsys):
+    argv = [name.split("-")[0], scene] + [a.format(tmp=tmp_path) for a in COMMANDS[name]]
+    assert cli.main(argv) == 0, capsys.readouterr().err
+    out = capsys.readouterr().out
+    assert "dimensionless scene" in out or name == "figures"
+    texts = [out, *plot_texts]
+    if name == "report":
+        page = (tmp_path / "r.html").read_text()
+        # the embedded scene file is the author's text (its key `A` is no ampere); the script draws
+        # the animation, whose drawn text tests/runtime/report/test_teacher_page.py reads in Chromium
+        page = re.sub(r"<img[^>]*>|<style>.*?</style>|<script>.*?</script>|<pre class=\"toml\".*?</pre>", "",
+                      page, flags=re.S)
+        texts.append(html.unescape(re.sub(r"<[^>]+>", "\n", page)))
+    if name == "optimize-edge":
+        assert "warning: the optimum sits at vanishing stiffness" in out
+    if name == "figures":      # 3.2 and 3.3 are the thesis's solver comparison on a unit circle
+        assert plot_texts
+    found = [u for t in texts for u in si_units(t)]
+    assert found == [], f"`levitron {' '.join(argv)}` shows SI units {found}:\n" + "\n".join(texts)
+
+
+def test_no_si_unit_in_the_apis_results(scene):
+    """The Python API's results (their repr and message) show the scene's units too; the same
+    results of an SI scene keep theirs (the check can fail)."""
+    import levitron as lev
+    with pytest.raises(lev.UserError) as too_heavy:       # a message of the runtime, restated
+        lev.load(scene, {"top.mass": 5.2}).simulate(40.0)
+    assert "too heavy" in str(too_heavy.value) and si_units(str(too_heavy.value)) == []
+    study = lev.load(scene)
+    results = [study.equilibria(), *study.equilibria().equilibria, study.stability(),
+               study.simulate(40.0, t_end=5.0), study.simulate_many([30.0, 40.0], t_end=5.0),
+               study.launch(n=6, t_end=5.0)]
+    texts = [t for r in results for t in (repr(r), r.message if hasattr(r, "message") else "")]
+    assert all(si_units(t) == [] for t in texts), [(t, si_units(t)) for t in texts if si_units(t)]
+    si = lev.load("thesis_stable")
+    assert si_units(repr(si.stability())) and si_units(repr(si.equilibria()))
+    odds = lev.load("thesis_air").launch(n=6, t_end=2.0)
+    assert si_units(repr(odds)) and si_units(odds.message)
+
+
+def test_no_si_unit_in_a_dimensionless_scenes_error_line(scene, capsys):
+    """The runtime's error messages speak SI (as the JSON does); the command line restates them in
+    a dimensionless scene's units. An SI scene's keep theirs."""
+    assert cli.main(["simulate", scene, "--set", "top.mass=5.2", "--spin", "40"]) == 2
+    err = capsys.readouterr().err
+    assert "too heavy" in err and si_units(err) == [], err
+    assert cli.main(["simulate", "thesis_stable", "--set", "top.mass=0.06", "--spin", "40"]) == 2
+    assert si_units(capsys.readouterr().err)
+
+
+def test_no_si_unit_in_design_and_scan_results(scene):
+    """The design and scan results (repr, message) and the units their JSON names are the scene's:
+    before, a dimensionless scene's optimum read "spin-range 25.3 rad/s" and its map "t_end 20 s
+    each", with "objective_unit": "rad/s" and "units": {"spin": "rad/s"} in the JSON. An SI scene's
+    keep theirs (the check can fail)."""
+    import levitron as lev
+    study = lev.load(scene)
+    design = study.optimize("spin-range", {"top.mass": (0.98, 1.01)})
+    scan = study.scan([40.0, 60.0], "tilt", [0.01], t_end=5.0)
+    texts = [repr(design), design.message, repr(scan), scan.message]
+    assert all(si_units(t) == [] for t in texts), [(t, si_units(t)) for t in texts if si_units(t)]
+    assert design.as_json()["objective_unit"] == "rad/time"
+    assert scan.as_json()["units"] == {"spin": "rad/time", "tilt": "rad"}
+    si = lev.load("thesis_stable").scan([1000.0], "tilt", [0.01], t_end=0.05)
+    assert si_units(si.message) == ["s"] and si.as_json()["units"]["spin"] == "rad/s"
+
+
+# an SI unit named as a word, not after a number: "a positive number in m", "(m)", "number rad/s"
+UNIT_WORD = re.compile(rf"(?:\bin |number |\()({SI})(?![\w^/])")
+
+
+def test_no_si_unit_word_in_a_dimensionless_scenes_argument_errors(scene, capsys):
+    """Third audit: a bad argument on a dimensionless scene named an SI unit as a word, through the
+    API and the command line: "box = -1 must be a positive number in m", "step = -1 ... in s",
+    "spin = nan must be a finite number rad/s", "box half-width -1.0 must be a positive length (m)",
+    "t_end = -1 must be a positive time in s". An SI scene's keep theirs (the check can fail)."""
+    import levitron as lev
+    study, si = lev.load(scene), lev.load("thesis_stable")
+    calls = [lambda s: s.simulate(40.0, box=-1), lambda s: s.simulate(40.0, integrator="rk4", h=-1),
+             lambda s: s.simulate(float("nan")), lambda s: s.propagator(box=-1.0),
+             lambda s: s.launch(n=5, t_end=-1)]
+    for call in calls:
+        with pytest.raises(lev.UserError) as dl:
+            call(study)
+        with pytest.raises(lev.UserError) as e_si:
+            call(si)
+        assert UNIT_WORD.findall(str(dl.value)) == [] and "\n" not in str(dl.value), str(dl.value)
+        assert UNIT_WORD.findall(str(e_si.value)), str(e_si.value)
+    for argv in (["simulate", scene, "--spin", "40", "--box", "-1"],
+                 ["simulate", scene, "--spin", "nan"], ["launch", scene, "--n", "5", "--t-end", "-1"]):
+        assert cli.main(argv) == 2
+        err = capsys.readouterr().err
+        assert "error" in err and UNIT_WORD.findall(err) == [], err

@@ -1,0 +1,77 @@
+"""One import name: the wheel puts `levitron` alone into a fresh venv's site-packages, and the package
+it installs answers a command by itself (its own scenes, generated models and C sources).
+
+The repository keeps scene/, derive/, runtime/, scenes/ and generated/ at its top level; pyproject.toml maps
+them under levitron/. The wheel is built without network (--no-build-isolation: setuptools comes
+from the test extra) and installed without dependencies; the fresh venv borrows numpy, casadi and
+the rest from this one's site-packages through PYTHONPATH, which processes no .pth file, so this
+checkout's editable install cannot leak into it.
+"""
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import sysconfig
+import tomllib
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_the_package_list_is_every_package_of_the_tree():
+    """pyproject's explicit package list (needed for the mapping) names every package there is."""
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
+    listed = set(config["packages"])
+    on_disk = {"levitron", "levitron.scenes", "levitron.generated"}
+    for top in ("scene", "derive", "runtime"):
+        for init in (ROOT / top).rglob("__init__.py"):
+            on_disk.add(".".join(["levitron", *init.parent.relative_to(ROOT).parts]))
+    assert listed == on_disk
+
+
+@pytest.fixture(scope="module")
+def fresh_venv(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("wheel")
+    build = subprocess.run([sys.executable, "-m", "pip", "wheel", str(ROOT), "--no-deps", "--no-build-isolation",
+                            "--quiet", "-w", str(tmp / "dist")], capture_output=True, text=True, check=False)
+    assert build.returncode == 0, build.stderr[-3000:]
+    (wheel,) = (tmp / "dist").glob("levitron-*.whl")
+    venv = tmp / "venv"           # without pip (ensurepip took 4 s): this venv's pip installs into it
+    subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True)
+    py = venv / "bin" / "python"
+    site = Path(subprocess.run([str(py), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
+                               capture_output=True, text=True, check=True).stdout.strip())
+    before = {p.name for p in site.iterdir()}
+    subprocess.run([sys.executable, "-m", "pip", "--python", str(py), "install", "--quiet", "--no-deps",
+                    "--no-index", str(wheel)], check=True)
+    after = {p.name for p in site.iterdir()}
+    return venv, sorted(after - before), tmp
+
+
+def test_the_wheel_installs_one_top_level_name(fresh_venv):
+    venv, added, _ = fresh_venv
+    assert [n for n in added if not n.endswith(".dist-info")] == ["levitron"]
+    assert (venv / "bin" / "levitron").is_file()
+
+
+def test_the_installed_package_answers_from_its_own_files(fresh_venv):
+    """`levitron stability thesis_stable` from the installed copy: its committed model is current
+    (not re-derived), compiled from its own csrc, and gives the checkout's interval."""
+    venv, _, tmp = fresh_venv
+    env = dict(os.environ, PYTHONPATH=sysconfig.get_paths()["purelib"], LEVITRON_CACHE=str(tmp / "cache"))
+    work = tmp / "elsewhere"
+    work.mkdir()
+    res = subprocess.run([str(venv / "bin" / "levitron"), "stability", "thesis_stable", "--json"], cwd=work,
+                         env=env, capture_output=True, text=True, check=False)
+    assert res.returncode == 0, res.stderr
+    assert "stale" not in res.stderr and "deriving" not in res.stderr
+    out = json.loads(res.stdout)
+    assert out["provenance"]["scene_path"].startswith(str(venv))
+    mine = subprocess.run([sys.executable, "-m", "levitron", "stability", "thesis_stable", "--json"], cwd=ROOT,
+                          capture_output=True, text=True, check=True)
+    assert out["spin_interval"] == json.loads(mine.stdout)["spin_interval"]
+    assert list(work.iterdir()) == []
