@@ -22,7 +22,7 @@ from levitron.runtime.design.fit_answer import Fit, FitResult
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.verdict import NO_HOVER
 from levitron.runtime.physics.equilibria import Equilibria
-from levitron.runtime.physics.equilibrium import Equilibrium
+from levitron.runtime.physics.equilibrium_report import Equilibrium
 from levitron.runtime.scan.launch_answer import LaunchOdds
 from levitron.runtime.scan.scan_answer import Scan, ScanResult
 from levitron.runtime.simulate.simulation import NORMAL_ENDS, Simulation

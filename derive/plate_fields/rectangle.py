@@ -73,19 +73,6 @@ def rectangle_block_potential(x, y, z, hx, hy, t, mag):
                             - _charged_face_potential(x, y, z + t, hx, hy))
 
 
-def rect_solid_angle(w, hx, hy):
-    """Solid angle of the rectangle |x| <= hx, |y| <= hy seen from (0, 0, w), w > 0:
-    Omega = 4 atan(hx hy / (w sqrt(hx^2 + hy^2 + w^2))) (the disk's is 2 pi (1 - w/sqrt(w^2+a^2)))."""
-    return 4 * sp.atan(hx * hy / (w * sp.sqrt(hx**2 + hy**2 + w**2)))
-
-
-def rect_solid_angle_d1(w, hx, hy):
-    """d Omega / dw = -4 hx hy (hx^2 + hy^2 + 2 w^2) / ((hx^2 + w^2)(hy^2 + w^2) R), R = sqrt(hx^2+hy^2+w^2)
-    (sum of positive terms: no cancellation)."""
-    R = sp.sqrt(hx**2 + hy**2 + w**2)
-    return -4 * hx * hy * (hx**2 + hy**2 + 2 * w**2) / ((hx**2 + w**2) * (hy**2 + w**2) * R)
-
-
 def rect_solid_angle_derivative(k: int, w, hx, hy):
     """d^k Omega / dw^k for k >= 1, by partial fractions and the Leibniz rule:
     (s2 + 2 w^2)/((hx^2 + w^2)(hy^2 + w^2)) = 1/(hx^2 + w^2) + 1/(hy^2 + w^2), so

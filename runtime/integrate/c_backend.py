@@ -110,10 +110,12 @@ def fn_address(fn: Any) -> int | None:
     return ctypes.cast(fn, ctypes.c_void_p).value
 
 
-def csrc_library() -> ctypes.CDLL:
-    """The hand-written C of runtime/csrc alone (integrators + the test systems of circle.c)."""
+def csrc_library(extra_sources: tuple[Path, ...] = ()) -> ctypes.CDLL:
+    """The hand-written C of runtime/csrc alone (the integrators, the scan driver and the thesis's
+    circle of circle.c), with `extra_sources` linked in (the tests' own systems: tests/c/systems.c)."""
     flags = DEFAULT_FLAGS + ("-Werror",)
-    return bind(ctypes.CDLL(str(compile_shared(sorted(CSRC.glob("*.c")), flags=flags))))
+    sources = [*sorted(CSRC.glob("*.c")), *map(Path, extra_sources)]
+    return bind(ctypes.CDLL(str(compile_shared(sources, flags=flags, include_dirs=(CSRC,)))))
 
 
 def _f64(a) -> np.ndarray:
@@ -238,7 +240,7 @@ def run_c(lib: ctypes.CDLL, method: str, rhs: Any, x0, p, t_end: float, *, t0: f
 
 class CSystem:
     """A Part-like view of the C functions ``<prefix>_rhs``, ``_energy``, ``_jac`` in a library
-    (the test systems of runtime/csrc/circle.c), usable wherever ``integrate`` takes a part."""
+    (runtime/csrc/circle.c, the tests' tests/c/systems.c), usable wherever ``integrate`` takes a part."""
 
     def __init__(self, lib: ctypes.CDLL, prefix: str, states: Sequence[str], p: Sequence[float]):
         self.lib = bind(lib)

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field, replace
 
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.physics.bands import Band
-from levitron.runtime.physics.equilibrium import Equilibrium, Singularity
+from levitron.runtime.physics.equilibrium_report import Equilibrium, Singularity, hover_reasons
 from levitron.runtime.ui.human import Units, quantity
 from levitron.runtime.ui.reference import stated
 
@@ -64,7 +64,7 @@ class Equilibria:
         u = Units.of_scene(model.scene)
         return cls(model.scene.name, m, [replace(e, units=u) for e in rep.equilibria], list(rep.singularities),
                    rep.z_c, rep.max_mass,
-                   rep.stable_band, list(rep.stable_bands), rep.adiabatic_band, eqm.hover_reasons(rep, m),
+                   rep.stable_band, list(rep.stable_bands), rep.adiabatic_band, hover_reasons(rep, m),
                    eqm.scale_of(model), list(eqm.span_of(model) or ()) or None,
                    {"z_stable": stated(model.scene, "z_stable")}, wall,
                    TILTED_NOTE if "base_tilt" in model.param_names else None, u)

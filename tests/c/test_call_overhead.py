@@ -14,13 +14,14 @@ from levitron.runtime.integrate import c_backend as ci
 from levitron.runtime.model.load import load_model
 from levitron.runtime.scan.points import point_setup
 from levitron.runtime.integrate.trajectory import Box
+from tests.helpers import c_systems
 
 SET = ["top.mass=0.0515"]
 
 
 @pytest.fixture(scope="module")
 def lib():
-    return ci.csrc_library()
+    return c_systems.library()
 
 
 @pytest.fixture(scope="module")

@@ -1,5 +1,5 @@
-"""The C integrators (runtime/csrc/integrators.c) on model-independent test systems (csrc/circle.c):
-convergence orders measured by slopes, DOP853 against scipy's, dense output, the box event,
+"""The C integrators (runtime/csrc/integrators.c) on model-independent test systems (tests/c/systems.c,
+runtime/csrc/circle.c): convergence orders measured by slopes, DOP853 against scipy's, dense output, the box event,
 non-finite states, bounded energy of the symplectic method, bad options, concurrency."""
 from __future__ import annotations
 
@@ -11,14 +11,15 @@ import numpy as np
 import pytest
 
 from levitron.runtime.errors import UserError
-from levitron.runtime.integrate.run import Box, CSystem, csrc_library, integrate, run_c
+from levitron.runtime.integrate.run import Box, CSystem, integrate, run_c
+from tests.helpers import c_systems
 
 TWO_PI = 2.0 * math.pi
 
 
 @pytest.fixture(scope="module")
 def lib():
-    return csrc_library()
+    return c_systems.library()
 
 
 @pytest.fixture(scope="module")

@@ -5,7 +5,7 @@ x(h) by C^[p+1] h^(p+1) to leading order, with x(h) from an accurate fixed-step 
 on the scenes' plates and on an expression plate that uses every recurrence (exp, log, sin, cos, a
 real power, 1/a, sqrt, products); degree 1 against the generated rhs and degree 2 against the
 generated Jacobian (J f / 2). The integrator is checked on
-the oscillator of runtime/csrc/circle.c (a hand-written Taylor function, exact solution known) and
+the oscillator of tests/c/systems.c (a hand-written Taylor function, exact solution known) and
 on the scenes' reduced models against the bench's reference.
 """
 from __future__ import annotations
@@ -21,8 +21,9 @@ from levitron.derive.emit.heyoka import lowered_rhs
 from levitron.derive.emit.taylor import TAYLOR_MAX_ORDER, Unsupported, taylor_tape
 from levitron.scene.load import load_scene
 from levitron.runtime.errors import UserError
-from levitron.runtime.integrate.run import Box, CSystem, csrc_library, integrate, run_c
+from levitron.runtime.integrate.run import Box, CSystem, integrate, run_c
 from levitron.runtime.model.load import load_model
+from tests.helpers import c_systems
 
 DP = ctypes.POINTER(ctypes.c_double)
 SCENES = ("thesis_stable", "ring_magnet", "square", "loop")
@@ -30,7 +31,7 @@ SCENES = ("thesis_stable", "ring_magnet", "square", "loop")
 
 @pytest.fixture(scope="module")
 def lib():
-    return csrc_library()
+    return c_systems.library()
 
 
 @pytest.fixture(scope="module")

@@ -11,7 +11,7 @@ import pytest
 from levitron.scene.load import load_scene
 from levitron.runtime.scan import stability_map as sc
 from levitron.runtime.errors import UserError
-from levitron.runtime.integrate.run import csrc_library, integrate
+from levitron.runtime.integrate.run import integrate
 from levitron.runtime.integrate.methods import (
     AUTO,
     AUTO_VERN9_BELOW_TOL,
@@ -22,9 +22,10 @@ from levitron.runtime.integrate.methods import (
 )
 from levitron.runtime.model.load import load_model
 from levitron.runtime.simulate.run import simulate
+from tests.helpers import c_systems
 
 SET = ["top.mass=0.0515"]
-OSC = dict(x0=[1.0, 0.0, 0.0, 1.0], scale=[1.0, 1.0, 1.0, 1.0])   # the unit oscillator of circle.c
+OSC = dict(x0=[1.0, 0.0, 0.0, 1.0], scale=[1.0, 1.0, 1.0, 1.0])   # the unit oscillator of tests/c/systems.c
 
 
 @pytest.fixture(scope="module")
@@ -35,7 +36,7 @@ def model():
 @pytest.fixture(scope="module")
 def osc():
     from levitron.runtime.integrate.c_backend import CSystem
-    return CSystem(csrc_library(), "lev_oscillator", ["x", "y", "vx", "vy"], [1.0])
+    return CSystem(c_systems.library(), "lev_oscillator", ["x", "y", "vx", "vy"], [1.0])
 
 
 def test_the_rule_and_its_crossover():

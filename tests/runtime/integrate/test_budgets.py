@@ -13,18 +13,19 @@ from levitron.runtime.integrate import run as ig
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.methods import BY_NAME, METHODS, TABLE
 from levitron.runtime.integrate.budget import MAX_STEPS_CAP, check_options, default_budget, step_cap
+from tests.helpers import c_systems
 
 T_END = 1000.0     # 160 periods of the unit oscillator: far more than a budget of 3 steps covers
 
 
 @pytest.fixture(scope="module")
 def lib():
-    return ci.csrc_library()
+    return c_systems.library()
 
 
 @pytest.fixture(scope="module")
 def osc(lib):
-    """The unit oscillator of runtime/csrc/circle.c with a CasADi right-hand side for the casadi
+    """The unit oscillator of tests/c/systems.c with a CasADi right-hand side for the casadi
     backend (scipy reaches it through ctypes)."""
     import casadi as ca
 
