@@ -67,7 +67,7 @@ from levitron.runtime.ui.human import Units
 from levitron.runtime.integrate.run import backend_of, integrate, run_c, time_fn_ns
 from levitron.runtime.integrate.methods import lookup
 from levitron.runtime.ui.plotting import pyplot, save_figure
-from levitron.runtime.simulate.run import initial_state, state_scales
+from levitron.runtime.simulate.start import initial_state, state_scales
 from levitron.runtime.physics.stability import stability_of
 from levitron.runtime.bench.repeat import best_of
 from levitron.runtime.ui.atomic import open_text, write_text

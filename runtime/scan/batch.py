@@ -86,7 +86,7 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
     final_state NaN."""
     from levitron.runtime.physics.equilibrium import hover_height
     from levitron.runtime.scan.chunk_c import drive_runs
-    from levitron.runtime.simulate import run as sim
+    from levitron.runtime.simulate import run as sim, rotations, start
     t_wall = time.perf_counter()
     t_end = None if t_end is None else real(t_end, "t_end (run length)", unit="s")
     tol = None if tol is None else real(tol, "tol (tolerance)")
@@ -94,13 +94,13 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
     h = None if h is None else real(h, "step", positive=True, unit="s")
     pt = model.part(part)
     if tilt is None:
-        tilt = sim.DEFAULT_TILT if sim.coordinates_of(pt) is not None else 0.0
+        tilt = start.DEFAULT_TILT if rotations.coordinates_of(pt) is not None else 0.0
     names = list(params or {})
     unknown = [n for n in names if n not in model.param_names]
     if unknown:
         raise UserError(f"unknown parameter {unknown[0]!r}: use one of {', '.join(model.param_names)}")
     cols = launch_columns({"spin": spin, "tilt": tilt, "offset": offset,
-                           "azimuth": sim.DEFAULT_AZIMUTH if azimuth is None else azimuth,
+                           "azimuth": rotations.DEFAULT_AZIMUTH if azimuth is None else azimuth,
                            **{n: params[n] for n in names}})
     rows = None if p is None else np.atleast_2d(np.asarray(p, dtype=float))
     if rows is not None:
@@ -137,8 +137,8 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
                 site = sites[key] = str(exc)
             else:
                 te = sim.default_t_end(model, part, pk) if t_end is None else t_end
-                site = sites[key] = (pk, pv, zs, sim.vertical_stiffness(model, pk, zs, pv),
-                                     sim.default_box(pt, zs, box), te)
+                site = sites[key] = (pk, pv, zs, start.vertical_stiffness(model, pk, zs, pv),
+                                     start.default_box(pt, zs, box), te)
         if isinstance(site, str):
             reason[i] = site
             at.append(None)
@@ -150,10 +150,10 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
         at.append(site)
         lkey = (key, float(cols["tilt"][i]), float(cols["offset"][i]), float(cols["azimuth"][i]))
         if lkey not in groups:
-            groups[lkey] = (sim.launch(pt, site[2], *lkey[1:3], site[0], lkey[3]), [])
+            groups[lkey] = (start.launch(pt, site[2], *lkey[1:3], site[0], lkey[3]), [])
         groups[lkey][1].append(i)
     for la, idx in groups.values():          # every spin of a launch position in one solve
-        x0[idx] = sim.launch_states(la, cols["spin"][idx])
+        x0[idx] = start.launch_states(la, cols["spin"][idx])
     hovers = np.array([a is not None for a in at])
     run = np.flatnonzero(hovers)                           # the launches whose top hovers
     for i in run:
@@ -163,11 +163,11 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
             raise UserError(f"launch {i}: the initial state is already outside the box (offset "
                             f"{cols['offset'][i]} m vs half-width {bx.z_hi - zs:.4g} m); pass a smaller "
                             "offset or a larger box")
-        T, what = sim.fastest_period(spin_i, pv, stiffness)
+        T, what = start.fastest_period(spin_i, pv, stiffness)
         hi = (default_step(T) if h is None else h) if entry.fixed_step else None
         check_options(integrator, run_t_end, None if entry.fixed_step else tol, hi, CHECK_N_OUT, T, what)
         P.append(pk)
-        scale[i] = sim.state_scales(pt, zs, spin_i, pv)
+        scale[i] = start.state_scales(pt, zs, spin_i, pv)
         hs[i] = hi or 0.0
         boxes[i] = (bx.z_lo, bx.z_hi, bx.r_max)
         budget[i] = default_budget(integrator, run_t_end, hi, T)
@@ -184,7 +184,7 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
         status[run], t_final[run], x_final[run] = res["status"], res["t_final"], res["x_final"]
         rhs_evals[run], steps[run], lanes = res["rhs_evals"], res["steps"], bool(res["lanes"])
     status = status.astype(str)
-    untested = np.array([sim.on_invariant_set(pt, float(t), float(o)) or stopped_early(st)
+    untested = np.array([start.on_invariant_set(pt, float(t), float(o)) or stopped_early(st)
                          for t, o, st in zip(cols["tilt"], cols["offset"], status)])
     untested[~hovers] = False          # a top that cannot hover is a verdict: it does not
     return {"levitating": status == "completed", "untested": untested, "status": status,

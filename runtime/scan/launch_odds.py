@@ -189,7 +189,7 @@ def temperature_factor(model, T: float) -> float:
 
 def run_chunk(plan: Plan, indices) -> dict:
     """The samples `indices` through the C chunk driver: {"points": [{i, t, status}], ...}."""
-    from levitron.runtime.simulate import run as sim
+    from levitron.runtime.simulate import start
     from levitron.runtime.physics.equilibrium import hover_height
     from levitron.runtime.scan.chunk_c import drive_runs
     from levitron.runtime.scan.runners import model_for
@@ -215,16 +215,16 @@ def run_chunk(plan: Plan, indices) -> dict:
             continue
         spin = float(S["spin"][i])
         pv = model.pvals(p)
-        la = sim.launch(pt, z_s, float(S["tilt"][i]), float(S["offset"][i]), p, float(S["tilt_azimuth"][i]))
-        x0 = sim.launch_state(la, spin)
+        la = start.launch(pt, z_s, float(S["tilt"][i]), float(S["offset"][i]), p, float(S["tilt_azimuth"][i]))
+        x0 = start.launch_state(la, spin)
         x0[iy] += m * float(S["velocity"][i])
-        T, what = sim.fastest_period(spin, pv, sim.vertical_stiffness(model, p, z_s, pv))
+        T, what = start.fastest_period(spin, pv, start.vertical_stiffness(model, p, z_s, pv))
         check_options(method, plan.t_end, plan.tol, None, 2, T, what)
-        box = sim.default_box(pt, z_s)
+        box = start.default_box(pt, z_s)
         if box.excess(x0) > 0:
             points.append({"i": int(i), "t": 0.0, "status": "left_box", "z_s": float(z_s), **used})
             continue
-        rows.append((int(i), x0, p, sim.state_scales(pt, z_s, spin, pv),
+        rows.append((int(i), x0, p, start.state_scales(pt, z_s, spin, pv),
                      (box.z_lo, box.z_hi, box.r_max), default_budget(method, plan.t_end, None, T),
                      {"z_s": float(z_s), **used}))
     if rows:

@@ -37,7 +37,7 @@ def point_setup(model, spin: float, tilt: float = 0.0, height: float = 0.0,
     integrate the same problem. memo: a dict shared by the points of a chunk, which keeps the
     spin-free inputs (hover height, vertical stiffness, box, the simulate.Launch with its Legendre
     map) per parameters, hover height, tilt and height: the same numbers, computed once."""
-    from levitron.runtime.simulate import run as sim
+    from levitron.runtime.simulate import start
     from levitron.runtime.integrate.methods import lookup
     p = model.p if p is None else p
     memo = {} if memo is None else memo
@@ -48,20 +48,20 @@ def point_setup(model, spin: float, tilt: float = 0.0, height: float = 0.0,
         if z_s is None:
             from levitron.runtime.physics.equilibrium import hover_height
             z_s = hover_height(model, p)
-        site = memo[site_key] = (pt, pvals, z_s, sim.vertical_stiffness(model, p, z_s, pvals),
-                                 sim.default_box(pt, z_s))
+        site = memo[site_key] = (pt, pvals, z_s, start.vertical_stiffness(model, p, z_s, pvals),
+                                 start.default_box(pt, z_s))
     pt, pvals, z_s, stiffness, box = site
     launch_key = (site_key, tilt, height)
     la = memo.get(launch_key)
     if la is None:
-        la = memo[launch_key] = sim.launch(pt, z_s * (1.0 + height), tilt, 0.0, p)
-    T, what = sim.fastest_period(spin, pvals, stiffness)
+        la = memo[launch_key] = start.launch(pt, z_s * (1.0 + height), tilt, 0.0, p)
+    T, what = start.fastest_period(spin, pvals, stiffness)
     if lookup(integrator).fixed_step and h is None:
         h = default_step(T)
-    x0 = sim.launch_state(la, spin)
+    x0 = start.launch_state(la, spin)
     if "base_tilt" in model.param_names:
         x0 = off_axis(model, memo, site_key, pt, p, z_s, spin, x0)
-    return PointSetup(pt, p, z_s, box, T, what, h, x0, sim.state_scales(pt, z_s, spin, pvals))
+    return PointSetup(pt, p, z_s, box, T, what, h, x0, start.state_scales(pt, z_s, spin, pvals))
 
 
 def tilted_top(model, p: np.ndarray, z_s: float, memo: dict, site_key):
@@ -79,11 +79,11 @@ def off_axis(model, memo: dict, site_key, pt, p: np.ndarray, z_s: float, spin: f
     """Over a tilted base: x0 less the unperturbed launch on the axis, at the relative equilibrium
     at this spin (simulate's tilted_start); a NoEquilibrium (a one-line UserError) where the tilt
     leaves the top none (`scan` checks every site before it runs)."""
-    from levitron.runtime.simulate import run as sim
+    from levitron.runtime.simulate import start
     key = (site_key, 0.0, 0.0)
     if key not in memo:
-        memo[key] = sim.launch(pt, z_s, 0.0, 0.0, p)
-    level = sim.launch_state(memo[key], spin)
+        memo[key] = start.launch(pt, z_s, 0.0, 0.0, p)
+    level = start.launch_state(memo[key], spin)
     sigma = level[pt.states.index("p_zeta")] / model.pvals(p)["C"]
     eq = tilted_top(model, p, z_s, memo, site_key).hamilton(model.pvals(p)["base_tilt"],
                                                            sigma if sigma != 0 else 1.0)

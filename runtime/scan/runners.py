@@ -28,7 +28,7 @@ from dataclasses import dataclass, replace
 from levitron.runtime.ui import progress
 from levitron.runtime.errors import UserError
 from levitron.scene.faults import die_at
-from levitron.runtime.scan.points import point_run  # noqa: F401 (re-exported)
+from levitron.runtime.scan.points import point_run
 
 CONNECT_TIMEOUT_S = 20  # how long to try to reach a dask scheduler (and to wait for a worker)
 CONNECT_GRACE_S = 5.0   # at most this much longer for dask's own connect error (half the timeout, >= 1 s)

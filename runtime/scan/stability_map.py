@@ -89,7 +89,7 @@ def check_run_options(model, axis: str, spins: np.ndarray, others: np.ndarray, h
     (runtime.integrate.budget.check_options at the fastest time scale of the grid: the largest |spin|,
     each hover height; fixed-step runs without --step take 1/100 of their own fastest period)."""
     from levitron.runtime.integrate.methods import lookup
-    from levitron.runtime.simulate.run import time_scale
+    from levitron.runtime.simulate.start import time_scale
     from levitron.runtime.integrate.budget import check_options
     spin = float(np.abs(spins).max())
     fastest = None

@@ -47,17 +47,11 @@ from levitron.runtime.integrate.verdict import no_verdict_reason, verdict
 
 from levitron.runtime.physics import friction as flight
 from levitron.runtime.physics.stability import onaxis_refusal, stability_of
-from levitron.runtime.simulate.invariants import (  # noqa: F401 (the run's pieces, by name: sim.X)
-    Samples, angular_momentum_z, deviations, invariants, largest_deviation, rows_of, spin_momentum, spin_rate,
-    tilt_of)
 from levitron.runtime.simulate.simulation import Simulation
-from levitron.runtime.simulate.rotations import (  # noqa: F401
-    ANGLES, DEFAULT_AZIMUTH, SPIN_ANGLE, TILT_ANGLE, angle_generator_z, coordinates_of, rotation_bs,
-    rotation_bs_derivatives, tilt_angles)
-from levitron.runtime.simulate.start import (  # noqa: F401
-    DEFAULT_TILT, PERIODS, UNTESTED, Launch, coordinate_names, default_box, fastest_period,
-    initial_state, launch, launch_state, launch_states, legendre_map, on_invariant_set, slow_period,
-    state_scales, tilted_start, time_scale, untested_reason, vertical_stiffness)
+from levitron.runtime.simulate.invariants import Samples, deviations, spin_rate
+from levitron.runtime.simulate.rotations import DEFAULT_AZIMUTH, coordinates_of
+from levitron.runtime.simulate.start import (DEFAULT_TILT, PERIODS, default_box, initial_state, on_invariant_set,
+                                             slow_period, state_scales, tilted_start, time_scale, untested_reason)
 
 FRICTION_T_END_TAUS = 5.0        # default run length with friction: 5 tau, the spin falls by e^5
 

@@ -161,7 +161,7 @@ def test_the_written_table_reads_back(tmp_path):
 
 # the writes of the runtime that are not on an output temporary, and why each is safe
 NOT_ON_A_TEMPORARY = {
-    ("runtime/model/load.py", "snapshot"): "inside the derivation's own temporary folder (one rename)",
+    ("runtime/model/locate.py", "snapshot"): "inside the derivation's own temporary folder (one rename)",
     ("runtime/simulate/animation_video.py", "str(path)"): "render() is handed animation.write's temporary",
     # an answer's save action (issue 29), not numpy's save: each writes through
     # trajectory_file.write_columns, on atomic.output's temporary (checked above, in its module)

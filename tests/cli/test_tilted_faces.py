@@ -31,15 +31,15 @@ def tilted(derived_model):
 def test_a_scan_point_starts_where_simulate_starts(tilted):
     from levitron.runtime.physics.equilibrium import hover_height
     from levitron.runtime.scan.points import point_setup
-    from levitron.runtime.simulate import run as sim
+    from levitron.runtime.simulate import start
     pt = tilted.part("full")
     z_s = hover_height(tilted)
     for spin, tilt in ((1200.0, 0.005), (2100.0, 0.01)):
         su = point_setup(tilted, spin, tilt)
-        x0 = sim.initial_state(pt, z_s, spin, tilt, 0.0, tilted.p)
-        want, note = sim.tilted_start(tilted, pt, z_s, spin, x0, tilted.p)
+        x0 = start.initial_state(pt, z_s, spin, tilt, 0.0, tilted.p)
+        want, note = start.tilted_start(tilted, pt, z_s, spin, x0, tilted.p)
         assert "off the axis" in note
-        scale = sim.state_scales(pt, z_s, spin, tilted.pvals())
+        scale = start.state_scales(pt, z_s, spin, tilted.pvals())
         assert np.max(np.abs(su.x0 - want) / scale) <= 1e-12
         assert abs(su.x0[pt.states.index("x")]) > 2e-3          # 2.76 mm downhill, not on the axis
 

@@ -130,11 +130,12 @@ def test_unused_part_is_not_emitted(derived_model):
 def test_runtime_never_writes_into_generated(tmp_path, monkeypatch, seed_cache):
     """A stale generated/<scene> is left alone: the runtime derives into the cache and says so."""
     import levitron.runtime.model.load as rm
+    import levitron.runtime.model.locate as where
     fake = tmp_path / "generated"
     (fake / "thesis").mkdir(parents=True)
     stale = '{"input_hash": "stale"}'
     (fake / "thesis" / "manifest.json").write_text(stale)
-    monkeypatch.setattr(rm, "GENERATED", fake)
+    monkeypatch.setattr(where, "GENERATED", fake)
     monkeypatch.setenv("LEVITRON_CACHE", str(seed_cache(tmp_path / "cache")))
     model = rm.load_model(load_scene("thesis"))
     assert model.folder.parent == tmp_path / "cache" / "derived"

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from levitron.runtime.simulate import run as sim
+from levitron.runtime.simulate import run as sim, invariants, rotations
 
 
 @pytest.fixture(scope="module")
@@ -23,10 +23,10 @@ def test_generated_invariants_match_the_numpy_route(which, request):
     X = rng.uniform(-1, 1, (50, pt.nx)) * np.array([0.01, 0.01, 0.1, 1, 1, 5, 1e-3, 1e-3, 1e-3,
                                                      1e-5, 1e-5, 1e-3])
     X[:, pt.states.index("z")] += 0.12
-    if sim.coordinates_of(pt) == "euler-zxz":
+    if rotations.coordinates_of(pt) == "euler-zxz":
         X[:, pt.states.index("theta")] = rng.uniform(0.2, 1.2, len(X))
     got = model.rows("full_invariants", X)
-    want = np.array([[sim.angular_momentum_z(pt, x), sim.spin_momentum(pt, x)] for x in X])
+    want = np.array([[invariants.angular_momentum_z(pt, x), invariants.spin_momentum(pt, x)] for x in X])
     size = np.abs(X[:, 6:]).max(axis=1, keepdims=True) * (1 + np.abs(X[:, :3]).max(axis=1, keepdims=True))
     assert np.all(np.abs(got - want) <= 1e-12 * size + 1e-14 * np.abs(want))
     # one C call over the rows equals the per-state CasADi function
@@ -51,11 +51,11 @@ def test_generated_axis_matches_the_numpy_rotations(which, request):
     derive/kinematics.py's matrices (thesis eqs. 2.1.6-2.1.9, 3.2.2-3.2.5) at random angles."""
     model = request.getfixturevalue(which)
     pt = model.part("full")
-    coords = sim.coordinates_of(pt)
+    coords = rotations.coordinates_of(pt)
     rng = np.random.default_rng(5)
     X = rng.uniform(-3, 3, (40, pt.nx))
-    idx = [pt.states.index(a) for a in sim.ANGLES[coords]]
-    want = np.array([sim.rotation_bs(coords, x[idx])[:, 2] for x in X])
+    idx = [pt.states.index(a) for a in rotations.ANGLES[coords]]
+    want = np.array([rotations.rotation_bs(coords, x[idx])[:, 2] for x in X])
     np.testing.assert_allclose(model.rows("full_axis", X), want, rtol=0, atol=4e-16)
 
 
@@ -64,8 +64,8 @@ def test_the_reduced_models_invariants_are_its_column_not_a_loop(thesis_model):
     column of the samples, the per-sample numpy route's numbers bit for bit."""
     pt = thesis_model.part("reduced")
     X = np.random.default_rng(3).normal(size=(30, pt.nx))
-    want = np.array([[sim.angular_momentum_z(pt, x), sim.spin_momentum(pt, x)] for x in X])
-    got = sim.invariants(pt, X, thesis_model.p)
+    want = np.array([[invariants.angular_momentum_z(pt, x), invariants.spin_momentum(pt, x)] for x in X])
+    got = invariants.invariants(pt, X, thesis_model.p)
     assert got.shape == (30, 2) and np.array_equal(got, want)
 
 

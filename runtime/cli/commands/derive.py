@@ -17,7 +17,7 @@ from levitron.scene.paths import ROOT, SCENES_DIR
 from levitron.runtime.ui import progress
 from levitron.runtime.errors import UserError
 from levitron.runtime.ui.human import duration, lines
-from levitron.runtime.model.load import committed_folder, locate
+from levitron.runtime.model.locate import committed_folder, locate
 from levitron.runtime.cli.commands.common import load
 
 NAME = "derive"

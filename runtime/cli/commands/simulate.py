@@ -11,7 +11,9 @@ from levitron.runtime.ui.human import Units, duration, lines, restate, sig
 from levitron.runtime.integrate.methods import DEFAULT, FULL_MODEL_METHODS, lookup
 from levitron.runtime.integrate.verdict import stopped_early
 from levitron.runtime.ui.plotting import check_plot_path
-from levitron.runtime.simulate.run import DEFAULT_AZIMUTH, DEFAULT_TILT, simulate
+from levitron.runtime.simulate.run import simulate
+from levitron.runtime.simulate.rotations import DEFAULT_AZIMUTH
+from levitron.runtime.simulate.start import DEFAULT_TILT
 from levitron.runtime.cli.commands.common import model_of
 
 NAME = "simulate"

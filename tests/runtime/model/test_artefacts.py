@@ -95,7 +95,8 @@ def test_edited_model_c_is_refused(fresh, copy):
 def test_edited_generated_model_is_an_error_not_silently_used(fresh, copy, tmp_path, monkeypatch):
     """load_model: a current generated/<scene> whose model.c was edited is refused, never used."""
     import levitron.runtime.model.load as rm
-    monkeypatch.setattr(rm, "GENERATED", copy.parent)
+    import levitron.runtime.model.locate as where
+    monkeypatch.setattr(where, "GENERATED", copy.parent)
     monkeypatch.setenv("LEVITRON_CACHE", str(tmp_path / "cache"))
     text = (copy / "model.c").read_text()
     (copy / "model.c").write_text(text.replace("out[0] =", "out[0] = 2.0 *", 1))
@@ -221,10 +222,11 @@ def test_make_derive_repairs_an_edited_file(fresh, copy):
 
 def test_edited_cached_model_is_derived_again_once(fresh, tmp_path, monkeypatch, capsys):
     import levitron.runtime.model.load as rm
-    monkeypatch.setattr(rm, "GENERATED", tmp_path / "no-generated")    # force the cache route
+    import levitron.runtime.model.locate as where
+    monkeypatch.setattr(where, "GENERATED", tmp_path / "no-generated")    # force the cache route
     monkeypatch.setenv("LEVITRON_CACHE", str(tmp_path / "cache"))
     scene = fresh[0]
-    cached = rm.cache_folder(scene)
+    cached = where.cache_folder(scene)
     shutil.copytree(fresh[1], cached)
     assert rm.load_model(scene).folder == cached                       # intact: used as it is
     assert "deriving" not in capsys.readouterr().err

@@ -15,7 +15,8 @@ from scipy.integrate import solve_ivp
 
 from levitron.scene.load import SceneError, load_scene
 from levitron.runtime.scan import launch_odds as mc
-from levitron.runtime.simulate import run as sim
+from levitron.runtime.simulate import run as sim, rotations, start
+from levitron.runtime.physics import equilibrium
 from levitron.runtime.cli.main import main
 from levitron.runtime.errors import UserError
 from levitron.runtime.model.load import load_model
@@ -55,7 +56,7 @@ def hand_forces(coords: str, x: np.ndarray, names: list[str], k: dict) -> np.nda
 def test_generated_dissipative_terms_match_the_hand_form(which, request):
     model = request.getfixturevalue(which)
     pt = model.part("full")
-    coords = sim.coordinates_of(pt)
+    coords = rotations.coordinates_of(pt)
     p = model.with_params(RATES)
     p0 = model.with_params({r: 0.0 for r in RATES})
     rng = np.random.default_rng(7)
@@ -110,8 +111,8 @@ def test_energy_balance_along_a_run(air):
     k = {"k_spin": 0.5, "k_tilt": 2.0, "k_trans": 1.0}
     pt = air.part("full")
     p = air.with_params(k)
-    z_s = sim.hover_height(air, p)
-    x0 = sim.initial_state(pt, z_s, 1500.0, 0.02, 0.001, p)
+    z_s = equilibrium.hover_height(air, p)
+    x0 = start.initial_state(pt, z_s, 1500.0, 0.02, 0.001, p)
     power = air.fast("full_dissipation", p)
 
     def f(t, y):

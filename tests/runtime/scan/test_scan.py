@@ -133,7 +133,8 @@ def test_height_axis_is_a_fraction_of_z_s(model):
 
 def test_point_run_is_simulate(model):
     """The scan's runner, at height 0 with z_s given, is runtime.simulate.run.simulate number for number."""
-    from levitron.runtime.simulate.run import hover_height, simulate
+    from levitron.runtime.simulate.run import simulate
+    from levitron.runtime.physics.equilibrium import hover_height
     z_s = hover_height(model)
     for spin, tilt in ((1000.0, 0.03), (3000.0, 0.01)):
         a = simulate(model, spin, tilt=tilt, t_end=3.0, n_out=N_OUT)

@@ -13,7 +13,8 @@ from levitron.runtime.integrate.run import integrate
 from levitron.runtime.model.load import load_model
 from levitron.runtime.physics.equilibrium import hover_height
 from levitron.runtime.physics.friction import energy_scale
-from levitron.runtime.simulate.run import initial_state, simulate, state_scales
+from levitron.runtime.simulate.run import simulate
+from levitron.runtime.simulate.start import initial_state, state_scales
 
 STRONG = {"k_spin": 0.5, "k_tilt": 2.0, "k_trans": 1.0}   # a good part of the energy lost in 2 s
 

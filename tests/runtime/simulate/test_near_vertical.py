@@ -19,7 +19,7 @@ from levitron.derive.mechanics import hamiltonian_system, legendre
 from levitron.derive.symbols import PHYSICAL, Phi, Z
 from levitron.runtime.integrate.run import integrate
 from levitron.runtime.physics.equilibrium import hover_height
-from levitron.runtime.simulate.run import initial_state, state_scales
+from levitron.runtime.simulate.start import initial_state, state_scales
 
 CHARTS = ("tait-bryan", "euler-zxz")
 TILTS = (1e-4, 1e-6, 1e-8, 1e-10)

@@ -15,15 +15,10 @@ from levitron.runtime.errors import UserError
 from levitron.runtime.physics.equilibrium import hover_height
 from levitron.runtime.integrate.run import integrate
 from levitron.runtime.model.load import load_model
-from levitron.runtime.simulate.run import (
-    ANGLES,
-    angular_momentum_z,
-    coordinates_of,
-    initial_state,
-    rotation_bs,
-    simulate,
-    state_scales,
-)
+from levitron.runtime.simulate.run import simulate
+from levitron.runtime.simulate.invariants import angular_momentum_z
+from levitron.runtime.simulate.rotations import ANGLES, coordinates_of, rotation_bs
+from levitron.runtime.simulate.start import initial_state, state_scales
 
 ROOT = Path(__file__).resolve().parents[3]
 DESIGN_KEYS = ("levitating", "t_survived", "max_excursion", "energy_drift", "rhs_evals", "wall_s",

@@ -147,14 +147,9 @@ def test_tilt_azimuth_turns_the_axis_only():
     from levitron.scene.load import load_scene
     from levitron.runtime.physics.equilibrium import hover_height
     from levitron.runtime.model.load import load_model
-    from levitron.runtime.simulate.run import (
-        ANGLES,
-        angular_momentum_z,
-        coordinates_of,
-        initial_state,
-        rotation_bs,
-        tilt_of,
-    )
+    from levitron.runtime.simulate.invariants import angular_momentum_z, tilt_of
+    from levitron.runtime.simulate.rotations import ANGLES, coordinates_of, rotation_bs
+    from levitron.runtime.simulate.start import initial_state
     model = load_model(load_scene("thesis_stable"))
     part, z_s, t = model.part("full"), hover_height(model), 0.05
     ref = initial_state(part, z_s, 1000.0, t, 0.0)
