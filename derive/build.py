@@ -100,6 +100,7 @@ def _render(scene: Scene) -> dict[str, bytes]:
                                "shape": list(f.shape), "ops": f.ops, "casadi": casadi_files[f.name]}
                       for f in lowered},
         "taylor": table["taylor"],
+        "symbol_prefix": table["symbol_prefix"],
         "files": file_digests(files),
     }
     manifest[SELF_KEY] = manifest_digest(manifest)

@@ -253,11 +253,16 @@ class Model:
             raise ArtefactError(f"{self.library_path} cannot be loaded ({exc}); delete it and try "
                                 "again") from None
 
+    def symbol(self, name: str) -> str:
+        """The C symbol of the generated function `name` (the manifest's symbol_prefix + name, which
+        the library's own table confirms)."""
+        return self.manifest.symbol_prefix + name
+
     def c_function(self, name: str):
         fn = self._cfuncs.get(name)
         if fn is None:
             self.function(name)
-            fn = getattr(self.lib, name)
+            fn = getattr(self.lib, self.symbol(name))
             fn.argtypes = [_DOUBLE_P, _DOUBLE_P, _DOUBLE_P]
             fn.restype = None
             self._cfuncs[name] = fn
@@ -270,7 +275,7 @@ class Model:
             return None
         fn = self._cfuncs.get(info.function)
         if fn is None:
-            fn = getattr(self.lib, info.function)
+            fn = getattr(self.lib, self.symbol(info.function))
             fn.argtypes = [_DOUBLE_P, _DOUBLE_P, ctypes.c_int, _DOUBLE_P]
             fn.restype = ctypes.c_int
             self._cfuncs[info.function] = fn

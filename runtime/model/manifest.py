@@ -75,6 +75,7 @@ class Manifest:
     parts: Mapping[str, PartInfo]
     functions: Mapping[str, FunctionInfo]
     taylor: Mapping[str, TaylorInfo]      # part -> its Taylor function (parts without one: absent)
+    symbol_prefix: str                    # the C symbol of function `name` is symbol_prefix + name
     files: Mapping[str, str]
     manifest_sha256: str
 
@@ -82,7 +83,7 @@ class Manifest:
 _TOP = {"generator": str, "note": str, "scene": str, "input_hash": str, "versions": dict,
         "plate": str, "coordinates": str, "field_order": int, "field_order_choice": dict,
         "onaxis_K": int, "parameters": list, "parts": dict, "functions": dict, "taylor": dict,
-        "files": dict,
+        "symbol_prefix": str, "files": dict,
         SELF_KEY: str}
 _FUNCTION = {"doc": str, "n_in": int, "n_out": int, "shape": list, "ops": int, "casadi": str}
 _PART = {"equations": str, "states": list}
@@ -156,6 +157,8 @@ def parse_manifest(data, where: str, fix: str) -> Manifest:
         if info["function"] != f"{part}_taylor" or info["max_order"] < 1:
             r.fail(f"key '{key}' names {info['function']!r} up to order {info['max_order']}")
         taylor[part] = TaylorInfo(part, info["function"], info["n"], info["max_order"], info["nodes"])
+    if not (d["symbol_prefix"] + "f").isidentifier() or not d["symbol_prefix"].isascii():
+        r.fail(f"key 'symbol_prefix' = {d['symbol_prefix']!r} does not begin a C identifier")
     files = {r.file_name(n, f"files.{n}"): h for n, h in d["files"].items()}
     if not all(isinstance(h, str) for h in files.values()):
         r.fail("key 'files' must map file names to sha256 strings")
@@ -168,7 +171,8 @@ def parse_manifest(data, where: str, fix: str) -> Manifest:
         coordinates=d["coordinates"], field_order=d["field_order"],
         field_order_choice=MappingProxyType(dict(d["field_order_choice"])), onaxis_K=d["onaxis_K"],
         parameters=params, parts=MappingProxyType(parts), functions=MappingProxyType(functions),
-        taylor=MappingProxyType(taylor), files=MappingProxyType(files), manifest_sha256=d[SELF_KEY])
+        taylor=MappingProxyType(taylor), symbol_prefix=d["symbol_prefix"], files=MappingProxyType(files),
+        manifest_sha256=d[SELF_KEY])
 
 
 def _check_sizes(r: _Reader, parts: dict, functions: dict, kmax: int) -> None:

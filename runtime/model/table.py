@@ -1,7 +1,8 @@
 """The table a compiled model exports about itself, and its check against the manifest.
 
 model.c defines `const char *const *lev_model_table(void)`: NULL-terminated pieces of one JSON
-object (derive/emit/c/emitter.py): scene, input hash, parameter names in order, the states of each
+object (derive/emit/c/emitter.py): scene, input hash, the prefix of every function's C symbol,
+parameter names in order, the states of each
 part, each function's n_in and n_out, and each Taylor function's sizes. Nothing is called in a
 model until its table agrees with the manifest, so no buffer size is taken on trust.
 """
@@ -40,7 +41,7 @@ def read_table(lib: ctypes.CDLL) -> dict | None:
 def table_of(manifest: Manifest) -> dict:
     """What the table of the model described by `manifest` must say."""
     return {"scene": manifest.scene, "input_hash": manifest.input_hash,
-            "parameters": list(manifest.parameters),
+            "symbol_prefix": manifest.symbol_prefix, "parameters": list(manifest.parameters),
             "parts": {name: list(p.states) for name, p in manifest.parts.items()},
             "functions": {name: {"n_in": f.n_in, "n_out": f.n_out}
                           for name, f in manifest.functions.items()},
@@ -53,7 +54,7 @@ def disagreement(table: dict | None, manifest: Manifest) -> str | None:
     if table is None:
         return f"the compiled model exports no readable {TABLE_SYMBOL}() (derived by an older levitron?)"
     want = table_of(manifest)
-    for key in ("scene", "input_hash", "parameters", "parts", "taylor"):
+    for key in ("scene", "input_hash", "symbol_prefix", "parameters", "parts", "taylor"):
         if table.get(key) != want[key]:
             return f"{key}: the compiled model.c has {table.get(key)}, manifest.json {want[key]}"
     have = table.get("functions")

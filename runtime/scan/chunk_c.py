@@ -47,11 +47,11 @@ LANES_CHECK = 32       # states on which a lane variant must equal the scalar rh
 LANES_METHODS = ("dop853", "vern9")     # the methods of lev_integrate_lanes (scan_driver.c)
 
 
-def lanes_of(lib: ctypes.CDLL, rhs_name: str):
+def lanes_of(model, rhs_name: str):
     """The generated lane variant `<rhs_name>_lanes` of a model's rhs (derive/emit/c: the same
     statements for LEV_LANES points at once), or None where the library has none."""
     try:
-        return getattr(lib, f"{rhs_name}_lanes")
+        return getattr(model.lib, model.symbol(f"{rhs_name}_lanes"))
     except AttributeError:
         return None
 
@@ -77,7 +77,7 @@ def verified_lanes(model, part, x0: np.ndarray, p: np.ndarray, scale: np.ndarray
     verdicts = lib_verdicts(model.lib)
     key = f"{part.name}_rhs"
     if key not in verdicts:
-        fn = lanes_of(model.lib, key)
+        fn = lanes_of(model, key)
         ok = fn is not None
         rng = np.random.default_rng(0)
         for _ in range(LANES_CHECK // LANES if ok else 0):

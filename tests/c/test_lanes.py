@@ -56,7 +56,7 @@ def test_every_scene_has_a_verified_lane_variant_that_equals_the_scalar_rhs(name
         part = model.part(part_name)
         x0 = _states(model, part, rng, 1)[0]
         fn = verified_lanes(model, part, x0, model.p, np.maximum(np.abs(x0), 1e-3))
-        assert lanes_of(model.lib, f"{part_name}_rhs") is not None, f"{name}: {part_name}_rhs_lanes missing"
+        assert lanes_of(model, f"{part_name}_rhs") is not None, f"{name}: {part_name}_rhs_lanes missing"
         assert fn is not None, f"{name} {part_name}: the lane variant differs from the scalar rhs"
         for trial in range(25):
             X = _states(model, part, rng, LANES)

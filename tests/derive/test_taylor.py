@@ -227,7 +227,7 @@ def test_vector_sums_give_the_scalar_bits(name):
     folder = model.folder
     scalar = ctypes.CDLL(str(compile_shared([folder / "model.c"], DEFAULT_FLAGS + ("-DLEV_TAYLOR_SCALAR",),
                                             (folder,))))
-    fns = [model.part("reduced").taylor_function(), scalar.reduced_taylor]
+    fns = [model.part("reduced").taylor_function(), getattr(scalar, model.symbol("reduced_taylor"))]
     su, part, x0, scale = hover_state(model)
     rng = np.random.default_rng(7)
     for order in range(1, TAYLOR_MAX_ORDER + 1):

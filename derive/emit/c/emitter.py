@@ -1,7 +1,9 @@
 """Emit model.c and model.h for a scene through the jinja2 templates beside this file.
 
-model.c also exports its own table, `lev_model_table()`: the scene, the input hash, the parameter
-names in order, the state names of each part and every function's name, n_in and n_out, as JSON
+Every generated C function is the symbol SYMBOL_PREFIX + its name (`lev_model_full_rhs`), so that no
+model symbol can meet another library's. model.c also exports its own table, `lev_model_table()`: the
+scene, the input hash, the symbol prefix, the parameter names in order, the state names of each part
+and every function's name, n_in and n_out, as JSON
 (split into short C string literals, joined by the reader). The runtime checks it against
 manifest.json after loading the library and before any call (runtime/model/load.py).
 """
@@ -17,7 +19,8 @@ from ..taylor import TAYLOR_MAX_ORDER, Tape, c_lines
 from .printer import FMA_PRELUDE, LevitronCPrinter
 
 TEMPLATES = Path(__file__).resolve().parent / "templates"
-TABLE_FORMAT = 1
+TABLE_FORMAT = 2          # 2: the table and the manifest carry symbol_prefix
+SYMBOL_PREFIX = "lev_model_"   # the C symbol of every generated function: prefix + name (the table says it)
 TABLE_CHUNK = 96          # characters of JSON per C string literal (C99 guarantees 4095)
 LANES = 4                 # trajectories per call of a lane variant <name>_lanes (runtime/csrc)
 
@@ -78,7 +81,7 @@ def model_table(scene: str, input_hash: str, params: list[str], parts: dict,
                 lowered: list[Lowered], tapes: dict[str, Tape]) -> dict:
     """What the compiled model says about itself (read by runtime/model/table.py)."""
     return {"format": TABLE_FORMAT, "scene": scene, "input_hash": input_hash,
-            "parameters": list(params),
+            "symbol_prefix": SYMBOL_PREFIX, "parameters": list(params),
             "parts": {name: list(info["states"]) for name, info in parts.items()},
             "functions": {f.name: {"n_in": f.n_in, "n_out": f.n_out} for f in lowered},
             "taylor": {part: taylor_entry(t) for part, t in tapes.items()}}
@@ -96,10 +99,12 @@ def render(banner: str, guard: str, params: list[str], parts: dict, kmax: int,
     printer = LevitronCPrinter()
     funcs = []
     for f in lowered:
-        funcs.append({"name": f.name, "doc": f.doc, "n_in": f.n_in, "n_out": f.n_out, "ops": f.ops,
+        funcs.append({"name": f.name, "symbol": SYMBOL_PREFIX + f.name, "doc": f.doc, "n_in": f.n_in,
+                      "n_out": f.n_out, "ops": f.ops,
                       "inputs": f.inputs, "params": f.params, "lines": body_lines(f, printer),
                       "lane_lines": lane_lines(f, printer) if f.name.endswith("_rhs") else None})
-    taylor = [{"name": t.name, "params": t.params, "lines": c_lines(t, printer),
+    taylor = [{"name": t.name, "symbol": SYMBOL_PREFIX + t.name, "params": t.params,
+               "lines": c_lines(t, printer),
                "nodes": len(t.nodes), "mults": t.mults_per_degree,
                "doc": f"{part} model: Taylor coefficients of the solution (derive/emit/taylor.py)"}
               for part, t in tapes.items()]

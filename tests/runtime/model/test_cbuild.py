@@ -212,3 +212,21 @@ def test_another_models_stamped_library_is_rebuilt_not_blamed_on_the_folder(tmp_
     assert fresh.lib is not None
     assert "is not the one of" in capfd.readouterr().err
     assert is_intact(ours) and ours.read_bytes() != theirs.read_bytes()    # its table agreed
+
+
+def test_a_model_library_exports_only_prefixed_symbols(thesis_model):
+    """Every symbol a model's library defines begins `lev_` (no `field` or `onaxis` to meet another
+    library's), and each generated function is the manifest's symbol_prefix + its name."""
+    import shutil
+    import subprocess
+    if shutil.which("nm") is None:
+        pytest.skip("binutils' nm is not installed")
+    out = subprocess.run(["nm", "-D", "--defined-only", str(thesis_model.library_path)],
+                         capture_output=True, text=True, check=True).stdout
+    symbols = {line.split()[-1] for line in out.splitlines() if line.split()[1:2] == ["T"]}
+    bare = sorted(s for s in symbols if not s.startswith("lev_"))
+    assert symbols and bare == []
+    prefix = thesis_model.manifest.symbol_prefix
+    assert prefix == "lev_model_"
+    assert {thesis_model.symbol(name) for name in thesis_model.manifest.functions} <= symbols
+    assert f"{prefix}reduced_taylor" in symbols and f"{prefix}full_rhs_lanes" in symbols
