@@ -58,7 +58,7 @@ def load(scene: str | Path, overrides: Mapping[str, float | str] | None = None, 
     if not isinstance(scene, (str, Path)):
         raise UserError(f"scene must be a scene name or a path to a .toml file, not {scene!r}")
     sets = override_texts(overrides)
-    return Study(load_model(load_scene(scene, sets), sets), sets)
+    return Study(load_model(load_scene(scene, sets)), sets)
 
 
 

@@ -53,6 +53,7 @@ class Scene:
     params: dict[str, float]            # m, g, A, C, mu, plate parameters (SI), friction rates
     notes: list[str] = field(default_factory=list)
     field_factor: float = 1.0           # the plate's field at `temperature` over its field at T_REF
+    overrides: tuple[str, ...] = ()     # the --set strings load_scene applied (with path: the recipe)
 
     @property
     def plate_kind(self) -> str:
@@ -167,7 +168,9 @@ def load_scene(name_or_path: str | Path, overrides: list[str] | tuple[str, ...] 
     for text in overrides:
         apply_override(data, text)
     data.setdefault("name", path.stem)
-    return validate(data, path)
+    scene = validate(data, path)
+    scene.overrides = tuple(overrides)
+    return scene
 
 
 def friction_rates(top: dict, needs) -> dict[str, float]:

@@ -36,7 +36,7 @@ def derived_model():
     def make(name, *overrides):
         key = (name, overrides)
         if key not in cache:
-            cache[key] = load_model(load_scene(name, list(overrides)), list(overrides))
+            cache[key] = load_model(load_scene(name, list(overrides)))
         return cache[key]
     return make
 

@@ -369,8 +369,8 @@ class Model:
         return self.call("field", xyz, p, backend)
 
 
-def load_model(scene: Scene, overrides=()) -> Model:
-    """The loaded, verified model of a scene (derived first if needed). `overrides` are the --set
-    strings."""
-    found = locate(scene, overrides)
+def load_model(scene: Scene) -> Model:
+    """The loaded, verified model of a scene (derived first if needed); the scene's own overrides
+    (the --set strings load_scene applied) and its file are the recipe that rebuilds it (Model.ref)."""
+    found = locate(scene)
     return Model(scene, found.folder, found.manifest, found.fix)

@@ -61,7 +61,7 @@ def make_derive_fix(name: str) -> str:
     return f"run `make derive` to regenerate generated/{name}"
 
 
-def locate(scene: Scene, overrides=(), force: bool = False) -> Located:
+def locate(scene: Scene, force: bool = False) -> Located:
     """The scene's verified model folder: generated/<name>/ when it is current for the scene (a scene
     of scenes/, also with --set overrides of numbers, which are runtime parameters), else a folder
     in the cache keyed by the input hash, derived first (python -m levitron.derive, in a subprocess: the
@@ -77,7 +77,7 @@ def locate(scene: Scene, overrides=(), force: bool = False) -> Located:
     out = cache_folder(scene)
     fix = f"delete {out} (or run `make clean-cache`) and try again"
     note = None
-    if committed is not None and committed.exists() and not overrides:
+    if committed is not None and committed.exists() and not scene.overrides:
         note = (f"generated/{scene.name} is stale (the scene or derive/ changed): using a fresh "
                 "derivation in the cache; run `make derive` to update generated/")
     if not force:
@@ -86,11 +86,11 @@ def locate(scene: Scene, overrides=(), force: bool = False) -> Located:
         except ArtefactError as exc:
             if os.path.lexists(out):
                 note = f"the cached model is damaged ({str(exc).split('; ')[0]}): deriving it again"
-    _derive_into(scene, overrides, out, ihash, note)
+    _derive_into(scene, out, ihash, note)
     return Located(out, read_manifest(out, fix, ihash), fix, True)
 
 
-def _derive_into(scene: Scene, overrides, out: Path, ihash: str, note: str | None = None) -> None:
+def _derive_into(scene: Scene, out: Path, ihash: str, note: str | None = None) -> None:
     """Derive the scene into `out` (a cache folder): into a temporary folder beside it, then one
     rename, so concurrent processes (scan workers) never see a half-written model. The temporary
     folder is removed on every path. `note`: why, said once the cache is known to be writable."""

@@ -67,7 +67,7 @@ def model_for(scene: str, overrides: Sequence[str]):
                 sc = load_scene(scene, list(overrides))
             except SceneError as exc:
                 raise UserError(str(exc)) from None
-            model = load_model(sc, list(overrides))
+            model = load_model(sc)
             _ = model.lib  # compile or load from the content-hash cache now, not inside a timed run
             _MODELS[key] = model
         return model

@@ -26,7 +26,7 @@ def lib():
 
 @pytest.fixture(scope="module")
 def model():
-    return load_model(load_scene("thesis", SET), SET)
+    return load_model(load_scene("thesis", SET))
 
 
 def test_buffers_are_disjoint_zeroed_and_at_their_addresses():

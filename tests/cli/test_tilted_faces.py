@@ -51,7 +51,7 @@ def test_the_tilted_map_agrees_with_the_tilted_interval(capsys):
     from levitron.runtime.model.load import load_model
     from levitron.scene.load import load_scene
     over = ["plate.tilt=0.0012"]
-    lo, hi = stability_of(load_model(load_scene(SCENE, over), over)).spin_interval
+    lo, hi = stability_of(load_model(load_scene(SCENE, over))).spin_interval
     spins = [0.8 * lo, 1.2 * lo, (lo * hi) ** 0.5, 0.9 * hi, 1.15 * hi]
     assert main(["scan", SCENE, "--set", over[0], "--spin", f"{spins[0]!r}:{spins[-1]!r}:2",
                  "--tilt", "0.005:0.01:2", "--t-end", "5", "--json"]) == 0
@@ -60,7 +60,7 @@ def test_the_tilted_map_agrees_with_the_tilted_interval(capsys):
     assert r["equilibrium"]["offset"] > 2e-3 and "relative equilibrium" in r["equilibrium"]["start"]
     from levitron.runtime.scan import stability_map as sc
     from levitron.runtime.model.load import load_model as lm
-    model = lm(load_scene(SCENE, over), over)
+    model = lm(load_scene(SCENE, over))
     res = sc.scan(model, SCENE, over, np.array(spins), "tilt", np.array([0.005]), t_end=5.0, quiet=True)
     inside = [lo < s < hi for s in spins]
     assert res.levitating[:, 0].tolist() == inside

@@ -12,4 +12,4 @@ def scene_of(args) -> Scene:
 
 
 def model_of(args) -> Model:
-    return load_model(scene_of(args), args.set)
+    return load_model(scene_of(args))

@@ -45,7 +45,7 @@ def run(args) -> dict:
             results.append(done[scene.name])
             continue
         t0 = time.perf_counter()
-        found = locate(scene, args.set, force=args.force)
+        found = locate(scene, force=args.force)
         results.append({"name": scene.name, "files": sorted(p.name for p in found.folder.iterdir()),
                         "seconds": round(time.perf_counter() - t0, 3), "skipped": not found.derived,
                         "folder": str(found.folder)})

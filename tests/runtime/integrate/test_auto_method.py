@@ -30,7 +30,7 @@ OSC = dict(x0=[1.0, 0.0, 0.0, 1.0], scale=[1.0, 1.0, 1.0, 1.0])   # the unit osc
 
 @pytest.fixture(scope="module")
 def model():
-    return load_model(load_scene("thesis", SET), SET)
+    return load_model(load_scene("thesis", SET))
 
 
 @pytest.fixture(scope="module")

@@ -146,7 +146,7 @@ def test_figure_3_4_draws_a_separatrix_only_through_an_unstable_equilibrium(ring
     figures.figure_3_4(ring_magnet_model, tmp_path / "with.png")
     assert any("separatrix" in t for t in legend_texts)
     legend_texts.clear()
-    solid = load_model(load_with("ring_magnet", ["plate.r_in=0"]), ["plate.r_in=0"])
+    solid = load_model(load_with("ring_magnet", ["plate.r_in=0"]))
     assert [e.vertically_stable for e in eqm.equilibria_of(solid).equilibria] == [True]
     figures.figure_3_4(solid, tmp_path / "without.png")
     assert legend_texts and not any("separatrix" in t or "unstable" in t for t in legend_texts), legend_texts

@@ -30,7 +30,7 @@ BASE = [sys.executable, "-m", "levitron.runtime.cli.main", "scan", "thesis", "--
 
 @pytest.fixture(scope="module")
 def model():
-    return load_model(load_scene("thesis", SET), SET)
+    return load_model(load_scene("thesis", SET))
 
 
 def run_scan(model, spins, axis, others, **kw):

@@ -20,7 +20,7 @@ SPINS, TILTS = np.array([300.0, 1000.0, 2000.0, 3200.0]), np.array([0.01, 0.06, 
 
 @pytest.fixture(scope="module")
 def model():
-    return load_model(load_scene("thesis", SET), SET)
+    return load_model(load_scene("thesis", SET))
 
 
 @pytest.fixture(scope="module")

@@ -28,7 +28,7 @@ def lib():
 
 @pytest.fixture(scope="module")
 def model():
-    return load_model(load_scene("thesis", SET), SET)
+    return load_model(load_scene("thesis", SET))
 
 
 def _oscillator_points():
