@@ -58,7 +58,7 @@ def load(scene: str | Path, overrides: Mapping[str, float | str] | None = None, 
     if not isinstance(scene, (str, Path)):
         raise UserError(f"scene must be a scene name or a path to a .toml file, not {scene!r}")
     sets = override_texts(overrides)
-    return Study(load_model(load_scene(scene, sets)), sets)
+    return Study(load_model(load_scene(scene, sets)))
 
 
 
@@ -81,8 +81,8 @@ class Study:
     """A scene and its generated model. `model` is runtime.model.load.Model (parameter vector p in the
     order model.param_names); users name numbers by scene keys (`value`, `p_of`)."""
 
-    def __init__(self, model: Model, overrides: Sequence[str] = ()):
-        self.model, self.scene, self.overrides = model, model.scene, list(overrides)
+    def __init__(self, model: Model):
+        self.model, self.scene, self.overrides = model, model.scene, list(model.scene.overrides)
         self._cs = None
 
     def __repr__(self) -> str:
@@ -255,7 +255,7 @@ class Study:
         holds every launch as arrays (its inputs as run, verdict, flight time)."""
         from levitron.runtime.scan.launch_odds import Request
         request = Request.of(self.scene.data.get("launch", {}), inputs, n=n, seed=seed, **options)
-        return request.run(self.model, self._ref(), self.overrides, quiet=True)
+        return request.run(self.model, quiet=True)
 
     @_in_scene_units
     def trim(self, n: int | None = None, seed: int | None = None,
@@ -266,16 +266,11 @@ class Study:
         from levitron.runtime.design.trim import trim
         from levitron.runtime.scan.launch_odds import Request
         request = Request.of(self.scene.data.get("launch", {}), inputs, n=n, seed=seed, **options)
-        out = trim(self.model, self._ref(), self.overrides, request).as_dict()
+        out = trim(self.model, request).as_dict()
         w = out["widest_window"]
         return Trim(out["mass"], out["advice"], out["change"], tuple(out["band_mass"]),
                     out["launch_odds"]["probability"], out["start_launch_odds"]["probability"], w["mass"],
                     w["launch_odds"]["probability"], out, self.units)
-
-    def _ref(self) -> str:
-        """What launch workers reload the scene from: its file's absolute path, else its name."""
-        from levitron.runtime.model.scenes import scene_ref
-        return scene_ref(self.scene)
 
     @_in_scene_units
     def propagator(self, part: str = "reduced", integrator: str = "auto", tol: float = 1e-9,
@@ -315,13 +310,12 @@ class Study:
         from levitron.runtime.scan.grid import AXES, check_axis
         arg.choice(axis, "scan axis", AXES)
         valid = [n for n in inspect.signature(scan).parameters
-                 if n not in ("model", "scene_ref", "overrides", "spins", "axis", "others")]
+                 if n not in ("model", "spins", "axis", "others")]
         for name in options:
             arg.choice(name, "scan option", valid)
         spins, values = self._grid(spins, "spins"), self._grid(values, axis)
         check_axis(axis, np.sort(values))
-        ref = str(self.scene.path) if self.scene.path else self.scene.name
-        return scan(self.model, ref, self.overrides, spins, axis, values, **options)
+        return scan(self.model, spins, axis, values, **options)
 
     @staticmethod
     def _grid(values, what: str) -> np.ndarray:

@@ -66,10 +66,10 @@ def time_calls(study, runs: list[tuple[str, dict]], seconds: float) -> list[dict
              "within_budget": best[part]["overhead_s"] < OVERHEAD_BUDGET_S} for part, kw in runs]
 
 
-def bench(model, scene_ref: str, overrides, out: Path, quick: bool) -> dict:
+def bench(model, out: Path, quick: bool) -> dict:
     """The bench protocol (runtime/bench/kinds.py)."""
     from levitron.study import Study            # the public API is what is measured
-    study = Study(model, overrides)
+    study = Study(model)
     su = setup(model)                           # refuses a scene without a stable interval
     load_before = os.getloadavg()
     rows = time_calls(study, cases(study, su), QUICK_SECONDS if quick else SECONDS)

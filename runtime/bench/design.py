@@ -112,7 +112,7 @@ def write(result: dict, out: Path) -> list[Path]:
     return [js, cs]
 
 
-def bench(model, scene_ref: str, overrides, out: Path, quick: bool) -> dict:
+def bench(model, out: Path, quick: bool) -> dict:
     """The bench protocol (runtime/bench/kinds.py): the cases of `run`, written by `write`."""
     result = run(model, quick)
     result["files"] = [str(f) for f in write(result, out)]

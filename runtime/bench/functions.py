@@ -16,7 +16,7 @@ from levitron.runtime.ui.atomic import open_text
 REPEATS = 3
 
 
-def bench(model, scene_ref: str, overrides, out: Path, quick: bool) -> dict:
+def bench(model, out: Path, quick: bool) -> dict:
     """The bench protocol (runtime/bench/kinds.py)."""
     reps = 20_000 if quick else 1_000_000
     rows = []

@@ -2,7 +2,7 @@
 
 A benchmark is a module with one function,
 
-    bench(model, scene_ref, overrides, out: Path, quick: bool) -> dict
+    bench(model, out: Path, quick: bool) -> dict     (the scene's overrides: model.scene.overrides)
 
 that measures, writes its report files into `out` (a table and a plot) and returns a JSON-able
 dict with "files" (the paths written) and "headline" (one line for a person); plus one entry in
@@ -22,7 +22,7 @@ from pathlib import Path
 @dataclass(frozen=True)
 class Kind:
     name: str
-    module: str          # defines bench(model, scene_ref, overrides, out, quick)
+    module: str          # defines bench(model, out, quick)
     doc: str
     scenes: tuple        # what `make bench` runs it on
     out: str             # its report folder; "{scene}" is the scene's name
@@ -58,9 +58,9 @@ def out_dir(kind: str, scene: str, quick: bool) -> Path:
     return Path((QUICK_OUT if quick else KINDS[kind].out).format(scene=scene, kind=kind))
 
 
-def run(kind: str, model, scene_ref: str, overrides, out: Path, quick: bool) -> dict:
+def run(kind: str, model, out: Path, quick: bool) -> dict:
     """One benchmark through the protocol of the module docstring."""
-    res = importlib.import_module(KINDS[kind].module).bench(model, scene_ref, list(overrides), Path(out),
+    res = importlib.import_module(KINDS[kind].module).bench(model, Path(out),
                                                             quick)
     res["kind"] = kind
     return res

@@ -13,18 +13,14 @@ import json
 import time
 from pathlib import Path
 
-from levitron.scene.load import load_scene
 
 from levitron.runtime.scan import launch_odds as mc
 from levitron.runtime.ui.human import Units
-from levitron.runtime.model.load import load_model
 from levitron.runtime.simulate.run import simulate
 from levitron.runtime.ui.atomic import open_text, write_text
 
 
-def measure(scene: str, flight: float, n: int, t_end: float, workers: int, repeats: int) -> dict:
-    model = load_model(load_scene(scene))
-    ref = str(model.scene.path.resolve())
+def measure(model, flight: float, n: int, t_end: float, workers: int, repeats: int) -> dict:
     from levitron.runtime.physics.stability import stability_of
     lo, hi = stability_of(model).spin_interval
     spin = (lo * hi) ** 0.5
@@ -37,9 +33,9 @@ def measure(scene: str, flight: float, n: int, t_end: float, workers: int, repea
     best_mc, res = float("inf"), None
     for _ in range(repeats):
         t0 = time.perf_counter()
-        res = mc.monte_carlo(model, ref, [], {}, n=n, seed=0, t_end=t_end, workers=workers, quiet=True)
+        res = mc.monte_carlo(model, {}, n=n, seed=0, t_end=t_end, workers=workers, quiet=True)
         best_mc = min(best_mc, time.perf_counter() - t0)
-    return {"scene": scene, "spin": spin,
+    return {"scene": model.ref.scene, "spin": spin,
             "flight": {"t_end": flight, "wall_s": best_flight, "integration_wall_s": run["wall_s"],
                        "flight_time": run["flight"]["flight_time"], "t_cross": run["flight"]["t_cross"],
                        "rhs_evals": run["rhs_evals"]},
@@ -53,11 +49,11 @@ FULL = {"flight": 300.0, "n": 1000, "t_end": 60.0, "workers": 2, "repeats": 2}
 QUICK = {"flight": 20.0, "n": 8, "t_end": 2.0, "workers": 1, "repeats": 1}
 
 
-def bench(model, scene_ref: str, overrides, out: Path, quick: bool) -> dict:
+def bench(model, out: Path, quick: bool) -> dict:
     """The bench protocol (runtime/bench/kinds.py): one long flight and a Monte Carlo (FULL, or
     QUICK for the tests), written to out/launch.json, launch.csv and launch_histogram.png."""
     o = QUICK if quick else FULL
-    r = measure(scene_ref, o["flight"], o["n"], o["t_end"], o["workers"], o["repeats"])
+    r = measure(model, o["flight"], o["n"], o["t_end"], o["workers"], o["repeats"])
     out.mkdir(parents=True, exist_ok=True)
     res = r.pop("result")
     write_text(out / "launch.json", option="--out", text=json.dumps(r, indent=2) + "\n")

@@ -26,7 +26,7 @@ COLUMNS = ("workers", "n", "evaluations", "wall_s", "goal_s", "meets_goal", "adv
            "probability_ci95", "load_before", "load_after")
 
 
-def measure(model, scene_ref: str, overrides, n: int, workers: int, **options) -> dict:
+def measure(model, n: int, workers: int, **options) -> dict:
     """One launch-odds design over top.mass in the band, timed whole (pinning, search, fresh seed)."""
     from levitron.runtime.design.launch_design import maximize_launch_odds
     from levitron.runtime.design.scene_keys import Vary
@@ -39,7 +39,7 @@ def measure(model, scene_ref: str, overrides, n: int, workers: int, **options) -
     request = mc.Request.of(model.scene.data.get("launch", {}), None, n=n, workers=workers, **options)
     load_before = os.getloadavg()[0]
     t0 = time.perf_counter()
-    res = maximize_launch_odds(model, scene_ref, overrides, [Vary("top.mass", *band.mass)], request)
+    res = maximize_launch_odds(model, [Vary("top.mass", *band.mass)], request)
     wall = time.perf_counter() - t0
     return {"workers": workers, "n": n, "evaluations": len(res.evaluations), "wall_s": wall,
             "goal_s": GOAL_S, "meets_goal": wall < GOAL_S, "advice": res.optimum["top.mass"],
@@ -63,11 +63,11 @@ def draw(rows: list[dict], path: Path, scene: str) -> None:
     save_figure(fig, path, "--out")
 
 
-def bench(model, scene_ref: str, overrides, out: Path, quick: bool) -> dict:
+def bench(model, out: Path, quick: bool) -> dict:
     """The bench protocol (runtime/bench/kinds.py): FULL, or QUICK for the tests."""
     o = QUICK if quick else FULL
     extra = {k: o[k] for k in ("success_time", "t_end") if k in o}
-    rows = [measure(model, scene_ref, overrides, o["n"], w, **extra) for w in o["workers"]]
+    rows = [measure(model, o["n"], w, **extra) for w in o["workers"]]
     out.mkdir(parents=True, exist_ok=True)
     write_text(out / "launch_design.json", option="--out",
                text=json.dumps({"scene": model.scene.name, "rows": rows}, indent=2) + "\n")

@@ -92,7 +92,7 @@ def rhs_ns(model, spins: np.ndarray, tilts: np.ndarray, repeats: int = RHS_REPEA
                              for _ in range(repeats))
 
 
-def matched(model, scene_ref: str, overrides, spins, tilts, t_end) -> dict:
+def matched(model, spins, tilts, t_end) -> dict:
     """cpu_over_rhs with the rhs timed next to every scan call (module docstring)."""
     from levitron.runtime.scan import stability_map as sc
     spins, tilts = spins[::MATCHED_STRIDE], tilts[::MATCHED_STRIDE]
@@ -100,7 +100,7 @@ def matched(model, scene_ref: str, overrides, spins, tilts, t_end) -> dict:
     evals = 0
     for k in range(0, spins.size, MATCHED_SPINS):
         before = rhs_ns(model, spins, tilts, MATCHED_REPEATS)
-        res = sc.scan(model, scene_ref, overrides, spins[k:k + MATCHED_SPINS], "tilt", tilts,
+        res = sc.scan(model, spins[k:k + MATCHED_SPINS], "tilt", tilts,
                       t_end=t_end, workers=1, quiet=True, engine="c")
         after = rhs_ns(model, spins, tilts, MATCHED_REPEATS)
         cpu += res.cpu_s
@@ -116,12 +116,12 @@ def _cpu_total() -> float:
     return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
 
 
-def one_run(model, scene_ref: str, overrides, spins, tilts, t_end, workers: int,
+def one_run(model, spins, tilts, t_end, workers: int,
             engine: str) -> tuple[dict, object]:
     """One scan and its row (module docstring; rhs_ns and cpu_over_rhs are added by `run`)."""
     from levitron.runtime.scan import stability_map as sc
     cpu0 = _cpu_total()
-    res = sc.scan(model, scene_ref, overrides, spins, "tilt", tilts, t_end=t_end, workers=workers,
+    res = sc.scan(model, spins, "tilt", tilts, t_end=t_end, workers=workers,
                   quiet=True, engine=engine)
     cpu_total = _cpu_total() - cpu0
     points = int(res.levitating.size)
@@ -132,9 +132,10 @@ def one_run(model, scene_ref: str, overrides, spins, tilts, t_end, workers: int,
     return row, res
 
 
-def cli_run(scene_ref: str, overrides, spins, tilts, t_end: float, workers: int) -> tuple[dict, object]:
+def cli_run(ref, spins, tilts, t_end: float, workers: int) -> tuple[dict, object]:
     """The same map through `levitron scan` in a fresh process (module docstring): its row, and
-    its map (status, t_survived) for the point-for-point check."""
+    its map (status, t_survived) for the point-for-point check. ref: the model's SceneRef."""
+    scene_ref, overrides = ref
     import subprocess
     import sys
     import time
@@ -161,7 +162,7 @@ def cli_run(scene_ref: str, overrides, spins, tilts, t_end: float, workers: int)
     return row, m
 
 
-def heyoka_batch(model, scene_ref: str, overrides, spins, tilts, t_end: float, quick: bool) -> dict:
+def heyoka_batch(model, spins, tilts, t_end: float, quick: bool) -> dict:
     """heyoka's batch mode on a sub-grid beside the C driver on it (module docstring); a note
     instead when heyoka is not installed."""
     from levitron.runtime.bench import heyoka as bench_heyoka
@@ -175,7 +176,7 @@ def heyoka_batch(model, scene_ref: str, overrides, spins, tilts, t_end: float, q
     k = spins.size if quick else min(HEYOKA_N, spins.size)
     idx = np.unique(np.linspace(0, spins.size - 1, k).round().astype(int))
     sp, tl = spins[idx], tilts[np.unique(np.linspace(0, tilts.size - 1, k).round().astype(int))]
-    ours = sc.scan(model, scene_ref, overrides, sp, "tilt", tl, t_end=t_end, workers=1, quiet=True)
+    ours = sc.scan(model, sp, "tilt", tl, t_end=t_end, workers=1, quiet=True)
     z_s = hover_height(model)
     memo: dict = {}
     setups = [point_setup(model, float(s), float(t), z_s=z_s, memo=memo) for s in sp for t in tl]
@@ -222,7 +223,7 @@ def _same(a, b, rows=None, cols=None) -> bool:
                for r, i in enumerate(rows) for c, j in enumerate(cols))
 
 
-def run(model, scene_ref: str, overrides=(), n: int | None = None, t_end: float | None = None,
+def run(model, n: int | None = None, t_end: float | None = None,
         quick: bool = False, python_n: int | None = None) -> dict:
     """The bench's rows (module docstring): the C driver at 1 and 2 workers on the n x n map, and the
     Python path serially on a python_n x python_n sub-grid of it (every k-th spin and tilt)."""
@@ -237,14 +238,14 @@ def run(model, scene_ref: str, overrides=(), n: int | None = None, t_end: float 
     ns_before = rhs_ns(model, spins, tilts)
     rows, maps = [], []
     for w in WORKERS:
-        maps.append(one_run(model, scene_ref, overrides, spins, tilts, t_end, w, "c"))
-    clis = [cli_run(scene_ref, overrides, spins, tilts, maps[0][1].t_end, w) for w in WORKERS]
+        maps.append(one_run(model, spins, tilts, t_end, w, "c"))
+    clis = [cli_run(model.ref, spins, tilts, maps[0][1].t_end, w) for w in WORKERS]
     idx = np.unique(np.linspace(0, n - 1, python_n).round().astype(int))
-    py = one_run(model, scene_ref, overrides, spins[idx], tilts[idx], maps[0][1].t_end, 1, "python")
+    py = one_run(model, spins[idx], tilts[idx], maps[0][1].t_end, 1, "python")
     ns_after = rhs_ns(model, spins, tilts)
     ns = 0.5 * (ns_before + ns_after)
-    match = matched(model, scene_ref, overrides, spins, tilts, maps[0][1].t_end)
-    hb = heyoka_batch(model, scene_ref, overrides, spins, tilts, maps[0][1].t_end, quick)
+    match = matched(model, spins, tilts, maps[0][1].t_end)
+    hb = heyoka_batch(model, spins, tilts, maps[0][1].t_end, quick)
     for row, _ in maps + [py] + clis:
         row["rhs_ns"] = ns
         row["cpu_over_rhs"] = row["cpu_s"] / (row["rhs_evals"] * ns * 1e-9) if row["rhs_evals"] else None
@@ -280,9 +281,9 @@ def _heyoka_headline(hb: dict) -> str:
             f"{hb['c_points_per_s']:.0f} for the C driver there")
 
 
-def bench(model, scene_ref: str, overrides, out: Path, quick: bool) -> dict:
+def bench(model, out: Path, quick: bool) -> dict:
     """The bench protocol (runtime/bench/kinds.py): the rows of `run`, written to out/bench_maps.json."""
-    res = run(model, scene_ref, overrides, quick=quick)
+    res = run(model, quick=quick)
     out.mkdir(parents=True, exist_ok=True)
     path = out / "bench_maps.json"
     write_text(path, option="--out", text=json.dumps(res, indent=1) + "\n")

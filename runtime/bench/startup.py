@@ -68,10 +68,10 @@ def time_command(argv: list[str], quick: bool) -> dict:
     return {"min_s": t.best, "median_s": statistics.median(walls), "runs": t.runs, "stable": t.stable}
 
 
-def bench(model, scene_ref: str, overrides, out: Path, quick: bool) -> dict:
+def bench(model, out: Path, quick: bool) -> dict:
     """The bench protocol (runtime/bench/kinds.py)."""
-    sets = [a for kv in overrides for a in ("--set", kv)]
-    scene_ref = _as_typed(model.scene.name, scene_ref)
+    sets = [a for kv in model.scene.overrides for a in ("--set", kv)]
+    scene_ref = _as_typed(model.scene.name, model.ref.scene)
     base = launcher()
     load_before = os.getloadavg()
     rows = []

@@ -492,7 +492,7 @@ def draw(rows: list[dict], path: Path, title: str) -> Path:
     return save_figure(fig, path)
 
 
-def bench(model, scene_ref: str, overrides, out: Path, quick: bool) -> dict:
+def bench(model, out: Path, quick: bool) -> dict:
     """The bench protocol (runtime/bench/kinds.py): `run` into `out`."""
     return run(model, out, quick)
 

@@ -37,6 +37,7 @@ import numpy as np
 
 from levitron.runtime.design.scene_keys import Vary, key_value
 from levitron.runtime.errors import UserError
+from levitron.runtime.model.scenes import SceneRef
 from levitron.runtime.scan import launch_odds as mc
 from levitron.runtime.scan import spreads
 
@@ -61,8 +62,7 @@ class Pinned:
     at: dict | None = None          # where it was pinned: None (the scene as written) or keys -> values
 
     @classmethod
-    def at_start(cls, model, scene_ref: str, overrides: Sequence[str], request: mc.Request,
-                 varies: Sequence[Vary]) -> Pinned:
+    def at_start(cls, model, request: mc.Request, varies: Sequence[Vary]) -> Pinned:
         """Pinned at the scene as written; where its top cannot hover there (or has no spin
         interval for the default spin), at the box's middle, else its first grid point that can."""
         keys = [v.key for v in varies]
@@ -76,11 +76,10 @@ class Pinned:
         for x in tries:
             try:
                 if x is None:
-                    start = request.run(model, scene_ref, overrides, quiet=True)
+                    start = request.run(model, quiet=True)
                 else:
                     from levitron.runtime.scan.runners import model_for
-                    ov = _overrides(overrides, keys, x)
-                    start = request.run(model_for(scene_ref, ov), scene_ref, ov, quiet=True)
+                    start = request.run(model_for(*variant(model.ref, keys, x)), quiet=True)
             except UserError as exc:
                 first = first or exc
                 continue
@@ -96,19 +95,18 @@ def key_text(key: str, value: float) -> str:
     return f"{value:.6g} kg" if key == "top.mass" else f"{value:.6g}"
 
 
-def _overrides(overrides: Sequence[str], keys: Sequence[str], x) -> list[str]:
-    return [*overrides, *(f"{k}={float(v)!r}" for k, v in zip(keys, x))]
+def variant(ref: SceneRef, keys: Sequence[str], x) -> SceneRef:
+    """The recipe of the design at the scene keys x: the scene's overrides, then keys = x."""
+    return ref.with_overrides(f"{k}={float(v)!r}" for k, v in zip(keys, x))
 
 
-def odds_at(scene_ref: str, overrides: Sequence[str], keys: Sequence[str], x, request: mc.Request,
-            pool=None) -> dict:
+def odds_at(ref: SceneRef, keys: Sequence[str], x, request: mc.Request, pool=None) -> dict:
     """The Monte Carlo of `request` at the scene keys x (its local workers in `pool`, a
     runners.KeptPool, where given); a design where the top cannot hover (or the run is refused)
     floats never: probability 0 with the reason."""
     from levitron.runtime.scan.runners import model_for
-    ov = _overrides(overrides, keys, x)
     try:
-        return request.run(model_for(scene_ref, ov), scene_ref, ov, quiet=True, pool=pool)
+        return request.run(model_for(*variant(ref, keys, x)), quiet=True, pool=pool)
     except UserError as exc:
         return {"probability": 0.0, "probability_ci95": [0.0, 0.0], "n": request.n, "seed": request.seed,
                 "successes": 0, "reason": str(exc)}
@@ -168,8 +166,7 @@ class LaunchDesign:
                 "solver_status": "grid search", "wall_s": self.wall_s}
 
 
-def maximize_launch_odds(model, scene_ref: str, overrides: Sequence[str], varies: Sequence[Vary],
-                         request: mc.Request, pinned: Pinned | None = None,
+def maximize_launch_odds(model, varies: Sequence[Vary], request: mc.Request, pinned: Pinned | None = None,
                          where: str = "the --vary box") -> LaunchDesign:
     """The design of the module docstring over the --vary box (`where`: what its messages call it).
     With local workers every Monte Carlo of the design runs in one kept pool (runners.KeptPool:
@@ -179,16 +176,16 @@ def maximize_launch_odds(model, scene_ref: str, overrides: Sequence[str], varies
     with contextlib.ExitStack() as stack:
         pool = (stack.enter_context(runners.KeptPool(workers)) if workers > 1 and not request.scheduler
                 else None)
-        return _maximize(model, scene_ref, overrides, varies, request, pinned, where, pool)
+        return _maximize(model, varies, request, pinned, where, pool)
 
 
-def _maximize(model, scene_ref: str, overrides: Sequence[str], varies: Sequence[Vary], request: mc.Request,
-              pinned: Pinned | None, where: str, pool) -> LaunchDesign:
+def _maximize(model, varies: Sequence[Vary], request: mc.Request, pinned: Pinned | None, where: str,
+              pool) -> LaunchDesign:
     t0 = time.perf_counter()
     if not 1 <= len(varies) <= 3:
         raise UserError("--vary: give one to three keys for --maximize launch-odds")
     keys = [v.key for v in varies]
-    pinned = pinned or Pinned.at_start(model, scene_ref, overrides, request, varies)
+    pinned = pinned or Pinned.at_start(model, request, varies)
     req = pinned.request
     box = [(v.lo, v.hi) for v in varies]
     n_axis = GRID[len(varies)]
@@ -198,7 +195,7 @@ def _maximize(model, scene_ref: str, overrides: Sequence[str], varies: Sequence[
         for x in _axes(varies, box, n_axis):
             x = tuple(float(v) for v in x)
             if x not in evaluated:
-                r = odds_at(scene_ref, overrides, keys, x, req, pool)
+                r = odds_at(model.ref, keys, x, req, pool)
                 evaluated[x] = r["probability"]
                 rows.append({**dict(zip(keys, x)), "probability": r["probability"],
                              **({"reason": r["reason"]} if "reason" in r else {})})
@@ -209,7 +206,7 @@ def _maximize(model, scene_ref: str, overrides: Sequence[str], varies: Sequence[
         box = [(max(v.lo, b - c), min(v.hi, b + c)) for v, b, c in zip(varies, best, cells)]
 
     def run(x):
-        r = odds_at(scene_ref, overrides, keys, x, req, pool)
+        r = odds_at(model.ref, keys, x, req, pool)
         evaluated[x] = r["probability"]
         rows.append({**dict(zip(keys, x)), "probability": r["probability"]})
         return r["probability"]
@@ -236,9 +233,9 @@ def _maximize(model, scene_ref: str, overrides: Sequence[str], varies: Sequence[
                         + "check the launch spread with `levitron launch` (a steadier hand: smaller "
                         "--mass, --strength or --tilt spreads)")
     fresh = req.with_seed(req.seed + FRESH)
-    final = odds_at(scene_ref, overrides, keys, best, fresh, pool)
+    final = odds_at(model.ref, keys, best, fresh, pool)
     start_x = [key_value(model.scene.data, k) for k in keys]
-    first = odds_at(scene_ref, overrides, keys, start_x, fresh, pool)
+    first = odds_at(model.ref, keys, start_x, fresh, pool)
     warnings = []
     for v, b in zip(varies, best):
         span = v.hi - v.lo
@@ -255,17 +252,16 @@ def _maximize(model, scene_ref: str, overrides: Sequence[str], varies: Sequence[
                         list(pinned.start.get("defaulted", [])))
 
 
-def what_it_costs(model, scene_ref: str, overrides: Sequence[str], varies: Sequence[Vary],
-                  request: mc.Request, optimum: dict[str, float], objective: str,
+def what_it_costs(model, varies: Sequence[Vary], request: mc.Request, optimum: dict[str, float], objective: str,
                   unit_text) -> dict:
     """Another objective's optimum in launches (issue 26): its odds and the start's (fresh seed),
     the launch-odds optimum's, and a warning where the optimum floats less than HALF as often.
     unit_text(key, value) -> the key's value in the scene's units, for the warning."""
     keys = [v.key for v in varies]
-    pinned = Pinned.at_start(model, scene_ref, overrides, request, varies)
+    pinned = Pinned.at_start(model, request, varies)
     fresh = pinned.request.with_seed(pinned.request.seed + FRESH)
-    at_opt = odds_at(scene_ref, overrides, keys, [optimum[k] for k in keys], fresh)
-    best = maximize_launch_odds(model, scene_ref, overrides, varies, request, pinned)
+    at_opt = odds_at(model.ref, keys, [optimum[k] for k in keys], fresh)
+    best = maximize_launch_odds(model, varies, request, pinned)
     out = {"launch_odds": odds_dict(at_opt), "start_launch_odds": best.start_launch_odds,
            "launch_odds_optimum": {"optimum": best.optimum, "launch_odds": best.launch_odds}}
     p, q = at_opt["probability"], best.probability

@@ -62,14 +62,14 @@ def spin_limits(model, masses: Sequence[float]) -> list[dict]:
     return out
 
 
-def trim(model, scene_ref: str, overrides: Sequence[str], request: mc.Request) -> Trim:
+def trim(model, request: mc.Request) -> Trim:
     """The trim of the module docstring for the loaded model (its temperature and --set included)."""
     band = eqm.equilibria_of(model, bands=True).stable_band
     if band is None:
         raise UserError(f"{model.scene.name}: no mass can hover over this plate (no stable band), so "
                         "there is nothing to trim; `levitron equilibrium` says why")
     lo, hi = band.mass
-    design = ld.maximize_launch_odds(model, scene_ref, overrides, [Vary("top.mass", lo, hi)], request,
+    design = ld.maximize_launch_odds(model, [Vary("top.mass", lo, hi)], request,
                                      where="the masses that hover (the stable band)")
     limits = spin_limits(model, np.linspace(lo, hi, LIMIT_POINTS))
     widths = [(r["spin_interval"][1] - r["spin_interval"][0]) if r["spin_interval"] else -np.inf
@@ -79,7 +79,7 @@ def trim(model, scene_ref: str, overrides: Sequence[str], request: mc.Request) -
     pinned = design.inputs
     fresh = mc.Request(dict(pinned), design.n, design.seed + ld.FRESH, design.success_time, design.t_end,
                        request.integrator, request.tol, request.workers, request.scheduler)
-    widest["launch_odds"] = ld.odds_dict(ld.odds_at(scene_ref, overrides, ["top.mass"], [widest["mass"]], fresh))
+    widest["launch_odds"] = ld.odds_dict(ld.odds_at(model.ref, ["top.mass"], [widest["mass"]], fresh))
     warnings = []
     note = edge_note(band, eqm.span_of(model) is not None)
     if note:

@@ -158,6 +158,13 @@ class Model:
         self._bound = threading.local()   # call's CFunctions, per thread (ctypes drops the GIL)
         self._rows_addr = {}
 
+    @property
+    def ref(self):
+        """The recipe that rebuilds this model in another process (runtime/model/scenes.py SceneRef:
+        the scene's file and its overrides); load_model(load_scene(*model.ref)) is the same model."""
+        from levitron.runtime.model.scenes import ref_of
+        return ref_of(self.scene)
+
     # ---- parameters
     @property
     def param_names(self) -> list[str]:

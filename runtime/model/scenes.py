@@ -2,6 +2,8 @@
 UserError, the one way the command line and the public API load a scene."""
 from __future__ import annotations
 
+from typing import NamedTuple
+
 from levitron.scene.load import Scene, SceneError, find_scene_file
 from levitron.scene.load import load_scene as _load
 
@@ -21,6 +23,22 @@ def scene_ref(scene: Scene, name: str | None = None) -> str:
     it was asked by; default the scene's own name)."""
     from pathlib import Path
     return str(Path(scene.path).resolve()) if scene.path is not None else (name or scene.name)
+
+
+class SceneRef(NamedTuple):
+    """The recipe that rebuilds a model in another process (scan and launch workers, a design's
+    variants): the scene's file as an absolute path (or a name) and its --set strings."""
+    scene: str
+    overrides: tuple[str, ...] = ()
+
+    def with_overrides(self, more) -> SceneRef:
+        """The recipe of a variant: these overrides and then `more` (later ones win)."""
+        return SceneRef(self.scene, (*self.overrides, *more))
+
+
+def ref_of(scene: Scene) -> SceneRef:
+    """The recipe of a loaded scene: its file and the overrides load_scene applied."""
+    return SceneRef(scene_ref(scene), tuple(scene.overrides))
 
 
 BOM = b"\xef\xbb\xbf"

@@ -304,7 +304,7 @@ def figure_3_7(model, path: Path) -> Path:
     return save_figure(fig, path)
 
 
-def figure_3_8(model, path: Path, scene_ref: str, overrides=(), quick: bool = False) -> Path:
+def figure_3_8(model, path: Path, quick: bool = False) -> Path:
     """Thesis fig. 3.8: stable launches over spin and tilt, a stability map of the scene's own top
     (runtime/scan, one slow period per run; 8 x 6 runs with quick, else 16 x 10). Spins: 0.5 x
     the lower to 1.25 x the upper end of its linear interval (thesis 3.3), or, where it has none,
@@ -345,7 +345,7 @@ def figure_3_8(model, path: Path, scene_ref: str, overrides=(), quick: bool = Fa
     # one slow period of the scanned top itself (at its own hover height where it has one)
     T = slow_period(model, m, z_s, math.sqrt(iv[0] * iv[1])) if z_s else \
         slow_period(model, m_ref, z_ref, math.sqrt(iv[0] * iv[1]))
-    result = sc.scan(model, scene_ref, list(overrides), spins, "tilt", tilts, t_end=T, quiet=True)
+    result = sc.scan(model, spins, "tilt", tilts, t_end=T, quiet=True)
     return Path(result.plot(path, title))
 
 
@@ -354,17 +354,16 @@ SCENE_FIGURES = (("3.4", "fig3_4_phase_portrait"), ("3.5", "fig3_5_equilibrium")
                  ("3.8", "fig3_8_stability_map"))
 
 
-def make_figures(outdir, model, scene_ref: str | None = None, overrides=(),
-                 quick: bool = False) -> tuple[list[Path], dict[str, str]]:
+def make_figures(outdir, model, quick: bool = False) -> tuple[list[Path], dict[str, str]]:
     """Draw the scene's thesis figures 3.4-3.8 into outdir as <scene>_fig3_N_*.png; returns the
     paths written and {figure: why} of those this scene cannot have (NotDrawn: 3.4 without a
-    vertically stable height, 3.8 without a full model or a stable band).
-    scene_ref/overrides: how the scan's workers load the same model (default the scene's name)."""
+    vertically stable height, 3.8 without a full model or a stable band); the scan's workers load
+    the same model from model.ref."""
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     name = model.scene.name
     draw = {"3.4": figure_3_4, "3.5": figure_3_5, "3.6": figure_3_6, "3.7": figure_3_7,
-            "3.8": lambda mdl, path: figure_3_8(mdl, path, scene_ref or name, overrides, quick)}
+            "3.8": lambda mdl, path: figure_3_8(mdl, path, quick)}
     written, not_drawn = [], {}
     for number, stem in progress.track(SCENE_FIGURES, f"figures of {name}", stage=lambda j: f"fig. {j[0]}"):
         try:

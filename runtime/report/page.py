@@ -1,6 +1,6 @@
 """One self-contained HTML page about a scene: what a plate designer sends to a colleague.
 
-    html, facts = build(model, scene_ref, overrides)      # facts: the numbers on the page (SI)
+    html, facts = build(model)      # facts: the numbers on the page (SI)
 
 The page holds the scene (its parameters), the vertical equilibria and the stable band (thesis
 3.3.2-3.3.3, with the equilibrium figure), the spin interval of linear stability (thesis 3.3), a
@@ -57,9 +57,10 @@ def tilted_note(eq: dict, u: Units) -> str:
             f"point); the {' and '.join(LEVEL_SECTIONS)} are the level base's (on the axis).")
 
 
-def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -> tuple[str, dict]:
+def build(model, provenance: dict | None = None) -> tuple[str, dict]:
     """The page and the facts it shows (SI numbers, for --json); provenance: the block of
-    runtime/ui/provenance.py, shown at the foot of the page (its command rebuilds the page)."""
+    runtime/ui/provenance.py, shown at the foot of the page (its command rebuilds the page). The
+    scene's overrides (model.scene.overrides) are listed on the page; workers load model.ref."""
     from levitron.runtime.physics.friction import has_friction
     from levitron.runtime.report import real_launch, rebuild, setup_drawing
     from levitron.runtime.report.figures import figure_3_5
@@ -70,6 +71,7 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
     from levitron.runtime.simulate.run import simulate
 
     scene = model.scene
+    overrides = list(scene.overrides)
     u = Units.of_scene(scene)
     P = model.pvals()
     air = "full" in model.parts and has_friction(model) and P.get("k_spin", 0) > 0
@@ -137,7 +139,7 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
             T = slow_period(model, P["m"], facts["z_s"], spin)
             spins = spins_around(iv, MAP_SPINS)
             tilts = np.linspace(0.005, 0.1, MAP_TILTS)
-            m = sc.scan(model, scene_ref, list(overrides), spins, "tilt", tilts, t_end=T, quiet=True)
+            m = sc.scan(model, spins, "tilt", tilts, t_end=T, quiet=True)
             facts["map"] = {"spins": spins.tolist(), "tilts": tilts.tolist(), "t_end": T,
                             "fraction_levitating": m.as_json()["fraction_levitating"]}
             parts.append("<h2>A small stability map</h2>")
@@ -172,7 +174,7 @@ def build(model, scene_ref: str, overrides=(), provenance: dict | None = None) -
                       f"{u.angle(LAUNCH_TILT)}."))
             if air:
                 stage(4)
-                html_air, facts["air"] = real_launch.section(model, scene_ref, overrides, run, u, tmp, _png)
+                html_air, facts["air"] = real_launch.section(model, run, u, tmp, _png)
                 parts.append(html_air)
         stated = reference.rows(scene, {
             "z_stable": facts["z_s"], "spin_interval": facts["spin_interval"],

@@ -56,7 +56,7 @@ def _noise(effect: dict) -> str:
     return f", within the noise of {sig(100 * effect['noise'], 2)} points"
 
 
-def section(model, scene_ref: str, overrides, run: dict, u: Units, tmp: Path, png) -> tuple[str, dict]:
+def section(model, run: dict, u: Units, tmp: Path, png) -> tuple[str, dict]:
     """The section's HTML and its facts (SI). run: the report's flight (simulate's answer)."""
     from levitron.runtime.integrate.verdict import stopped_early
     from levitron.runtime.scan import launch_odds as mc
@@ -80,7 +80,7 @@ def section(model, scene_ref: str, overrides, run: dict, u: Units, tmp: Path, pn
         rows.append(("spin at the fall", f"{u.rate(fl['fall_spin'])} (lower limit "
                      f"{u.rate(fl['spin_interval'][0])})" if fl["spin_interval"] else u.rate(fl["fall_spin"])))
     given, table = mc.table_settings(model.scene.data.get("launch", {}))
-    odds = mc.monte_carlo(model, scene_ref, list(overrides), given, n=ODDS_N, seed=0, quiet=True)
+    odds = mc.monte_carlo(model, given, n=ODDS_N, seed=0, quiet=True)
     lo, hi = odds["probability_ci95"]
     facts["odds"] = {k: odds[k] for k in ("probability", "probability_ci95", "n", "seed", "success_time",
                                           "t_end", "inputs")}

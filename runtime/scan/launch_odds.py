@@ -317,16 +317,16 @@ class Request:
         return Request(self.given, self.n, int(seed), self.success_time, self.t_end, self.integrator,
                        self.tol, self.workers, self.scheduler)
 
-    def run(self, model, scene_ref: str, overrides, quiet: bool = False, pool=None) -> LaunchOdds:
-        """monte_carlo of this request on (model, its scene reference and overrides); pool: a
+    def run(self, model, quiet: bool = False, pool=None) -> LaunchOdds:
+        """monte_carlo of this request on the model (its workers load model.ref); pool: a
         runners.KeptPool its local workers run in (a design's Monte Carlos share one)."""
-        return monte_carlo(model, scene_ref, overrides, self.given, n=self.n, seed=self.seed,
+        return monte_carlo(model, self.given, n=self.n, seed=self.seed,
                            success_time=self.success_time, t_end=self.t_end, integrator=self.integrator,
                            tol=self.tol, workers=self.workers, scheduler=self.scheduler, quiet=quiet,
                            pool=pool)
 
 
-def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n: int = 1000,
+def monte_carlo(model, given: Mapping[str, object], n: int = 1000,
                 seed: int = 0, success_time: float | None = None, t_end: float | None = None,
                 integrator: str = DEFAULT, tol: float = 1e-8, workers: int = 1,
                 scheduler: str | None = None, quiet: bool = False, pool=None) -> LaunchOdds:
@@ -403,7 +403,7 @@ def monte_carlo(model, scene_ref: str, overrides, given: Mapping[str, object], n
     if lookup(method).backend != "c" or lookup(method).fixed_step:
         raise UserError(f"launch runs adaptive C integrators only (dop853, vern9, auto), not {integrator!r}")
     names = INPUTS + tuple(a.name for a in apparatus_of(model))
-    plan = Plan(scene_ref, tuple(overrides), tuple((k, dists[k]) for k in names), int(n), int(seed),
+    plan = Plan(*model.ref, tuple((k, dists[k]) for k in names), int(n), int(seed),
                 float(t_end), method, float(tol))
     workers = min(workers, runners.usable_cores())     # more processes than cores only queue
     # serial runs go in chunks of ~20 launches too, so that the progress bar moves (the verdicts do

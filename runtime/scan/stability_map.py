@@ -108,12 +108,11 @@ def check_run_options(model, axis: str, spins: np.ndarray, others: np.ndarray, h
                   N_OUT, T, what)
 
 
-def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axis: str,
-         others: np.ndarray, t_end: float | None = None, integrator: str = DEFAULT,
-         tol: float | None = 1e-9, workers: int = 1, scheduler: str | None = None,
+def scan(model, spins: np.ndarray, axis: str, others: np.ndarray, t_end: float | None = None,
+         integrator: str = DEFAULT, tol: float | None = 1e-9, workers: int = 1, scheduler: str | None = None,
          base_tilt: float = BASE_TILT, h: float | None = None, quiet: bool = False,
          engine: str = "c", scheduler_timeout: float | None = None) -> Scan:
-    """Run the map (module docstring). scene_ref/overrides let the workers load the same model.
+    """Run the map (module docstring); the workers load the same model from model.ref.
     engine "c": chunks of points through the C chunk driver (runtime/scan/chunk_c.py) when the integrator
     is a C one; "python": one runtime.simulate.run-style run per point (the reference path)."""
     spins, others, workers, t_end, base_tilt = _checked(axis, spins, others, workers, scheduler,
@@ -128,7 +127,7 @@ def scan(model, scene_ref: str, overrides: Sequence[str], spins: np.ndarray, axi
     from levitron.runtime.integrate.methods import resolve
     requested, integrator = integrator, resolve(integrator, tol, h)    # "auto": the method it picks
     check_run_options(model, axis, spins, others, hover, float(t_end), integrator, tol, h)
-    common = Common(scene_ref, tuple(overrides), axis, float(t_end), integrator, tol,
+    common = Common(*model.ref, axis, float(t_end), integrator, tol,
                     float(base_tilt), tuple(hover), h, engine)
     tasks = [(i, j, float(s), float(o)) for i, s in enumerate(spins) for j, o in enumerate(others)
              if j not in status_pre]

@@ -189,7 +189,7 @@ def test_launch_odds_is_one_answer_for_the_api_and_the_command_line(odds, capsys
     _same(out, cli._clean(odds.as_json()))
     assert out["scene"] == SCENE and "launches" not in out            # the table goes to --save
     # the runtime returns the same answer the API does
-    again = mc.Request({}, **ODDS).run(lev.load(SCENE).model, SCENE, [], quiet=True)
+    again = mc.Request({}, **ODDS).run(lev.load(SCENE).model, quiet=True)
     assert type(again) is LaunchOdds and again["verdicts"] == odds["verdicts"]
 
 

@@ -61,7 +61,7 @@ def test_the_tilted_map_agrees_with_the_tilted_interval(capsys):
     from levitron.runtime.scan import stability_map as sc
     from levitron.runtime.model.load import load_model as lm
     model = lm(load_scene(SCENE, over))
-    res = sc.scan(model, SCENE, over, np.array(spins), "tilt", np.array([0.005]), t_end=5.0, quiet=True)
+    res = sc.scan(model, np.array(spins), "tilt", np.array([0.005]), t_end=5.0, quiet=True)
     inside = [lo < s < hi for s in spins]
     assert res.levitating[:, 0].tolist() == inside
     assert main(["scan", SCENE, "--set", over[0], "--spin", "1200:2000:2", "--tilt", "0.005:0.01:2",

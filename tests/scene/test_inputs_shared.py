@@ -134,7 +134,7 @@ def test_the_api_vary_is_checked_as_the_cli_vary():
 def test_the_api_scan_checks_the_grid_as_the_cli_does(spins, others, message):
     """levitron.runtime.scan.stability_map.scan (Study.scan and the CLI) refuses before touching the model."""
     with pytest.raises(UserError, match=message):
-        scan(None, "thesis_stable", [], spins, "tilt", others)
+        scan(None, spins, "tilt", others)
 
 
 @pytest.mark.parametrize("kwargs,message", [

@@ -4,8 +4,7 @@ from __future__ import annotations
 
 from levitron.runtime.bench import kinds as bench_kinds
 from levitron.runtime.ui.human import duration, lines, sig
-from levitron.runtime.model.scenes import scene_ref
-from levitron.runtime.cli.commands.common import model_of, scene_of
+from levitron.runtime.cli.commands.common import model_of
 
 NAME = "bench"
 HELP = ("work-precision report: error of the final state against wall time for every backend and "
@@ -25,11 +24,9 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> dict:
-    scene = scene_of(args)
     model = model_of(args)
-    ref = scene_ref(scene, args.scene)
     out = args.out or bench_kinds.out_dir(args.kind, model.scene.name, args.quick)
-    return bench_kinds.run(args.kind, model, ref, args.set, out, args.quick)
+    return bench_kinds.run(args.kind, model, out, args.quick)
 
 
 def human(r: dict, scene=None) -> str:

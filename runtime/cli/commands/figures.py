@@ -62,7 +62,7 @@ def run(args) -> dict:
                              ["solver comparison"]) as stage:
             stage(0)
             written += solver_compare.run(outdir, quick=args.quick)["files"]
-    drawn, not_drawn = figures_stability.make_figures(outdir, model, args.scene, args.set, args.quick)
+    drawn, not_drawn = figures_stability.make_figures(outdir, model, args.quick)
     scene_files = [str(p) for p in drawn]
     if args.setup:        # the set-up to scale, as the report draws it (runtime/report/setup_drawing.py)
         from levitron.runtime.report import setup_drawing

@@ -68,12 +68,6 @@ def launch_request(args, scene) -> mc.Request:
                          tol=args.tol, workers=args.workers, scheduler=args.scheduler)
 
 
-def scene_ref(scene, args) -> str:
-    """What workers reload the scene from: its file's absolute path, else the name given."""
-    from levitron.runtime.model.scenes import scene_ref as ref
-    return ref(scene, args.scene)
-
-
 def add_arguments(parser) -> None:
     add_launch_arguments(parser)
     parser.add_argument("--out", default=None, metavar="FILE.png", help="draw the flight-time histogram")
@@ -98,7 +92,7 @@ def run(args) -> dict:
     scene = scene_of(args)
     request = launch_request(args, scene)
     model = model_of(args)
-    odds = request.run(model, scene_ref(scene, args), args.set, quiet=args.quiet)
+    odds = request.run(model, quiet=args.quiet)
     out = odds.as_json()        # the JSON stays its size: the launches' table goes to --save
     out["saved"] = None
     if args.save is not None:

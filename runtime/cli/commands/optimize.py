@@ -91,7 +91,7 @@ def run(args) -> dict:
         scene = scene_of(args)
         request = launch.launch_request(args, scene)
         model = model_of(args)
-        res = maximize_launch_odds(model, launch.scene_ref(scene, args), args.set, varies, request)
+        res = maximize_launch_odds(model, varies, request)
         out = res.as_dict()
         if args.write_scene:
             from levitron.runtime.design.scene_keys import with_values
@@ -111,7 +111,7 @@ def run(args) -> dict:
             u = Units.of_scene(scene)
             try:
                 cost = launch_design.what_it_costs(
-                    model, launch.scene_ref(scene, args), args.set, varies, launch.launch_request(args, scene),
+                    model, varies, launch.launch_request(args, scene),
                     res.optimum, args.maximize, lambda k, v: u.mass(v) if k == "top.mass" else sig(v, 6))
             except UserError as exc:        # the design stands; only its cost in launches is unknown
                 cost = {"warning": f"the launch odds are not computed: {exc}"}

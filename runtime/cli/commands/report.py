@@ -6,7 +6,6 @@ from pathlib import Path
 from levitron.runtime.errors import UserError
 from levitron.runtime.ui.human import Units, lines, sig
 from levitron.runtime.report.page import build
-from levitron.runtime.model.scenes import scene_ref
 from levitron.runtime.cli.commands.common import model_of, scene_of
 
 NAME = "report"
@@ -38,9 +37,8 @@ def run(args) -> dict:
     out = _check_out(Path(args.out))
     scene = scene_of(args)
     model = model_of(args)
-    ref = scene_ref(scene, args.scene)
     from levitron.runtime.ui.provenance import block
-    page, facts = build(model, ref, args.set, block(getattr(args, "_argv", ["report", args.scene]),
+    page, facts = build(model, block(getattr(args, "_argv", ["report", args.scene]),
                                                     scene, args.set))
     _write(out, page)
     facts["out"] = str(out)

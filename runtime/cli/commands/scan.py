@@ -16,8 +16,7 @@ from levitron.runtime.ui.plotting import check_plot_path
 from levitron.runtime.scan.grid import check_axis, check_grid_size, parse_range, pick_axis
 from levitron.runtime.scan.runners import CONNECT_TIMEOUT_S
 from levitron.runtime.ui.validate import real
-from levitron.runtime.model.scenes import scene_ref
-from levitron.runtime.cli.commands.common import model_of, scene_of
+from levitron.runtime.cli.commands.common import model_of
 
 NAME = "scan"
 HELP = ("stability map: does the top stay up, over --spin LO:HI:N and one of --tilt, --mass, --height "
@@ -93,10 +92,8 @@ def run(args) -> dict:
         check_plot_path(args.out, "--out")
     if args.save is not None:
         trajectory_file.check_path(args.save)
-    scene = scene_of(args)
     model = model_of(args)
-    ref = scene_ref(scene, args.scene)
-    res = sc.scan(model, ref, args.set, spins, axis, others, t_end=args.t_end,
+    res = sc.scan(model, spins, axis, others, t_end=args.t_end,
                   integrator=args.integrator, tol=args.tol, workers=args.workers,
                   scheduler=args.scheduler, base_tilt=args.base_tilt, h=args.step,
                   quiet=args.quiet, scheduler_timeout=None if args.scheduler_timeout is None else real(

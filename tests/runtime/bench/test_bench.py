@@ -142,7 +142,7 @@ def test_heyoka_backend_integrates_the_same_problem():
 
 def test_every_bench_kind_is_a_module_with_the_protocol():
     """The benchmarks' one seam (runtime/bench/kinds.py): each registered kind names a module with
-    bench(model, scene_ref, overrides, out, quick) and scenes that exist."""
+    bench(model, out, quick) and scenes that exist."""
     import importlib
     import inspect
 
@@ -150,7 +150,7 @@ def test_every_bench_kind_is_a_module_with_the_protocol():
     from levitron.runtime.bench.kinds import KINDS
     for kind in KINDS.values():
         fn = importlib.import_module(kind.module).bench
-        assert list(inspect.signature(fn).parameters) == ["model", "scene_ref", "overrides", "out", "quick"]
+        assert list(inspect.signature(fn).parameters) == ["model", "out", "quick"]
         assert kind.scenes and all(find_scene_file(s) for s in kind.scenes)
 
 
@@ -230,7 +230,7 @@ def test_startup_bench_times_commands_in_fresh_processes(tmp_path, monkeypatch):
     monkeypatch.setattr(startup, "COMMANDS", (("--version", ["--version"], 0.2),
                                               ("info", ["info", "{scene}", "--json"], 5.0)))
     model = load_model(load_scene("thesis_stable"))
-    res = startup.bench(model, str(model.scene.path.resolve()), [], tmp_path, quick=True)
+    res = startup.bench(model, tmp_path, quick=True)
     rows = {r["command"]: r for r in res["rows"]}
     assert rows["--version"]["min_s"] > 0 and rows["--version"]["budget_s"] == 0.2
     assert rows["info"]["argv"] == "levitron info thesis_stable --json"
@@ -257,7 +257,7 @@ def test_the_api_bench_runs_quick_and_measures_each_part(tmp_path):
 
     from levitron.runtime.bench import api
     from levitron.runtime.model.load import load_model
-    res = api.bench(load_model(load_scene("thesis_stable")), "thesis_stable", [], tmp_path, quick=True)
+    res = api.bench(load_model(load_scene("thesis_stable")), tmp_path, quick=True)
     assert [r["part"] for r in res["rows"]] == ["full", "reduced"]
     for r in res["rows"]:
         assert 0 < r["integration_s"] < r["wall_s"] and r["overhead_s"] <= r["wall_s"] - r["integration_s"]

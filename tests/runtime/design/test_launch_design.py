@@ -42,7 +42,7 @@ def test_a_steady_hand_is_advised_the_middle_of_the_masses_that_hold_its_spin(de
         return iv is not None and iv[0] < SPIN < iv[1]
     lo = _edge(model, 0.0504, 0.0515, lambda m: holds(m))
     hi = equilibria_of(model).max_mass
-    res = maximize_launch_odds(model, "thesis_stable", [], [Vary("top.mass", 0.0504, 0.0530)],
+    res = maximize_launch_odds(model, [Vary("top.mass", 0.0504, 0.0530)],
                                mc.Request(STEADY, n=4, t_end=30.0))
     assert res.probability == 1.0 and res.start_launch_odds["probability"] == 1.0
     assert res.optimum["top.mass"] == pytest.approx(0.5 * (lo + hi), abs=0.03 * (hi - lo))
@@ -94,7 +94,7 @@ def test_a_design_on_two_workers_in_one_kept_pool_is_the_serial_design(derived_m
     model = derived_model("thesis_stable")
     box = [Vary("top.mass", 0.0504, 0.0530)]
     given = {**STEADY, "tilt": "uniform:0,0.02", "mass": "rel:0.2%"}
-    serial = maximize_launch_odds(model, "thesis_stable", [], box, mc.Request(given, n=8, t_end=2.0))
-    kept = maximize_launch_odds(model, "thesis_stable", [], box, mc.Request(given, n=8, t_end=2.0, workers=2))
+    serial = maximize_launch_odds(model, box, mc.Request(given, n=8, t_end=2.0))
+    kept = maximize_launch_odds(model, box, mc.Request(given, n=8, t_end=2.0, workers=2))
     assert kept.optimum == serial.optimum and kept.launch_odds == serial.launch_odds
     assert [e["probability"] for e in kept.evaluations] == [e["probability"] for e in serial.evaluations]

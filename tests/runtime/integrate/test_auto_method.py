@@ -93,15 +93,15 @@ def test_scan_auto_equals_the_chosen_method(model):
     grid = dict(spins=np.array([600.0, 2500.0]), axis="tilt", others=np.array([0.02]), t_end=0.2,
                 tol=1e-11, quiet=True)
     for engine in ("c", "python"):
-        ref = sc.scan(model, "thesis", SET, integrator="vern9", engine=engine, **grid)
-        got = sc.scan(model, "thesis", SET, integrator=AUTO, engine=engine, **grid)
+        ref = sc.scan(model, integrator="vern9", engine=engine, **grid)
+        got = sc.scan(model, integrator=AUTO, engine=engine, **grid)
         assert got.status == ref.status and got.runner["engine"] == engine
         assert got.as_json()["integrator"] == "vern9"
         assert got.as_json()["integrator_requested"] == AUTO
         np.testing.assert_array_equal(got.t_survived, ref.t_survived)
         np.testing.assert_array_equal(got.levitating, ref.levitating)
         assert got.rhs_evals == ref.rhs_evals          # dop853's differ: the same method ran
-        assert got.rhs_evals != sc.scan(model, "thesis", SET, integrator="dop853", engine=engine,
+        assert got.rhs_evals != sc.scan(model, integrator="dop853", engine=engine,
                                         **grid).rhs_evals
     from levitron.runtime.physics.equilibrium import hover_height
     from levitron.runtime.scan.runners import Common, run_chunk

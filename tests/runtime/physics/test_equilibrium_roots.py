@@ -223,7 +223,7 @@ def test_close_roots_every_command(scenes, units, delta):
     spin = math.sqrt(lo_s * hi_s)
     run = simulate(model, spin=spin, tilt=1e-3, t_end=2 * math.pi / spin * 20, params={"m": m})
     assert run["z_s"] == hi.z
-    res = scan(model, str(scene), [], np.array([spin]), "mass", np.array([m]),
+    res = scan(model, np.array([spin]), "mass", np.array([m]),
                t_end=2 * math.pi / spin * 20, quiet=True)
     assert res.linear[0]["z_s"] == hi.z and res.status[0][0] != "no_hover_height"
     # optimize: fitting m to the upper root gives this mass back, with both roots

@@ -200,12 +200,11 @@ def test_wilson_interval_matches_scipy():
 def test_launch_is_the_same_serially_with_processes_and_on_dask(air):
     distributed = pytest.importorskip("dask.distributed")
     kw = dict(n=12, seed=3, t_end=3.0, quiet=True)
-    ref = "thesis_air"
-    a = mc.monte_carlo(air, ref, [], {}, **kw)
-    b = mc.monte_carlo(air, ref, [], {}, workers=2, **kw)
+    a = mc.monte_carlo(air, {}, **kw)
+    b = mc.monte_carlo(air, {}, workers=2, **kw)
     with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False, host="127.0.0.1",
                                   protocol="tcp", dashboard_address=None) as c:
-        d = mc.monte_carlo(air, ref, [], {}, scheduler=c.scheduler_address, **kw)
+        d = mc.monte_carlo(air, {}, scheduler=c.scheduler_address, **kw)
     assert a["verdicts"] == b["verdicts"] == d["verdicts"]
     assert a["flight_time"]["values"] == b["flight_time"]["values"] == d["flight_time"]["values"]
     assert 0 < a["successes"] < a["n"]          # the spread matters: some launches fall
@@ -271,13 +270,13 @@ def test_temperature_scales_the_magnets():
 def test_launch_without_spin_interval_needs_a_spin():
     model = load_model(load_scene("thesis"))         # the thesis's own top: no stable interval
     with pytest.raises(UserError):
-        mc.monte_carlo(model, "thesis", [], {}, n=2, t_end=0.5, quiet=True)
+        mc.monte_carlo(model, {}, n=2, t_end=0.5, quiet=True)
 
 
 def test_api_launch_matches_the_command():
     import levitron as lev
     odds = lev.load("thesis_air").launch(n=6, seed=1, t_end=2.0)
-    r = mc.monte_carlo(load_model(load_scene("thesis_air")), "thesis_air", [], {}, n=6, seed=1,
+    r = mc.monte_carlo(load_model(load_scene("thesis_air")), {}, n=6, seed=1,
                        t_end=2.0, quiet=True)
     assert odds.probability == r["probability"] and list(odds.probability_ci95) == r["probability_ci95"]
     assert odds.details["verdicts"] == r["verdicts"]

@@ -64,7 +64,7 @@ def test_a_serial_launch_goes_in_chunks_so_its_progress_moves(derived_model, mon
         return real(plan, chunks, quiet, fn=fn, what=what)
     monkeypatch.setattr(runners, "run_serial", spy)
     model = derived_model("thesis_air")
-    a = mc.Request({"tilt": "0.01"}, n=60, t_end=0.2).run(model, "thesis_air", [], quiet=True)
+    a = mc.Request({"tilt": "0.01"}, n=60, t_end=0.2).run(model, quiet=True)
     assert seen == [3]
-    b = mc.Request({"tilt": "0.01"}, n=60, t_end=0.2, workers=2).run(model, "thesis_air", [], quiet=True)
+    b = mc.Request({"tilt": "0.01"}, n=60, t_end=0.2, workers=2).run(model, quiet=True)
     assert a["verdicts"] == b["verdicts"] and a["flight_time"]["values"] == b["flight_time"]["values"]

@@ -35,7 +35,7 @@ def model():
 
 def run_scan(model, spins, axis, others, **kw):
     kw.setdefault("quiet", True)
-    return sc.scan(model, "thesis", SET, np.asarray(spins, float), axis, np.asarray(others, float), **kw)
+    return sc.scan(model, np.asarray(spins, float), axis, np.asarray(others, float), **kw)
 
 
 def cli(*args, check_json=True):

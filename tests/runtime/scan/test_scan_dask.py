@@ -33,8 +33,8 @@ def cluster():
 def test_dask_map_equals_serial(model, cluster):
     address = cluster.scheduler_address
     assert address.startswith("tcp://127.0.0.1:")
-    a = sc.scan(model, "thesis", SET, SPINS, "tilt", TILTS, t_end=1.0, quiet=True)
-    b = sc.scan(model, "thesis", SET, SPINS, "tilt", TILTS, t_end=1.0, quiet=True, scheduler=address)
+    a = sc.scan(model, SPINS, "tilt", TILTS, t_end=1.0, quiet=True)
+    b = sc.scan(model, SPINS, "tilt", TILTS, t_end=1.0, quiet=True, scheduler=address)
     assert b.runner["kind"] == "dask" and b.runner["threads"] == 2 and b.runner["engine"] == "c"
     assert b.runner["chunks"] == SPINS.size * TILTS.size     # 8 per thread asked, one per point here
     assert a.status == b.status
@@ -47,6 +47,6 @@ def test_dask_map_equals_serial(model, cluster):
 def test_unreachable_scheduler_is_one_line(model, monkeypatch):
     monkeypatch.setattr(scan_runners, "CONNECT_TIMEOUT_S", 1)
     with pytest.raises(UserError, match="cannot reach the dask scheduler") as exc:
-        sc.scan(model, "thesis", SET, SPINS[:1], "tilt", TILTS[:1], t_end=0.1, quiet=True,
+        sc.scan(model, SPINS[:1], "tilt", TILTS[:1], t_end=0.1, quiet=True,
                 scheduler="tcp://127.0.0.1:9")
     assert "\n" not in str(exc.value)

@@ -79,9 +79,9 @@ def test_nonfinite_run_and_bad_arguments(lib):
 
 
 def _both(model, spins, axis, others, **kw):
-    a = sc.scan(model, "thesis", SET, np.asarray(spins, float), axis, np.asarray(others, float),
+    a = sc.scan(model, np.asarray(spins, float), axis, np.asarray(others, float),
                 quiet=True, engine="python", **kw)
-    b = sc.scan(model, "thesis", SET, np.asarray(spins, float), axis, np.asarray(others, float),
+    b = sc.scan(model, np.asarray(spins, float), axis, np.asarray(others, float),
                 quiet=True, **kw)
     assert a.runner["engine"] == "python" and b.runner["engine"] == "c"
     assert a.status == b.status
@@ -113,7 +113,7 @@ def test_bench_maps_quick(model):
     scan` at 1 and 2 workers, the same map from all five, points per second and the CPU time over
     the rhs-call time of each, and the CLI's wall time over the driver's."""
     from levitron.runtime.bench import maps as bench_maps
-    out = bench_maps.run(model, "thesis", SET, quick=True)
+    out = bench_maps.run(model, quick=True)
     assert [(r["engine"], r["workers"]) for r in out["rows"]] == [("c", 1), ("c", 2), ("python", 1),
                                                                   ("cli", 1), ("cli", 2)]
     assert out["same_map"] is True

@@ -66,7 +66,7 @@ def http_server():
 def test_an_http_server_is_no_scheduler(model, http_server):
     t0 = time.monotonic()
     with pytest.raises(UserError, match="no dask scheduler answered") as exc:
-        within(30, lambda: sc.scan(model, "thesis", SET, SPINS[:1], "tilt", TILTS[:1], t_end=0.1,
+        within(30, lambda: sc.scan(model, SPINS[:1], "tilt", TILTS[:1], t_end=0.1,
                                    quiet=True, scheduler=http_server, scheduler_timeout=2))
     assert "\n" not in str(exc.value) and time.monotonic() - t0 < 15
 
@@ -76,17 +76,17 @@ def test_a_scheduler_without_workers_is_one_line(model):
     with distributed.LocalCluster(n_workers=0, processes=False, host="127.0.0.1", protocol="tcp",
                                   dashboard_address=None) as cluster:
         with pytest.raises(UserError, match="has no workers") as exc:
-            within(30, lambda: sc.scan(model, "thesis", SET, SPINS[:1], "tilt", TILTS[:1], t_end=0.1,
+            within(30, lambda: sc.scan(model, SPINS[:1], "tilt", TILTS[:1], t_end=0.1,
                                        quiet=True, scheduler=cluster.scheduler_address,
                                        scheduler_timeout=2))
     assert "\n" not in str(exc.value)
 
 
 def test_a_killed_worker_costs_a_rerun_not_the_map(model, tmp_path, monkeypatch, capfd):
-    serial = sc.scan(model, "thesis", SET, SPINS, "tilt", TILTS, t_end=1.0, quiet=True)
+    serial = sc.scan(model, SPINS, "tilt", TILTS, t_end=1.0, quiet=True)
     marker = tmp_path / "killed"
     monkeypatch.setenv("LEVITRON_FAULT", f"scan.worker_chunk:{marker}")
-    par = within(300, lambda: sc.scan(model, "thesis", SET, SPINS, "tilt", TILTS, t_end=1.0,
+    par = within(300, lambda: sc.scan(model, SPINS, "tilt", TILTS, t_end=1.0,
                                       quiet=True, workers=2))
     assert marker.exists(), "no worker was killed: the test tested nothing"
     assert "scan worker process died" in capfd.readouterr().err
@@ -99,7 +99,7 @@ def test_a_killed_worker_costs_a_rerun_not_the_map(model, tmp_path, monkeypatch,
 
 def test_workers_are_capped_at_the_usable_cores(model, capfd):
     many = usable_cores() + 6
-    res = sc.scan(model, "thesis", SET, SPINS, "tilt", TILTS[:2], t_end=0.5, quiet=True, workers=many)
+    res = sc.scan(model, SPINS, "tilt", TILTS[:2], t_end=0.5, quiet=True, workers=many)
     assert res.runner["workers"] == min(usable_cores(), SPINS.size * 2)
     assert f"--workers {many} capped" in capfd.readouterr().err
 
@@ -121,7 +121,7 @@ def test_losing_every_dask_worker_mid_scan_is_one_line(model):
         threading.Thread(target=leave, daemon=True).start()
         t0 = time.monotonic()
         with pytest.raises(UserError, match="lost every worker") as exc:
-            within(60, lambda: sc.scan(model, "thesis", SET, spins, "tilt", TILTS, t_end=50.0,
+            within(60, lambda: sc.scan(model, spins, "tilt", TILTS, t_end=50.0,
                                        quiet=True, scheduler=cluster.scheduler_address,
                                        scheduler_timeout=2))
         assert "\n" not in str(exc.value) and time.monotonic() - t0 < 30

@@ -330,7 +330,7 @@ def test_the_default_run_length_scales_with_the_scene_and_sees_the_fall():
     assert over["levitating"] is False and over["t_end"] > 5.0
     inside = simulate(thesis_stable_model, 1000.0)
     assert inside["levitating"] is True
-    scan_t_end = scan(thesis_stable_model, "thesis_stable", [], np.array([1000.0]), "tilt", np.array([0.01]),
+    scan_t_end = scan(thesis_stable_model, np.array([1000.0]), "tilt", np.array([0.01]),
                       quiet=True).t_end
     assert inside["t_end"] == pytest.approx(scan_t_end, rel=1e-12)
 
