@@ -1,9 +1,9 @@
 """Typed results of the public API (SI units, thesis 3.3). Each answer lives beside the code that
 computes it and is re-exported here: Equilibria (runtime/physics/equilibria.py, its Equilibrium
-runtime/physics/equilibrium.py's), Simulation (runtime/simulate/simulation.py), Scan
+runtime/physics/equilibrium_report.py's), Simulation (runtime/simulate/simulation.py), Scan
 (runtime/scan/scan_answer.py; ScanResult its old name), LaunchOdds (runtime/scan/launch_answer.py),
 Design (runtime/design/design_answer.py; DesignResult its old name), Fit
-(runtime/design/fit_answer.py; FitResult its old name).
+(runtime/design/fit_answer.py; FitResult its old name), Trim (runtime/design/trim_answer.py).
 
 Every result has a short `repr` with units (the scene's: a dimensionless scene shows none but
 rad/time and time units; `units`, set by Study), and scipy-style `success` (bool) and `message` (one
@@ -19,6 +19,7 @@ import numpy as np
 
 from levitron.runtime.design.design_answer import Design, DesignResult
 from levitron.runtime.design.fit_answer import Fit, FitResult
+from levitron.runtime.design.trim_answer import Trim
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.verdict import NO_HOVER
 from levitron.runtime.physics.equilibria import Equilibria
@@ -72,41 +73,6 @@ class Stability:
         z = "None" if self.z_s is None else quantity(u, self.z_s, "m")
         k = "None" if self.stiffness is None else quantity(u, self.stiffness, "N/m", ".4g")
         return f"Stability(spin_interval={iv}, z_s={z}, stiffness={k}, success={self.success})"
-
-
-@dataclass(frozen=True, repr=False)
-class Trim:
-    """The trim by the launch odds (runtime/design/trim.py, docs/contract.md `trim`): the mass to
-    set (kg), the change from the scene's, the masses that hover (the stable band), the launch
-    odds before and after (fresh seed, 95 % Wilson intervals) and at the widest spin window;
-    details: every key of the JSON (the spin limits of every mass, the design's search)."""
-
-    mass: float
-    advice: float
-    change: float
-    band_mass: tuple[float, float]
-    probability: float
-    start_probability: float
-    widest_window_mass: float
-    widest_window_probability: float
-    details: dict = field(repr=False, default_factory=dict)
-    units: Units = field(default=_SI, repr=False, compare=False)
-
-    @property
-    def success(self) -> bool:
-        """The search found launches that float (it raises UserError where none does)."""
-        return self.probability > 0
-
-    @property
-    def message(self) -> str:
-        d = self.change
-        how = f"take {self.units.mass(-d)} off" if d < 0 else f"add {self.units.mass(d)}"
-        return (f"{how}: launch odds {sig(100 * self.start_probability, 3)}% -> {sig(100 * self.probability, 3)}%"
-                f" (the widest spin window, at {self.units.mass(self.widest_window_mass)}: "
-                f"{sig(100 * self.widest_window_probability, 3)}%)")
-
-    def __repr__(self) -> str:
-        return f"Trim({self.message})"
 
 
 @dataclass(frozen=True, repr=False)

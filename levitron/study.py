@@ -266,11 +266,7 @@ class Study:
         from levitron.runtime.design.trim import trim
         from levitron.runtime.scan.launch_odds import Request
         request = Request.of(self.scene.data.get("launch", {}), inputs, n=n, seed=seed, **options)
-        out = trim(self.model, request).as_dict()
-        w = out["widest_window"]
-        return Trim(out["mass"], out["advice"], out["change"], tuple(out["band_mass"]),
-                    out["launch_odds"]["probability"], out["start_launch_odds"]["probability"], w["mass"],
-                    w["launch_odds"]["probability"], out, self.units)
+        return trim(self.model, request)
 
     @_in_scene_units
     def propagator(self, part: str = "reduced", integrator: str = "auto", tol: float = 1e-9,

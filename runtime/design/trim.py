@@ -7,47 +7,26 @@ discriminant route, thesis 3.3.15-3.3.19) is widest near an edge of the band, wh
 0.2 % in mass or strength puts part of the launches outside the band: advice by the window alone
 fails there. The trim is therefore the launch-odds design (runtime/design/launch_design.py) over
 top.mass in the band, with the same launch spread as `levitron launch`; beside it, the window of
-every mass and the odds at the widest window, so the two pieces of advice can be compared.
+every mass and the odds at the widest window, so the two pieces of advice can be compared. The
+answer is runtime/design/trim_answer.py's Trim.
 """
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
 
 import numpy as np
 
 from levitron.runtime.design import launch_design as ld
 from levitron.runtime.design.scene_keys import Vary
+from levitron.runtime.design.trim_answer import Trim
 from levitron.runtime.errors import UserError
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.physics.bands import edge_note
 from levitron.runtime.physics.stability import stability_of
 from levitron.runtime.scan import launch_odds as mc
+from levitron.runtime.ui.human import Units
 
 LIMIT_POINTS = 41        # masses at which the spin window is drawn, the band's edges included
-
-
-@dataclass
-class Trim:
-    """The trim answer (docs/contract.md `trim`): masses in kg, rates in rad/s (SI, or scene units)."""
-    mass: float                        # the scene's top
-    band_mass: tuple[float, float]     # the masses that can hover (the stable band)
-    design: ld.LaunchDesign            # the launch-odds design over top.mass in the band
-    limits: list[dict]                 # [{mass, z_s, spin_interval}] across the band
-    widest: dict                       # the mass of the widest window, its window and its launch odds
-    warnings: list[str] = field(default_factory=list)
-
-    @property
-    def advice(self) -> float:
-        return self.design.optimum["top.mass"]
-
-    def as_dict(self) -> dict:
-        d = self.design
-        return {"mass": self.mass, "advice": self.advice, "change": self.advice - self.mass,
-                "band_mass": list(self.band_mass), "launch_odds": d.launch_odds,
-                "start_launch_odds": d.start_launch_odds, "widest_window": self.widest,
-                "spin_limits": self.limits, "inputs": d.inputs, "success_time": d.success_time,
-                "t_end": d.t_end, "design": d.as_dict(), "warnings": [*self.warnings, *d.warnings]}
 
 
 def spin_limits(model, masses: Sequence[float]) -> list[dict]:
@@ -87,4 +66,4 @@ def trim(model, request: mc.Request) -> Trim:
     if not lo <= model.param("m") <= hi:
         warnings.append(f"the scene's top ({model.param('m'):.6g} kg) is outside the masses that can hover, "
                         f"[{lo:.6g}, {hi:.6g}] kg: as written it does not float at all")
-    return Trim(model.param("m"), (lo, hi), design, limits, widest, warnings)
+    return Trim(model.param("m"), (lo, hi), design, limits, widest, warnings, Units.of_scene(model.scene))

@@ -24,7 +24,7 @@ def _odds_bar(ax, x: float, block: dict, color: str, label: str) -> None:
 
 
 def draw(r: dict, path, u: Units, scene: str, option: str = "--out") -> Path:
-    """Draw the trim answer r (Trim.as_dict) to path (.png, .pdf, .svg)."""
+    """Draw the trim answer r (Trim.as_json) to path (.png, .pdf, .svg)."""
     plt = pyplot()
     style()
     scale, unit = (1e3, "g") if u.si else (1.0, u.unit("kg"))

@@ -28,7 +28,7 @@ def run(args) -> dict:
     scene = scene_of(args)
     request = launch.launch_request(args, scene)
     model = model_of(args)
-    out = trim(model, request).as_dict()
+    out = trim(model, request).as_json()
     out["scene"] = scene.name
     out["out"] = None
     if args.out is not None:

@@ -92,6 +92,15 @@ def test_a_dimensionless_scene_trims_in_its_own_units_and_the_api_agrees(tmp_pat
     api = lev.load(str(scene)).trim(n=40, success_time=20.0, t_end=20.0)
     assert (api.advice, api.probability, api.widest_window_mass) == \
         (r["advice"], r["launch_odds"]["probability"], r["widest_window"]["mass"])
+    # one answer type: the command's JSON is the API's answer's as_json(), key for key, but for the
+    # command's own keys and the design's wall time
+    from levitron.runtime.design.trim_answer import Trim
+    assert type(api) is Trim and lev.Trim is Trim
+    a = api.as_json()
+    assert set(r) - set(a) == {"scene", "out", "provenance"}
+    for d in (a, r):
+        d["design"].pop("wall_s")
+    assert json.dumps(a, sort_keys=True) == json.dumps({k: r[k] for k in a}, sort_keys=True)
     assert "g" not in re.findall(r"[\d.] ?(\w+)", api.message)
 
 
