@@ -15,7 +15,6 @@ from pathlib import Path
 
 
 from levitron.runtime.scan import launch_odds as mc
-from levitron.runtime.ui.human import Units
 from levitron.runtime.simulate.run import simulate
 from levitron.runtime.ui.atomic import open_text, write_text
 
@@ -63,7 +62,7 @@ def bench(model, out: Path, quick: bool) -> dict:
         w.writerow([f"one flight of {o['flight']:g} s", 1, 1, f"{r['flight']['wall_s']:.4g}"])
         w.writerow([f"Monte Carlo, launches of {o['t_end']:g} s", o["n"], o["workers"],
                     f"{r['monte_carlo']['wall_s']:.4g}"])
-    mc.draw(res, out / "launch_histogram.png", Units.of_scene(model.scene), model.scene.name)
+    res.plot(out / "launch_histogram.png")
     r["files"] = [str(out / f) for f in ("launch.json", "launch.csv", "launch_histogram.png")]
     r["headline"] = (f"a {o['flight']:g} s flight in {r['flight']['wall_s']:.3g} s wall; {o['n']} launches of "
                      f"{o['t_end']:g} s on {o['workers']} worker(s) in {r['monte_carlo']['wall_s']:.3g} s")

@@ -38,7 +38,8 @@ def mass_windows(model) -> list[dict]:
 
 def _input_text(name: str, spec: str, u: Units) -> str:
     from levitron.runtime.scan import launch_odds as mc
-    si_unit = mc.INPUT_UNITS[name]
+    from levitron.runtime.scan import launch_inputs as li
+    si_unit = li.INPUT_UNITS[name]
     show = {"m": u.length, "1": lambda v: f"{sig(100 * v, 3)} %",
             "degC": lambda v: f"{sig(v)} degC"}.get(si_unit, lambda v: u.value(v, si_unit))
     d = mc.parse_input(name, spec)      # the JSON's inputs: mass and strength spelt relative (rel:)

@@ -19,7 +19,7 @@ class LaunchOdds:
     """Launch odds by Monte Carlo (runtime/scan/launch_odds.py, docs/contract.md `launch`): probability of
     floating at least success_time (s), its 95 % Wilson interval, flight-time median and quartiles
     (s), the inputs ranked by their effect on the success rate; details: every key of the JSON;
-    launches: every launch as data, {column: array of length n} (launch_odds.LAUNCH_UNITS: the
+    launches: every launch as data, {column: array of length n} (launch_summary.LAUNCH_UNITS: the
     inputs as run, mass in kg and mu absolute, strength the factor 1 + d, z_s, verdict, floats,
     flight_time), the table `levitron launch --save` writes; `save(path)` writes it too."""
 

@@ -59,84 +59,12 @@ from levitron.runtime.physics.friction import has_friction
 from levitron.runtime.integrate.verdict import stopped_early
 from levitron.runtime.integrate.methods import DEFAULT, lookup, refuse_on_full_model, resolve
 from levitron.runtime.scan.launch_answer import LaunchOdds
+from levitron.runtime.scan.launch_summary import effects, launches, wilson
+from levitron.runtime.scan.launch_inputs import ALL_INPUTS, INPUTS, apparatus_of, refuse_apparatus
 from levitron.runtime.scan.spreads import Dist, parse_input, spec_text
 from levitron.runtime.ui.validate import count, real, spread_range, temperature
 
-INPUTS = ("spin", "tilt", "tilt_azimuth", "offset", "velocity", "mass", "strength", "temperature")
-
-
-@dataclass(frozen=True)
-class Apparatus:
-    """An imperfection of the apparatus sampled like a launch input (module docstring): each sample
-    sets the runtime parameter `param`, which a model has only where the scene declares `scene_key`
-    (scene/keys.py TILT_PARAMS). `moves`: a value other than 0 moves the equilibrium off the
-    launch point (so launches with no tilt, offset or velocity still test something). `default`:
-    the distribution when none is given, from the model (None: the model's own value, fixed)."""
-    name: str
-    param: str
-    unit: str
-    scene_key: str
-    moves: bool
-    default_text: str
-    default: object = None
-    direction_of: str | None = None     # the input whose direction this is: moot where that is fixed at 0
-
-
-def _downhill_default(model):
-    """Over an axially symmetric plate the downhill direction matters only relative to the launch's
-    own directions (offset along x, velocity along y, the tilt's azimuth): unknown to the person, so
-    uniform over the turn. Over a rectangle the plate's sides fix directions: the scene's own."""
-    from levitron.runtime.physics.stability import symmetry
-    if symmetry(model.scene.data["plate"], model.pvals()).name == "axial":
-        return Dist("uniform", 0.0, 2 * math.pi)
-    return Dist("fixed", float(model.pvals()["base_tilt_azimuth"]))
-
-
-# the apparatus inputs: another imperfection with a runtime parameter is one entry here
-APPARATUS = (
-    Apparatus("base_tilt", "base_tilt", "rad", "plate.tilt", True, "the scene's plate.tilt (0: level)"),
-    Apparatus("base_tilt_azimuth", "base_tilt_azimuth", "rad", "plate.tilt", False,
-              "uniform:0,2pi rad over an axially symmetric plate, else the scene's plate.tilt_azimuth; "
-              "the scene's where the base tilt is fixed at 0", _downhill_default, "base_tilt"),
-    Apparatus("moment_tilt", "moment_tilt", "rad", "top.moment_tilt", True,
-              "the scene's top.moment_tilt (0: the magnet on the axis)"),
-)
-ALL_INPUTS = INPUTS + tuple(a.name for a in APPARATUS)
-# what each input's numbers are (the module docstring): the SI unit of its JSON numbers, "1" for a
-# relative deviation d (mass m (1 + d), strength mu (1 + d)), "degC" for the temperature
-INPUT_UNITS = {"spin": "rad/s", "tilt": "rad", "tilt_azimuth": "rad", "offset": "m", "velocity": "m/s",
-               "mass": "1", "strength": "1", "temperature": "degC", **{a.name: a.unit for a in APPARATUS}}
-
-
-def apparatus_of(model) -> tuple[Apparatus, ...]:
-    """The apparatus inputs this model has the terms of (the others it cannot sample)."""
-    return tuple(a for a in APPARATUS if a.param in model.param_names)
-
-
-def refuse_apparatus(model, given) -> None:
-    """A one-line UserError for an apparatus input given to a model without its term."""
-    have = {a.name for a in apparatus_of(model)}
-    for a in APPARATUS:
-        if a.name in given and a.name not in have:
-            raise UserError(f"launch {a.name}: scene '{model.scene.name}' has no {a.scene_key}, so its "
-                            f"model has no {a.param} to sample; pass --set {a.scene_key}=0 (or put "
-                            f"{a.scene_key} in the scene) and the launches set it")
-Z95 = 1.959963984540054          # the 97.5 % point of the standard normal
 MAX_N = 10**6
-BINS = 5
-RANGE95 = 3.86        # 95 % point of the range of BINS = 5 standard normals (Tippett's tables)
-
-
-def wilson(k: int, n: int, z: float = Z95) -> tuple[float, float]:
-    """The Wilson score interval of a binomial proportion k / n (Wilson 1927)."""
-    if n <= 0:
-        raise UserError("the Wilson interval needs at least one sample")
-    p = k / n
-    den = 1 + z * z / n
-    centre = (p + z * z / (2 * n)) / den
-    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / den
-    # at k = 0 (k = n) the lower (upper) end is 0 (1) exactly, not the rounding of centre - half
-    return (0.0 if k == 0 else max(0.0, centre - half)), (1.0 if k == n else min(1.0, centre + half))
 
 
 @dataclass(frozen=True)
@@ -235,29 +163,6 @@ def run_chunk(plan: Plan, indices) -> dict:
         points += [{"i": r[0], "t": float(res["t_final"][k]), "status": res["status"][k], **r[6]}
                    for k, r in enumerate(rows)]
     return {"points": points}
-
-
-def effects(S: Mapping[str, np.ndarray], ok: np.ndarray, dists: Mapping[str, Dist]) -> list[dict]:
-    """Per input with a spread: the success rate in each of BINS quantile bins of the input, and
-    its effect, the largest minus the smallest of those rates; ranked, largest effect first.
-    `noise`: the effect an input without influence stays below by chance in 95 % of samples, the
-    95 % point of the range of BINS normal rates, 3.9 binomial standard deviations of one bin's
-    rate (3.9 sqrt(p (1 - p) / (n / BINS))), so that a small sample's ranking is read as it is."""
-    out = []
-    p = float(np.mean(ok)) if len(ok) else 0.0
-    noise = RANGE95 * math.sqrt(p * (1 - p) / max(len(ok) / BINS, 1.0))
-    for name, d in dists.items():
-        if not d.spread:
-            continue
-        x = S[name]
-        edges = np.quantile(x, np.linspace(0, 1, BINS + 1))
-        idx = np.clip(np.searchsorted(edges, x, side="right") - 1, 0, BINS - 1)
-        rates = [float(ok[idx == b].mean()) if np.any(idx == b) else None for b in range(BINS)]
-        have = [r for r in rates if r is not None]
-        out.append({"input": name, "effect": (max(have) - min(have)) if have else 0.0, "noise": noise,
-                    "bins": [[float(edges[b]), float(edges[b + 1])] for b in range(BINS)],
-                    "success_rate": rates})
-    return sorted(out, key=lambda e: -e["effect"])
 
 
 def table_settings(table: Mapping) -> tuple[dict, dict]:
@@ -485,62 +390,3 @@ def summarize(plan: Plan, results, success_time: float, interval, z_s: float, ta
         "launches": launches(S, pts, ok, t),
         "warnings": list(warnings),
     }
-
-
-# the columns of `launches` (launch --save, Study.launch().launches) and the SI unit of each ("1": a
-# pure number; "text": the verdict): every input as the launch ran it, mass and strength absolute
-# (the apparatus' columns only where the model has their terms)
-LAUNCH_UNITS = {"launch": "1", "spin": "rad/s", "tilt": "rad", "tilt_azimuth": "rad", "offset": "m",
-                "velocity": "m/s", "mass": "kg", "strength": "1", "temperature": "degC",
-                **{a.name: a.unit for a in APPARATUS}, "mu": "A m^2",
-                "z_s": "m", "verdict": "text", "floats": "1", "flight_time": "s"}
-LAUNCH_MEANING = {
-    "launch": "the launch's index (its place in the seed's draw)",
-    "mass": "the top's mass as run, m (1 + d) (not the relative deviation d)",
-    "strength": "the factor on the magnets' strength as sampled, 1 + d (1 = the scene's; temperature aside)",
-    "mu": "the moment (times the plate's strength) the run used: the scene's mu x strength x the "
-          "temperature's factor",
-    "z_s": "the hover height of the launch's own top (NaN: it cannot hover)",
-    "verdict": "how the run ended, as `outcomes` names it (completed: still up at t_end; left_box: fell; "
-               "cannot_hover; ...)",
-    "floats": "1 if the flight reached the success time, else 0",
-    "base_tilt": "the base's tilt from level the launch ran over (rad; the model's base_tilt)",
-    "base_tilt_azimuth": "the base's downhill direction (rad from +x towards +y)",
-    "moment_tilt": "the angle of the magnet's moment from the top's axis in the launch (rad; moment_tilt)",
-    "flight_time": "how long the top floated (t_end for a run still up)"}
-
-
-def launches(S: Mapping[str, np.ndarray], pts: list[dict], ok: np.ndarray, t: np.ndarray) -> dict:
-    """Every launch as data, one row each in the seed's order: the sampled inputs (spin, tilt,
-    tilt_azimuth, offset, velocity, temperature and the apparatus' as drawn; mass and mu as the run used them,
-    strength as the factor 1 + d), the launch's hover height, its verdict (the run's status), whether
-    it floats, and its flight time (LAUNCH_UNITS)."""
-    out = {"launch": np.arange(len(pts))}
-    out.update({k: np.asarray(S[k], float) for k in S})
-    out["mass"] = np.array([p["m"] for p in pts])
-    out["strength"] = 1.0 + np.asarray(S["strength"], float)
-    out["mu"] = np.array([p["mu"] for p in pts])
-    out["z_s"] = np.array([p["z_s"] for p in pts])
-    out["verdict"] = np.array([p["status"] for p in pts])
-    out["floats"] = ok.astype(np.int64)
-    out["flight_time"] = np.asarray(t, float)
-    return {k: out[k] for k in LAUNCH_UNITS if k in out}
-
-
-def draw(result: dict, path, units, scene: str = ""):
-    """The flight-time histogram with the success time drawn in."""
-    from levitron.runtime.ui.plotting import pyplot, save_figure, style
-    plt = pyplot()
-    style()
-    tu = "s" if units.si else "time units"
-    fig, ax = plt.subplots(figsize=(7, 4))
-    ax.hist(result["flight_time"]["values"], bins=40, color="C0")
-    ax.axvline(result["success_time"], color="C3", ls="--", label=f"success time {result['success_time']:.4g} {tu}")
-    ax.set_xlabel(f"flight time ({tu})")
-    ax.set_ylabel("launches")
-    lo, hi = result["probability_ci95"]
-    ax.set_title(f"{scene}: {100 * result['probability']:.1f} % of {result['n']} launches float "
-                 f"(95 % CI {100 * lo:.1f}-{100 * hi:.1f} %)", fontsize="medium")
-    ax.legend(loc="best")
-    fig.tight_layout()
-    return save_figure(fig, path)

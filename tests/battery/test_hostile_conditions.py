@@ -241,7 +241,8 @@ def test_runs_without_a_verdict_are_not_falls():
     the success time (one of them by a run that stopped after it), 4 fell (left_box, cannot_hover),
     3 stopped early before it: 3 / 7, Wilson of (3, 7)."""
     from levitron.runtime.scan import launch_odds as mc
-    plan = mc.Plan("thesis_air", (), tuple((k, mc.Dist("normal", 1.0, 0.1)) for k in mc.INPUTS), 10, 0,
+    from levitron.runtime.scan import launch_inputs as li
+    plan = mc.Plan("thesis_air", (), tuple((k, mc.Dist("normal", 1.0, 0.1)) for k in li.INPUTS), 10, 0,
                    2.0, "dop853", 1e-8)
     pts = [("completed", 2.0), ("completed", 2.0), ("step_budget", 1.5), ("left_box", 0.3),
            ("left_box", 0.0), ("cannot_hover", 0.0), ("left_box", 0.9), ("step_budget", 0.2),

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 
 from levitron.runtime.scan import launch_odds as mc
+from levitron.runtime.scan import launch_inputs as li
+from levitron.runtime.scan import launch_summary as ls
 from levitron.runtime.scan import spreads
 from levitron.runtime.simulate import trajectory_file
 from levitron.runtime.errors import UserError
@@ -23,20 +25,20 @@ DEFAULT_TEXT = {"spin": "normal about the geometric mean of the stable interval,
                 "offset": "normal:0,(1 %% of z_s) m", "velocity": "normal:0,(1 %% of sqrt(g z_s)) m/s",
                 "mass": "a relative sd of 0.2 %%", "strength": "a relative sd of 0.5 %%",
                 "temperature": "the scene's temperature, degC",
-                **{a.name: a.default_text.replace("%", "%%") for a in mc.APPARATUS}}
+                **{a.name: a.default_text.replace("%", "%%") for a in li.APPARATUS}}
 
 
 def add_launch_arguments(parser) -> None:
     """Every flag of a launch Monte Carlo (launch, optimize --maximize launch-odds, trim): the
     inputs' distributions, n, seed, the success criterion, the integrator and the workers."""
-    for name in mc.ALL_INPUTS:
+    for name in li.ALL_INPUTS:
         flag = "--" + name.replace("_", "-")
         if flag == "--temperature":          # the common --temperature sets the scene's own
             flag = "--temperature-spread"
         unit = {"mass": "the mass in kg, or rel:... a relative spread, e.g. rel:normal:0,0.002 or rel:0.2%%",
                 "strength": "a factor on the magnets, e.g. normal:1,0.005, or rel:... relative, e.g. rel:0.5%%",
                 **{a.name: f"{a.unit}; needs {a.scene_key} in the scene, e.g. --set {a.scene_key}=0"
-                   for a in mc.APPARATUS}}.get(name, mc.INPUT_UNITS[name])
+                   for a in li.APPARATUS}}.get(name, li.INPUT_UNITS[name])
         parser.add_argument(flag, dest=f"dist_{name}", default=None, metavar="DIST",
                             help=f"{name} ({unit}): normal:MEAN,SD, uniform:LO,HI or a number (default: "
                                  f"the scene's [launch] table, else {DEFAULT_TEXT[name]})")
@@ -62,7 +64,7 @@ def launch_request(args, scene) -> mc.Request:
         raise UserError(f"--workers {args.workers} must be at least 1 (1 = serial)")
     if args.scheduler is not None and args.workers != 1:
         raise UserError("pass either --workers N (local processes) or --scheduler ADDRESS (dask), not both")
-    given = {k: getattr(args, f"dist_{k}") for k in mc.ALL_INPUTS if getattr(args, f"dist_{k}") is not None}
+    given = {k: getattr(args, f"dist_{k}") for k in li.ALL_INPUTS if getattr(args, f"dist_{k}") is not None}
     return mc.Request.of(scene.data.get("launch", {}), given, n=args.n, seed=args.seed,
                          success_time=args.success_time, t_end=args.t_end, integrator=args.integrator,
                          tol=args.tol, workers=args.workers, scheduler=args.scheduler)
@@ -81,7 +83,7 @@ def saved_block(path, rows: int, u: Units, columns) -> dict:
     """The JSON's `saved`: the file and each column's unit in the scene's units (its meaning:
     docs/contract.md `launch --save`)."""
     return {"path": str(path), "rows": rows,
-            "columns": {k: u.named(mc.LAUNCH_UNITS[k]) for k in columns}}
+            "columns": {k: u.named(ls.LAUNCH_UNITS[k]) for k in columns}}
 
 
 def run(args) -> dict:
@@ -106,7 +108,7 @@ def launch_input(name: str, spec: str, u: Units) -> str:
     """One input's distribution (the JSON's spec, SI) in the scene's units: "spin 1122 rad/s, sd
     112.2 rad/s (normal)", "tilt 0-0.02 rad (uniform)", "mass +0 %, sd 0.2 % (normal)" (a relative
     spread, rel:...), "temperature 20 degC"; a dimensionless scene's lengths and speeds bare."""
-    si_unit = mc.INPUT_UNITS[name]
+    si_unit = li.INPUT_UNITS[name]
     show = {"m": u.length, "1": lambda v: f"{sig(100 * v, 3)} %",
             "degC": lambda v: f"{sig(v)} degC"}.get(si_unit, lambda v: u.value(v, si_unit))
     d = mc.parse_input(name, spec)

@@ -19,7 +19,8 @@ import pytest
 import levitron as lev
 from levitron.runtime.cli.main import main
 from levitron.runtime.errors import UserError
-from levitron.runtime.scan import launch_odds as mc
+from levitron.runtime.scan import launch_inputs as li
+from levitron.runtime.scan import launch_summary as ls
 
 SCENE = "thesis_stable"                  # no air: runs of three slow periods (10.8 s)
 TILTED = {"plate.tilt": 0.0}             # the tilted model, level as written
@@ -132,8 +133,8 @@ def test_the_command_line_takes_the_base_tilt_and_saves_it(tmp_path, capsys):
 def test_apparatus_inputs_are_entries():
     """The apparatus inputs come after the launch's own (their draws after theirs), each naming
     the runtime parameter it sets and the scene key that adds the term."""
-    assert mc.ALL_INPUTS[:len(mc.INPUTS)] == mc.INPUTS
-    assert [(a.name, a.param, a.scene_key) for a in mc.APPARATUS] == [
+    assert li.ALL_INPUTS[:len(li.INPUTS)] == li.INPUTS
+    assert [(a.name, a.param, a.scene_key) for a in li.APPARATUS] == [
         ("base_tilt", "base_tilt", "plate.tilt"), ("base_tilt_azimuth", "base_tilt_azimuth", "plate.tilt"),
         ("moment_tilt", "moment_tilt", "top.moment_tilt")]
-    assert all(mc.INPUT_UNITS[a.name] == a.unit == mc.LAUNCH_UNITS[a.name] for a in mc.APPARATUS)
+    assert all(li.INPUT_UNITS[a.name] == a.unit == ls.LAUNCH_UNITS[a.name] for a in li.APPARATUS)

@@ -15,7 +15,8 @@ import pytest
 
 import levitron as lev
 from levitron.runtime.cli.main import main
-from levitron.runtime.scan import launch_odds as mc
+from levitron.runtime.scan import launch_inputs as li
+from levitron.runtime.scan import launch_summary as ls
 from levitron.runtime.simulate import trajectory_file
 
 N, T_END = 30, 3.0
@@ -37,7 +38,7 @@ def test_the_saved_rows_reproduce_the_json(tmp_path, capsys, suffix, api):
     path = tmp_path / f"launches{suffix}"
     r = _run(capsys, "--save", str(path))
     assert r["saved"]["path"] == str(path) and r["saved"]["rows"] == N and "launches" not in r
-    level = [k for k in mc.LAUNCH_UNITS if k not in {a.name for a in mc.APPARATUS}]   # a level scene's
+    level = [k for k in ls.LAUNCH_UNITS if k not in {a.name for a in li.APPARATUS}]   # a level scene's
     assert list(r["saved"]["columns"]) == level
     assert r["saved"]["columns"]["mass"] == "kg" and r["saved"]["columns"]["spin"] == "rad/s"
     assert not list(tmp_path.glob(".launches*"))            # the temporary file was renamed away
@@ -72,8 +73,8 @@ def test_a_saved_row_flies_again_to_the_same_verdict(tmp_path, capsys):
     up = int(np.flatnonzero(t["verdict"] == "completed")[0])
     for i in (fell, up):
         fixed = [f"--{k.replace('_', '-')}" if k != "temperature" else "--temperature-spread"
-                 for k in mc.INPUTS]
-        values = [repr(float(t[k][i])) for k in mc.INPUTS]
+                 for k in li.INPUTS]
+        values = [repr(float(t[k][i])) for k in li.INPUTS]
         again = _run(capsys, *[f"{f}={v}" for f, v in zip(fixed, values)], "--n", "1")
         assert again["outcomes"] == {str(t["verdict"][i]): 1}
         assert again["flight_time"]["values"][0] == pytest.approx(t["flight_time"][i], rel=1e-12)

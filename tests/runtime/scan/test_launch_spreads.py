@@ -6,6 +6,7 @@ import pytest
 
 from levitron.runtime.errors import UserError
 from levitron.runtime.scan import launch_odds as mc
+from levitron.runtime.scan import launch_inputs as li
 
 
 def test_an_absolute_mass_spread_is_the_mass_in_kg():
@@ -33,7 +34,7 @@ def test_a_spread_in_the_wrong_form_is_refused_with_the_right_spelling(name, spe
         mc.parse_input(name, spec, 0.0515 if name == "mass" else 1.0)
 
 
-@pytest.mark.parametrize("name", mc.INPUTS)
+@pytest.mark.parametrize("name", li.INPUTS)
 def test_the_json_spec_reads_back_as_the_same_distribution(name):
     for d in (mc.Dist("normal", 0.1234567890123, 0.0098765432109876), mc.Dist("uniform", 0.001, 0.3),
               mc.Dist("fixed", 0.3333333333333333)):

@@ -1,0 +1,73 @@
+"""What a launch varies (runtime/scan/launch_odds.py samples them): the hand's inputs (spin, tilt,
+its azimuth, offset, velocity, mass, strength, temperature) and the apparatus's imperfections, each
+an `Apparatus` entry that sets a runtime parameter of the model (a base that is not level, a magnet
+off its axis), with the unit of each input's JSON numbers. Another imperfection with a runtime
+parameter is one entry of APPARATUS.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from levitron.runtime.errors import UserError
+from levitron.runtime.scan.spreads import Dist
+
+INPUTS = ("spin", "tilt", "tilt_azimuth", "offset", "velocity", "mass", "strength", "temperature")
+
+
+@dataclass(frozen=True)
+class Apparatus:
+    """An imperfection of the apparatus sampled like a launch input (module docstring): each sample
+    sets the runtime parameter `param`, which a model has only where the scene declares `scene_key`
+    (scene/keys.py TILT_PARAMS). `moves`: a value other than 0 moves the equilibrium off the
+    launch point (so launches with no tilt, offset or velocity still test something). `default`:
+    the distribution when none is given, from the model (None: the model's own value, fixed)."""
+    name: str
+    param: str
+    unit: str
+    scene_key: str
+    moves: bool
+    default_text: str
+    default: object = None
+    direction_of: str | None = None     # the input whose direction this is: moot where that is fixed at 0
+
+
+def _downhill_default(model):
+    """Over an axially symmetric plate the downhill direction matters only relative to the launch's
+    own directions (offset along x, velocity along y, the tilt's azimuth): unknown to the person, so
+    uniform over the turn. Over a rectangle the plate's sides fix directions: the scene's own."""
+    from levitron.runtime.physics.stability import symmetry
+    if symmetry(model.scene.data["plate"], model.pvals()).name == "axial":
+        return Dist("uniform", 0.0, 2 * math.pi)
+    return Dist("fixed", float(model.pvals()["base_tilt_azimuth"]))
+
+
+# the apparatus inputs: another imperfection with a runtime parameter is one entry here
+APPARATUS = (
+    Apparatus("base_tilt", "base_tilt", "rad", "plate.tilt", True, "the scene's plate.tilt (0: level)"),
+    Apparatus("base_tilt_azimuth", "base_tilt_azimuth", "rad", "plate.tilt", False,
+              "uniform:0,2pi rad over an axially symmetric plate, else the scene's plate.tilt_azimuth; "
+              "the scene's where the base tilt is fixed at 0", _downhill_default, "base_tilt"),
+    Apparatus("moment_tilt", "moment_tilt", "rad", "top.moment_tilt", True,
+              "the scene's top.moment_tilt (0: the magnet on the axis)"),
+)
+ALL_INPUTS = INPUTS + tuple(a.name for a in APPARATUS)
+# what each input's numbers are (the module docstring): the SI unit of its JSON numbers, "1" for a
+# relative deviation d (mass m (1 + d), strength mu (1 + d)), "degC" for the temperature
+INPUT_UNITS = {"spin": "rad/s", "tilt": "rad", "tilt_azimuth": "rad", "offset": "m", "velocity": "m/s",
+               "mass": "1", "strength": "1", "temperature": "degC", **{a.name: a.unit for a in APPARATUS}}
+
+
+def apparatus_of(model) -> tuple[Apparatus, ...]:
+    """The apparatus inputs this model has the terms of (the others it cannot sample)."""
+    return tuple(a for a in APPARATUS if a.param in model.param_names)
+
+
+def refuse_apparatus(model, given) -> None:
+    """A one-line UserError for an apparatus input given to a model without its term."""
+    have = {a.name for a in apparatus_of(model)}
+    for a in APPARATUS:
+        if a.name in given and a.name not in have:
+            raise UserError(f"launch {a.name}: scene '{model.scene.name}' has no {a.scene_key}, so its "
+                            f"model has no {a.param} to sample; pass --set {a.scene_key}=0 (or put "
+                            f"{a.scene_key} in the scene) and the launches set it")
