@@ -32,7 +32,7 @@ sys.path.insert(0, str(ROOT))          # run as a script: the checkout's tests.h
 from tests.helpers.dimensionless import SCENE as DIMENSIONLESS  # noqa: E402
 
 TIMING = {"wall_s", "cpu_s", "seconds", "time", "wall_s_per_point", "cpu_s_per_point",
-          "wall_per_launch_s", "elapsed_s"}
+          "wall_per_launch_s", "elapsed_s", "timings_s"}
 TIMEOUT_S = 300         # a case slower than this is recorded as timed out
 WALL = re.compile(r"(\d+(\.\d+)? ?(us|ms|s|min)( \d+ s)?|\d+ h \d+ min) of wall time")
 
@@ -189,9 +189,36 @@ def order_changes(a, b, path: str = "") -> list[str]:
     return []
 
 
-def compare(before: Path, after: Path) -> int:
+def untimed(obj):
+    """The case without the TIMING keys, at any depth."""
+    if isinstance(obj, dict):
+        return {k: untimed(v) for k, v in obj.items() if k not in TIMING}
+    if isinstance(obj, list):
+        return [untimed(v) for v in obj]
+    return obj
+
+
+INPUT_HASH = re.compile(r"(input hash:? )[0-9a-f]{12,64}")
+
+
+def without_hashes(obj):
+    """The case with every `input_hash` key and every "input hash <hex>" of a text taken out: what
+    differs between two versions whose derive/ sources differ (the hash covers all of derive/),
+    though every generated function computes the same numbers."""
+    if isinstance(obj, dict):
+        return {k: without_hashes(v) for k, v in obj.items() if k != "input_hash"}
+    if isinstance(obj, list):
+        return [without_hashes(v) for v in obj]
+    if isinstance(obj, str):
+        return INPUT_HASH.sub(r"\1<HASH>", obj)
+    return obj
+
+
+def compare(before: Path, after: Path, except_hash: bool = False) -> int:
+    """Every key path whose value differs, per case (module docstring); except_hash: the input
+    hashes apart, each case counted once where they were all that differed."""
     names = sorted({p.name for p in before.glob("*.json")} | {p.name for p in after.glob("*.json")})
-    bad = 0
+    bad = hash_only = 0
     for name in names:
         pa, pb = before / name, after / name
         if not (pa.exists() and pb.exists()):
@@ -201,6 +228,11 @@ def compare(before: Path, after: Path) -> int:
         a, b = json.loads(pa.read_text()), json.loads(pb.read_text())
         for case in (a, b):        # a snapshot taken before argv was stripped: its temporary folder
             case["argv"] = [re.sub(r"/tmp/levitron-snapshot-[^/]+", "<TMP>", t) for t in case["argv"]]
+        a, b = untimed(a), untimed(b)      # a snapshot taken before a timing key joined TIMING
+        if except_hash:
+            hashed = diff(a, b) != []
+            a, b = without_hashes(a), without_hashes(b)
+            hash_only += hashed and diff(a, b) == []
         diffs = diff(a, b)
         if diffs:
             bad += 1
@@ -210,7 +242,8 @@ def compare(before: Path, after: Path) -> int:
         order = sorted(set(order_changes(a.get("json"), b.get("json"))))
         if order and not diffs:
             print(f"{name}: same values, key order differs at {', '.join(order)}")
-    print(f"{len(names)} cases, {bad} differ")
+    print(f"{len(names)} cases, {bad} differ" + (f"; {hash_only} differ in their input hashes only"
+                                                 if except_hash else ""))
     return 1 if bad else 0
 
 
@@ -218,12 +251,14 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("out", nargs="?", type=Path, help="the folder to write the snapshot to")
     ap.add_argument("--compare", nargs=2, type=Path, metavar=("BEFORE", "AFTER"))
+    ap.add_argument("--except-hash", action="store_true",
+                    help="with --compare: leave the input hashes out (derive/ changed, the numbers must not)")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--only", default=None, help="only the cases whose 'scene.case' contains this")
     ap.add_argument("--resume", action="store_true", help="skip the cases OUT_DIR already holds")
     a = ap.parse_args()
     if a.compare:
-        return compare(*a.compare)
+        return compare(*a.compare, except_hash=a.except_hash)
     if a.out is None:
         ap.error("give OUT_DIR or --compare BEFORE AFTER")
     take(a.out, a.jobs, a.only, a.resume)
