@@ -16,7 +16,7 @@ from levitron.runtime.model.scenes import load_scene
 from levitron.runtime.design.constraints import Constraint
 from levitron.runtime.design.optimize import optimize as _optimize
 from levitron.runtime.errors import UserError
-from levitron.runtime.design.fit import Row, read_rows
+from levitron.runtime.design.measurements import Row, read_rows
 from levitron.runtime.design.fit import fit as _fit
 from levitron.runtime.model.load import NEEDS_OF_PART, Model, load_model
 from levitron.runtime.design.scene_keys import Vary, key_value, pvector, with_values
@@ -338,7 +338,7 @@ class Study:
 
     @_in_scene_units
     def fit(self, data: str | Path | Sequence[Row], vary: Mapping[str, tuple[float, float]]) -> Fit:
-        """Least squares of scene keys to measurements (a CSV path or runtime.design.fit.Row list)."""
+        """Least squares of scene keys to measurements (a CSV path or runtime.design.measurements.Row list)."""
         rows = read_rows(data) if isinstance(data, (str, Path)) else data
         return _fit(self.model, rows, _varies(vary))
 

@@ -105,7 +105,7 @@ def test_every_result_has_repr_success_and_message(study, tmp_path):
 def test_a_fit_returns_covariance_and_correlation(study):
     """Two heights of two masses, two keys: the covariance is the stderr's square on its
     diagonal, the correlation has a unit diagonal and is symmetric."""
-    from levitron.runtime.design.fit import Row
+    from levitron.runtime.design.measurements import Row
     z1 = lev.load("thesis_stable", {"top.mass": 0.0512}).stability().z_s
     z2 = lev.load("thesis_stable", {"top.mass": 0.0518}).stability().z_s
     rows = [Row("z_s", z1, 1e-4, (("top.mass", 0.0512),)), Row("z_s", z2, 1e-4, (("top.mass", 0.0518),)),

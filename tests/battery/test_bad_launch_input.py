@@ -171,7 +171,7 @@ def test_hostile_input_is_one_line_and_exit_2(case, tmp_path, warm_cache, capsys
 def test_a_csv_with_a_byte_order_mark_is_read_like_one_without(tmp_path, newline):
     """A spreadsheet's "CSV UTF-8" starts with a byte-order mark (fixed: it was refused as a CSV
     without a header); with CRLF line ends too, the rows are those of the plain file."""
-    from levitron.runtime.design.fit import read_rows
+    from levitron.runtime.design.measurements import read_rows
     plain, marked = tmp_path / "plain.csv", tmp_path / "marked.csv"
     text = "quantity,value,sigma,overrides" + newline + "z_s,0.1065,1e-4,top.mass=0.0515" + newline
     plain.write_bytes(text.replace(newline, "\n").encode())

@@ -46,7 +46,7 @@ from levitron.derive.doubles import DoubleRangeError
 from levitron.derive.expr_parse import ExpressionError
 from levitron.scene.load import SceneError, load_scene, validate
 from levitron.scene.overrides import override_text, parse_override
-from levitron.runtime.design import fit
+from levitron.runtime.design import measurements
 from levitron.runtime.errors import UserError
 from tests.helpers.termsize import assert_agree, values_and_sizes
 
@@ -339,14 +339,14 @@ def test_fit_csvs_are_read_checked_or_refused_in_one_line(header, rows, tmp_path
     path.write_text(header + "\n" + "\n".join(",".join(r) for r in rows) + "\n")
     try:
         with confined():
-            got = fit.read_rows(path)
+            got = measurements.read_rows(path)
     except UserError as exc:
         one_line(exc)
         return
     assume(got)
     for r in got:
-        assert r.quantity in fit.QUANTITIES and math.isfinite(r.value)
-        assert math.isfinite(r.sigma) and r.sigma >= fit.MIN_SIGMA
+        assert r.quantity in measurements.QUANTITIES and math.isfinite(r.value)
+        assert math.isfinite(r.sigma) and r.sigma >= measurements.MIN_SIGMA
         keys = [k for k, _ in r.overrides]
         assert len(keys) == len(set(keys)) and all(math.isfinite(v) for _, v in r.overrides)
 

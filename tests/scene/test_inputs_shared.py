@@ -18,7 +18,7 @@ import levitron
 import levitron.study
 from levitron.scene.load import SceneError, load_scene
 from levitron.scene.overrides import override_text, parse_override
-from levitron.runtime.design import fit
+from levitron.runtime.design import fit, measurements
 from levitron.runtime.cli.main import main
 from levitron.runtime.errors import UserError
 from levitron.runtime.scan.stability_map import scan
@@ -93,18 +93,18 @@ def test_fit_csv_problems_are_one_line(tmp_path, text, message):
     f = tmp_path / "d.csv"
     f.write_text(text)
     with pytest.raises(UserError) as err:
-        fit.read_rows(f)
+        measurements.read_rows(f)
     assert message in str(err.value) and "\n" not in str(err.value), str(err.value)
 
 
 @pytest.mark.parametrize("rows,message", [
-    ([fit.Row("z_s", 0.1, -1e-4)], "positive"),
-    ([fit.Row("z_s", 0.1, 0.0)], "positive"),
-    ([fit.Row("z_s", 0.1, math.nan)], "finite"),
-    ([fit.Row("z_s", 0.1, 1e-320)], "too small"),
-    ([fit.Row("height", 0.1, 1e-4)], "quantity 'height'"),
-    ([fit.Row("z_s", "0.1", 1e-4)], "not a number"),
-    ([fit.Row("z_s", 0.1, 1e-4, (("top.mass", 0.05), ("top.mass", 0.06)))], "given twice"),
+    ([measurements.Row("z_s", 0.1, -1e-4)], "positive"),
+    ([measurements.Row("z_s", 0.1, 0.0)], "positive"),
+    ([measurements.Row("z_s", 0.1, math.nan)], "finite"),
+    ([measurements.Row("z_s", 0.1, 1e-320)], "too small"),
+    ([measurements.Row("height", 0.1, 1e-4)], "quantity 'height'"),
+    ([measurements.Row("z_s", "0.1", 1e-4)], "not a number"),
+    ([measurements.Row("z_s", 0.1, 1e-4, (("top.mass", 0.05), ("top.mass", 0.06)))], "given twice"),
     ([], "no data rows"),
     ("z_s,0.1,1e-4", "CSV path or a list"),
 ])
@@ -193,12 +193,12 @@ API_CALLS = {
     "scan-no-spins": lambda s: s.scan([], "tilt", [0.1]),
     "scan-unknown-axis": lambda s: s.scan([1000.0], "bogus", [0.1]),
     "scan-nan-spin": lambda s: s.scan([math.nan], "tilt", [0.1]),
-    "fit-sigma-0": lambda s: s.fit([fit.Row("z_s", 0.1, 0.0)], VARY),
-    "fit-sigma-nan": lambda s: s.fit([fit.Row("z_s", 0.1, math.nan)], VARY),
+    "fit-sigma-0": lambda s: s.fit([measurements.Row("z_s", 0.1, 0.0)], VARY),
+    "fit-sigma-nan": lambda s: s.fit([measurements.Row("z_s", 0.1, math.nan)], VARY),
     "fit-no-rows": lambda s: s.fit([], VARY),
-    "fit-unknown-quantity": lambda s: s.fit([fit.Row("height", 0.1, 1e-4)], VARY),
-    "fit-vary-not-numbers": lambda s: s.fit([fit.Row("z_s", 0.1, 1e-4)], {"plate.murho": (1, "x")}),
-    "fit-vary-empty": lambda s: s.fit([fit.Row("z_s", 0.1, 1e-4)], {}),
+    "fit-unknown-quantity": lambda s: s.fit([measurements.Row("height", 0.1, 1e-4)], VARY),
+    "fit-vary-not-numbers": lambda s: s.fit([measurements.Row("z_s", 0.1, 1e-4)], {"plate.murho": (1, "x")}),
+    "fit-vary-empty": lambda s: s.fit([measurements.Row("z_s", 0.1, 1e-4)], {}),
     "optimize-unknown-objective": lambda s: s.optimize("bogus", {"top.mass": (0.05, 0.052)}),
     "load-override-a-table": lambda s: levitron.load("thesis", {"top": {"mass": 1}}),
 }

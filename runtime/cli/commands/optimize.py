@@ -78,7 +78,8 @@ def run(args) -> dict:
         refuse_tilted(model, "optimize fits and designs")
         out = fit_equilibrium_height(model, args.fit_height, args.param)
     elif args.fit is not None:
-        from levitron.runtime.design.fit import fit, read_rows
+        from levitron.runtime.design.fit import fit
+        from levitron.runtime.design.measurements import read_rows
         rows = read_rows(args.fit)
         model = model_of(args)
         refuse_tilted(model, "optimize fits and designs")

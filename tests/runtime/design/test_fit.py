@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from levitron.scene.load import load_scene
-from levitron.runtime.design import fit
+from levitron.runtime.design import fit, measurements
 from levitron.runtime.errors import UserError
 from levitron.runtime.model.load import load_model
 from levitron.runtime.design.scene_keys import Vary, pvector, with_values
@@ -21,7 +21,7 @@ def _data(model, truth, plan, rng):
         v = cs.values(p)
         for q in quantities:
             sigma = 1e-4 if q == "z_s" else 2.0
-            rows.append(fit.Row(q, v[q] + sigma * rng.standard_normal(), sigma, (("top.mass", mass),)))
+            rows.append(measurements.Row(q, v[q] + sigma * rng.standard_normal(), sigma, (("top.mass", mass),)))
     return rows
 
 
@@ -57,14 +57,14 @@ def test_heights_alone_cannot_separate_moment_and_strength():
 def test_rows_are_read_and_checked(tmp_path):
     f = tmp_path / "d.csv"
     f.write_text("quantity,value,sigma,overrides\n# a comment\nz_s,0.1,1e-4,top.mass=0.05\n")
-    rows = fit.read_rows(f)
-    assert rows == [fit.Row("z_s", 0.1, 1e-4, (("top.mass", 0.05),))]
+    rows = measurements.read_rows(f)
+    assert rows == [measurements.Row("z_s", 0.1, 1e-4, (("top.mass", 0.05),))]
     f.write_text("quantity,value,sigma\nheight,0.1,1e-4\n")
     with pytest.raises(UserError, match="line 2"):
-        fit.read_rows(f)
+        measurements.read_rows(f)
     f.write_text("quantity,value,sigma\nz_s,0.1,0\n")
     with pytest.raises(UserError, match="sigma"):
-        fit.read_rows(f)
+        measurements.read_rows(f)
 
 
 def test_rows_that_share_their_overrides_share_their_work(monkeypatch):
@@ -98,7 +98,7 @@ def _rows_at_masses(model, masses, seed):
         v = cs.values(p, sc.starts(model, p))
         q = "z_s" if i % 3 else ("sigma_lo" if i % 2 else "sigma_hi")
         s = 1e-4 if q == "z_s" else 2.0
-        rows.append(fit.Row(q, v[q] + s * rng.standard_normal(), s, (("top.mass", float(m)),)))
+        rows.append(measurements.Row(q, v[q] + s * rng.standard_normal(), s, (("top.mass", float(m)),)))
     return rows
 
 
