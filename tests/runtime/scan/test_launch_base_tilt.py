@@ -1,4 +1,4 @@
-"""The launch odds over a base that is not level (issue 27; runtime/scan/launch_odds.py APPARATUS):
+"""The launch odds over a base that is not level (issue 27; runtime/scan/launch_inputs.py APPARATUS):
 `launch --base-tilt DIST` sets each sample's runtime parameter base_tilt, the launch aimed at the
 level hover point.
 

@@ -1,4 +1,4 @@
-"""The launch odds with the magnet off its axis (issue 27; runtime/scan/launch_odds.py APPARATUS):
+"""The launch odds with the magnet off its axis (issue 27; runtime/scan/launch_inputs.py APPARATUS):
 `launch --moment-tilt DIST` sets each sample's runtime parameter moment_tilt.
 
 Checked against independent routes: at a fixed moment tilt of 0 the moment-tilt model's launches
