@@ -37,7 +37,6 @@ from __future__ import annotations
 
 import contextlib
 import io
-import itertools
 import math
 import os
 import sys
@@ -54,7 +53,7 @@ from levitron.runtime.design.constraints import Constraint
 from levitron.runtime.design.design_answer import OBJECTIVES, Design, DesignResult  # noqa: F401 (DesignResult: its old name)
 from levitron.runtime.errors import UserError
 from levitron.runtime.physics.ray_algebra import RayCoefficients, ray_cubic
-from levitron.runtime.design.scene_keys import KeyMap, Vary, key_value
+from levitron.runtime.design.scene_keys import bounds_hit, grid_points, KeyMap, Vary, key_value
 from levitron.runtime.ui.validate import count
 
 BAND_CONSTRAINTS = ("z_s", "stiffness")   # the constraints mass-window takes (the scene's top)
@@ -156,11 +155,6 @@ def third_root_margin(model, p, z_s: float, lo: float, hi: float) -> float:
     c = RayCoefficients.from_physics(ph[1], ph[2], ph[3], P["m"], P["A"], P["C"], P["mu"])
     a = [float(v) for v in ray_cubic(c)]
     return sc.simple_neighbours(a, 1 / hi ** 2, 1 / lo ** 2)
-
-
-def grid_points(varies: Sequence[Vary], n: int) -> list[tuple[float, ...]]:
-    axes = [np.linspace(v.lo, v.hi, n) for v in varies]
-    return list(itertools.product(*axes))
 
 
 @contextlib.contextmanager
@@ -395,17 +389,3 @@ def _bounded_search(model, keymap, vary: Vary, start: Point, objective: str, con
                           options={"xatol": VERIFY_RTOL * (vary.hi - vary.lo)})
     best = float(res.x) if -res.fun >= start.value else float(start.x[0])
     return (best,)
-
-
-def bounds_hit(varies: Sequence[Vary], x, rtol: float = 1e-6) -> dict[str, str]:
-    """{key: "lower" | "upper"} for each key within rtol of its box's span of a --vary bound (IPOPT
-    keeps its iterates ~1e-9 of the span inside the box: bound_relax_factor, mu)."""
-    out = {}
-    for v, xi in zip(varies, x):
-        tol = rtol * (v.hi - v.lo)
-        if xi <= v.lo + tol:
-            out[v.key] = "lower"
-        elif xi >= v.hi - tol:
-            out[v.key] = "upper"
-    return out
-

@@ -215,3 +215,22 @@ class KeyMap:
         p = pvector(self.names, sc)
         self.check(x, p)
         return sc, p
+
+
+def grid_points(varies: Sequence[Vary], n: int) -> list[tuple[float, ...]]:
+    """The n^k points of the --vary box's grid, n per key, its ends included (the verification grid)."""
+    axes = [np.linspace(v.lo, v.hi, n) for v in varies]
+    return list(itertools.product(*axes))
+
+
+def bounds_hit(varies: Sequence[Vary], x, rtol: float = 1e-6) -> dict[str, str]:
+    """{key: "lower" | "upper"} for each key within rtol of its box's span of a --vary bound (IPOPT
+    keeps its iterates ~1e-9 of the span inside the box: bound_relax_factor, mu)."""
+    out = {}
+    for v, xi in zip(varies, x):
+        tol = rtol * (v.hi - v.lo)
+        if xi <= v.lo + tol:
+            out[v.key] = "lower"
+        elif xi >= v.hi - tol:
+            out[v.key] = "upper"
+    return out
