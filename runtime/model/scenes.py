@@ -2,6 +2,7 @@
 UserError, the one way the command line and the public API load a scene."""
 from __future__ import annotations
 
+from pathlib import Path
 from typing import NamedTuple
 
 from levitron.scene.load import Scene, SceneError, find_scene_file
@@ -18,13 +19,6 @@ def load_scene(name_or_path, overrides=()) -> Scene:
         raise UserError(_reason(name_or_path, exc)) from None
 
 
-def scene_ref(scene: Scene, name: str | None = None) -> str:
-    """What worker processes reload a scene from: its file's absolute path, else `name` (the name
-    it was asked by; default the scene's own name)."""
-    from pathlib import Path
-    return str(Path(scene.path).resolve()) if scene.path is not None else (name or scene.name)
-
-
 class SceneRef(NamedTuple):
     """The recipe that rebuilds a model in another process (scan and launch workers, a design's
     variants): the scene's file as an absolute path (or a name) and its --set strings."""
@@ -37,8 +31,10 @@ class SceneRef(NamedTuple):
 
 
 def ref_of(scene: Scene) -> SceneRef:
-    """The recipe of a loaded scene: its file and the overrides load_scene applied."""
-    return SceneRef(scene_ref(scene), tuple(scene.overrides))
+    """The recipe of a loaded scene: its file's absolute path (else its name) and the overrides
+    load_scene applied."""
+    where = str(Path(scene.path).resolve()) if scene.path is not None else scene.name
+    return SceneRef(where, tuple(scene.overrides))
 
 
 BOM = b"\xef\xbb\xbf"

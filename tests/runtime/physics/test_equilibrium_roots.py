@@ -29,32 +29,13 @@ from levitron.runtime.simulate.run import simulate
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.cli.main import _clean
 from levitron.runtime.errors import UserError
+from tests.helpers.dimensionless import SCENE as DIMENSIONLESS
 from tests.helpers.annulus import A_PLATE, W_PLATE, G, annulus, fitted_murho
 
 EPS = np.finfo(float).eps
 DELTAS = (1e-3, 1e-6, 1e-9)
 
-UNIT_SCENE = """# dimensionless: g = 1, plate radius 1, a top of mass 1 inside the stable band
-name = "unit_annulus"
-g = 1.0
-
-[top]
-mass = 1.0
-A = 0.01
-C = 0.006
-
-[plate]
-kind = "annulus"
-radius = 1.0
-hole = 0.3
-murho = -0.51915
-
-[field]
-order = 2
-
-[model]
-needs = ["reduced", "full", "linear"]
-"""
+UNIT_SCENE = DIMENSIONLESS      # g = 1, plate radius 1, a top of mass 1 inside the stable band
 
 EXPR_SCENE = """name = "{name}"
 g = 1.0
