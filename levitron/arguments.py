@@ -13,14 +13,13 @@ from __future__ import annotations
 
 import difflib
 import numbers
-import re
 from collections.abc import Iterable, Mapping
 
 import numpy as np
 
 from levitron.runtime.errors import UserError
 
-__all__ = ["UserError", "Named", "api_words", "bind", "boxes", "choice", "names", "number", "plain", "scene_keys"]
+__all__ = ["UserError", "Named", "bind", "boxes", "choice", "names", "number", "plain", "scene_keys"]
 
 
 def is_number(value) -> bool:
@@ -105,29 +104,6 @@ class Named(dict):
         if why:
             raise UserError(why)
         choice(name, self.what, self)
-
-
-_FLAG_VALUE = re.compile(r"--([a-z][a-z0-9-]*) (-?(?:\d[\w.+-]*|\.\d[\w.+-]*)(?::[\w.+-]+)*)(?=[\s;,)]|$)")
-_FLAG_WORD = re.compile(r"--(part|integrator|axis|kind) ([a-z][\w-]*)")     # options whose values are names
-_FLAG = re.compile(r"--([a-z][a-z0-9-]*)")
-_API_NAME = {"set": "overrides", "temperature-spread": "inputs['temperature']"}   # launch's spread: an input
-# the commands a runtime sentence sends a person to, as the Study methods that answer the same
-_API_METHOD = {"equilibrium": "Study.equilibria()", "stability": "Study.stability()",
-               "simulate": "Study.simulate()", "scan": "Study.scan()", "launch": "Study.launch()",
-               "optimize": "Study.optimize()"}
-_COMMAND = re.compile(rf"`levitron ({'|'.join(_API_METHOD)})`")
-
-
-def api_words(text: str) -> str:
-    """A runtime sentence in the API's words: the command line's flags as the keyword arguments
-    they are ("--t-end 1" -> "t_end=1", "--n-out" -> "n_out", "--set" -> "overrides"), a command
-    it points to as the Study method ("`levitron equilibrium`" -> "`Study.equilibria()`")."""
-    def name(flag: str) -> str:
-        return _API_NAME.get(flag, flag.replace("-", "_"))
-    text = _COMMAND.sub(lambda m: f"`{_API_METHOD[m.group(1)]}`", text)
-    text = _FLAG_VALUE.sub(lambda m: f"{name(m.group(1))}={m.group(2)}", text)
-    text = _FLAG_WORD.sub(lambda m: f"{name(m.group(1))}={m.group(2)!r}", text)
-    return _FLAG.sub(lambda m: name(m.group(1)), text)
 
 
 def scene_keys(data: Mapping, prefix: str = "") -> list[str]:

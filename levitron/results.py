@@ -2,8 +2,9 @@
 computes it and is re-exported here: Equilibria (runtime/physics/equilibria.py, its Equilibrium
 runtime/physics/equilibrium_report.py's), Simulation (runtime/simulate/simulation.py), Scan
 (runtime/scan/scan_answer.py; ScanResult its old name), LaunchOdds (runtime/scan/launch_answer.py),
-Design (runtime/design/design_answer.py; DesignResult its old name), Fit
-(runtime/design/fit_answer.py; FitResult its old name), Trim (runtime/design/trim_answer.py).
+Stability (runtime/physics/stability_answer.py), Design (runtime/design/design_answer.py;
+DesignResult its old name), Fit (runtime/design/fit_answer.py; FitResult its old name), Trim
+(runtime/design/trim_answer.py).
 
 Every result has a short `repr` with units (the scene's: a dimensionless scene shows none but
 rad/time and time units; `units`, set by Study), and scipy-style `success` (bool) and `message` (one
@@ -24,55 +25,17 @@ from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.verdict import NO_HOVER
 from levitron.runtime.physics.equilibria import Equilibria
 from levitron.runtime.physics.equilibrium_report import Equilibrium
+from levitron.runtime.physics.stability_answer import Stability
 from levitron.runtime.scan.launch_answer import LaunchOdds
 from levitron.runtime.scan.scan_answer import Scan, ScanResult
 from levitron.runtime.simulate.simulation import NORMAL_ENDS, Simulation
-from levitron.runtime.ui.human import Units, quantity, restate, sig
+from levitron.runtime.ui.human import Units, quantity, restate
 
 _SI = Units(si=True)
 
 
 __all__ = ["Design", "DesignResult", "Equilibria", "Equilibrium", "Fit", "FitResult", "LaunchOdds", "Scan",
            "ScanResult", "Simulation", "Simulations", "Stability", "Trim"]
-
-
-@dataclass(frozen=True)
-class Stability:
-    """Linear stability at the hover height (thesis 3.3): z_s (m); stiffness mu Phi_3(z_s) (N/m);
-    spin_interval (rad/s) by the exact route, None if no spin stabilises (reason says why);
-    routes_agree: the eigenvalue route confirms it (None without a full model); mass (kg): the
-    top analysed (with Study.stability(height=...), the one that hovers there)."""
-
-    z_s: float | None
-    stiffness: float | None
-    spin_interval: tuple[float, float] | None
-    reason: str | None
-    routes_agree: bool | None
-    mass: float | None = None
-    units: Units = field(default=_SI, repr=False, compare=False)   # how repr and message show numbers
-    equilibrium: dict | None = None     # over a tilted base: position, axis, offset, ... (stability --json's)
-
-    @property
-    def success(self) -> bool:
-        """A spin interval of linear stability exists."""
-        return self.spin_interval is not None
-
-    @property
-    def message(self) -> str:
-        if self.spin_interval is None:
-            return f"no stable spin interval: {restate(self.reason, self.units) or 'no stable hover height'}"
-        lo, hi = self.spin_interval
-        u = self.units
-        return f"stable for spin {lo:.6g}-{quantity(u, hi, 'rad/s')} at z_s = {quantity(u, self.z_s, 'm')}" + \
-            (f" ({self.reason})" if self.reason else "")
-
-    def __repr__(self) -> str:
-        u = self.units
-        iv = "None" if self.spin_interval is None else \
-            f"{sig(self.spin_interval[0], 6)}-{sig(self.spin_interval[1], 6)} {u.unit('rad/s')}"
-        z = "None" if self.z_s is None else quantity(u, self.z_s, "m")
-        k = "None" if self.stiffness is None else quantity(u, self.stiffness, "N/m", ".4g")
-        return f"Stability(spin_interval={iv}, z_s={z}, stiffness={k}, success={self.success})"
 
 
 @dataclass(frozen=True, repr=False)

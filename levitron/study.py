@@ -20,8 +20,8 @@ from levitron.runtime.design.measurements import Row, read_rows
 from levitron.runtime.design.fit import fit as _fit
 from levitron.runtime.model.load import NEEDS_OF_PART, Model, load_model
 from levitron.runtime.design.scene_keys import Vary, key_value, pvector, with_values
-from levitron.runtime.physics.stability import stability_of
 from levitron.runtime.ui.human import Units, restate
+from levitron.runtime.words import render, speak
 
 from . import arguments as arg
 from .results import Design, Equilibria, Fit, LaunchOdds, Scan, Simulation, Simulations, Stability, Trim
@@ -63,19 +63,23 @@ def load(scene: str | Path, overrides: Mapping[str, float | str] | None = None, 
 
 
 def _in_scene_units(method):
-    """A Study method whose UserError speaks the scene's units and the API's words: the runtime's
-    messages speak SI (as the JSON does), and a dimensionless scene's are restated without SI
-    units; the command line's flags they name become the keyword arguments (arguments.api_words)."""
+    """A Study method that speaks the API's words and the scene's units: the settings its answer's
+    sentences and its UserError name are worded as keyword arguments (runtime/words.py, "api"),
+    and a dimensionless scene's message is restated without SI units (the runtime's speak SI, as
+    the JSON does). The UserError keeps the setting, value, unit and hint it carried."""
     @functools.wraps(method)
     def wrapper(self, *args, **kwargs):
         try:
-            return method(self, *args, **kwargs)
+            return speak(method(self, *args, **kwargs), "api")
         except UserError as exc:
-            text = arg.api_words(str(exc) if self.units.si else restate(str(exc), self.units))
+            text = exc.words("api")
+            text = text if self.units.si else restate(text, self.units)
             if text == str(exc):
                 raise
-            raise UserError(text) from None
+            raise UserError(text, param=exc.param, value=exc.value, unit=exc.unit,
+                            hint=exc.hint and render(exc.hint, "api")) from None
     return wrapper
+
 
 class Study:
     """A scene and its generated model. `model` is runtime.model.load.Model (parameter vector p in the
@@ -169,20 +173,15 @@ class Study:
         return Equilibria.of(self.model)
 
     @_in_scene_units
-    def stability(self, height: float | None = None) -> Stability:
-        """The spin interval at the hover height, by the exact route (thesis 3.3.9-3.3.16);
-        height (m): instead the top that hovers there, of mass m(z) = -mu Phi_2(z)/g (`mass`).
-        Over a tilted base (plate.tilt) by the eigenvalue route at the equilibrium off the axis
-        (`equilibrium`: position, axis; stiffness None)."""
+    def stability(self, height: float | None = None, *, level_tolerance: bool = False) -> Stability:
+        """The spin interval at the hover height, by the exact route (thesis 3.3.9-3.3.16):
+        runtime/physics/stability_answer.py's answer, the one `levitron stability` prints. height
+        (m): instead the top that hovers there, of mass m(z) = -mu Phi_2(z)/g (`mass`). Over a
+        tilted base (plate.tilt) by the eigenvalue route at the equilibrium off the axis
+        (`equilibrium`: position, axis; stiffness None). level_tolerance: also how level the base
+        and how well aligned the magnet must be (needs plate.tilt in the scene)."""
         h = None if height is None else arg.number(height, "height")
-        res = stability_of(self.model, height=h)
-        k = None
-        if res.z_s is not None and res.equilibrium is None:
-            P = self.model.pvals()
-            k = P["mu"] * float(self.model.onaxis(res.z_s)[3])
-        return Stability(res.z_s, k, None if res.spin_interval is None else tuple(res.spin_interval),
-                         res.reason and arg.api_words(res.reason), res.routes_agree, res.mass, self.units,
-                         res.equilibrium)
+        return Stability.of(self.model, height=h, level_tolerance=bool(level_tolerance))
 
     @_in_scene_units
     def simulate(self, spin: float, **options) -> Simulation:
@@ -202,7 +201,7 @@ class Study:
         if plot is not None:
             sim.plot(plot)
         if save is not None:
-            sim.save(save, flag="--save")
+            sim.save(save, flag="«save»")
         return sim
 
     @_in_scene_units
@@ -240,8 +239,7 @@ class Study:
                            out["states"], inputs, out["wall_s"],
                            {k: out[k] for k in ("t_end", "integrator", "integrator_requested", "tol",
                                                 "step", "lanes")}, self.units,
-                           np.array([r if r is None else arg.api_words(r) for r in out["reason"]],
-                                    dtype=object))
+                           np.array(out["reason"], dtype=object))
 
     @_in_scene_units
     def launch(self, n: int | None = None, seed: int | None = None,

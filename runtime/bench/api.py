@@ -75,13 +75,13 @@ def bench(model, out: Path, quick: bool) -> dict:
     rows = time_calls(study, cases(study, su), QUICK_SECONDS if quick else SECONDS)
     load_after = os.getloadavg()
     out.mkdir(parents=True, exist_ok=True)
-    with open_text(out / "api.csv", "--out", newline="") as fh:
+    with open_text(out / "api.csv", "«out»", newline="") as fh:
         w = csv.DictWriter(fh, COLUMNS)
         w.writeheader()
         w.writerows(rows)
     res = {"scene": model.scene.name, "description": __doc__, "rows": rows,
            "load_average_1_5_15": {"before": load_before, "after": load_after}, "quick": quick}
-    write_text(out / "api.json", option="--out", text=json.dumps(res, indent=1) + "\n")
+    write_text(out / "api.json", option="«out»", text=json.dumps(res, indent=1) + "\n")
     png = draw(rows, out / "api.png", f"{model.scene.name}: Study.simulate, {RUN_SPIN_PERIODS} spin periods "
                f"at {Units.of_scene(model.scene).rate(su.spin)} (load {load_before[0]:.1f})")
     res["files"] = [str(out / "api.csv"), str(out / "api.json"), str(png)]

@@ -103,8 +103,8 @@ def write(result: dict, out: Path) -> list[Path]:
     """DIR/bench_design.json and DIR/bench_design.csv (one row a case, COLUMNS)."""
     out.mkdir(parents=True, exist_ok=True)
     js, cs = out / "bench_design.json", out / "bench_design.csv"
-    write_text(js, option="--out", text=json.dumps(result, indent=1) + "\n")
-    with open_text(cs, "--out", newline="") as fh:
+    write_text(js, option="«out»", text=json.dumps(result, indent=1) + "\n")
+    with open_text(cs, "«out»", newline="") as fh:
         w = csv.DictWriter(fh, COLUMNS, extrasaction="ignore")
         w.writeheader()
         for row in result["cases"]:

@@ -27,7 +27,7 @@ def bench(model, out: Path, quick: bool) -> dict:
                  for _ in range(REPEATS))
         rows.append({"function": name, "ops": f.ops, "ns": ns, "ns_per_op": ns / max(f.ops, 1)})
     out.mkdir(parents=True, exist_ok=True)
-    with open_text(out / "functions.csv", "--out", newline="") as fh:
+    with open_text(out / "functions.csv", "«out»", newline="") as fh:
         w = csv.DictWriter(fh, ["function", "ops", "ns", "ns_per_op"])
         w.writeheader()
         w.writerows(rows)

@@ -43,7 +43,7 @@ KINDS = {k.name: k for k in (
          ("thesis_air",), "reports/launch_design"),
     Kind("functions", "levitron.runtime.bench.functions", "ns per call of every generated function",
          ("thesis_stable", "ring_magnet"), "reports/{scene}/functions"),
-    Kind("startup", "levitron.runtime.bench.startup", "wall time of warm one-shot commands (--version, --help, "
+    Kind("startup", "levitron.runtime.bench.startup", "wall time of warm one-shot commands (the version, the help, "
          "stability, equilibrium) in fresh processes, against their budgets", ("thesis_stable",),
          "reports/startup"),
     Kind("api", "levitron.runtime.bench.api", "the Python that Study.simulate adds around the C integration "

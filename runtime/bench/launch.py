@@ -55,8 +55,8 @@ def bench(model, out: Path, quick: bool) -> dict:
     r = measure(model, o["flight"], o["n"], o["t_end"], o["workers"], o["repeats"])
     out.mkdir(parents=True, exist_ok=True)
     res = r.pop("result")
-    write_text(out / "launch.json", option="--out", text=json.dumps(r, indent=2) + "\n")
-    with open_text(out / "launch.csv", "--out", newline="") as fh:
+    write_text(out / "launch.json", option="«out»", text=json.dumps(r, indent=2) + "\n")
+    with open_text(out / "launch.csv", "«out»", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["what", "size", "workers", "wall_s"])
         w.writerow([f"one flight of {o['flight']:g} s", 1, 1, f"{r['flight']['wall_s']:.4g}"])

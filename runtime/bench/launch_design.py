@@ -60,7 +60,7 @@ def draw(rows: list[dict], path: Path, scene: str) -> None:
                  f"{rows[0]['evaluations']} evaluations", fontsize="small")
     ax.legend(loc="upper right")
     fig.tight_layout()
-    save_figure(fig, path, "--out")
+    save_figure(fig, path, "«out»")
 
 
 def bench(model, out: Path, quick: bool) -> dict:
@@ -69,9 +69,9 @@ def bench(model, out: Path, quick: bool) -> dict:
     extra = {k: o[k] for k in ("success_time", "t_end") if k in o}
     rows = [measure(model, o["n"], w, **extra) for w in o["workers"]]
     out.mkdir(parents=True, exist_ok=True)
-    write_text(out / "launch_design.json", option="--out",
+    write_text(out / "launch_design.json", option="«out»",
                text=json.dumps({"scene": model.scene.name, "rows": rows}, indent=2) + "\n")
-    with open_text(out / "launch_design.csv", "--out", newline="") as fh:
+    with open_text(out / "launch_design.csv", "«out»", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=COLUMNS)
         w.writeheader()
         w.writerows(rows)

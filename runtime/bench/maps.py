@@ -231,7 +231,7 @@ def run(model, n: int | None = None, t_end: float | None = None,
     n = n or (QUICK_N if quick else FULL_N)
     python_n = min(n, python_n or (QUICK_N if quick else PYTHON_N))
     if n < 2:
-        raise UserError(f"--n {n}: a map needs at least 2 points per axis")
+        raise UserError(f"«n={n}»: a map needs at least 2 points per axis")
     spins, tilts, lin = map_axes(model, n)
     if t_end is None and quick:        # one slow period (the scan's default is PERIODS of them)
         t_end = slow_period(model, lin["mass"], lin["z_s"], reference_spin(lin["spin_interval"], spins))
@@ -286,7 +286,7 @@ def bench(model, out: Path, quick: bool) -> dict:
     res = run(model, quick=quick)
     out.mkdir(parents=True, exist_ok=True)
     path = out / "bench_maps.json"
-    write_text(path, option="--out", text=json.dumps(res, indent=1) + "\n")
+    write_text(path, option="«out»", text=json.dumps(res, indent=1) + "\n")
     r0 = res["rows"][0]
     res["headline"] = (f"{res['map']['spin'][2]} x {res['map']['tilt'][2]} map: {r0['points_per_s']:.0f} points/s "
                        f"on 1 worker, {res['rows'][1]['points_per_s']:.0f} on 2; cpu/rhs "

@@ -86,7 +86,7 @@ def run(out_dir: str | Path = "reports", quick: bool = False) -> dict:
     }
     result["files"] = [str(draw_3_2(result, out / "solver_compare_fig3_2.png")),
                        str(draw_3_3(result, out / "solver_compare_fig3_3.png"))]
-    write_text(out / "solver_compare.json", option="--out", text=json.dumps(result, indent=1))
+    write_text(out / "solver_compare.json", option="«out»", text=json.dumps(result, indent=1))
     result["files"].append(str(out / "solver_compare.json"))
     return result
 

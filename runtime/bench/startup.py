@@ -82,14 +82,14 @@ def bench(model, out: Path, quick: bool) -> dict:
                      "within_budget": r["min_s"] < budget, **r})
     load_after = os.getloadavg()
     out.mkdir(parents=True, exist_ok=True)
-    with open_text(out / "startup.csv", "--out", newline="") as fh:
+    with open_text(out / "startup.csv", "«out»", newline="") as fh:
         w = csv.DictWriter(fh, ["command", "min_s", "median_s", "budget_s", "within_budget", "runs",
                                 "stable", "argv"])
         w.writeheader()
         w.writerows(rows)
     res = {"scene": model.scene.name, "launcher": " ".join(base), "rows": rows,
            "load_average_1_5_15": {"before": load_before, "after": load_after}, "quick": quick}
-    write_text(out / "startup.json", option="--out", text=json.dumps(res, indent=2) + "\n")
+    write_text(out / "startup.json", option="«out»", text=json.dumps(res, indent=2) + "\n")
     plt = pyplot()
     style()
     fig, ax = plt.subplots(figsize=(6, 2.8))

@@ -205,7 +205,7 @@ def bench_model(model, part_name: str, quick: bool = False, repeats: int | None 
     return {"rows": rows, "reference_check": ref_check, "reference_vs_taylor": vs_taylor,
             "setup": su.as_dict(), "z_s": su.z_s,
             "x0": x0.tolist(), "states": list(part.states),
-            "heyoka": ("not run in --quick (it compiles for seconds per tolerance)" if quick
+            "heyoka": ("not run in the quick mode (it compiles for seconds per tolerance)" if quick
                        else "not installed: pip install '.[bench]'" if heyoka is None
                        else "installed"),
             "cheapest_by_bound": cheapest_by_bound(rows), "per_call": calls}
@@ -348,7 +348,7 @@ def per_call(model, part_name: str, x0, su: Setup, scale, rows: list, quick: boo
 
 def write_per_call(calls: dict, path: Path) -> None:
     """per_call's contestants as a table: one row each, the whole Python call in seconds."""
-    with open_text(path, "--out", newline="") as fh:
+    with open_text(path, "«out»", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["contestant", "integrator", "tol", "error", "call_s", "error_bound"])
         for name, c in sorted(calls.get("contestants", {}).items(), key=lambda kv: kv[1]["call_s"]):
@@ -393,7 +393,7 @@ def cheapest_by_bound(rows: list[dict]) -> list[dict]:
 
 
 def write_cheapest(table: list[dict], path: Path) -> None:
-    with open_text(path, "--out", newline="") as fh:
+    with open_text(path, "«out»", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["bound"] + [f"{b}_{k}" for b in BACKENDS for k in ("integrator", "wall_s", "error")])
         for row in table:
@@ -511,11 +511,11 @@ def run(model, out_dir: str | Path = "reports", quick: bool = False) -> dict:
         per_model[name] = {k: v for k, v in res.items() if k != "rows"}
         rows += res["rows"]
         stem = out / f"bench_{name}"
-        with open_text(f"{stem}.csv", "--out", newline="") as fh:
+        with open_text(f"{stem}.csv", "«out»", newline="") as fh:
             w = csv.DictWriter(fh, fieldnames=list(ROW_KEYS) + list(EXTRA_KEYS), restval="")
             w.writeheader()
             w.writerows(res["rows"])
-        write_text(f"{stem}.json", option="--out", text=json.dumps({"model": name, "scene": model.scene.name,
+        write_text(f"{stem}.json", option="«out»", text=json.dumps({"model": name, "scene": model.scene.name,
                                                      "description": __doc__, **res}, indent=1, default=_json))
         draw(res["rows"], Path(f"{stem}.png"),
              f"{model.scene.name}, {name} model: {units.time(su.t_end)} at {units.rate(su.spin)}")
@@ -524,7 +524,7 @@ def run(model, out_dir: str | Path = "reports", quick: bool = False) -> dict:
         files += [f"{stem}.csv", f"{stem}.json", f"{stem}.png", str(out / f"bench_cheapest_{name}.csv"),
                   str(out / f"bench_per_call_{name}.csv")]
     g = goals(model, [r for r in rows if r["model"] == "full"], quick, su) if "full" in model.parts else {}
-    write_text(out / "bench_goals.json", option="--out", text=json.dumps(g, indent=1, default=_json))
+    write_text(out / "bench_goals.json", option="«out»", text=json.dumps(g, indent=1, default=_json))
     files.append(str(out / "bench_goals.json"))
     return {"rows": rows, "goals": g, "models": per_model, "setup": su.as_dict(), "files": files,
             "quick": quick,

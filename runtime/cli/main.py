@@ -25,6 +25,7 @@ from levitron.runtime.ui import provenance
 from levitron.runtime.ui.provenance import version
 from levitron.runtime.cli.commands import COMMANDS
 from levitron.runtime.errors import UserError
+from levitron.runtime.words import render as words, speak
 
 # scene.load (SceneError) and runtime.model (the compiler, process control) are imported where
 # they are used: `levitron --version` and `--help` need neither (a tenth of a second of imports)
@@ -210,7 +211,7 @@ def _report(args, exc: BaseException) -> int:
     from levitron.runtime.model.cbuild import CompileError
     prefix = f"levitron {args.command}"
     if isinstance(exc, (UserError, SceneError)):
-        message = str(exc)
+        message = exc.words("cli") if isinstance(exc, UserError) else str(exc)
         units = _scene_units(args) if isinstance(exc, UserError) else None
         if units is not None and not units.si:
             from levitron.runtime.ui.human import restate
@@ -324,8 +325,8 @@ def main(argv=None) -> int:
         progress.enable()
     try:
         with progress.task(f"levitron {args.command}"):
-            result = _clean(_with_provenance(args, args._run(args)))
-        text = render(args, result)
+            result = speak(_clean(_with_provenance(args, args._run(args))), "cli")
+        text = words(render(args, result), "cli")     # a sentence a plain view took from elsewhere
     except KeyboardInterrupt:
         print(f"levitron {args.command}: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED

@@ -29,17 +29,17 @@ class Constraint:
         m = _FORM.match(text or "")
         names = ", ".join(QUANTITIES)
         if not m:
-            raise UserError(f"--constrain {text!r}: write NAME>=NUMBER or NAME<=NUMBER with NAME one "
+            raise UserError(f"«constrain» {text!r}: write NAME>=NUMBER or NAME<=NUMBER with NAME one "
                             f"of {names}, e.g. stiffness>=1")
         name, op, num = m.groups()
         if name not in QUANTITIES:
-            raise UserError(f"--constrain {text!r}: unknown quantity {name!r}; use one of {names}")
+            raise UserError(f"«constrain» {text!r}: unknown quantity {name!r}; use one of {names}")
         try:
             bound = number_text(num.strip())
         except ValueError:
             bound = math.nan
         if not math.isfinite(bound):
-            raise UserError(f"--constrain {text!r}: {num!r} is not a finite number")
+            raise UserError(f"«constrain» {text!r}: {num!r} is not a finite number")
         return cls(name, op, bound)
 
     def margin(self, value: float) -> float:

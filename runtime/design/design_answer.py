@@ -84,13 +84,14 @@ class Design:
                 "verification": self.verification, "wall_s": self.wall_s, "scene": self.scene.name}
 
     # ---- actions
-    def write_scene(self, path, flag: str = "--write-scene") -> str:
+    def write_scene(self, path, flag: str = "«write_scene»") -> str:
         """Write the scene at the optimum (re-validated) to path (.toml; runtime/design/scene_write.py),
         its first line naming the design."""
         from levitron.runtime.design.scene_write import write_scene
-        note = (f"levitron optimize {self.scene.name} --maximize {self.objective}: "
+        from levitron.runtime.words import render
+        note = (f"levitron optimize {self.scene.name} «maximize» {self.objective}: "
                 + ", ".join(f"{k} = {v:.6g}" for k, v in self.optimum.items()))
-        return str(write_scene(self.scene, path, note))
+        return str(write_scene(self.scene, path, render(note, "cli")))   # the command it names
 
 
 DesignResult = Design      # its name before issue 29, kept for scripts that import it

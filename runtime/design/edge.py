@@ -38,7 +38,7 @@ def warning(stiffness: float, mass: float, g: float, z_s: float, max_mass: float
     margin = "" if max_mass is None else (f"; a top {(max_mass - mass) / mass:.2g} (relative) heavier "
                                           "no longer hovers")
     return (f"the optimum sits at vanishing stiffness: k = {stiffness:.3g} N/m, {rel:.2g} of m g / z_s, "
-            f"z_s = {z_s:.6g} m near z_c{margin}; add --constrain stiffness>=K for a robust design")
+            f"z_s = {z_s:.6g} m near z_c{margin}; add «constrain» stiffness>=K for a robust design")
 
 
 def check_bounded(model, p, interval: tuple[float, float], where: str) -> None:
@@ -56,5 +56,5 @@ def check_bounded(model, p, interval: tuple[float, float], where: str) -> None:
     if at_edge is not None and at_edge[1] > UNBOUNDED * interval[1]:
         raise UserError(f"the spin objective is unbounded at {where}: as the hover height nears "
                         f"z_c = {rep.z_c:.6g} m (mass {rep.max_mass:.6g} kg, g = {P['g']:.6g}) the stable "
-                        f"interval from {at_edge[0]:.4g} rad/s has no upper end; add --constrain "
+                        f"interval from {at_edge[0]:.4g} rad/s has no upper end; add «constrain» "
                         "stiffness>=K with K > 0 (N/m)")

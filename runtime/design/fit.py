@@ -62,7 +62,7 @@ class _Problem:
         for r in self.rows:
             bad = [k for k, _ in r.overrides if k in keys]
             if bad:
-                raise UserError(f"--fit: a row overrides the varied key {bad[0]}: vary it or fix it")
+                raise UserError(f"«fit»: a row overrides the varied key {bad[0]}: vary it or fix it")
             if r.overrides not in self.maps:
                 scene = with_values(model.scene, dict(r.overrides))
                 self.maps[r.overrides] = KeyMap(scene, model.param_names, varies)
@@ -173,9 +173,9 @@ class _Problem:
         for i, (r, j) in enumerate(zip(self.rows, self.site_of)):
             name = FUNCTION_OF[r.quantity]
             if (name, j) in missing:
-                raise UserError(f"--fit: at {kms[j].describe(x)} row {i + 1} ({r.quantity}) does "
+                raise UserError(f"«fit»: at {kms[j].describe(x)} row {i + 1} ({r.quantity}) does "
                                 "not exist (no stable hover or spin interval there): narrow the "
-                                "--vary bounds or check the data")
+                                "«vary» bounds or check the data")
             F, Y, D = results[name]
             o = F.index_out(r.quantity)
             dpdlogx = P[:, j][:, None] * kms[j].E                # d p_j / d log x_k (monomial law)
@@ -212,7 +212,7 @@ def _gauss_newton(prob: _Problem, x, lo, hi, keys):
     prob.accept()
     why = _confounded(J, keys)
     if why is not None:
-        raise UserError(f"--fit refused: {why}")
+        raise UserError(f"«fit» refused: {why}")
     lam, status, it = 1e-3, "max_iter", 0
     cost = float(r @ r)
     for it in range(1, MAX_ITER + 1):  # noqa: B007 (it: the iteration count reported)
@@ -239,10 +239,10 @@ def _gauss_newton(prob: _Problem, x, lo, hi, keys):
                 status = "converged" if np.linalg.norm(J.T @ r) <= 1e-8 * max(1.0, cost) else "stalled"
                 break
     if status != "converged":
-        raise UserError(f"--fit: Gauss-Newton {status} after {it} iterations at "
+        raise UserError(f"«fit»: Gauss-Newton {status} after {it} iterations at "
                         f"{', '.join(f'{k} = {v:.6g}' for k, v in zip(keys, x))}: check the data's "
                         "values and units, or start nearer (set the keys in the scene) or "
-                        "narrow the --vary box")
+                        "narrow the «vary» box")
     return x, vals, r, J, cost, it
 
 
@@ -251,7 +251,7 @@ def fit(model, rows: Sequence[Row], varies: Sequence[Vary]) -> Fit:
     iterations start their rootfinders warm (`_Problem`); the optimum is checked by a cold
     evaluation there, and a disagreement beyond WARM_RTOL reruns the fit cold throughout."""
     if not varies:
-        raise UserError("--fit needs at least one --vary KEY=LO:HI")
+        raise UserError("«fit» needs at least one «vary» KEY=LO:HI")
     rows = check_rows(rows)
     prob = _Problem(model, rows, varies)
     keys = [v.key for v in varies]
@@ -275,12 +275,12 @@ def fit(model, rows: Sequence[Row], varies: Sequence[Vary]) -> Fit:
     status = "converged"
     why = _confounded(J, keys)
     if why is not None:
-        raise UserError(f"--fit refused at the optimum: {why}")
+        raise UserError(f"«fit» refused at the optimum: {why}")
     cov_log = np.linalg.inv(J.T @ J)                        # of log x
     stderr = np.abs(x) * np.sqrt(np.diag(cov_log))
     at_bound = [k for k, v, a, b in zip(keys, x, lo, hi) if v in (a, b)]
-    warnings = [f"{k} = {v:.6g} is at the {'lower' if v == a else 'upper'} bound of --vary "
-                f"{k}={a:.10g}:{b:.10g}: at the bound: widen --vary"
+    warnings = [f"{k} = {v:.6g} is at the {'lower' if v == a else 'upper'} bound of «vary» "
+                f"{k}={a:.10g}:{b:.10g}: at the bound: widen «vary»"
                 for k, v, a, b in zip(keys, x, lo, hi) if k in at_bound]
     poor = poor_fit(cost, len(rows) - len(keys), r)
     if poor:
@@ -305,8 +305,8 @@ def poor_fit(chi2: float, dof: int, normalized) -> str | None:
         if p >= POOR_P:
             return None
         return (f"the fit is poor: chi2/dof = {chi2 / dof:.4g} (p = {p:.2g}), largest residual "
-                f"{worst:.3g} sigma: check the data, their sigmas and the --vary bounds")
+                f"{worst:.3g} sigma: check the data, their sigmas and the «vary» bounds")
     if worst <= POOR_SIGMA:
         return None
     return (f"the fit is poor: chi2 = {chi2:.4g} with 0 degrees of freedom (the keys could match every "
-            f"row), largest residual {worst:.3g} sigma: check the data and the --vary bounds")
+            f"row), largest residual {worst:.3g} sigma: check the data and the «vary» bounds")

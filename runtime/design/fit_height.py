@@ -19,6 +19,7 @@ from levitron.scene import plates
 
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.errors import UserError
+from levitron.runtime.words import setting
 
 # parameters that must be positive
 POSITIVE = ("m", "g", "A", "C")
@@ -51,9 +52,9 @@ def _key_route(model, key: str):
     from levitron.runtime.design.scene_keys import KeyMap, Vary, key_value
     x0 = key_value(model.scene.data, key)
     if x0 == 0:
-        raise UserError(f"--param {key} = 0 in the scene: fit a key the scene sets to a nonzero number")
+        raise UserError(f"«param» {key} = 0 in the scene: fit a key the scene sets to a nonzero number")
     lo, hi = sorted((0.999 * x0, 1.001 * x0))
-    km = KeyMap(model.scene, model.param_names, [Vary.checked(key, lo, hi, f"--param {key}")])
+    km = KeyMap(model.scene, model.param_names, [Vary.checked(key, lo, hi, f"«param» {key}")])
     return x0, (lambda x: km.p_casadi(ca.vertcat(x))), (lambda v: km.exact(np.array([v]))[1])
 
 
@@ -61,7 +62,7 @@ def _name_route(model, param: str):
     """(x0, p(x) as CasADi, p(value)) for a generated parameter name (`mu`, `plate_rho`)."""
     names = model.param_names
     if param not in names:
-        raise UserError(f"--param {param!r} is not a scene key (section.key, e.g. plate.murho or "
+        raise UserError(f"«param» {param!r} is not a scene key (section.key, e.g. plate.murho or "
                         f"top.moment) and not a parameter of this model ({', '.join(names)})")
     i = names.index(param)
 
@@ -83,7 +84,7 @@ def fit_equilibrium_height(model, z_star: float, param: str = "mu") -> dict:
     by_key = "." in str(param)
     x0, p_of, exact = _key_route(model, param) if by_key else _name_route(model, param)
     if not (z_star > 0 and math.isfinite(z_star)):
-        raise UserError(f"--fit-height {z_star} must be a positive height (m) above the plate")
+        raise UserError(f"{setting('fit_height', f'{z_star}')} must be a positive height (m) above the plate")
     onaxis = model.casadi("onaxis")
     x = ca.SX.sym("x")
     p = p_of(x)

@@ -68,8 +68,8 @@ class Pinned:
         keys = [v.key for v in varies]
         if "top.mass" in keys and "mass" in request.given and \
                 not str(request.given["mass"]).strip().lower().startswith(spreads.REL):
-            raise UserError("--vary top.mass moves the top's mass, so its spread must be relative: "
-                            "write --mass rel:normal:0,0.002 (or rel:0.2%)")
+            raise UserError("«vary» top.mass moves the top's mass, so its spread must be relative: "
+                            "write «mass» rel:normal:0,0.002 (or rel:0.2%)")
         tries = [None, tuple(0.5 * (v.lo + v.hi) for v in varies),
                  *_axes(varies, [(v.lo, v.hi) for v in varies], GRID[len(varies)])]
         first = None
@@ -87,7 +87,7 @@ class Pinned:
                                 start["t_end"], request.integrator, request.tol, request.workers,
                                 request.scheduler)
             return cls(pinned, start, None if x is None else dict(zip(keys, x)))
-        raise UserError(f"{first} (and at every point of the --vary box's grid): move or widen the box")
+        raise UserError(f"{first} (and at every point of the «vary» box's grid): move or widen the box")
 
 
 def key_text(key: str, value: float) -> str:
@@ -167,7 +167,7 @@ class LaunchDesign:
 
 
 def maximize_launch_odds(model, varies: Sequence[Vary], request: mc.Request, pinned: Pinned | None = None,
-                         where: str = "the --vary box") -> LaunchDesign:
+                         where: str = "the «vary» box") -> LaunchDesign:
     """The design of the module docstring over the --vary box (`where`: what its messages call it).
     With local workers every Monte Carlo of the design runs in one kept pool (runners.KeptPool:
     the workers start once, not once an evaluation)."""
@@ -183,7 +183,7 @@ def _maximize(model, varies: Sequence[Vary], request: mc.Request, pinned: Pinned
               pool) -> LaunchDesign:
     t0 = time.perf_counter()
     if not 1 <= len(varies) <= 3:
-        raise UserError("--vary: give one to three keys for --maximize launch-odds")
+        raise UserError("«vary»: give one to three keys for «maximize» launch-odds")
     keys = [v.key for v in varies]
     pinned = pinned or Pinned.at_start(model, request, varies)
     req = pinned.request
@@ -229,9 +229,9 @@ def _maximize(model, varies: Sequence[Vary], request: mc.Request, pinned: Pinned
         reasons = sorted({row["reason"] for row in rows if "reason" in row})
         raise UserError(f"no launch floats anywhere in {where}"
                         + (f" ({reasons[0]})" if reasons else "") + ": "
-                        + ("widen or move the box, or " if where == "the --vary box" else "")
-                        + "check the launch spread with `levitron launch` (a steadier hand: smaller "
-                        "--mass, --strength or --tilt spreads)")
+                        + ("widen or move the box, or " if where == "the «vary» box" else "")
+                        + "check the launch spread with `«levitron=launch»` (a steadier hand: smaller "
+                        "«mass», «strength» or «tilt» spreads)")
     fresh = req.with_seed(req.seed + FRESH)
     final = odds_at(model.ref, keys, best, fresh, pool)
     start_x = [key_value(model.scene.data, k) for k in keys]
@@ -240,8 +240,8 @@ def _maximize(model, varies: Sequence[Vary], request: mc.Request, pinned: Pinned
     for v, b in zip(varies, best):
         span = v.hi - v.lo
         if b <= v.lo + 1e-9 * span or b >= v.hi - 1e-9 * span:
-            warnings.append(f"{v.key} = {key_text(v.key, b)} is at a bound of --vary {v.key}={v.lo:.10g}:{v.hi:.10g}: "
-                            "the box stopped the search, not the odds; widen --vary")
+            warnings.append(f"{v.key} = {key_text(v.key, b)} is at a bound of «vary» {v.key}={v.lo:.10g}:{v.hi:.10g}: "
+                            "the box stopped the search, not the odds; widen «vary»")
     if pinned.at is not None:
         where = ", ".join(f"{k} = {key_text(k, v)}" for k, v in pinned.at.items())
         warnings.append(f"the scene as written cannot be launched ({first.get('reason', 'no hover')}); "
@@ -269,7 +269,7 @@ def what_it_costs(model, varies: Sequence[Vary], request: mc.Request, optimum: d
         where = ", ".join(f"{k} = {unit_text(k, optimum[k])}" for k in keys)
         there = ", ".join(f"{k} = {unit_text(k, v)}" for k, v in best.optimum.items())
         out["warning"] = (f"the {objective} optimum ({where}) floats {100 * p:.3g} % of hand launches; "
-                          f"--maximize launch-odds gives {100 * q:.3g} % at {there}")
+                          f"«maximize» launch-odds gives {100 * q:.3g} % at {there}")
     return out
 
 

@@ -64,7 +64,7 @@ def check_row(row, where: str) -> Row:
     return Row(row.quantity, value, sigma, tuple(over))
 
 
-def check_rows(rows, where: str = "--fit") -> list[Row]:
+def check_rows(rows, where: str = "«fit»") -> list[Row]:
     """check_row of every row; at least one row, at most MAX_ROWS."""
     if isinstance(rows, (str, bytes)) or not hasattr(rows, "__iter__"):
         raise UserError(f"{where}: give a CSV path or a list of runtime.design.measurements.Row")
@@ -89,37 +89,37 @@ def read_rows(path: str | Path) -> list[Row]:
         with open(path, "rb") as fh:                # at most MAX_BYTES (/dev/zero, a huge file: refused)
             data = fh.read(MAX_BYTES + 1)
         if len(data) > MAX_BYTES:
-            raise UserError(f"--fit {path}: longer than {MAX_BYTES // 2**20} MB, more than a file of "
+            raise UserError(f"«fit» {path}: longer than {MAX_BYTES // 2**20} MB, more than a file of "
                             f"{MAX_ROWS} rows holds: give the CSV of the measurements")
         text = data.decode("utf-8-sig")             # a spreadsheet's byte-order mark
     except (OSError, UnicodeDecodeError) as exc:
-        raise UserError(f"--fit {path}: cannot be read ({exc}): give a CSV file") from None
+        raise UserError(f"«fit» {path}: cannot be read ({exc}): give a CSV file") from None
     lines = [(n, line) for n, line in enumerate(text.splitlines(), start=1)
              if line.strip() and not line.lstrip().startswith("#")]
     try:
         table = list(csv.reader(line for _, line in lines))
     except csv.Error as exc:
-        raise UserError(f"--fit {path}: not a CSV file ({exc})") from None
+        raise UserError(f"«fit» {path}: not a CSV file ({exc})") from None
     header = [h.strip() for h in table[0]] if table else []
     if not {"quantity", "value", "sigma"} <= set(header):
-        raise UserError(f"--fit {path}: the header must name quantity,value,sigma[,overrides]")
+        raise UserError(f"«fit» {path}: the header must name quantity,value,sigma[,overrides]")
     unknown = [h for h in header if h not in COLUMNS]
     if unknown:
-        raise UserError(f"--fit {path}: unknown column {unknown[0]!r}: the columns are "
+        raise UserError(f"«fit» {path}: unknown column {unknown[0]!r}: the columns are "
                         f"{','.join(COLUMNS)} (put per-row scene keys into overrides: key=value;...)")
     repeated = sorted({h for h in header if header.count(h) > 1})
     if repeated:
-        raise UserError(f"--fit {path}: the column {repeated[0]!r} appears twice in the header")
+        raise UserError(f"«fit» {path}: the column {repeated[0]!r} appears twice in the header")
     rows = []
     for (n, _), fields in zip(lines[1:], table[1:]):
         if len(fields) > len(header):
-            raise UserError(f"--fit {path} line {n}: {len(fields)} fields for {len(header)} columns: "
+            raise UserError(f"«fit» {path} line {n}: {len(fields)} fields for {len(header)} columns: "
                             "remove the extra ones (a ',' inside overrides? separate them by ';')")
         rec = dict(zip(header, (f.strip() for f in fields)))
         try:
             value, sigma = _number(rec.get("value", "")), _number(rec.get("sigma", ""))
         except ValueError:
-            raise UserError(f"--fit {path} line {n}: value and sigma must be numbers") from None
+            raise UserError(f"«fit» {path} line {n}: value and sigma must be numbers") from None
         over = []
         for item in filter(None, (s.strip() for s in rec.get("overrides", "").split(";"))):
             key, eq, v = item.partition("=")
@@ -128,7 +128,7 @@ def read_rows(path: str | Path) -> list[Row]:
                     raise ValueError(item)
                 over.append((key.strip(), _number(v)))
             except ValueError:
-                raise UserError(f"--fit {path} line {n}: override {item!r}: write key=number") from None
+                raise UserError(f"«fit» {path} line {n}: override {item!r}: write key=number") from None
         rows.append(check_row(Row(rec.get("quantity", ""), value, sigma, tuple(over)),
-                              f"--fit {path} line {n}"))
-    return check_rows(rows, f"--fit {path}")
+                              f"«fit» {path} line {n}"))
+    return check_rows(rows, f"«fit» {path}")

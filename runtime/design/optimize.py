@@ -75,11 +75,11 @@ def objective_of(name: str, lo: float, hi: float) -> float:
 
 def check_objective(name: str, constraints: Sequence[Constraint]) -> None:
     if name not in OBJECTIVES:
-        raise UserError(f"--maximize {name!r}: use one of {', '.join(OBJECTIVES)}")
+        raise UserError(f"«maximize» {name!r}: use one of {', '.join(OBJECTIVES)}")
     if name == "mass-window":
         bad = [str(c) for c in constraints if c.name not in BAND_CONSTRAINTS]
         if bad:
-            raise UserError(f"--maximize mass-window takes constraints on {' and '.join(BAND_CONSTRAINTS)}"
+            raise UserError(f"«maximize» mass-window takes constraints on {' and '.join(BAND_CONSTRAINTS)}"
                             f" (the scene's top) only, not {', '.join(bad)}")
 
 
@@ -279,17 +279,17 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
     t0 = time.perf_counter()
     check_objective(objective, constraints)
     if objective == "mass-window" and any(v.key == "top.mass" for v in varies):
-        raise UserError("--maximize mass-window --vary top.mass: the masses that hover are the plate's, the "
+        raise UserError("«maximize» mass-window «vary» top.mass: the masses that hover are the plate's, the "
                         "top's moment, A and C (the band's rule, thesis 3.3.2), not the top's mass; vary a plate "
-                        "key such as plate.hole, or use `levitron trim` to choose the mass")
+                        "key such as plate.hole, or use `«levitron=trim»` to choose the mass")
     if not 1 <= len(varies) <= 3:
-        raise UserError("--vary: give one to three keys (the verification grid has n^k points)")
-    n_grid = count(n_grid, "--grid", low=GRID_MIN)
+        raise UserError("«vary»: give one to three keys (the verification grid has n^k points)")
+    n_grid = count(n_grid, "«grid»", low=GRID_MIN)
     if n_grid ** len(varies) > MAX_GRID_POINTS:
         most = int(MAX_GRID_POINTS ** (1 / len(varies)) + 1e-9)
         keys = f"{len(varies)} key{'s' if len(varies) > 1 else ''}"
-        raise UserError(f"--grid {n_grid} with {keys} is {n_grid ** len(varies)} points, more than "
-                        f"the {MAX_GRID_POINTS} of a verification grid (about 5 ms each): give --grid {most} "
+        raise UserError(f"«grid={n_grid}» with {keys} is {n_grid ** len(varies)} points, more than "
+                        f"the {MAX_GRID_POINTS} of a verification grid (about 5 ms each): give «grid={most}» "
                         "or fewer")
     keymap = KeyMap(model.scene, model.param_names, varies)
     pts = [evaluate(model, keymap, x, objective, constraints) for x in grid_points(varies, n_grid)]
@@ -297,7 +297,7 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
     if not feasible:
         what = "a stable band" if objective == "mass-window" else "a stable spin interval"
         fix = (f"widen the bounds or relax {', '.join(map(str, constraints))}" if constraints
-               else "move or widen the --vary bounds (`levitron equilibrium` gives the band of masses)")
+               else "move or widen the «vary» bounds (`«levitron=equilibrium»` gives the band of masses)")
         raise UserError(f"no point of the {len(pts)}-point grid over the box has {what}"
                         f"{' that meets the constraints' if constraints else ''}: {fix}")
     start = max(feasible, key=lambda pt: pt.value)
@@ -341,8 +341,8 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
         f"{fallback}: the objective has a corner there (the spin limits switch branch), so the optimum is "
         "a bounded scalar search (Brent) of the exact float route over the best grid cell; the NLP does not "
         "verify it"]
-    warnings += [f"{k} = {x[i]:.6g} is at the {at_bound[k]} bound of --vary {k}={varies[i].lo:.10g}:"
-                f"{varies[i].hi:.10g}: the box stopped the optimum, not the physics; at the bound: widen --vary"
+    warnings += [f"{k} = {x[i]:.6g} is at the {at_bound[k]} bound of «vary» {k}={varies[i].lo:.10g}:"
+                f"{varies[i].hi:.10g}: the box stopped the optimum, not the physics; at the bound: widen «vary»"
                 for i, k in enumerate(keys) if k in at_bound]
     if not band and check.stiffness is not None:
         p_opt = keymap.exact(x)[1]

@@ -54,7 +54,7 @@ def _child(node, k: str, key: str):
         return node[int(k)]
     raise UserError(f"the scene has no number at {key}: vary a key the scene sets "
                     "(see docs/scenes.md; a compound plate's parts are plate.parts.<i>.<key>), "
-                    "or add it with --set")
+                    "or add it with «set»")
 
 
 def key_value(data: dict, key: str) -> float:
@@ -104,8 +104,8 @@ class Vary:
         except ValueError:
             lo_v = hi_v = math.nan
         if not (sep and sep2):
-            raise UserError(f"--vary {text!r}: write KEY=LO:HI with numbers, e.g. plate.hole=0.01:0.05")
-        return cls.checked(key.strip(), lo_v, hi_v, f"--vary {text!r}")
+            raise UserError(f"«vary» {text!r}: write KEY=LO:HI with numbers, e.g. plate.hole=0.01:0.05")
+        return cls.checked(key.strip(), lo_v, hi_v, f"«vary» {text!r}")
 
     @classmethod
     def checked(cls, key, lo, hi, where: str) -> Vary:
@@ -165,7 +165,7 @@ class KeyMap:
             return with_values(self.scene, {v.key: float(xi) for v, xi in zip(self.varies, x)})
         except UserError as exc:
             raise UserError(f"at {self.describe(x)} the scene is not valid ({exc}): narrow the "
-                            "--vary bounds") from None
+                            "«vary» bounds") from None
 
     def describe(self, x) -> str:
         return ", ".join(f"{v.key} = {float(xi):.6g}" for v, xi in zip(self.varies, x))

@@ -54,9 +54,9 @@ def check_target(path: str | Path) -> Path:
     """A path a scene can be written to (its folder exists, it is not a folder); UserError if not."""
     p = Path(path)
     if p.is_dir() or not p.parent.is_dir() or p.suffix != ".toml":
-        raise UserError(f"--write-scene {path}: give a .toml file in an existing folder")
+        raise UserError(f"«write_scene» {path}: give a .toml file in an existing folder")
     if not re.fullmatch(r"[A-Za-z0-9_-]+", p.stem):
-        raise UserError(f"--write-scene {path}: the file name names the scene; use letters, digits, "
+        raise UserError(f"«write_scene» {path}: the file name names the scene; use letters, digits, "
                         "'-' and '_' only")
     return p
 
@@ -65,7 +65,7 @@ def write_scene(scene: Scene, path: str | Path, comment: str = "") -> Path:
     """Write the scene to path atomically; the text is re-read and must give the same data."""
     from levitron.runtime.ui.atomic import output
     p = check_target(path)
-    with output(p, "--write-scene") as tmp:     # mode 0666 less the umask, as any file written
+    with output(p, "«write_scene»") as tmp:     # mode 0666 less the umask, as any file written
         text = scene_toml(scene, comment)
         tmp.write_text(text, encoding="utf-8")
         try:                  # read back as load_scene reads the file, named after the target
@@ -73,7 +73,7 @@ def write_scene(scene: Scene, path: str | Path, comment: str = "") -> Path:
             data.setdefault("name", p.stem)
             again = validate(data, p)
         except (SceneError, tomllib.TOMLDecodeError) as exc:
-            raise UserError(f"--write-scene {path}: the written scene does not read back ({exc})") from None
+            raise UserError(f"«write_scene» {path}: the written scene does not read back ({exc})") from None
         if again.params != scene.params:
-            raise UserError(f"--write-scene {path}: the written scene reads back different numbers")
+            raise UserError(f"«write_scene» {path}: the written scene reads back different numbers")
     return p

@@ -46,7 +46,7 @@ def trim(model, request: mc.Request) -> Trim:
     band = eqm.equilibria_of(model, bands=True).stable_band
     if band is None:
         raise UserError(f"{model.scene.name}: no mass can hover over this plate (no stable band), so "
-                        "there is nothing to trim; `levitron equilibrium` says why")
+                        "there is nothing to trim; `«levitron=equilibrium»` says why")
     lo, hi = band.mass
     design = ld.maximize_launch_odds(model, [Vary("top.mass", lo, hi)], request,
                                      where="the masses that hover (the stable band)")

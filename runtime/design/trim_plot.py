@@ -23,7 +23,7 @@ def _odds_bar(ax, x: float, block: dict, color: str, label: str) -> None:
     ax.errorbar([x], [p], yerr=[[p - lo], [hi - p]], fmt="o", color=color, capsize=3, label=label)
 
 
-def draw(r: dict, path, u: Units, scene: str, option: str = "--out") -> Path:
+def draw(r: dict, path, u: Units, scene: str, option: str = "«out»") -> Path:
     """Draw the trim answer r (Trim.as_json) to path (.png, .pdf, .svg)."""
     plt = pyplot()
     style()

@@ -65,7 +65,7 @@ def budget_message(max_steps: int, t: float | None = None) -> str:
     at = "" if t is None else f" at t = {t:.6g} s"
     return (f"stopped: the step budget of {max_steps} steps ran out{at} before t_end (the motion "
             "needs ever smaller steps, e.g. near a singularity of the coordinates; try other "
-            "coordinates, a looser --tol or a shorter --t-end)")
+            "coordinates, a looser «tol» or a shorter «t_end»)")
 
 
 def _positive(x) -> bool:
@@ -76,56 +76,68 @@ def check_options(method: str, t_end: float, tol: float | None = None, h: float 
                   n_out: int = 1, time_scale: float | None = None, what: str = "the fastest period",
                   max_steps: int | None = None) -> None:
     """Refuse options no run can honour, with a one-line UserError naming the reason and the
-    allowed range. `what` names time_scale in the messages (e.g. "the spin period 2 pi / |spin|")."""
+    allowed range; the error carries the setting it is about (`param` t_end, step, tol, n_out or
+    max_steps, its value and unit). `what` names time_scale in the messages (e.g. "the spin period
+    2 pi / |spin|")."""
     entry = lookup(method)
     cap = step_cap(method)
     if not _positive(t_end):
-        raise UserError(f"run length t_end={t_end} must be a positive finite time; pass e.g. --t-end 1")
+        raise UserError(f"run length t_end={t_end} must be a positive finite time; pass e.g. «t_end=1»",
+                        param="t_end", value=t_end, unit="s")
     if time_scale is not None and not _positive(time_scale):
         raise UserError(f"{what} is {time_scale}: no time scale to bound the run by")
     if isinstance(n_out, bool) or int(n_out) != n_out or not 1 <= n_out <= MAX_N_OUT:
-        raise UserError(f"n_out={n_out} output samples: pass a whole number from 1 to {MAX_N_OUT}")
+        raise UserError(f"n_out={n_out} output samples: pass a whole number from 1 to {MAX_N_OUT}",
+                        param="n_out", value=n_out)
     if max_steps is not None and not (int(max_steps) == max_steps and 1 <= max_steps <= cap):
-        raise UserError(f"max_steps={max_steps}: pass a whole number from 1 to {cap}")
+        raise UserError(f"max_steps={max_steps}: pass a whole number from 1 to {cap}",
+                        param="max_steps", value=max_steps)
     if entry.fixed_step:
         if h is None:
-            raise UserError(f"integrator {method} takes a fixed step; pass a step h > 0 (--step; "
-                            f"--tol is not used by {method})")
+            raise UserError(f"integrator {method} takes a fixed step; pass a step h > 0 («step»; "
+                            f"«tol» is not used by {method})", param="step", value=None, unit="s")
         if not _positive(h):
-            raise UserError(f"step h={h} must be positive and finite; pass e.g. --step 1e-4")
+            raise UserError(f"step h={h} must be positive and finite; pass e.g. «step=1e-4»",
+                            param="step", value=h, unit="s")
         if h > t_end:
-            raise UserError(f"step h={h:.3g} s is longer than the run t_end={t_end:.3g} s; pass h <= t_end")
+            raise UserError(f"step h={h:.3g} s is longer than the run t_end={t_end:.3g} s; pass h <= t_end",
+                            param="step", value=h, unit="s")
         if time_scale is not None:
             if h > time_scale:
                 raise UserError(f"step h={h:.3g} s is longer than {what} ({time_scale:.3g} s), which it "
-                                f"cannot resolve; pass h <= {time_scale / 20:.3g} s")
+                                f"cannot resolve; pass h <= {time_scale / 20:.3g} s", param="step", value=h, unit="s")
             if h < MIN_STEP_FRACTION * time_scale:
                 raise UserError(f"step h={h:.3g} s is below {MIN_STEP_FRACTION:g} of {what} "
-                                f"({time_scale:.3g} s); pass h >= {MIN_STEP_FRACTION * time_scale:.3g} s")
+                                f"({time_scale:.3g} s); pass h >= {MIN_STEP_FRACTION * time_scale:.3g} s",
+                                param="step", value=h, unit="s")
         n = fixed_steps(t_end, h)
         if n > cap:
             raise UserError(f"t_end={t_end:.3g} s at step h={h:.3g} s takes {n:.3g} steps, above the budget "
                             f"cap of {cap:.0e} for {method}; pass t_end <= {cap * h:.3g} s or a "
-                            "larger step")
+                            "larger step", param="t_end", value=t_end, unit="s")
         return
     if h is not None:
-        raise UserError(f"integrator {method} is adaptive: it takes a tolerance (--tol), not a step "
-                        "(--step is for fixed-step integrators)")
+        raise UserError(f"integrator {method} is adaptive: it takes a tolerance («tol»), not a step "
+                        "(«step» is for fixed-step integrators)", param="step", value=h, unit="s")
     if tol is None or not math.isfinite(tol) or tol <= 0:
-        raise UserError(f"tolerance tol={tol} must be positive and finite; pass e.g. --tol 1e-8")
+        raise UserError(f"tolerance tol={tol} must be positive and finite; pass e.g. «tol=1e-8»",
+                        param="tol", value=tol)
     if tol > TOL_MAX:
-        raise UserError(f"tolerance tol={tol:g} is too loose to trust a verdict; pass tol <= {TOL_MAX:g}")
+        raise UserError(f"tolerance tol={tol:g} is too loose to trust a verdict; pass tol <= {TOL_MAX:g}",
+                        param="tol", value=tol)
     if tol < TOL_MIN:
-        raise UserError(f"tolerance tol={tol:g} is below double precision; pass tol >= {TOL_MIN:g}")
+        raise UserError(f"tolerance tol={tol:g} is below double precision; pass tol >= {TOL_MIN:g}",
+                        param="tol", value=tol)
     if time_scale is None:
         return
     resolvable = RESOLUTION_ULPS * sys.float_info.epsilon * t_end * STEPS_PER_PERIOD
     if time_scale < resolvable:
         raise UserError(f"{what} ({time_scale:.3g} s) is below what the time variable resolves over "
-                        f"t_end={t_end:.3g} s (at least {resolvable:.3g} s); pass a shorter --t-end or a "
-                        "slower spin")
+                        f"t_end={t_end:.3g} s (at least {resolvable:.3g} s); pass a shorter «t_end» or a "
+                        "slower spin", param="t_end", value=t_end, unit="s")
     need = STEPS_PER_PERIOD * t_end / time_scale
     if need > cap:
         raise UserError(f"t_end={t_end:.3g} s spans {t_end / time_scale:.3g} times {what} "
                         f"({time_scale:.3g} s): about {need:.3g} steps, above the budget cap of "
-                        f"{cap:.0e} for {method}; pass t_end <= {cap * time_scale / STEPS_PER_PERIOD:.3g} s")
+                        f"{cap:.0e} for {method}; pass t_end <= {cap * time_scale / STEPS_PER_PERIOD:.3g} s",
+                        param="t_end", value=t_end, unit="s")

@@ -116,7 +116,7 @@ def resolve(name: str, tol: float | None = None, h: float | None = None) -> str:
                         f"fixed step (h={h}); for a fixed step name a fixed-step method ({fixed})")
     if tol is None or not math.isfinite(tol) or tol <= 0:
         raise UserError(f"integrator auto picks its method from the tolerance, and tol={tol} is not a "
-                        "positive finite number; pass e.g. --tol 1e-9")
+                        "positive finite number; pass e.g. «tol=1e-9»")
     return "vern9" if tol < AUTO_VERN9_BELOW_TOL else "dop853"
 
 

@@ -20,7 +20,7 @@ ADIABATIC_NOTE = ("Berry-Simon: |B| has a minimum on the axis (sign(Phi_1) Phi_3
                   "Phi_2^2 > 2 Phi_1 Phi_3); an approximation for fast spin, reported beside "
                   "the exact band, never instead")
 TILTED_NOTE = ("plate.tilt: these are the level base's equilibria on the axis (the band "
-               "too); over the tilted base the top hovers off the axis: `levitron stability` "
+               "too); over the tilted base the top hovers off the axis: `«levitron=stability»` "
                "gives where, and its spin interval")
 _SI = Units(si=True)
 

@@ -147,5 +147,5 @@ def hover_height(model, p: np.ndarray | None = None) -> float:
     if not rep.stable:
         m = params_of(model, p)["m"]
         raise UserError(f"scene '{model.scene.name}' has no vertically stable hover height: "
-                        f"{rep.no_hover_reason(m)} (see `levitron equilibrium`)")
+                        f"{rep.no_hover_reason(m)} (see `«levitron=equilibrium»`)")
     return rep.stable[0].z

@@ -25,5 +25,5 @@ def refuse_tilted(model, what: str) -> None:
     if t != 0:
         raise UserError(f"{what} for a level base (the top on the plate's axis, thesis 3.3), and scene "
                         f"'{model.scene.name}' has its base tilted by {t:.6g} rad (plate.tilt): pass "
-                        "--set plate.tilt=0 for the level base; stability, simulate, scan, launch and "
+                        "«set» plate.tilt=0 for the level base; stability, simulate, scan, launch and "
                         "report answer for the tilted one")

@@ -117,7 +117,7 @@ def _verdict(z_s: float, ph, mu: float, disc, eig, approximations, timings: dict
     elif not bounded:
         reason = (f"at z_s = {z_s:.6g} m the top is vertically stable but no spin rate makes it "
                   "linearly stable: N(t) (thesis 3.3.11) never has four real roots; the height is "
-                  "outside the stable band (see `levitron equilibrium`)")
+                  "outside the stable band (see `«levitron=equilibrium»`)")
     else:
         interval = bounded[0]
         if len(bounded) > 1:
@@ -135,7 +135,7 @@ def onaxis_refusal(model, p: np.ndarray | None = None) -> str | None:
         return None
     return (f"the plate has {sym.name} symmetry (side_x != side_y): the spin interval from the on-axis "
             "potential (thesis 3.3) does not hold for it; make the rectangle square (side = ...) or "
-            "run the full model (`levitron simulate --spin ...`)")
+            "run the full model (`levitron simulate «spin» ...`)")
 
 
 def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
@@ -155,8 +155,8 @@ def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
     plate whose symmetry does not carry the analysis (`onaxis_refusal`)."""
     if "base_tilt" in model.param_names:
         if height is not None:
-            raise UserError("--height analyses a top on the axis of a level base: over a tilted base "
-                            "(plate.tilt) give the mass (--set top.mass=...) instead")
+            raise UserError("«height» analyses a top on the axis of a level base: over a tilted base "
+                            "(plate.tilt) give the mass («set» top.mass=...) instead")
         from levitron.runtime.physics.tilted_stability import tilted_analysis
         p = without_friction(model, model.with_params({} if mass is None else {"m": float(mass)}, p))
         if model.pvals(p).get("moment_tilt", 0.0) != 0:     # a periodic orbit: route "Floquet"
@@ -174,7 +174,7 @@ def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
         if not (math.isfinite(m_z) and m_z > 0):
             raise UserError(f"no top hovers at z = {height:.6g} m: the field there holds no mass "
                             f"(m(z) = -mu Phi_2(z)/g = {m_z:.3g} kg <= 0, thesis 3.3.2); pick a height "
-                            "inside the stable band (`levitron equilibrium` gives it)")
+                            "inside the stable band (`«levitron=equilibrium»` gives it)")
         return stability_of(model, mass=m_z, p=p, z_s=float(height), eigen=eigen)
     p = without_friction(model, model.with_params({} if mass is None else {"m": float(mass)}, p))
     P = eqm.params_of(model, p)

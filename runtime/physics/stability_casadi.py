@@ -156,7 +156,7 @@ def _root(name: str, unknowns: list[str], outputs: list[str], residual, value_of
             raise
         raise UserError(f"the {name} function cannot be built: its residual does not depend on "
                         f"{', '.join(unknowns)} (the plate's on-axis functions are constant in z, a "
-                        "formula without a field?); check the plate with `levitron equilibrium`") from None
+                        "formula without a field?); check the plate with `«levitron=equilibrium»`") from None
     g_in = [ca.SX.sym(f"{u}_guess") for u in unknowns]
     sol = rf(ca.DM.ones(n), ca.vertcat(*g_in), sy.p)
     vals = [g_in[i] * sol[i] for i in range(n)]

@@ -27,6 +27,7 @@ from levitron.runtime.report.html_parts import p as _p, png as _png, table as _t
 from levitron.runtime.ui import progress, reference
 from levitron.runtime.ui.atomic import sweep
 from levitron.runtime.ui.human import SI_SYMBOLS, Units, restate, sig, span
+from levitron.runtime.words import render
 from levitron.runtime.physics.stability import stability_of
 
 MAP_SPINS, MAP_TILTS = 8, 6
@@ -190,7 +191,7 @@ def build(model, provenance: dict | None = None) -> tuple[str, dict]:
             "</body></html>\n")
     if provenance is not None:
         facts["provenance"] = provenance
-    return page, facts
+    return render(page, "cli"), facts       # the page tells its reader commands to type
 
 
 def _cite_first(body: str) -> str:
@@ -205,7 +206,7 @@ def _made(block: dict | None) -> str:
     when = str(block.get("time", "")).replace("T", " ").replace("+00:00", " UTC")
     digest = str(block.get("scene_hash", ""))[:12]
     return (f"levitron {block.get('version')}, {when}; scene hash {digest}"
-            + (f"; --set {' '.join(block['overrides'])}" if block.get("overrides") else ""))
+            + (f"; «set» {' '.join(block['overrides'])}" if block.get("overrides") else ""))
 
 
 def _shown(v, unit: str, u: Units) -> str:
@@ -240,10 +241,10 @@ def scene_rows(scene, overrides, u: Units, P: dict) -> list[tuple[str, str]]:
     from levitron.scene.keys import SCENE_KEYS
     changed = {o.split("=", 1)[0].strip() for o in overrides}
     top_units = {k.name: k.unit for k in SCENE_KEYS}
-    rows = [("file", f"{scene.path}" + (f" with --set {', '.join(overrides)}" if overrides else ""))]
+    rows = [("file", f"{scene.path}" + (f" with «set» {', '.join(overrides)}" if overrides else ""))]
 
     def add(key: str, v, unit: str) -> None:
-        rows.append((key + (" (--set)" if key in changed else ""), _shown(v, unit, u)))
+        rows.append((key + (" («set»)" if key in changed else ""), _shown(v, unit, u)))
 
     def walk(prefix: str, section: str, table: dict) -> None:
         units = _key_units(section, table)

@@ -69,5 +69,5 @@ def refuse_apparatus(model, given) -> None:
     for a in APPARATUS:
         if a.name in given and a.name not in have:
             raise UserError(f"launch {a.name}: scene '{model.scene.name}' has no {a.scene_key}, so its "
-                            f"model has no {a.param} to sample; pass --set {a.scene_key}=0 (or put "
+                            f"model has no {a.param} to sample; pass «set» {a.scene_key}=0 (or put "
                             f"{a.scene_key} in the scene) and the launches set it")

@@ -55,6 +55,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from levitron.runtime.errors import UserError
+from levitron.runtime.words import setting
 from levitron.runtime.physics.friction import has_friction
 from levitron.runtime.integrate.verdict import stopped_early
 from levitron.runtime.integrate.methods import DEFAULT, lookup, refuse_on_full_model, resolve
@@ -242,9 +243,9 @@ def monte_carlo(model, given: Mapping[str, object], n: int = 1000,
     from levitron.runtime.physics.equilibrium import hover_height
     from levitron.runtime.physics.stability import stability_of
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= MAX_N:
-        raise UserError(f"--n {n!r} must be a whole number of launches from 1 to {MAX_N}")
+        raise UserError(f"{setting('n', repr(n))} must be a whole number of launches from 1 to {MAX_N}")
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise UserError(f"--seed {seed!r} must be a whole number >= 0")
+        raise UserError(f"{setting('seed', repr(seed))} must be a whole number >= 0")
     if "full" not in model.parts:
         raise UserError("launch runs the full model: this scene's model.needs has no \"full\"; add it")
     unknown = sorted(set(given) - set(ALL_INPUTS))
@@ -262,29 +263,29 @@ def monte_carlo(model, given: Mapping[str, object], n: int = 1000,
             dists[a.name] = Dist("fixed", float(model.pvals()[a.param]))
     if "spin" not in dists:
         raise UserError("the scene's top has no spin interval of linear stability at its hover height, "
-                        "so there is no default spin: pass --spin normal:MEAN,SD")
+                        "so there is no default spin: pass «spin» normal:MEAN,SD")
     if all(dists[k].a == 0 and (dists[k].kind == "fixed" or dists[k].b == 0)
            for k in ("tilt", "offset", "velocity") + tuple(a.name for a in apparatus_of(model) if a.moves)):
         raise UserError("tilt, offset and velocity are all exactly 0: every launch starts on the "
                         "invariant set (thesis 3.2.1), where the ideal top stays at any spin, so the "
-                        "odds would test nothing; give a spread, e.g. --tilt uniform:0,0.02")
+                        "odds would test nothing; give a spread, e.g. «tilt» uniform:0,0.02")
     for key in ("mass", "strength"):
         d = dists[key]
         low = d.a - 8 * d.b if d.kind == "normal" else d.a
         if low <= -1:
-            raise UserError(f"--{key} {spec_text(key, d)} makes the {key} non-positive (a relative deviation "
+            raise UserError(f"«{key}» {spec_text(key, d)} makes the {key} non-positive (a relative deviation "
                             f"reaches {low:g} <= -1): give a smaller spread")
     d = dists["temperature"]             # the check of --temperature, over the spread's range
     lo, hi, how = spread_range(d.kind, d.a, d.b)
-    temperature(model.scene.data, lo, hi, f"--temperature-spread {d.text()}{how}")
+    temperature(model.scene.data, lo, hi, f"«temperature_spread» {d.text()}{how}")
     # the given times by their own names, before one is derived from the other
-    success_time = None if success_time is None else real(success_time, "--success-time",
+    success_time = None if success_time is None else real(success_time, "«success_time»",
                                                           positive=True, unit="s", what="time")
-    t_end = None if t_end is None else real(t_end, "--t-end", positive=True, unit="s", what="time")
-    tol = real(tol, "--tol", positive=True, what="tolerance")
-    workers = count(workers, "--workers", low=1)
+    t_end = None if t_end is None else real(t_end, "«t_end»", positive=True, unit="s", what="time")
+    tol = real(tol, "«tol»", positive=True, what="tolerance")
+    workers = count(workers, "«workers»", low=1)
     if scheduler is not None and not isinstance(scheduler, str):
-        raise UserError(f"--scheduler {scheduler!r}: give the scheduler's address as text, e.g. "
+        raise UserError(f"«scheduler» {scheduler!r}: give the scheduler's address as text, e.g. "
                         "tcp://127.0.0.1:8786")
     air = has_friction(model) and model.pvals()["k_spin"] > 0
     tau = 1 / model.pvals()["k_spin"] if air else None
@@ -296,12 +297,12 @@ def monte_carlo(model, given: Mapping[str, object], n: int = 1000,
         success_time = PERIODS * slow_period(model, model.param("m"), z_s, float(dists["spin"].a))
     if t_end is None:
         t_end = success_time
-    for label, v in (("--success-time", success_time), ("--t-end", t_end)):
+    for label, v in (("«success_time»", success_time), ("«t_end»", t_end)):
         if not (math.isfinite(v) and v > 0):
             raise UserError(f"{label} {v} must be a positive time")
     if success_time > t_end:
-        raise UserError(f"--success-time {success_time:g} is longer than --t-end {t_end:g}: no run "
-                        "could succeed; make --t-end at least the success time")
+        raise UserError(f"«success_time={success_time:g}» is longer than «t_end={t_end:g}»: no run "
+                        "could succeed; make «t_end» at least the success time")
     warnings = reach_warnings(model, dists["spin"], interval, tau, success_time, "spin" not in given)
     method = resolve(integrator, tol, None)
     refuse_on_full_model(method, "launch")
@@ -352,7 +353,7 @@ def reach_warnings(model, spin: Dist, interval, tau, success_time: float, defaul
     which = "the default spin" if defaulted else "the spin's centre"
     return [f"{which} {u.rate(w0).split(' (')[0]} floats only about {u.time(t)} by the adiabatic prediction "
             f"tau ln(omega_0 / sigma_lo), less than the success time {u.time(success_time)}: even a steady "
-            "launch at it cannot succeed; launch faster (--spin) or ask for a shorter flight (--success-time)"]
+            "launch at it cannot succeed; launch faster («spin») or ask for a shorter flight («success_time»)"]
 
 
 def summarize(plan: Plan, results, success_time: float, interval, z_s: float, tau,
@@ -368,7 +369,7 @@ def summarize(plan: Plan, results, success_time: float, interval, z_s: float, ta
     decided = plan.n - int(undecided.sum())
     if decided == 0:
         raise UserError(f"every one of the {plan.n} runs stopped early without a verdict "
-                        f"({', '.join(sorted(set(status)))}): no odds; try a looser --tol or a shorter --t-end")
+                        f"({', '.join(sorted(set(status)))}): no odds; try a looser «tol» or a shorter «t_end»")
     k = int(ok.sum())
     S = samples(plan)
     lo, hi = wilson(k, decided)

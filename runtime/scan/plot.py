@@ -80,4 +80,4 @@ def draw(res, path: str | Path, title: str = "", units: Units | None = None) -> 
     handles, _ = ax.get_legend_handles_labels()
     ax.legend(handles=handles + extra, loc="upper right", fontsize=8, framealpha=0.8)
     fig.tight_layout()
-    return save_figure(fig, path, "--out")
+    return save_figure(fig, path, "«out»")

@@ -242,8 +242,8 @@ def run_processes(common: Common, chunks: Sequence[list], workers: int,
     fn = fn or run_chunk
     script = unguarded_script()
     if script is not None:
-        raise UserError(f"--workers {workers} starts worker processes, and each imports {script} again: put "
-                        "the script's calls under `if __name__ == \"__main__\":` (docs/api.md), or use --workers 1")
+        raise UserError(f"«workers={workers}» starts worker processes, and each imports {script} again: put "
+                        "the script's calls under `if __name__ == \"__main__\":` (docs/api.md), or use «workers=1»")
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor, as_completed
     from concurrent.futures.process import BrokenProcessPool
@@ -271,7 +271,7 @@ def run_processes(common: Common, chunks: Sequence[list], workers: int,
                 restarts += 1
                 if restarts > MAX_POOL_RESTARTS:
                     raise UserError(f"{what}: worker processes died {restarts} times (killed, or out of "
-                                    "memory?): run with fewer --workers, or --workers 1") from None
+                                    "memory?): run with fewer «workers», or «workers=1»") from None
                 print(f"levitron: a {what} worker process died: running its {len(pending)} unfinished "
                       "chunks again in a new pool", file=sys.stderr)
     return [done[k] for k in sorted(done)]
@@ -286,8 +286,8 @@ def dask_client(address: str, timeout: float | None = None):
     try:
         from dask.distributed import Client
     except ImportError:
-        raise UserError("--scheduler needs dask.distributed, which is not installed: "
-                        "pip install 'levitron[cluster]' (or 'dask[distributed]'), or use --workers N "
+        raise UserError("«scheduler» needs dask.distributed, which is not installed: "
+                        "pip install 'levitron[cluster]' (or 'dask[distributed]'), or use «workers» N "
                         "for local processes") from None
     timeout = CONNECT_TIMEOUT_S if timeout is None else float(timeout)
     box: dict = {}
@@ -306,24 +306,24 @@ def dask_client(address: str, timeout: float | None = None):
     if th.is_alive():
         raise UserError(f"no dask scheduler answered at {address!r} within {wait:g} s (is it a "
                         "dask scheduler? another service accepts the connection but never answers "
-                        "dask's handshake): give the address `dask scheduler` prints, or use --workers N")
+                        "dask's handshake): give the address `dask scheduler` prints, or use «workers» N")
     if isinstance(box.get("error"), MemoryError):      # numpy's _ArrayMemoryError too
         raise UserError(f"what answers at {address!r} is not a dask scheduler (its reply, read as "
                         "dask's protocol, announced an impossible message size; an HTTP server?): give "
-                        "the address `dask scheduler` prints, or use --workers N")
+                        "the address `dask scheduler` prints, or use «workers» N")
     if "error" in box and not isinstance(box["error"], (OSError, TimeoutError, ValueError)):
         raise box["error"]
     if "error" in box:
         raise UserError(f"cannot reach the dask scheduler at {address!r} ({box['error']}); start one "
                         "with `dask scheduler` and workers with `dask worker ADDRESS`, or use "
-                        "--workers N") from None
+                        "«workers» N") from None
     client = box["client"]
     try:
         client.wait_for_workers(1, timeout=timeout)
     except TimeoutError:
         client.close()
         raise UserError(f"the dask scheduler at {address!r} has no workers (waited {timeout:g} s): "
-                        f"start some with `dask worker {address}`, or use --workers N") from None
+                        f"start some with `dask worker {address}`, or use «workers» N") from None
     return client
 
 
@@ -351,7 +351,7 @@ def run_dask(common: Common, chunks: Sequence[list], client, quiet: bool = False
         done = sum(len(r["points"]) for r in out)
         return UserError(f"the dask cluster at {address!r} {why} ({done} of {total} points done): "
                          f"start workers with `dask worker {address}` and run again, or use "
-                         "--workers N")
+                         "«workers» N")
 
     with progress.task(f"{what} (dask)", total=total, quiet=quiet, log_every=LOG_EVERY) as tick:
         futures = client.map(_run_chunk_packed, [(fn, common, c) for c in chunks], pure=False)

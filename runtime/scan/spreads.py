@@ -38,7 +38,7 @@ class Dist:
 
 def parse_dist(name: str, spec) -> Dist:
     """ "normal:MEAN,SD" | "uniform:LO,HI" | a number -> Dist (one-line UserError otherwise)."""
-    how = f"write e.g. --{name.replace('_', '-')} normal:MEAN,SD, uniform:LO,HI or a number"
+    how = f"write e.g. «{name}» normal:MEAN,SD, uniform:LO,HI or a number"
     if isinstance(spec, bool):
         raise UserError(f"launch {name} = {spec!r} is not a distribution: {how}")
     if isinstance(spec, (int, float)):
@@ -102,7 +102,7 @@ def parse_input(name: str, spec, reference: float = 1.0) -> Dist:
     centre = 0.5 * (d.a + d.b) if d.kind == "uniform" else d.a
     what = "the mass in kg" if name == "mass" else "the magnets' strength as a factor (1 = the scene's)"
     if not (0.5 * reference < centre < 2 * reference):
-        flag = f"--{name}"
+        flag = f"«{name}»"
         raise UserError(f"launch {name} = {spec!r} reads as {what}, centred at {centre:g}, not near "
                         f"{reference:g}: a relative spread says so, e.g. {flag} rel:normal:0,0.002 or "
                         f"{flag} rel:0.2%")

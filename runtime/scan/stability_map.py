@@ -150,25 +150,25 @@ def _checked(axis: str, spins, others, workers, scheduler, t_end, engine: str, b
     """The scan's inputs checked (one-line UserErrors) and normalised: (spins, others, workers,
     t_end, base_tilt)."""
     if axis not in AXES:
-        raise UserError(f"unknown axis {axis!r}; scan over one of --tilt, --mass, --height")
+        raise UserError(f"unknown axis {axis!r}; scan over one of «tilt», «mass», «height»")
     spins = axis_values(spins, "spin", MAX_POINTS)
     others = axis_values(others, axis, MAX_POINTS)
     check_axis(axis, others)
-    workers = count(workers, "--workers")
+    workers = count(workers, "«workers»")
     if spins.size * others.size > MAX_POINTS:
         raise UserError(f"{spins.size * others.size} grid points is too many (at most {MAX_POINTS}); "
                         "use fewer points per axis")
     if scheduler is not None and workers != 1:
-        raise UserError("pass either --workers N (local processes) or --scheduler ADDRESS (dask), not both")
+        raise UserError("pass either «workers» N (local processes) or «scheduler» ADDRESS (dask), not both")
     if t_end is not None:
-        t_end = real(t_end, "--t-end", positive=True, unit="s", what="run length")
+        t_end = real(t_end, "«t_end»", positive=True, unit="s", what="run length")
     if engine not in ENGINES:
         raise UserError(f"unknown engine {engine!r}; choose one of: {', '.join(ENGINES)}")
-    base_tilt = real(base_tilt, "--base-tilt", max_abs=math.pi, unit="rad")
+    base_tilt = real(base_tilt, "«base_tilt»", max_abs=math.pi, unit="rad")
     if axis != "tilt" and base_tilt == 0:
-        raise UserError("--base-tilt 0 launches every point on the invariant set (thesis 3.2.1), "
+        raise UserError("«base_tilt=0» launches every point on the invariant set (thesis 3.2.1), "
                         f"where the ideal top stays at any spin: the map would test nothing; give a "
-                        f"small tilt, e.g. --base-tilt {BASE_TILT}")
+                        f"small tilt, e.g. «base_tilt={BASE_TILT}»")
     return spins, others, workers, t_end, base_tilt
 
 
@@ -235,7 +235,7 @@ def _default_t_end(model, axis: str, spins: np.ndarray, lin: list, status_pre: d
     pool = cands if axis != "mass" else (good or cands)
     if not pool:
         raise UserError("no value of the scan has a stable hover height to set a run length "
-                        "from; pass --t-end T or change the --mass range (see `levitron equilibrium`)")
+                        "from; pass «t_end» T or change the «mass» range (see `«levitron=equilibrium»`)")
     rows = sorted((slow_period(model, li["mass"], li["z_s"], reference_spin(li["spin_interval"], spins)),
                    reference_spin(li["spin_interval"], spins), li["mass"]) for li in pool)
     T, ref, m_ref = rows[(len(rows) - 1) // 2]
@@ -260,7 +260,7 @@ def _run_tasks(model, common: Common, tasks: list, workers: int, scheduler: str 
     elif workers > 1 and len(tasks) > 1:
         n = min(workers, len(tasks), usable_cores())
         if n < min(workers, len(tasks)):
-            print(f"levitron: --workers {workers} capped at the {n} cores this process may use (the "
+            print(f"levitron: {workers} worker processes capped at the {n} cores this process may use (the "
                   "runs are CPU-bound: more processes than cores only add switching)", file=sys.stderr)
         chunks = split(tasks, CHUNKS_PER_WORKER * n)
         runner = {"kind": "processes", "workers": n}

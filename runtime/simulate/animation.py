@@ -67,7 +67,7 @@ def frames(traj: dict, details: dict, setup: dict, u: Units) -> dict:
     coords = details.get("coordinates")
     if coords is None or "t" not in traj:
         raise UserError("only a run of the full model can be animated (the reduced model has no tilt): "
-                        "drop --part reduced")
+                        "drop «part=reduced»")
     t = np.asarray(traj["t"], float)
     x, y, z = (np.asarray(traj[k], float) for k in ("x", "y", "z"))
     C = setup["C"]
@@ -188,16 +188,16 @@ def check_path(path) -> Path:
     """--animate FILE: .html (always), .gif (Pillow, a matplotlib dependency) or .mp4 (ffmpeg)."""
     p = Path(path)
     if p.suffix.lower() not in SUFFIXES:
-        raise UserError(f"--animate {path}: give a file ending in .html (a page that plays offline), "
+        raise UserError(f"«animate» {path}: give a file ending in .html (a page that plays offline), "
                         ".gif or .mp4")
     if p.is_dir():
-        raise UserError(f"--animate {path} is a folder: give a file name in it, e.g. {p / 'launch.html'}")
+        raise UserError(f"«animate» {path} is a folder: give a file name in it, e.g. {p / 'launch.html'}")
     if any(q.exists() and not q.is_dir() for q in p.parents):
-        raise UserError(f"--animate {path}: a part of its folder is a file, not a folder: save elsewhere")
+        raise UserError(f"«animate» {path}: a part of its folder is a file, not a folder: save elsewhere")
     if p.suffix.lower() == ".mp4":
         from matplotlib import animation
         if not animation.writers.is_available("ffmpeg"):
-            raise UserError(f"--animate {path}: an .mp4 needs ffmpeg, which is not installed here; "
+            raise UserError(f"«animate» {path}: an .mp4 needs ffmpeg, which is not installed here; "
                             "write .html or .gif instead (or install ffmpeg)")
     return p
 
@@ -207,7 +207,7 @@ def write(path, data: dict, title: str) -> Path:
     written to a temporary beside it and renamed (runtime/ui/atomic.py)."""
     from levitron.runtime.ui.atomic import output
     p = check_path(path)
-    with output(p, "--animate", mkdir=True) as tmp:     # the folder made, as --plot and report --out do
+    with output(p, "«animate»", mkdir=True) as tmp:     # the folder made, as --plot and report --out do
         if p.suffix.lower() in (".html", ".htm"):
             tmp.write_text(page(data, title), encoding="utf-8")
         else:

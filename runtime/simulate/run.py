@@ -86,18 +86,18 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
     runtime/integrate/methods.py or "auto" (resolved from tol: the answer's `integrator` is the
     method that ran, `integrator_requested` the name asked for, `integrator_choice` auto's reason).
     tilt None: DEFAULT_TILT for the full model, 0 for the reduced one; t_end None: default_t_end."""
-    spin = real(spin, "--spin", unit="rad/s")
-    tilt = None if tilt is None else real(tilt, "--tilt", max_abs=math.pi, unit="rad")
-    offset = real(offset, "--offset", unit="m")
-    azimuth = real(azimuth, "--tilt-azimuth", unit="rad")
-    t_end = None if t_end is None else real(t_end, "--t-end (run length)", unit="s")  # its range: check_options
-    n_out = count(n_out, "--n-out", high=MAX_N_OUT)
-    tol = None if tol is None else real(tol, "--tol (tolerance)")
-    box = None if box is None else real(box, "--box", positive=True, unit="m")
-    h = None if h is None else real(h, "--step", positive=True, unit="s")
+    spin = real(spin, "«spin»", unit="rad/s")
+    tilt = None if tilt is None else real(tilt, "«tilt»", max_abs=math.pi, unit="rad")
+    offset = real(offset, "«offset»", unit="m")
+    azimuth = real(azimuth, "«tilt_azimuth»", unit="rad")
+    t_end = None if t_end is None else real(t_end, "«t_end» (run length)", unit="s")  # its range: check_options
+    n_out = count(n_out, "«n_out»", high=MAX_N_OUT)
+    tol = None if tol is None else real(tol, "«tol» (tolerance)")
+    box = None if box is None else real(box, "«box»", positive=True, unit="m")
+    h = None if h is None else real(h, "«step»", positive=True, unit="s")
     if part == "full" and "full" not in model.parts and "reduced" in model.parts:
         raise UserError(f"scene '{model.scene.name}' has no full model (model.needs = {model.scene.needs}): "
-                        "pass --part reduced for the vertical motion on the invariant set (no tilt, so "
+                        "pass «part=reduced» for the vertical motion on the invariant set (no tilt, so "
                         "no stability verdict), or add \"full\" to model.needs for the whole top")
     pt = model.part(part)
     p = model.with_params(params or {})
@@ -120,7 +120,7 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
         x0, tilted_note = tilted_start(model, pt, z_s, spin, x0, p)
     if bx.excess(x0) > 0:
         raise UserError(f"the initial state is already outside the box (offset {offset} m vs half-width "
-                        f"{bx.z_hi - z_s:.4g} m); pass a smaller --offset or a larger --box")
+                        f"{bx.z_hi - z_s:.4g} m); pass a smaller «offset» or a larger «box»")
     scale = state_scales(pt, z_s, spin, pvals)
     air = part == "full" and flight.has_friction(model)
     # in air the work of friction is integrated inside the run (the energy balance's W)

@@ -74,11 +74,11 @@ def on_invariant_set(part, tilt: float, offset: float) -> bool:
 
 
 UNTESTED = ("the launch lies on the invariant set (tilt 0, offset 0; thesis 3.2.1), where the ideal "
-            "top stays at any spin: this run tests no stability; give a tilt (e.g. --tilt "
+            "top stays at any spin: this run tests no stability; give a tilt (e.g. «tilt» "
             f"{DEFAULT_TILT}) or an offset")
 UNTESTED_REDUCED = ("the reduced model is the motion on the invariant set (thesis 3.2.1, 3.2.12): the "
                     "bounce and the spin, never a tilt, so the ideal top stays at any spin and this run "
-                    "tests no stability; run the full model (--part full) with a tilt")
+                    "tests no stability; run the full model («part=full») with a tilt")
 
 
 def untested_reason(part) -> str:
@@ -112,7 +112,7 @@ def launch(part, z_s: float, tilt: float = 0.0, offset: float = 0.0, p=None,
     if kind is None:
         if tilt != 0.0 or offset != 0.0:
             raise UserError("the reduced model keeps the top upright on the axis: use tilt = offset "
-                            "= 0, or simulate the full model (--part full)")
+                            "= 0, or simulate the full model («part=full»)")
         # as Tait-Bryan on the invariant set: omega_3 = -zeta_dot
         i_spin, along = coords.index("zeta"), -1.0
     else:
@@ -181,7 +181,7 @@ def tilted_start(model, part, z_s: float, spin: float, x0: np.ndarray, p) -> tup
     off = math.hypot(*eq.position[:2])
     return eq.at_spin(sigma) + (x0 - level), (
         f"base tilted: the launch is taken at the top's equilibrium there, {off:.6g} m off the axis "
-        "(`levitron stability`); L_z is not conserved over a tilted base")
+        "(`«levitron=stability»`); L_z is not conserved over a tilted base")
 
 
 def state_scales(part, z_s: float, spin: float, pvals: dict) -> np.ndarray:
@@ -255,7 +255,7 @@ def slow_period(model, mass: float, z_s: float, spin: float | None, p=None) -> f
         if im.size:
             periods.append(2 * math.pi / float(im.min()))
     if not periods:
-        raise UserError("no oscillation at the hover height to set a run length from; pass --t-end T")
+        raise UserError("no oscillation at the hover height to set a run length from; pass «t_end» T")
     return max(periods)
 
 

@@ -38,7 +38,7 @@ def _pyarrow():
     return pyarrow, pq
 
 
-def check_path(path, flag: str = "--save") -> Path:
+def check_path(path, flag: str = "«save»") -> Path:
     """The --save path: a .csv, .npz or .parquet file in an existing, writable folder, with a name
     the file system takes (one-line UserError otherwise, before the run: never a run lost at the end).
     `flag` names the option (the API passes its own words)."""
@@ -88,7 +88,7 @@ def _parquet(tmp: Path, columns: Mapping[str, np.ndarray]) -> None:
 WRITERS = {".csv": _csv, ".npz": _npz, ".parquet": _parquet}
 
 
-def write_columns(path, columns: Mapping[str, np.ndarray], flag: str = "--save") -> Path:
+def write_columns(path, columns: Mapping[str, np.ndarray], flag: str = "«save»") -> Path:
     """Named 1-D columns of one length (numbers or text) to path, the format by its suffix, through
     a temporary beside it renamed onto path (runtime/ui/atomic.py: never half a file, one whole
     file from concurrent writers, mode 0666 less the umask, a killed writer's temporary swept)."""
@@ -124,7 +124,7 @@ def read_columns(path) -> dict[str, np.ndarray]:
         return {n: data[n] for n in data.files}
 
 
-def write(path, names: list[str], table: np.ndarray, flag: str = "--save") -> Path:
+def write(path, names: list[str], table: np.ndarray, flag: str = "«save»") -> Path:
     """The table (rows: samples, columns: names) to path (write_columns)."""
     return write_columns(path, {n: table[:, i] for i, n in enumerate(names)}, flag)
 

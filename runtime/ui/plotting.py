@@ -57,7 +57,7 @@ def _existing_ancestor(path: Path) -> Path:
     return Path(".")
 
 
-def check_plot_path(path, option: str = "--plot") -> Path:
+def check_plot_path(path, option: str = "«plot»") -> Path:
     """`path` as a plot file the command can write, checked before any work is done (nothing is
     created here): a suffix matplotlib writes (.png, .pdf, .svg), not a folder, and below a
     writable folder (or one that can be made). UserError, one line, otherwise."""
@@ -77,7 +77,7 @@ def check_plot_path(path, option: str = "--plot") -> Path:
     return path
 
 
-def save_figure(fig, path, option: str = "--plot") -> Path:
+def save_figure(fig, path, option: str = "«plot»") -> Path:
     """Write `fig` to `path` (checked by check_plot_path; its folder is made) and close it. The
     figure is drawn into a temporary file beside the target and renamed into place
     (runtime/ui/atomic.py), so a failed write leaves nothing half-written. OSError becomes a

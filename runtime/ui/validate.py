@@ -13,36 +13,49 @@ import numbers
 import numpy as np
 
 from levitron.runtime.errors import UserError
+from levitron.runtime.words import MARKER
+
+
+def _param(label: str) -> str:
+    """The setting a label names: the marker's name ("«t_end» (run length)" -> "t_end"), else the label."""
+    m = MARKER.match(label)
+    return m.group(1) if m else label
 
 
 def real(value, label: str, *, positive: bool = False, nonnegative: bool = False,
          max_abs: float | None = None, unit: str = "", what: str = "") -> float:
     """`value` as a finite float (not a bool, not text), within the given bounds; `what` names the
-    quantity in the messages ("run length", "tolerance")."""
+    quantity in the messages ("run length", "tolerance"); the UserError carries the setting
+    (`param`, from the label's marker), the value, `unit` and the hint."""
     noun = f"{what} in {unit}" if what and unit else what or (f"number in {unit}" if unit else "number")
-    unit = f" {unit}" if unit else ""
+    sp = f" {unit}" if unit else ""
+
+    def refuse(said, v, problem: str, hint: str):
+        raise UserError(f"{label} = {said} {problem}" + (f": {hint}" if hint else ""), param=_param(label),
+                        value=v, unit=unit, hint=hint or None)
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise UserError(f"{label} = {value!r} is not a number: give a finite {noun}")
+        refuse(repr(value), value, "is not a number", f"give a finite {noun}")
     v = float(value)
     if not math.isfinite(v):
-        raise UserError(f"{label} = {v} must be a finite {noun}")
+        refuse(v, v, f"must be a finite {noun}", "")
     if positive and not v > 0:
-        raise UserError(f"{label} = {v:g} must be a positive {noun}")
+        refuse(f"{v:g}", v, f"must be a positive {noun}", "")
     if nonnegative and v < 0:
-        raise UserError(f"{label} = {v:g}{unit} must not be negative")
+        refuse(f"{v:g}{sp}", v, "must not be negative", "")
     if max_abs is not None and abs(v) > max_abs:
-        raise UserError(f"{label} = {v:g}{unit} is beyond +-{max_abs:g}{unit}: give a smaller value")
+        refuse(f"{v:g}{sp}", v, f"is beyond +-{max_abs:g}{sp}", "give a smaller value")
     return v
 
 
 def count(value, label: str, *, low: int = 1, high: int | None = None) -> int:
-    """A whole number (not a bool, not a float) in [low, high]."""
+    """A whole number (not a bool, not a float) in [low, high]; the UserError carries the setting
+    and the value."""
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-        raise UserError(f"{label} = {value!r} must be a whole number")
+        raise UserError(f"{label} = {value!r} must be a whole number", param=_param(label), value=value)
     n = int(value)
     if n < low or (high is not None and n > high):
         top = f" and at most {high}" if high is not None else ""
-        raise UserError(f"{label} = {n} must be at least {low}{top}")
+        raise UserError(f"{label} = {n} must be at least {low}{top}", param=_param(label), value=n)
     return n
 
 

@@ -128,22 +128,31 @@ def test_a_study_says_what_it_is():
     assert repr(lev.load("reduced_only")).startswith("Study(scene='reduced_only', SI, parts=['reduced'],")
 
 
-@pytest.mark.parametrize("text,want", [
-    ("t_end=-1.0 must be positive; pass e.g. --t-end 1", "t_end=-1.0 must be positive; pass e.g. t_end=1"),
-    ("--n-out = 0 must be at least 1", "n_out = 0 must be at least 1"),
-    ("--n -5 must be a whole number", "n=-5 must be a whole number"),
-    ("pass e.g. --tol 1e-9", "pass e.g. tol=1e-9"),
-    ("give a tilt (e.g. --tilt 0.005) or an offset", "give a tilt (e.g. tilt=0.005) or an offset"),
-    ("--tilt 0.001:0.3:10", "tilt=0.001:0.3:10"),
-    ("add it with --set field.order=12", "add it with overrides field.order=12"),
-    ("run the full model (--part full)", "run the full model (part='full')"),
-    ("a 2-3 mm top at 1e-9 s", "a 2-3 mm top at 1e-9 s"),
+@pytest.mark.parametrize("text,cli,api", [
+    ("t_end=-1.0 must be positive; pass e.g. «t_end=1»", "t_end=-1.0 must be positive; pass e.g. --t-end 1",
+     "t_end=-1.0 must be positive; pass e.g. t_end=1"),
+    ("«n_out» = 0 must be at least 1", "--n-out = 0 must be at least 1", "n_out = 0 must be at least 1"),
+    ("«n=-5» must be a whole number", "--n -5 must be a whole number", "n=-5 must be a whole number"),
+    ("pass e.g. «tol=1e-9»", "pass e.g. --tol 1e-9", "pass e.g. tol=1e-9"),
+    ("give a tilt (e.g. «tilt=0.005») or an offset", "give a tilt (e.g. --tilt 0.005) or an offset",
+     "give a tilt (e.g. tilt=0.005) or an offset"),
+    ("«tilt=0.001:0.3:10»", "--tilt 0.001:0.3:10", "tilt=0.001:0.3:10"),
+    ("add it with «set=field.order=12»", "add it with --set field.order=12",
+     "add it with overrides={'field.order': 12}"),
+    ("«set» {key}=0", "--set {key}=0", "overrides {key}=0"),
+    ("run the full model («part=full»)", "run the full model (--part full)", "run the full model (part='full')"),
+    ("«temperature_spread» normal:20,5", "--temperature-spread normal:20,5", "inputs['temperature'] normal:20,5"),
+    ("see `«levitron=equilibrium»`", "see `levitron equilibrium`", "see `Study.equilibria()`"),
+    ("«Tilt» and «two words» are no markers", "«Tilt» and «two words» are no markers",
+     "«Tilt» and «two words» are no markers"),
+    ("a 2-3 mm top at 1e-9 s", "a 2-3 mm top at 1e-9 s", "a 2-3 mm top at 1e-9 s"),
 ])
-def test_runtime_sentences_are_restated_in_the_apis_words(text, want):
-    """levitron/arguments.py api_words: the command line's flags in a runtime sentence become the
-    keyword arguments of the API (a Study method's UserError passes through it)."""
-    from levitron.arguments import api_words
-    assert api_words(text) == want
+def test_a_runtime_sentence_is_worded_by_each_face(text, cli, api):
+    """runtime/words.py render: the settings a runtime sentence names by marker are the command
+    line's flags on the CLI and the keyword arguments in the API (a Study method's UserError and
+    answer pass through it)."""
+    from levitron.runtime.words import render
+    assert (render(text, "cli"), render(text, "api")) == (cli, api)
 
 
 def test_no_study_error_names_a_command_line_flag(study):
@@ -184,11 +193,11 @@ def test_a_part_the_scene_did_not_derive_is_named_as_missing_not_unknown():
 def test_the_apis_sentences_name_its_methods_not_the_commands():
     """Third audit: a Study's error and a Stability's message sent a notebook user to the command
     line ("(see `levitron equilibrium`)", "(`levitron equilibrium` gives it)"); the API names its
-    own method, Study.equilibria() (arguments.api_words, as it does for flags)."""
-    from levitron.arguments import api_words
-    assert api_words("outside the band (see `levitron equilibrium`)") == \
+    own method, Study.equilibria() (runtime/words.py, as it does for flags)."""
+    from levitron.runtime.words import render
+    assert render("outside the band (see `«levitron=equilibrium»`)", "api") == \
         "outside the band (see `Study.equilibria()`)"
-    assert api_words("run `levitron stability` first") == "run `Study.stability()` first"
+    assert render("run `«levitron=stability»` first", "api") == "run `Study.stability()` first"
     texts = [lev.load("thesis").stability().message]
     for call in (lambda: lev.load("thesis_stable", {"top.mass": 0.06}).simulate(1000.0),
                  lambda: lev.load("thesis_stable").stability(height=-1.0)):

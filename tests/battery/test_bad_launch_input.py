@@ -205,7 +205,7 @@ API = [
      r"spin = \{'a': 1\} is not a distribution"),                                                      # fixed
     ("launch-input-none", "air", lambda s: s.launch(n=4, inputs={"spin": None}), r"not a distribution"),
     ("launch-input-unknown", "air", lambda s: s.launch(n=4, inputs={"colour": 1}), r"colour"),
-    ("launch-n-true", "air", lambda s: s.launch(n=True), r"^n True"),
+    ("launch-n-true", "air", lambda s: s.launch(n=True), r"^n=True"),
     ("launch-seed-negative", "air", lambda s: s.launch(n=4, seed=-1), r"^seed=-1"),
     ("simulate-save-number", "stable", lambda s: s.simulate(1000, t_end=0.01, save=5), r"^save 5"),    # fixed
     ("simulate-save-below-a-file", "stable", lambda s: s.simulate(1000, t_end=0.01, save="{tmp}/afile/x.csv"),
@@ -247,6 +247,7 @@ def test_hostile_api_call_is_one_line_user_error(case, tmp_path, air_study, stab
         call(Formatted())
     msg = str(info.value)
     assert "\n" not in msg and re.search(mention, msg), msg
+    assert "«" not in msg and not re.search(r"(?<![\w-])--[a-z]", msg), msg     # in the API's words
     assert not any(tmp_path.glob("*.csv")) and not any(tmp_path.glob("*.txt"))
 
 

@@ -137,15 +137,20 @@ def test_the_api_scan_checks_the_grid_as_the_cli_does(spins, others, message):
         scan(None, spins, "tilt", others)
 
 
-@pytest.mark.parametrize("kwargs,message", [
-    ({"spin": "1000"}, "--spin = '1000' is not a number"), ({"spin": math.nan}, "--spin"),
-    ({"spin": 1000.0, "tilt": math.inf}, "--tilt"), ({"spin": 1000.0, "tilt": 1e300}, "--tilt"),
-    ({"spin": 1000.0, "t_end": math.nan}, "--t-end"), ({"spin": 1000.0, "n_out": 2.5}, "--n-out"),
-    ({"spin": 1000.0, "tol": "tight"}, "--tol"), ({"spin": True}, "--spin"),
+@pytest.mark.parametrize("kwargs,param,message", [
+    ({"spin": "1000"}, "spin", "--spin = '1000' is not a number"), ({"spin": math.nan}, "spin", "--spin"),
+    ({"spin": 1000.0, "tilt": math.inf}, "tilt", "--tilt"), ({"spin": 1000.0, "tilt": 1e300}, "tilt", "--tilt"),
+    ({"spin": 1000.0, "t_end": math.nan}, "t_end", "--t-end"), ({"spin": 1000.0, "n_out": 2.5}, "n_out", "--n-out"),
+    ({"spin": 1000.0, "tol": "tight"}, "tol", "--tol"), ({"spin": True}, "spin", "--spin"),
 ])
-def test_simulate_checks_its_numbers_before_the_model(kwargs, message):
-    with pytest.raises(UserError, match=message):
+def test_simulate_checks_its_numbers_before_the_model(kwargs, param, message):
+    """The UserError carries the setting and the value it refused (runtime/errors.py), and the
+    command line words it with its flag."""
+    with pytest.raises(UserError) as e:
         simulate(None, **kwargs)
+    assert e.value.param == param and e.value.words("cli").startswith(message), e.value.words("cli")
+    given = kwargs[param]
+    assert e.value.value is given or e.value.value == given or math.isnan(e.value.value)
 
 
 def test_a_huge_grid_is_refused_before_it_is_built():

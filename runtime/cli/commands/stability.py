@@ -8,12 +8,10 @@ with Hz and rpm beside.
 from __future__ import annotations
 
 import math
-import time
 
 from levitron.runtime.ui.human import Units, lines, restate, sig
-from levitron.runtime.physics.stability import stability_of
+from levitron.runtime.physics.stability_answer import Stability
 from levitron.runtime.errors import UserError
-from levitron.runtime.physics.friction import without_friction
 from levitron.runtime.ui.plotting import check_plot_path
 from levitron.runtime.ui.validate import real
 from levitron.runtime.cli.commands.common import model_of
@@ -38,58 +36,24 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> dict:
+    """runtime/physics/stability_answer.py's Stability, its as_json() (and the plot's path)."""
     plot = getattr(args, "plot", None)
+    level = getattr(args, "level_tolerance", False)     # (a Namespace built by hand may lack it)
     if plot is not None:
         check_plot_path(plot)
-        if not getattr(args, "level_tolerance", False):
+        if not level:
             raise UserError("--plot draws the spin interval against the base's tilt: add "
                             "--level-tolerance")
     model = model_of(args)
     if args.height is not None:
         real(args.height, "--height", positive=True, unit="m (above the plate, z > 0)")
-    t0 = time.perf_counter()
-    res = stability_of(model, height=args.height)
-    out = {"scene": model.scene.name, "mass": res.mass, "scene_mass": model.param("m"),
-           "height_given": args.height is not None}
-    out.update(res.as_dict())
-    out["eigen_source"] = ("full_jac (generated)" if model.has_function("full_jac")
-                           and "p_zeta" in model.part("full").states
-                           else "transverse_matrix (8-D)")
-    if getattr(args, "level_tolerance", False):     # (a Namespace built by hand may lack it)
-        if "base_tilt" not in model.param_names:
-            raise UserError("--level-tolerance needs the model of a tilted base: add "
-                            "--set plate.tilt=0 (or the scene's plate.tilt)")
-        from levitron.runtime.physics.tilted_stability import level_tolerance
-        p = without_friction(model, model.p)
-        # the base's tolerance is the aligned top's (its relative equilibrium), the moment's is
-        # at the scene's base tilt (route Floquet)
-        aligned = model.with_params({"moment_tilt": 0.0}, p) if "moment_tilt" in model.param_names else p
-        tol = level_tolerance(model, aligned)
-        tol.update(_moment_tolerance(model, p))
-        tol["length"] = model.scene.length_scale
-        tol["height_difference"] = (None if tol["max_base_tilt"] is None
-                                    else math.tan(tol["max_base_tilt"]) * tol["length"])
-        out["level_tolerance"] = tol
-        if plot is not None and tol["max_base_tilt"] is not None:
-            from levitron.runtime.report.tilt_plot import draw
-            out["plot"] = str(draw(model, without_friction(model, model.p), tol, plot))
-    out["wall_s"] = time.perf_counter() - t0
-    # the vertical stiffness U'' = mu Phi_3(z_s) (thesis 3.3.3), N/m: what --constrain stiffness>=K
-    # of `optimize` speaks of; it does not depend on the mass
-    out["stiffness"] = (model.param("mu") * float(model.onaxis(res.z_s)[3])
-                        if res.z_s and res.equilibrium is None else None)
+    answer = Stability.of(model, height=args.height, level_tolerance=level)
+    out = answer.as_json()
+    if plot is not None:
+        drawn = answer.plot(plot)
+        if drawn is not None:
+            out["plot"] = drawn
     return out
-
-
-def _moment_tolerance(model, p) -> dict:
-    """max_moment_tilt (rad) where the model has the moment-tilt terms, else None and why."""
-    if "moment_tilt" not in model.param_names:
-        return {"max_moment_tilt": None,
-                "moment_tolerance": {"note": "the model has no moment-tilt terms: add --set "
-                                             "top.moment_tilt=0 (or the scene's top.moment_tilt)"}}
-    from levitron.runtime.physics.floquet_stability import moment_tolerance
-    got = moment_tolerance(model, p)
-    return {"max_moment_tilt": got.pop("max_moment_tilt"), "moment_tolerance": got}
 
 
 def _agreement(routes) -> str:

@@ -102,24 +102,29 @@ def test_default_budget_lets_a_normal_run_finish(osc, method):
     assert np.abs(r.x_final - [1.0, 0.0, 0.0, 1.0]).max() < 1e-6
 
 
-@pytest.mark.parametrize("kwargs, words", [
-    ({"method": "dop853", "tol": 1.0}, "too loose"),
-    ({"method": "dop853", "tol": 0.0}, "positive"),
-    ({"method": "dop853", "tol": 1e-16}, "double precision"),
-    ({"method": "rk4", "h": 1e-12}, "below 1e-09"),
-    ({"method": "rk4", "h": 2.0}, "cannot resolve"),
-    ({"method": "rk4", "h": 1e-6, "t_end": 1e5}, "budget cap"),
-    ({"method": "dop853", "tol": 1e-9, "t_end": 1e9}, "t_end <= "),
-    ({"method": "dop853", "tol": 1e-9, "time_scale": 1e-14}, "resolves"),
-    ({"method": "dop853", "tol": 1e-9, "n_out": 10**9}, "n_out"),
+@pytest.mark.parametrize("kwargs, words, param", [
+    ({"method": "dop853", "tol": 1.0}, "too loose", "tol"),
+    ({"method": "dop853", "tol": 0.0}, "positive", "tol"),
+    ({"method": "dop853", "tol": 1e-16}, "double precision", "tol"),
+    ({"method": "rk4", "h": 1e-12}, "below 1e-09", "step"),
+    ({"method": "rk4", "h": 2.0}, "cannot resolve", "step"),
+    ({"method": "rk4", "h": 1e-6, "t_end": 1e5}, "budget cap", "t_end"),
+    ({"method": "dop853", "tol": 1e-9, "t_end": 1e9}, "t_end <= ", "t_end"),
+    ({"method": "dop853", "tol": 1e-9, "time_scale": 1e-14}, "resolves", "t_end"),
+    ({"method": "dop853", "tol": 1e-9, "n_out": 10**9}, "n_out", "n_out"),
+    ({"method": "dop853", "tol": 1e-9, "h": 1e-3}, "adaptive", "step"),
 ])
-def test_unreasonable_options_are_refused_with_the_reason(kwargs, words):
-    """Relative to the time scale of the motion (here 1, a dimensionless scene)."""
+def test_unreasonable_options_are_refused_with_the_reason(kwargs, words, param):
+    """Relative to the time scale of the motion (here 1, a dimensionless scene); the error carries
+    the setting and the value it refused (runtime/errors.py)."""
     args = {"t_end": 10.0, "time_scale": 1.0}
     args.update(kwargs)
     with pytest.raises(UserError, match=words) as err:
         check_options(**args)
     assert "\n" not in str(err.value)
+    given = {"tol": args.get("tol"), "step": args.get("h"), "t_end": args["t_end"], "n_out": args.get("n_out")}
+    assert (err.value.param, err.value.value) == (param, given[param])
+    assert err.value.unit == ("s" if param in ("step", "t_end") else "")
 
 
 def test_the_budgets_sentences_carry_their_time_unit():

@@ -30,7 +30,7 @@ def test_a_relative_spread_says_so(spec, dist):
 @pytest.mark.parametrize("name, spec", [("mass", "normal:0,0.002"), ("mass", "normal:0.2,0.001"),
                                         ("strength", "normal:0,0.005"), ("mass", "-1")])
 def test_a_spread_in_the_wrong_form_is_refused_with_the_right_spelling(name, spec):
-    with pytest.raises(UserError, match=r"rel:normal:0,0\.002 or --.* rel:0\.2%"):
+    with pytest.raises(UserError, match=r"rel:normal:0,0\.002 or «(mass|strength)» rel:0\.2%"):
         mc.parse_input(name, spec, 0.0515 if name == "mass" else 1.0)
 
 

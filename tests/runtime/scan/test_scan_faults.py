@@ -101,7 +101,7 @@ def test_workers_are_capped_at_the_usable_cores(model, capfd):
     many = usable_cores() + 6
     res = sc.scan(model, SPINS, "tilt", TILTS[:2], t_end=0.5, quiet=True, workers=many)
     assert res.runner["workers"] == min(usable_cores(), SPINS.size * 2)
-    assert f"--workers {many} capped" in capfd.readouterr().err
+    assert f"{many} worker processes capped" in capfd.readouterr().err
 
 
 def test_losing_every_dask_worker_mid_scan_is_one_line(model):

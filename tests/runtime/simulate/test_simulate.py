@@ -277,7 +277,7 @@ def test_reduced_model_vertical_bounce(model):
     (dict(spin=1e12), "spin period"),
     (dict(integrator="rk4", h=1e-12), "below 1e-09 of the"),
     (dict(h=1e-4), "adaptive"),
-    (dict(n_out=10**9), r"--n-out .*at most 1000000"),      # the flag and its limit (issue 31)
+    (dict(n_out=10**9), r"«n_out» .*at most 1000000"),      # the flag and its limit (issue 31)
     (dict(integrator="rk4", h=-1e-4), "step"),
     (dict(integrator="verlet"), "unknown integrator"),
     (dict(t_end=0.0), "run length"),
