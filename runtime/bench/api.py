@@ -24,7 +24,7 @@ import os
 import time
 from pathlib import Path
 
-from levitron.runtime.bench.work_precision import setup
+from levitron.runtime.bench.operating_point import setup
 from levitron.runtime.ui.human import Units
 from levitron.runtime.ui.plotting import pyplot, save_figure, style
 from levitron.runtime.ui.atomic import open_text, write_text

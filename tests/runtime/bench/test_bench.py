@@ -266,11 +266,11 @@ def test_the_api_bench_runs_quick_and_measures_each_part(tmp_path):
 
 
 def test_the_per_call_race_keeps_the_loosest_tolerance_within_the_bound():
-    """runtime/bench/work_precision.py race_candidates: a contestant's loosest tolerances within the
+    """runtime/bench/per_call.py race_candidates: a contestant's loosest tolerances within the
     error bound are raced even when a slow stretch made their sweep rows look slow (square's taylor
     at 1e-8 was once left out for 10.8 us against 7.2 us at 1e-13), beside its fastest rows; rows
     outside the bound, of another method or not completed never are."""
-    from levitron.runtime.bench.work_precision import PER_CALL_BOUND, race_candidates
+    from levitron.runtime.bench.per_call import PER_CALL_BOUND, race_candidates
 
     def row(tol, err, wall, integrator="taylor", status="completed"):
         return {"backend": "c", "integrator": integrator, "tol": tol, "error": err, "wall_s": wall,
