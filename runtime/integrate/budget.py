@@ -25,7 +25,7 @@ import math
 import sys
 
 from levitron.runtime.errors import UserError
-from levitron.runtime.integrate.methods import lookup
+from levitron.runtime.integrate.methods import lookup, refuse_step
 
 MAX_STEPS_CAP = 10**7      # absolute cap on the steps of one run, whatever the options ...
 SCIPY_STEPS_CAP = 10**5    # ... and for scipy, whose steps cost ~0.1-1 ms (a Python call per stage)
@@ -116,9 +116,7 @@ def check_options(method: str, t_end: float, tol: float | None = None, h: float 
                             f"cap of {cap:.0e} for {method}; pass t_end <= {cap * h:.3g} s or a "
                             "larger step", param="t_end", value=t_end, unit="s")
         return
-    if h is not None:
-        raise UserError(f"integrator {method} is adaptive: it takes a tolerance («tol»), not a step "
-                        "(«step» is for fixed-step integrators)", param="step", value=h, unit="s")
+    refuse_step(method, h)
     if tol is None or not math.isfinite(tol) or tol <= 0:
         raise UserError(f"tolerance tol={tol} must be positive and finite; pass e.g. «tol=1e-8»",
                         param="tol", value=tol)

@@ -19,7 +19,7 @@ import numpy as np
 
 from levitron.runtime.model.cbuild import DEFAULT_FLAGS, compile_shared
 from levitron.runtime.errors import UserError
-from levitron.runtime.integrate.methods import choice_details, lookup, resolve
+from levitron.runtime.integrate.methods import AUTO, Choice, lookup, resolve
 from levitron.runtime.integrate.budget import MAX_STEPS_CAP, budget_message, default_budget
 from levitron.runtime.integrate.trajectory import Box, Result
 
@@ -165,7 +165,7 @@ def time_fn_ns(lib: ctypes.CDLL, fn: Any, x: np.ndarray, p: np.ndarray, n_out: i
     return float(lib.lev_time_fn(fn_address(fn), _ptr(x), _ptr(p), int(n_out), int(reps)))
 
 
-def run_c(lib: ctypes.CDLL, method: str, rhs: Any, x0, p, t_end: float, *, t0: float = 0.0,
+def run_c(lib: ctypes.CDLL, method: str | Choice, rhs: Any, x0, p, t_end: float, *, t0: float = 0.0,
           h: float = 0.0, rtol: float = 0.0, atol: float | Sequence[float] = 0.0,
           jac: Any = None, energy: Any = None, taylor: Any = None, box: Box | None = None,
           t_out: Sequence[float] | None = None, every: int = 0, max_samples: int | None = None,
@@ -177,18 +177,22 @@ def run_c(lib: ctypes.CDLL, method: str, rhs: Any, x0, p, t_end: float, *, t0: f
     first and the last state. Energy, when given, is monitored after every step in C; with
     ``energy_limit`` > 0 the run stops once |H - H0| > energy_limit |H0| (status "energy_limit").
     max_steps: the step budget (attempted steps; status "step_budget"); None: the number of fixed
-    steps, or runtime.integrate.budget.MAX_STEPS_CAP for DOP853. method "auto": the method resolve(rtol)
+    steps, or runtime.integrate.budget.MAX_STEPS_CAP for DOP853. method: a name or a Choice (resolved
+    once by the caller); "auto": the method resolve(rtol)
     picks (runtime/integrate/methods.py), named in Result.method. taylor: the part's Taylor
     function (method "taylor"; its expansions are Result.iterations, and it makes no rhs call).
     quad: a generated scalar function integrated as the last state of x0 (integrators.h's
     lev_system.quad: rhs gives the other rates; the caller appends W(0) to x0 and its atol)."""
     bind(lib)
-    requested, method = method, resolve(method, rtol, h or None)
-    code = lookup(method).c_id
+    if isinstance(method, Choice):
+        choice = method
+    else:           # an adaptive method's h here is its first step (h_max beside it), not a fixed one
+        choice = resolve(method, rtol, h or None if method == AUTO or lookup(method).fixed_step else None)
+    method, code = choice.name, choice.entry.c_id
     if code is None:
         raise UserError(f"integrator {method!r} is not a C integrator")
     if max_steps is None:
-        max_steps = (default_budget(method, t_end, h) if lookup(method).fixed_step and h > 0
+        max_steps = (default_budget(method, t_end, h) if choice.fixed_step and h > 0
                      else MAX_STEPS_CAP)
     x0 = _f64(x0)
     n = x0.size
@@ -234,7 +238,7 @@ def run_c(lib: ctypes.CDLL, method: str, rhs: Any, x0, p, t_end: float, *, t0: f
                  energy0=float(st.energy0) if energy is not None else None,
                  energy_max_dev=float(st.energy_max_dev) if energy is not None else None,
                  details={"h_last": float(st.h_last), "dropped_samples": int(st.dropped)})
-    res.details.update(choice_details(requested, rtol))
+    res.details.update(choice.details())
     return res
 
 

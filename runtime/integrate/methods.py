@@ -16,7 +16,7 @@ asked for (``details["integrator_requested"]``, simulate's ``integrator_requeste
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 
 @dataclass(frozen=True)
@@ -102,22 +102,60 @@ def lookup(name: str) -> Integrator:
     return entry
 
 
-def resolve(name: str, tol: float | None = None, h: float | None = None) -> str:
-    """The method that runs for the requested `name`: `name` itself, or for ``auto`` the C method
-    the bench measured cheapest at tolerance `tol` (AUTO_VERN9_BELOW_TOL). `auto` takes a tolerance,
-    never a fixed step; an unknown name or a bad combination is a one-line UserError."""
-    lookup(name)
-    if name != AUTO:
-        return name
-    from levitron.runtime.errors import UserError
-    if h is not None:
-        fixed = ", ".join(i.name for i in TABLE if i.fixed_step)
-        raise UserError(f"integrator auto picks an adaptive method from the tolerance and takes no "
-                        f"fixed step (h={h}); for a fixed step name a fixed-step method ({fixed})")
-    if tol is None or not math.isfinite(tol) or tol <= 0:
-        raise UserError(f"integrator auto picks its method from the tolerance, and tol={tol} is not a "
-                        "positive finite number; pass e.g. «tol=1e-9»")
-    return "vern9" if tol < AUTO_VERN9_BELOW_TOL else "dop853"
+@dataclass(frozen=True)
+class Choice:
+    """An integrator resolved once (`resolve`), what a run carries from there on: `entry` the table
+    entry of the method that runs (for ``auto`` the one it picks), `requested` the name asked for,
+    `tol` the tolerance it takes (None for a fixed-step method) and `h` its step (None for an
+    adaptive method, and for a fixed-step one whose step is still to be chosen: `with_step`)."""
+    entry: Integrator
+    requested: str
+    tol: float | None = None
+    h: float | None = None
+
+    @property
+    def name(self) -> str:
+        return self.entry.name
+
+    @property
+    def fixed_step(self) -> bool:
+        return self.entry.fixed_step
+
+    def with_step(self, h: float) -> Choice:
+        return replace(self, h=h)
+
+    def details(self) -> dict:
+        """What the run records of how its method was chosen (choice_details)."""
+        return choice_details(self.requested, self.tol)
+
+
+def refuse_step(name: str, h) -> None:
+    """The one-line UserError of a step given to the adaptive method `name` (it takes a tolerance)."""
+    if h is not None and not lookup(name).fixed_step:
+        from levitron.runtime.errors import UserError
+        raise UserError(f"integrator {name} is adaptive: it takes a tolerance («tol»), not a step "
+                        "(«step» is for fixed-step integrators)", param="step", value=h, unit="s")
+
+
+def resolve(name: str, tol: float | None = None, h: float | None = None) -> Choice:
+    """The integrator that runs for the requested `name` (a Choice): `name` itself, or for ``auto``
+    the C method the bench measured cheapest at tolerance `tol` (AUTO_VERN9_BELOW_TOL). `auto` takes
+    a tolerance, never a fixed step, and so does every adaptive method; an unknown name or a bad
+    combination is a one-line UserError."""
+    entry = lookup(name)
+    if name == AUTO:
+        from levitron.runtime.errors import UserError
+        if h is not None:
+            fixed = ", ".join(i.name for i in TABLE if i.fixed_step)
+            raise UserError(f"integrator auto picks an adaptive method from the tolerance and takes no "
+                            f"fixed step (h={h}); for a fixed step name a fixed-step method ({fixed})",
+                            param="step", value=h, unit="s")
+        if tol is None or not math.isfinite(tol) or tol <= 0:
+            raise UserError(f"integrator auto picks its method from the tolerance, and tol={tol} is not a "
+                            "positive finite number; pass e.g. «tol=1e-9»", param="tol", value=tol)
+        entry = BY_NAME["vern9" if tol < AUTO_VERN9_BELOW_TOL else "dop853"]
+    refuse_step(entry.name, h)
+    return Choice(entry, name, None if entry.fixed_step else tol, h if entry.fixed_step else None)
 
 
 def refuse_on_full_model(name: str, what: str) -> None:
@@ -132,7 +170,7 @@ def refuse_on_full_model(name: str, what: str) -> None:
 
 def auto_note(tol: float) -> str:
     """How ``auto`` chose for `tol` (one line, recorded with every run it resolves)."""
-    used = resolve(AUTO, tol)
+    used = resolve(AUTO, tol).name
     side = "below" if used == "vern9" else "at or above"
     return (f"auto: {used} for tol {tol:g} ({side} the crossover {AUTO_VERN9_BELOW_TOL:g}: "
             "vern9 below, dop853 at or above; runtime/integrate/methods.py)")

@@ -36,7 +36,7 @@ from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.budget import MAX_STEPS_CAP, check_options
 from levitron.runtime.integrate.c_backend import (_NO_BOX, STATUS, _Job, _Options, _Stats, _System,
                                                   _f64, bind, fn_address)
-from levitron.runtime.integrate.methods import lookup, resolve
+from levitron.runtime.integrate.methods import resolve
 from levitron.runtime.integrate.trajectory import Box
 
 
@@ -51,8 +51,9 @@ class Propagator:
     def __init__(self, part, method: str = "dop853", tol: float = 1e-9, p=None, scale=None, *,
                  max_steps: int | None = None, box: Box | None = None):
         from levitron.runtime.integrate.run import _lib_of, taylor_of
-        self.requested, self.method = method, resolve(method, tol)
-        entry = lookup(self.method)
+        choice = resolve(method, tol)
+        self.requested, self.method = method, choice.name
+        entry = choice.entry
         if entry.backend != "c" or entry.fixed_step:
             raise UserError(f"a Propagator runs an adaptive C method (dop853, vern9, taylor or auto), "
                             f"not {self.method}; integrate() runs the others")

@@ -59,7 +59,7 @@ from levitron.runtime.integrate.c_backend import CSystem, bind, _f64, csrc_libra
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.casadi_backend import integrate_casadi
 from levitron.runtime.integrate.scipy_backend import integrate_scipy
-from levitron.runtime.integrate.methods import DEFAULT, choice_details, lookup, resolve
+from levitron.runtime.integrate.methods import DEFAULT, Choice, lookup, resolve
 from levitron.runtime.integrate.budget import check_options, default_budget, fixed_steps
 from levitron.runtime.integrate.trajectory import Box, Result
 
@@ -133,17 +133,18 @@ def integrate(part, x0, t_end: float, method: str = DEFAULT, tol: float | None =
     Result.method, the request in Result.details). quadrature: (kind, size), the part's function
     `kind` integrated beside the state, atol tol * size (module docstring). Raises UserError for
     bad options."""
-    requested, method = method, resolve(method, tol, h)
-    res = _integrate(part, x0, t_end, method, tol, h, p, box, n_out, scale, monitor_energy,
+    choice = resolve(method, tol, h)         # once: every step below reads its entry
+    res = _integrate(part, x0, t_end, choice, p, box, n_out, scale, monitor_energy,
                      max_steps, scipy_rhs, time_scale, time_scale_what, quadrature)
-    res.details.update(choice_details(requested, tol))
+    res.details.update(choice.details())
     return res
 
 
-def _integrate(part, x0, t_end, method, tol, h, p, box, n_out, scale, monitor_energy, max_steps,
+def _integrate(part, x0, t_end, choice: Choice, p, box, n_out, scale, monitor_energy, max_steps,
                scipy_rhs, time_scale, time_scale_what, quadrature=None) -> Result:
     x0 = _f64(x0)
     n = len(part.states)
+    method, entry, tol, h = choice.name, choice.entry, choice.tol, choice.h
     _validate(method, x0, n, t_end, tol, h, n_out, scale, time_scale, time_scale_what, max_steps)
     t_end, n_out = float(t_end), int(n_out)
     budget = int(max_steps) if max_steps is not None else default_budget(method, t_end, h, time_scale)
@@ -154,15 +155,14 @@ def _integrate(part, x0, t_end, method, tol, h, p, box, n_out, scale, monitor_en
         quad, size = quadrature
         if not (math.isfinite(size) and size > 0):
             raise ValueError(f"quadrature size {size!r}: a positive number")
-        if lookup(method).needs_taylor:
+        if entry.needs_taylor:
             taylor_of(part)      # a part without coefficients (the full model) says that first
             raise UserError(f"integrator {method} integrates no quadrature (the energy balance in "
                             "air): choose dop853, vern9 or auto")
         x0, scale = np.append(x0, 0.0), np.append(scale, float(size))
-    backend = lookup(method).backend
+    backend = entry.backend
     if backend == "c":
-        res = _integrate_c(part, method, x0, p, t_end, tol, h, box, n_out, scale,
-                           monitor_energy, budget, quad)
+        res = _integrate_c(part, choice, x0, p, t_end, box, n_out, scale, monitor_energy, budget, quad)
     elif backend == "casadi":
         res = integrate_casadi(part, method, x0, p, t_end, tol, h, box, n_out, scale, budget, quad)
     else:
@@ -211,20 +211,21 @@ def taylor_of(part):
     return fn
 
 
-def _integrate_c(part, method, x0, p, t_end, tol, h, box, n_out, scale, monitor_energy, max_steps,
+def _integrate_c(part, choice: Choice, x0, p, t_end, box, n_out, scale, monitor_energy, max_steps,
                  quad=None):
     lib = _lib_of(part)
+    entry, tol, h = choice.entry, choice.tol, choice.h
     rhs = part.c_function("rhs")
     energy = part.c_function("energy") if monitor_energy else None
     quad = part.c_function(quad) if quad is not None else None
-    if not lookup(method).fixed_step:
+    if not entry.fixed_step:
         t_out = output_grid(t_end, n_out)
-        taylor = taylor_of(part) if lookup(method).needs_taylor else None
-        return run_c(lib, method, rhs, x0, p, t_end, rtol=tol, atol=tol * scale, energy=energy,
+        taylor = taylor_of(part) if entry.needs_taylor else None
+        return run_c(lib, choice, rhs, x0, p, t_end, rtol=tol, atol=tol * scale, energy=energy,
                      taylor=taylor, box=box, t_out=t_out, max_steps=max_steps, quad=quad)
     n_steps = fixed_steps(t_end, h)
     every = max(1, math.ceil(n_steps / n_out))
-    jac = (part.c_function("jac") if lookup(method).needs_jacobian and _has_function(part, "jac")
+    jac = (part.c_function("jac") if entry.needs_jacobian and _has_function(part, "jac")
            else None)
-    return run_c(lib, method, rhs, x0, p, t_end, h=h, jac=jac, energy=energy, box=box,
+    return run_c(lib, choice, rhs, x0, p, t_end, h=h, jac=jac, energy=energy, box=box,
                  every=every, max_samples=n_steps // every + 3, max_steps=max_steps, quad=quad)

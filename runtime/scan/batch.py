@@ -26,7 +26,7 @@ import numpy as np
 
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.budget import check_options, default_budget
-from levitron.runtime.integrate.methods import DEFAULT, default_step, lookup, refuse_on_full_model, resolve
+from levitron.runtime.integrate.methods import DEFAULT, default_step, refuse_on_full_model, resolve
 from levitron.runtime.integrate.verdict import NO_HOVER, stopped_early
 from levitron.runtime.ui.validate import real
 
@@ -109,8 +109,8 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
                             f"({', '.join(model.param_names)}), one row per launch or one for all")
         cols["p"] = _column(np.arange(rows.shape[0]), "p")
         cols = launch_columns(cols)
-    requested, integrator = integrator, resolve(integrator, tol, h)
-    entry = lookup(integrator)
+    choice = resolve(integrator, tol, h)         # once: "auto" is dop853 or vern9 from here on
+    integrator, entry, tol = choice.name, choice.entry, choice.tol
     refuse_on_full_model(integrator, "simulate_many")
     if entry.backend != "c":
         raise UserError(f"batched runs use the C integrators (dop853, vern9, auto, rk4, gauss4, ...), "
@@ -165,7 +165,7 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
                             "offset or a larger box")
         T, what = start.fastest_period(spin_i, pv, stiffness)
         hi = (default_step(T) if h is None else h) if entry.fixed_step else None
-        check_options(integrator, run_t_end, None if entry.fixed_step else tol, hi, CHECK_N_OUT, T, what)
+        check_options(integrator, run_t_end, tol, hi, CHECK_N_OUT, T, what)
         P.append(pk)
         scale[i] = start.state_scales(pt, zs, spin_i, pv)
         hs[i] = hi or 0.0
@@ -179,7 +179,7 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
     z_s[~hovers] = np.nan
     lanes = False
     if run.size:
-        res = drive_runs(model, pt, integrator, run_t_end, None if entry.fixed_step else tol, x0[run],
+        res = drive_runs(model, pt, integrator, run_t_end, tol, x0[run],
                          np.array(P), scale[run], hs[run], boxes[run], budget[run])
         status[run], t_final[run], x_final[run] = res["status"], res["t_final"], res["x_final"]
         rhs_evals[run], steps[run], lanes = res["rhs_evals"], res["steps"], bool(res["lanes"])
@@ -192,6 +192,6 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
             "z_s": z_s, "final_state": x_final, "states": list(pt.states),
             "inputs": {c: v for c, v in cols.items() if c != "p"},
             "t_end": None if run_t_end is None else float(run_t_end),
-            "integrator": integrator, "integrator_requested": requested, "tol": None if entry.fixed_step else tol,
+            "integrator": integrator, "integrator_requested": choice.requested, "tol": tol,
             "step": hs if entry.fixed_step else None, "lanes": lanes,
             "wall_s": time.perf_counter() - t_wall}

@@ -18,7 +18,7 @@ import numpy as np
 
 from levitron.runtime.integrate.c_backend import STATUS, bind, fn_address
 from levitron.runtime.errors import UserError
-from levitron.runtime.integrate.methods import lookup, resolve
+from levitron.runtime.integrate.methods import lookup
 from levitron.runtime.integrate.budget import check_options, default_budget
 
 _DP = ctypes.POINTER(ctypes.c_double)
@@ -165,9 +165,9 @@ def run_chunk_c(model, common, points: Sequence[tuple]) -> list[dict]:
     options runtime.integrate.run would give each run (atol = tol * scale, rtol = tol; the default step
     budget at the point's fastest time scale; the same option checks)."""
     from levitron.runtime.scan.points import N_OUT, point_setup
-    common = replace(common, integrator=resolve(common.integrator, common.tol, common.h))
-    entry = lookup(common.integrator)
-    tol = None if entry.fixed_step else common.tol
+    choice = common.choice
+    common = replace(common, integrator=choice.name)
+    tol = choice.tol
     memo: dict = {}      # the spin-free inputs, once per tilt (or height, mass) of the chunk
     setups = [point_setup(model, memo=memo, **kw) for _, kw in points]
     if not setups:

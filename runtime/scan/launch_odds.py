@@ -58,7 +58,7 @@ from levitron.runtime.errors import UserError
 from levitron.runtime.words import setting
 from levitron.runtime.physics.friction import has_friction
 from levitron.runtime.integrate.verdict import stopped_early
-from levitron.runtime.integrate.methods import DEFAULT, lookup, refuse_on_full_model, resolve
+from levitron.runtime.integrate.methods import DEFAULT, refuse_on_full_model, resolve
 from levitron.runtime.scan.launch_answer import LaunchOdds
 from levitron.runtime.scan.launch_summary import effects, launches, wilson
 from levitron.runtime.scan.launch_inputs import ALL_INPUTS, INPUTS, apparatus_of, refuse_apparatus
@@ -304,9 +304,10 @@ def monte_carlo(model, given: Mapping[str, object], n: int = 1000,
         raise UserError(f"«success_time={success_time:g}» is longer than «t_end={t_end:g}»: no run "
                         "could succeed; make «t_end» at least the success time")
     warnings = reach_warnings(model, dists["spin"], interval, tau, success_time, "spin" not in given)
-    method = resolve(integrator, tol, None)
+    choice = resolve(integrator, tol, None)
+    method = choice.name
     refuse_on_full_model(method, "launch")
-    if lookup(method).backend != "c" or lookup(method).fixed_step:
+    if choice.entry.backend != "c" or choice.fixed_step:
         raise UserError(f"launch runs adaptive C integrators only (dop853, vern9, auto), not {integrator!r}")
     names = INPUTS + tuple(a.name for a in apparatus_of(model))
     plan = Plan(*model.ref, tuple((k, dists[k]) for k in names), int(n), int(seed),

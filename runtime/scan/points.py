@@ -100,13 +100,11 @@ def point_run(model, spin: float, tilt: float = 0.0, height: float = 0.0, t_end:
     With height = 0 the result is simulate()'s, number for number (tests/runtime/scan/test_scan.py)."""
     from levitron.runtime.simulate import run as sim
     from levitron.runtime.integrate.run import integrate
-    from levitron.runtime.integrate.methods import lookup, resolve
-    integrator = resolve(integrator, tol, h)     # "auto": the method simulate() would run
-    entry = lookup(integrator)
-    su = point_setup(model, spin, tilt, height, integrator, h, p, z_s)
-    res = integrate(su.part, su.x0, t_end, method=integrator, tol=None if entry.fixed_step else tol,
-                    h=su.h, p=su.p, box=su.box, n_out=n_out, scale=su.scale,
-                    monitor_energy=entry.monitors_energy, time_scale=su.time_scale,
-                    time_scale_what=su.time_scale_what)
-    return sim.summarize(su.part, res, su.x0, su.p, su.z_s, su.box, spin, tilt, 0.0, t_end,
-                         integrator, tol, su.h, None)
+    from levitron.runtime.integrate.methods import resolve
+    choice = resolve(integrator, tol, h)     # "auto": the method simulate() would run
+    su = point_setup(model, spin, tilt, height, choice.name, h, p, z_s)
+    choice = choice.with_step(su.h) if choice.fixed_step else choice
+    res = integrate(su.part, su.x0, t_end, method=choice.name, tol=choice.tol, h=choice.h, p=su.p,
+                    box=su.box, n_out=n_out, scale=su.scale, monitor_energy=choice.entry.monitors_energy,
+                    time_scale=su.time_scale, time_scale_what=su.time_scale_what)
+    return sim.summarize(su.part, res, su.x0, su.p, su.z_s, su.box, spin, tilt, 0.0, t_end, choice, None)

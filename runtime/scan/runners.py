@@ -4,9 +4,8 @@ Every grid point is one nonlinear run of the full model from levitron.runtime.si
 (`point_setup`: initial state, box, time scale, scales; thesis 3.1-3.3). The grid is dealt into
 chunks (`split`); a chunk runs in one thread (`run_chunk`): for the C integrators through the C
 chunk driver (runtime/scan/chunk_c.py: one C call per chunk, no Python per run, no output samples, no
-energy monitor), otherwise (or with engine "python") one `point_run` per point, which is
-runtime.simulate.run.simulate number for number. Both give the same status and survival time per point
-(tests/runtime/scan/test_scan_driver.py).
+energy monitor), otherwise (or with engine "python") one `point_run` per point, which is simulate()
+number for number. Both give the same status and survival time per point (test_scan_driver.py).
 
 Runners: serial, local processes (concurrent.futures.ProcessPoolExecutor, spawn; each worker loads
 the model once in its initializer, and the compiled C library is found in the content-hash cache
@@ -28,6 +27,7 @@ from dataclasses import dataclass, replace
 from levitron.runtime.ui import progress
 from levitron.runtime.errors import UserError
 from levitron.scene.faults import die_at
+from levitron.runtime.integrate.methods import resolve
 from levitron.runtime.scan.points import point_run
 
 CONNECT_TIMEOUT_S = 20  # how long to try to reach a dask scheduler (and to wait for a worker)
@@ -49,6 +49,11 @@ class Common:
     hover: tuple = ()           # z_s per value of the other axis (None: that mass does not hover)
     h: float | None = None      # fixed-step integrators: None = runtime.simulate.run's default step
     engine: str = "c"           # "c": the chunk driver (C integrators); "python": run_point per point
+
+    @property
+    def choice(self):
+        """The integrator as it runs (runtime/integrate/methods.py resolve: "auto" is its pick)."""
+        return resolve(self.integrator, self.tol, self.h)
 
 
 _MODELS: dict = {}
@@ -115,11 +120,11 @@ def run_chunk(common: Common, tasks: Sequence[tuple]) -> dict:
     call, no Python per run) for the C integrators unless common.engine is "python", else one
     `run_point` per point. Returns the points, the chunk's CPU time (this thread's) and the method
     that ran (common.integrator, or for "auto" the one runtime.integrate.methods.resolve picks)."""
-    from levitron.runtime.integrate.methods import lookup, resolve
-    common = replace(common, integrator=resolve(common.integrator, common.tol, common.h))
+    choice = common.choice
+    common = replace(common, integrator=choice.name)
     model = model_for(common.scene, common.overrides)
     cpu0 = time.thread_time()
-    if common.engine == "c" and lookup(common.integrator).backend == "c":
+    if common.engine == "c" and choice.entry.backend == "c":
         from levitron.runtime.scan.chunk_c import run_chunk_c
         points = run_chunk_c(model, common, [(t, task_point(common, t)) for t in tasks])
         engine = "c"

@@ -125,7 +125,8 @@ def scan(model, spins: np.ndarray, axis: str, others: np.ndarray, t_end: float |
     else:
         basis = {"given": True}
     from levitron.runtime.integrate.methods import resolve
-    requested, integrator = integrator, resolve(integrator, tol, h)    # "auto": the method it picks
+    choice = resolve(integrator, tol, h)        # once: "auto" is the method it picks from here on
+    integrator = choice.name
     check_run_options(model, axis, spins, others, hover, float(t_end), integrator, tol, h)
     common = Common(*model.ref, axis, float(t_end), integrator, tol,
                     float(base_tilt), tuple(hover), h, engine)
@@ -139,7 +140,7 @@ def scan(model, spins: np.ndarray, axis: str, others: np.ndarray, t_end: float |
                       time.perf_counter() - t_wall, runner, rhs,
                       sum(c["cpu_s"] for c in chunk_results),
                       extra={"scene_linear": scene_lin,
-                             "public": {"integrator": integrator, "integrator_requested": requested,
+                             "public": {"integrator": integrator, "integrator_requested": choice.requested,
                                         "tol": tol,
                                         "base_tilt": base_tilt if axis != "tilt" else None,
                                         **({"equilibrium": tilted} if tilted else {})}},

@@ -42,7 +42,7 @@ from levitron.runtime.errors import UserError
 from levitron.runtime.ui.validate import count, real
 from levitron.runtime.integrate.budget import MAX_N_OUT
 from levitron.runtime.integrate.run import Box, Result, integrate
-from levitron.runtime.integrate.methods import AUTO, DEFAULT, auto_note, default_step, lookup, resolve
+from levitron.runtime.integrate.methods import AUTO, DEFAULT, Choice, auto_note, default_step, resolve
 from levitron.runtime.integrate.verdict import no_verdict_reason, verdict
 
 from levitron.runtime.physics import friction as flight
@@ -107,13 +107,12 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
         tilt = DEFAULT_TILT if coordinates_of(pt) is not None else 0.0
     if t_end is None:
         t_end = default_t_end(model, part, p)
-    requested, integrator = integrator, resolve(integrator, tol, h)   # "auto": dop853 or vern9
-    entry = lookup(integrator)
+    choice = resolve(integrator, tol, h)        # once: "auto" is dop853 or vern9 from here on
     z_s = hover_height(model, p)
     T, what = time_scale(model, p, z_s, spin, pvals)
     bx = default_box(pt, z_s, box)
-    if entry.fixed_step and h is None:
-        h = default_step(T)
+    if choice.fixed_step and choice.h is None:
+        choice = choice.with_step(default_step(T))
     x0 = initial_state(pt, z_s, spin, tilt, offset, p, azimuth)
     tilted_note = None
     if part == "full" and "base_tilt" in model.param_names:      # plate.tilt: start off the axis
@@ -126,10 +125,9 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
     # in air the work of friction is integrated inside the run (the energy balance's W)
     work = (("dissipation", flight.energy_scale(pvals, z_s, spin, pt.energy(x0, p)))
             if air else None)
-    res = integrate(pt, x0, t_end, method=integrator, tol=tol if not entry.fixed_step else None,
-                    h=h, p=p, box=bx, n_out=n_out, scale=scale,
-                    monitor_energy=entry.monitors_energy, time_scale=T, time_scale_what=what,
-                    quadrature=work)
+    res = integrate(pt, x0, t_end, method=choice.name, tol=choice.tol, h=choice.h, p=p, box=bx,
+                    n_out=n_out, scale=scale, monitor_energy=choice.entry.monitors_energy, time_scale=T,
+                    time_scale_what=what, quadrature=work)
     fl = None
     if air:
         # the ideal top's interval at z_s (rates set to 0); none where the plate's symmetry refuses it
@@ -137,7 +135,7 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
         fl = flight.flight(model, pt, p, res, x0, spin, z_s, t_end, iv,
                            lambda X: spin_rate(pt, X, pvals["C"], p))
     ps = Samples.of(pt, res, x0, p)
-    out = summarize(pt, res, x0, p, z_s, bx, spin, tilt, offset, t_end, integrator, tol, h, fl, ps)
+    out = summarize(pt, res, x0, p, z_s, bx, spin, tilt, offset, t_end, choice, fl, ps)
     out["tilt_azimuth"] = azimuth
     if tilted_note is not None:
         out["note"] = tilted_note
@@ -146,9 +144,9 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
         out["levitating"], out["untested"] = None, untested_reason(pt)
     elif verdict(res.status) is None:        # the step budget, ...: neither up nor down
         out["levitating"], out["untested"] = None, no_verdict_reason(res.status, res.message)
-    out["integrator_requested"] = requested
-    if requested == AUTO:
-        out["integrator_choice"] = auto_note(tol)
+    out["integrator_requested"] = choice.requested
+    if choice.requested == AUTO:
+        out["integrator_choice"] = auto_note(choice.tol)
     names, table = trajectory_table(pt, res, p, ps)
     return Simulation.of(out, {n: table[:, i] for i, n in enumerate(names)}, model, p)
 
@@ -165,9 +163,10 @@ def trajectory_table(pt, res: Result, p, ps: Samples | None = None) -> tuple[lis
     return ["t", *pt.states, "energy", "L_z", "L_n", "tilt", "spin"], np.hstack(cols)
 
 
-def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, integrator, tol, h,
+def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, choice: Choice,
               fl: dict | None = None, ps: Samples | None = None) -> dict:
-    """simulate's keys (docs/contract.md). fl: the flight block of a run in air
+    """simulate's keys (docs/contract.md); choice: the integrator as resolved (its method, tol, h).
+    fl: the flight block of a run in air
     (runtime/physics/friction.py); there the energy drift is the residual of the energy balance
     and L.n is compared with its exponential decay. ps: the run's Samples (Samples.of), if computed already."""
     s = list(pt.states)
@@ -199,9 +198,7 @@ def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, i
         "z_s": z_s,
         "spin": {"rad_s": spin, "hz": spin / (2 * math.pi), "rpm": spin * 60 / (2 * math.pi)},
         "tilt": tilt, "offset": offset, "t_end": t_end,
-        "integrator": integrator, "backend": res.backend,
-        "tol": tol if not lookup(integrator).fixed_step else None,
-        "step": h if lookup(integrator).fixed_step else None,
+        "integrator": choice.name, "backend": res.backend, "tol": choice.tol, "step": choice.h,
         "box": {"z": [bx.z_lo, bx.z_hi], "r_max": bx.r_max if math.isfinite(bx.r_max) else None},
         "max_height_deviation": float(np.abs(z - z_s).max()),
         "max_radial_offset": float(r.max()),

@@ -40,16 +40,35 @@ def osc():
 
 
 def test_the_rule_and_its_crossover():
-    assert resolve(AUTO, 1e-6) == "dop853"
-    assert resolve(AUTO, 1e-9) == "dop853"
-    assert resolve(AUTO, AUTO_VERN9_BELOW_TOL) == "dop853"
-    assert resolve(AUTO, AUTO_VERN9_BELOW_TOL * (1 - 1e-12)) == "vern9"
-    assert resolve(AUTO, 1e-12) == "vern9"
+    def ran(*args):
+        return resolve(*args).name
+    assert ran(AUTO, 1e-6) == "dop853"
+    assert ran(AUTO, 1e-9) == "dop853"
+    assert ran(AUTO, AUTO_VERN9_BELOW_TOL) == "dop853"
+    assert ran(AUTO, AUTO_VERN9_BELOW_TOL * (1 - 1e-12)) == "vern9"
+    assert ran(AUTO, 1e-12) == "vern9"
     for e in TABLE:                                   # every other name is itself
-        assert resolve(e.name, 1e-12, 0.1 if e.fixed_step else None) == e.name
+        assert ran(e.name, 1e-12, 0.1 if e.fixed_step else None) == e.name
     assert AUTO in METHODS and AUTO not in {e.name for e in TABLE}
-    assert {resolve(AUTO, t) for t in np.logspace(-15, -2, 53)} == {"dop853", "vern9"}
-    assert all(lookup(resolve(AUTO, t)).backend == "c" for t in (1e-5, 1e-13))
+    assert {ran(AUTO, t) for t in np.logspace(-15, -2, 53)} == {"dop853", "vern9"}
+    assert all(lookup(ran(AUTO, t)).backend == "c" for t in (1e-5, 1e-13))
+
+
+def test_a_choice_carries_what_governs_its_method():
+    """resolve() is the one place a name becomes the method that runs (a Choice): an adaptive
+    method keeps the tolerance and no step, a fixed-step one the step and no tolerance; the step
+    given to an adaptive method (auto included) is refused there, in one line."""
+    from levitron.runtime.errors import UserError
+    c = resolve(AUTO, 1e-12)
+    assert (c.name, c.requested, c.tol, c.h, c.fixed_step) == ("vern9", AUTO, 1e-12, None, False)
+    assert c.details() == {"integrator_requested": AUTO, "auto": c.details()["auto"]}
+    f = resolve("rk4", 1e-9, 1e-3)
+    assert (f.name, f.requested, f.tol, f.h, f.fixed_step, f.details()) == ("rk4", "rk4", None, 1e-3, True, {})
+    assert resolve("rk4", 1e-9).with_step(2e-3).h == 2e-3
+    for name in ("dop853", AUTO):
+        with pytest.raises(UserError) as e:
+            resolve(name, 1e-9, 1e-3)
+        assert e.value.param == "step" and "\n" not in str(e.value), str(e.value)
 
 
 @pytest.mark.parametrize("tol, method", [(1e-6, "dop853"), (1e-12, "vern9")])
