@@ -6,6 +6,7 @@ the input hash covers all of derive/; no module over 400 lines; the tests laid o
 from __future__ import annotations
 
 import ast
+import re
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -305,3 +306,18 @@ def test_the_c_test_systems_live_under_tests():
     for name in ("lev_oscillator_rhs", "lev_kepler_rhs", "lev_blowup_rhs", "lev_drift_rhs"):
         assert name not in shipped and f"void {name}(" in tests_only, name
     assert "void lev_circle_rhs(" in shipped
+
+
+def test_the_integrators_pieces_are_one_translation_unit():
+    """runtime/csrc/integrators.c includes each integrators_*.h once, and nothing else includes
+    them (each refuses to compile outside it): the C side is one unit, split by idea."""
+    csrc = RUNTIME / "csrc"
+    pieces = sorted(p.name for p in csrc.glob("integrators_*.h"))
+    assert len(pieces) >= 6
+    included = re.findall(r'^#include "(integrators_\w+\.h)"', (csrc / "integrators.c").read_text(), re.M)
+    assert sorted(included) == pieces and len(set(included)) == len(included)
+    for path in [*csrc.glob("*.c"), *csrc.glob("*.h"), *(ROOT / "derive").rglob("*.j2")]:
+        if path.name != "integrators.c":
+            assert not re.search(r'#include "integrators_', path.read_text()), path
+    for name in pieces:
+        assert "#ifndef LEV_INTEGRATORS_TU" in (csrc / name).read_text(), name
