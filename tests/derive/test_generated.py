@@ -100,9 +100,12 @@ def test_derive_is_byte_reproducible_across_hash_seeds(tmp_path):
 
 @pytest.mark.parametrize("name", SCENES)
 def test_generated_c_compiles_warning_free(name, tmp_path):
+    """The generated model.c with the runtime's headers it includes (runtime/csrc: lev_sincos.h,
+    lev_taylor.h), as runtime/model/load.py builds it, under -Wall -Wextra -pedantic."""
+    from levitron.runtime.model.load import CSRC
     folder = GENERATED / name
     res = subprocess.run([compiler(), "-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic", "-c",
-                          str(folder / "model.c"), "-I", str(folder), "-o", str(tmp_path / "m.o")],
+                          str(folder / "model.c"), "-I", str(folder), "-I", str(CSRC), "-o", str(tmp_path / "m.o")],
                          capture_output=True, text=True, check=False)
     assert res.returncode == 0, res.stderr
 

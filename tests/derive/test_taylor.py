@@ -215,7 +215,7 @@ def _vector_path_compiled() -> bool:
 
 @pytest.mark.parametrize("name", ("thesis_stable", "ring_magnet"))
 def test_vector_sums_give_the_scalar_bits(name):
-    """lev_tay_old's vector path (model.c.j2: the four chains as the lanes of one AVX2 register), as
+    """lev_tay_old's vector path (runtime/csrc/lev_taylor.h: the four chains as the lanes of one AVX2 register), as
     the model's library runs it, against its scalar path (the same generated model.c built with
     -DLEV_TAYLOR_SCALAR): every coefficient of every order 1 .. max at random states near the hover
     height equal bit for bit (the recurrences that sum through it: products, 1/a, sqrt; the largest
@@ -225,8 +225,9 @@ def test_vector_sums_give_the_scalar_bits(name):
     from levitron.runtime.model.cbuild import DEFAULT_FLAGS, compile_shared
     model = load_model(load_scene(name))
     folder = model.folder
+    from levitron.runtime.model.load import CSRC
     scalar = ctypes.CDLL(str(compile_shared([folder / "model.c"], DEFAULT_FLAGS + ("-DLEV_TAYLOR_SCALAR",),
-                                            (folder,))))
+                                            (folder, CSRC))))
     fns = [model.part("reduced").taylor_function(), getattr(scalar, model.symbol("reduced_taylor"))]
     su, part, x0, scale = hover_state(model)
     rng = np.random.default_rng(7)

@@ -31,7 +31,7 @@ def _env() -> jinja2.Environment:
 
 
 def trig_lines(trig: list) -> list[str]:
-    """sin and cos of one angle from one inline lev_sincos (model.c.j2); a lone one from libm."""
+    """sin and cos of one angle from one inline lev_sincos (runtime/csrc/lev_sincos.h); a lone one from libm."""
     by_angle: dict = {}
     for s, fn, a in trig:
         by_angle.setdefault(a, {})[fn] = s
