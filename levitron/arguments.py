@@ -19,7 +19,7 @@ import numpy as np
 
 from levitron.runtime.errors import UserError
 
-__all__ = ["UserError", "Named", "bind", "boxes", "choice", "names", "number", "plain", "scene_keys"]
+__all__ = ["UserError", "Named", "bind", "boxes", "choice", "names", "number", "plain", "scene_keys", "varies"]
 
 
 def is_number(value) -> bool:
@@ -134,3 +134,13 @@ def boxes(vary: Mapping, what: str = "vary") -> dict[str, tuple[float, float]]:
         lo, hi = number(box[0], f"{what}[{key!r}] lo"), number(box[1], f"{what}[{key!r}] hi")
         out[key] = (lo, hi)
     return out
+
+
+def varies(vary) -> list:
+    """{scene key: (lo, hi)} as runtime/design/scene_keys.py Vary boxes, checked (the CLI's --vary
+    KEY=LO:HI reads the same)."""
+    from levitron.runtime.design.scene_keys import Vary
+    if not isinstance(vary, Mapping) or not vary:
+        raise UserError("vary: give a non-empty mapping of scene key -> (lo, hi), e.g. "
+                        "{'top.mass': (0.05, 0.052)}")
+    return [Vary.checked(key, lo, hi, f"vary {key!r}: {(lo, hi)!r}") for key, (lo, hi) in boxes(vary).items()]

@@ -24,7 +24,8 @@ from levitron.runtime.ui.human import Units, restate
 from levitron.runtime.words import render, speak
 
 from . import arguments as arg
-from .results import Design, Equilibria, Fit, LaunchOdds, Scan, Simulation, Simulations, Stability, Trim
+from .results import (Design, Equilibria, Fit, LaunchDesign, LaunchOdds, Scan, Simulation, Simulations, Stability,
+                      Trim)
 
 # Study.simulate's options: runtime.simulate.run.simulate's keywords, and the command line's names
 SIMULATE_OPTIONS = ("tilt", "offset", "t_end", "integrator", "tol", "box", "plot", "part", "h",
@@ -327,18 +328,36 @@ class Study:
     # ---- design and fitting
     @_in_scene_units
     def optimize(self, maximize: str, vary: Mapping[str, tuple[float, float]],
-                 constrain: Sequence[str] = (), grid: int = 20) -> Design:
-        """Maximise spin-range or spin-ratio over scene keys in boxes {key: (lo, hi)}, with
-        constraints such as "stiffness>=1" (runtime/design/optimize.py; IPOPT, verified)."""
+                 constrain: Sequence[str] = (), grid: int = 20, *, n: int | None = None,
+                 seed: int | None = None, inputs: Mapping[str, object] | None = None,
+                 **launch_options) -> Design | LaunchDesign:
+        """Maximise spin-range, spin-ratio or mass-window over scene keys in boxes {key: (lo, hi)},
+        with constraints such as "stiffness>=1" (runtime/design/optimize.py; IPOPT, verified): a
+        Design. Or maximise "launch-odds", the odds that a launch by hand floats
+        (runtime/design/launch_design.py, the design `levitron optimize --maximize launch-odds`
+        runs): a LaunchDesign; its launches are taken as Study.launch takes them (n, seed, inputs,
+        success_time, t_end, integrator, tol, workers, scheduler), and it takes no constraint."""
         constrain = arg.names(constrain, "constrain")
-        return _optimize(self.model, _varies(vary),
-                         maximize, [Constraint.parse(c) for c in constrain], grid)
+        varies = arg.varies(vary)
+        if maximize == "launch-odds":
+            from levitron.runtime.design.launch_design import maximize_launch_odds
+            from levitron.runtime.scan.launch_odds import Request
+            if constrain:
+                raise UserError("maximize='launch-odds' takes no constrain: the odds already count a "
+                                "top that cannot hover or falls as a failure")
+            request = Request.of(self.scene.data.get("launch", {}), inputs, n=n, seed=seed, **launch_options)
+            return maximize_launch_odds(self.model, varies, request)
+        given = [k for k, v in (("n", n), ("seed", seed), ("inputs", inputs)) if v is not None]
+        if given or launch_options:
+            raise UserError(f"{', '.join([*given, *launch_options])}: launch options go with "
+                            "maximize='launch-odds' only")
+        return _optimize(self.model, varies, maximize, [Constraint.parse(c) for c in constrain], grid)
 
     @_in_scene_units
     def fit(self, data: str | Path | Sequence[Row], vary: Mapping[str, tuple[float, float]]) -> Fit:
         """Least squares of scene keys to measurements (a CSV path or runtime.design.measurements.Row list)."""
         rows = read_rows(data) if isinstance(data, (str, Path)) else data
-        return _fit(self.model, rows, _varies(vary))
+        return _fit(self.model, rows, arg.varies(vary))
 
 
 def _checked_calls(cls):
@@ -373,12 +392,3 @@ def _options(options: dict, valid: Sequence[str], what: str, numbers: Sequence[s
         if options.get(name) is not None:
             options[name] = arg.number(options[name], name)
     return options
-
-
-def _varies(vary) -> list[Vary]:
-    """{scene key: (lo, hi)} as Vary boxes, checked (the CLI's --vary KEY=LO:HI reads the same)."""
-    if not isinstance(vary, Mapping) or not vary:
-        raise UserError("vary: give a non-empty mapping of scene key -> (lo, hi), e.g. "
-                        "{'top.mass': (0.05, 0.052)}")
-    return [Vary.checked(key, lo, hi, f"vary {key!r}: {(lo, hi)!r}")
-            for key, (lo, hi) in arg.boxes(vary).items()]

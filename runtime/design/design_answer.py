@@ -84,7 +84,7 @@ class Design:
                 "verification": self.verification, "wall_s": self.wall_s, "scene": self.scene.name}
 
     # ---- actions
-    def write_scene(self, path, flag: str = "«write_scene»") -> str:
+    def write_scene(self, path) -> str:
         """Write the scene at the optimum (re-validated) to path (.toml; runtime/design/scene_write.py),
         its first line naming the design."""
         from levitron.runtime.design.scene_write import write_scene

@@ -31,10 +31,11 @@ import contextlib
 import itertools
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
+from levitron.runtime.design.launch_design_answer import LaunchDesign
 from levitron.runtime.design.scene_keys import Vary, key_value
 from levitron.runtime.errors import UserError
 from levitron.runtime.model.scenes import SceneRef
@@ -132,40 +133,6 @@ def plateau_middle(points: Sequence[tuple[tuple[float, ...], float]]) -> tuple[f
     return tuple(float(v) for v in min(top, key=lambda x: float(np.sum((x - mean) ** 2))))
 
 
-@dataclass
-class LaunchDesign:
-    """The launch-odds optimum (docs/contract.md `optimize --maximize launch-odds`)."""
-    optimum: dict[str, float]
-    start: dict[str, float]
-    launch_odds: dict
-    start_launch_odds: dict
-    search_odds: float
-    evaluations: list[dict]
-    inputs: dict[str, str]
-    success_time: float
-    t_end: float
-    seed: int
-    n: int
-    wall_s: float
-    warnings: list[str] = field(default_factory=list)
-    defaulted: list[str] = field(default_factory=list)     # the inputs no flag or [launch] table gave
-
-    @property
-    def probability(self) -> float:
-        return self.launch_odds["probability"]
-
-    def as_dict(self) -> dict:
-        return {"objective": self.probability, "objective_name": "launch-odds", "objective_unit": "1",
-                "optimum": self.optimum, "start": self.start, "launch_odds": self.launch_odds,
-                "start_launch_odds": self.start_launch_odds, "warnings": self.warnings,
-                "search": {"method": "common random numbers on a grid, zoomed (runtime/design/launch_design.py)",
-                           "seed": self.seed, "n": self.n, "evaluations": len(self.evaluations),
-                           "best_search_odds": self.search_odds, "points": self.evaluations},
-                "inputs": self.inputs, "defaulted": self.defaulted, "success_time": self.success_time,
-                "t_end": self.t_end,
-                "solver_status": "grid search", "wall_s": self.wall_s}
-
-
 def maximize_launch_odds(model, varies: Sequence[Vary], request: mc.Request, pinned: Pinned | None = None,
                          where: str = "the «vary» box") -> LaunchDesign:
     """The design of the module docstring over the --vary box (`where`: what its messages call it).
@@ -249,7 +216,7 @@ def _maximize(model, varies: Sequence[Vary], request: mc.Request, pinned: Pinned
     return LaunchDesign(dict(zip(keys, best)), dict(zip(keys, map(float, start_x))), odds_dict(final),
                         odds_dict(first), evaluated[best], rows, dict(req.given), req.success_time,
                         req.t_end, req.seed, req.n, time.perf_counter() - t0, warnings,
-                        list(pinned.start.get("defaulted", [])))
+                        list(pinned.start.get("defaulted", [])), model.scene)
 
 
 def what_it_costs(model, varies: Sequence[Vary], request: mc.Request, optimum: dict[str, float], objective: str,

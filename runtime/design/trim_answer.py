@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from levitron.runtime.design.launch_design import LaunchDesign
+from levitron.runtime.design.launch_design_answer import LaunchDesign
 from levitron.runtime.ui.human import Units, sig
 
 _SI = Units(si=True)
@@ -72,7 +72,7 @@ class Trim:
                 "band_mass": list(self.band_mass), "launch_odds": d.launch_odds,
                 "start_launch_odds": d.start_launch_odds, "widest_window": self.widest,
                 "spin_limits": self.limits, "inputs": d.inputs, "success_time": d.success_time,
-                "t_end": d.t_end, "design": d.as_dict(), "warnings": [*self.warnings, *d.warnings]}
+                "t_end": d.t_end, "design": d.as_json(), "warnings": [*self.warnings, *d.warnings]}
 
     @property
     def message(self) -> str:

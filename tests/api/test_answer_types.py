@@ -302,3 +302,34 @@ def test_fit_residuals_hold_by_the_equilibrium_route(study, fit_data):
         assert r["normalized"] == pytest.approx((z - r["value"]) / r["sigma"], rel=1e-6, abs=1e-9)
     assert fit.chi2 == pytest.approx(sum(r["normalized"] ** 2 for r in fit.residuals), rel=1e-12)
     assert fit.dof == 2 and fit.success
+
+
+def test_stability_is_one_answer_for_the_api_and_the_command_line(study, capsys):
+    """runtime/physics/stability_answer.py: `stability --json` is the answer's as_json(), which
+    Study.stability() returns, the stiffness computed once, in the answer."""
+    from levitron.runtime.physics.stability_answer import Stability
+    st = study.stability()
+    assert type(st) is Stability and lev.Stability is Stability and st.success
+    _same(_cli_json(capsys, "stability", SCENE), cli._clean(st.as_json()), skip=("wall_s", "provenance",
+                                                                                   "timings_s"))
+    assert st.stiffness == pytest.approx(st.as_json()["stiffness"], rel=0) and st.stiffness > 0
+
+
+def test_the_launch_odds_design_is_one_answer_for_the_api_and_the_command_line(tmp_path, capsys):
+    """runtime/design/launch_design_answer.py: `optimize --maximize launch-odds --json` is the
+    answer's as_json(), which Study.optimize("launch-odds", ...) returns for the same launches
+    (n, seed, success_time, t_end), bit for bit; both write the same scene at the optimum."""
+    from levitron.runtime.design.launch_design_answer import LaunchDesign
+    launches = dict(n=40, seed=1, success_time=5.0, t_end=5.0)
+    api = lev.load("thesis_air").optimize("launch-odds", {"top.mass": (0.0505, 0.0520)}, **launches)
+    assert type(api) is LaunchDesign and lev.LaunchDesign is LaunchDesign and api.success
+    r = _cli_json(capsys, "optimize", "thesis_air", "--maximize", "launch-odds", "--vary",
+                  "top.mass=0.0505:0.052", "--n", "40", "--seed", "1", "--success-time", "5", "--t-end", "5",
+                  "--write-scene", str(tmp_path / "cli.toml"))
+    _same({k: r[k] for k in api.as_json()}, cli._clean(api.as_json()))
+    api.write_scene(tmp_path / "api.toml")
+    assert (tmp_path / "api.toml").read_text() == (tmp_path / "cli.toml").read_text()
+    assert (tmp_path / "api.toml").read_text().startswith("# levitron optimize thesis_air --maximize launch-odds:")
+    assert f"{100 * api.probability:.3g} %" in api.message and "LaunchDesign(launch-odds=" in repr(api)
+    with pytest.raises(lev.UserError, match="launch options go with maximize='launch-odds' only"):
+        lev.load("thesis_air").optimize("spin-range", {"top.mass": (0.0505, 0.0520)}, n=40)

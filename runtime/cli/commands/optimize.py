@@ -93,13 +93,9 @@ def run(args) -> dict:
         request = launch.launch_request(args, scene)
         model = model_of(args)
         res = maximize_launch_odds(model, varies, request)
-        out = res.as_dict()
+        out = res.as_json()      # the answer (runtime/design/launch_design_answer.py)
         if args.write_scene:
-            from levitron.runtime.design.scene_keys import with_values
-            from levitron.runtime.design.scene_write import write_scene
-            note = (f"levitron optimize {model.scene.name} --maximize launch-odds: "
-                    + ", ".join(f"{k} = {v:.6g}" for k, v in res.optimum.items()))
-            out["written"] = str(write_scene(with_values(model.scene, res.optimum), args.write_scene, note))
+            out["written"] = res.write_scene(args.write_scene)
     else:
         from levitron.runtime.design.optimize import optimize
         model = model_of(args)
