@@ -34,8 +34,8 @@ from levitron.runtime import lazy_surface as _lazy_surface  # noqa: E402  (needs
 # command line's start) costs no numpy, casadi or scipy
 __getattr__, __dir__, __all__ = _lazy_surface(__name__, {
     "Design": "results", "DesignResult": "results", "Equilibria": "results", "Equilibrium": "results",
-    "Fit": "results", "FitResult": "results", "LaunchDesign": "results", "LaunchOdds": "results",
-    "Propagator": "runtime.integrate.propagator",
+    "Fit": "results", "FitResult": "results", "HeightFit": "results", "LaunchDesign": "results",
+    "LaunchOdds": "results", "Propagator": "runtime.integrate.propagator",
     "Scan": "results", "ScanResult": "results",
     "SceneError": "scene.checks", "Simulation": "results", "Simulations": "results",
     "Stability": "results", "Study": "study", "Trim": "results", "UserError": "runtime.errors",

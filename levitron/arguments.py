@@ -13,13 +13,14 @@ from __future__ import annotations
 
 import difflib
 import numbers
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
 
 from levitron.runtime.errors import UserError
 
-__all__ = ["UserError", "Named", "bind", "boxes", "choice", "names", "number", "plain", "scene_keys", "varies"]
+__all__ = ["UserError", "Named", "bind", "boxes", "choice", "names", "number", "options", "plain", "scene_keys",
+           "varies"]
 
 
 def is_number(value) -> bool:
@@ -144,3 +145,20 @@ def varies(vary) -> list:
         raise UserError("vary: give a non-empty mapping of scene key -> (lo, hi), e.g. "
                         "{'top.mass': (0.05, 0.052)}")
     return [Vary.checked(key, lo, hi, f"vary {key!r}: {(lo, hi)!r}") for key, (lo, hi) in boxes(vary).items()]
+
+
+def options(given: dict, valid: Sequence[str], aliases: Mapping[str, str], what: str,
+            numbers: Sequence[str]) -> dict:
+    """A method's options with the command line's names (`aliases`: tilt_azimuth, step) taken as
+    theirs, unknown names refused with the valid ones listed, `numbers` checked as numbers."""
+    for alias, name in aliases.items():
+        if alias in given:
+            if name in given:
+                raise UserError(f"pass {alias} or {name}, not both (the same option)")
+            given[name] = given.pop(alias)
+    for name in given:
+        choice(name, what, [*valid, *aliases])
+    for name in numbers:
+        if given.get(name) is not None:
+            given[name] = number(given[name], name)
+    return given

@@ -20,6 +20,7 @@ import numpy as np
 
 from levitron.runtime.design.design_answer import Design, DesignResult
 from levitron.runtime.design.fit_answer import Fit, FitResult
+from levitron.runtime.design.fit_height import HeightFit
 from levitron.runtime.design.launch_design_answer import LaunchDesign
 from levitron.runtime.design.trim_answer import Trim
 from levitron.runtime.errors import UserError
@@ -35,8 +36,8 @@ from levitron.runtime.ui.human import Units, quantity, restate
 _SI = Units(si=True)
 
 
-__all__ = ["Design", "DesignResult", "Equilibria", "Equilibrium", "Fit", "FitResult", "LaunchDesign", "LaunchOdds",
-           "Scan", "ScanResult", "Simulation", "Simulations", "Stability", "Trim"]
+__all__ = ["Design", "DesignResult", "Equilibria", "Equilibrium", "Fit", "FitResult", "HeightFit", "LaunchDesign",
+           "LaunchOdds", "Scan", "ScanResult", "Simulation", "Simulations", "Stability", "Trim"]
 
 
 @dataclass(frozen=True, repr=False)

@@ -24,8 +24,8 @@ from levitron.runtime.ui.human import Units, restate
 from levitron.runtime.words import render, speak
 
 from . import arguments as arg
-from .results import (Design, Equilibria, Fit, LaunchDesign, LaunchOdds, Scan, Simulation, Simulations, Stability,
-                      Trim)
+from .results import (Design, Equilibria, Fit, HeightFit, LaunchDesign, LaunchOdds, Scan, Simulation, Simulations,
+                      Stability, Trim)
 
 # Study.simulate's options: runtime.simulate.run.simulate's keywords, and the command line's names
 SIMULATE_OPTIONS = ("tilt", "offset", "t_end", "integrator", "tol", "box", "plot", "part", "h",
@@ -193,7 +193,7 @@ class Study:
         line's flags)."""
         from levitron.runtime.simulate import trajectory_file
         from levitron.runtime.simulate.run import simulate
-        options = _options(options, SIMULATE_OPTIONS, "simulate option",
+        options = arg.options(options, SIMULATE_OPTIONS, SIMULATE_ALIASES, "simulate option",
                            ("tilt", "offset", "t_end", "tol", "box", "h", "azimuth"))
         plot, save = options.pop("plot", None), options.pop("save", None)
         if save is not None:
@@ -216,7 +216,8 @@ class Study:
         as simulate's. A launch whose top cannot hover (a mass too heavy for the plate) is one
         result among the others: status "no_hover_height", `reason` saying why, not run."""
         from levitron.runtime.scan.batch import launch_columns, simulate_many
-        options = _options(options, MANY_OPTIONS, "simulate_many option", ("t_end", "tol", "box", "h"))
+        options = arg.options(options, MANY_OPTIONS, SIMULATE_ALIASES, "simulate_many option",
+                              ("t_end", "tol", "box", "h"))
         values = options.pop("values", None) or {}
         if not isinstance(values, Mapping):
             raise arg.UserError("values must be a mapping of scene key -> number or array, e.g. "
@@ -354,6 +355,16 @@ class Study:
         return _optimize(self.model, varies, maximize, [Constraint.parse(c) for c in constrain], grid)
 
     @_in_scene_units
+    def fit_height(self, z_star: float, param: str = "mu") -> HeightFit:
+        """The value of one parameter (a scene key such as plate.murho or top.mass, or a generated
+        parameter's name, default mu) at which the top hovers at z_star (m): m g + mu Phi_2(z*) = 0
+        (thesis eq. 3.3.2; runtime/design/fit_height.py, the answer `optimize --fit-height` prints)."""
+        from levitron.runtime.design.fit_height import fit_equilibrium_height
+        from levitron.runtime.physics.level_only import refuse_tilted
+        refuse_tilted(self.model, "fit_height")
+        return fit_equilibrium_height(self.model, arg.number(z_star, "z_star"), param)
+
+    @_in_scene_units
     def fit(self, data: str | Path | Sequence[Row], vary: Mapping[str, tuple[float, float]]) -> Fit:
         """Least squares of scene keys to measurements (a CSV path or runtime.design.measurements.Row list)."""
         rows = read_rows(data) if isinstance(data, (str, Path)) else data
@@ -377,18 +388,3 @@ def _checked_calls(cls):
 
 _checked_calls(Study)
 
-
-def _options(options: dict, valid: Sequence[str], what: str, numbers: Sequence[str]) -> dict:
-    """simulate's options with the command line's names (tilt_azimuth, step) taken as theirs,
-    unknown names refused with the valid ones listed, `numbers` checked as numbers."""
-    for alias, name in SIMULATE_ALIASES.items():
-        if alias in options:
-            if name in options:
-                raise arg.UserError(f"pass {alias} or {name}, not both (the same option)")
-            options[name] = options.pop(alias)
-    for name in options:
-        arg.choice(name, what, [*valid, *SIMULATE_ALIASES])
-    for name in numbers:
-        if options.get(name) is not None:
-            options[name] = arg.number(options[name], name)
-    return options

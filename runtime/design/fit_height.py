@@ -11,6 +11,7 @@ the fitted value, and a value that is not physical (a mass, inertia or length <=
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, field
 
 import casadi as ca
 import numpy as np
@@ -19,6 +20,7 @@ from levitron.scene import plates
 
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.errors import UserError
+from levitron.runtime.ui.human import Units, quantity
 from levitron.runtime.words import setting
 
 # parameters that must be positive
@@ -76,7 +78,7 @@ def _name_route(model, param: str):
     return (float(model.p[i]) if model.p[i] != 0 else 1.0), p_of, exact
 
 
-def fit_equilibrium_height(model, z_star: float, param: str = "mu") -> dict:
+def fit_equilibrium_height(model, z_star: float, param: str = "mu") -> HeightFit:
     """The value of `param` for which the top hovers at z_star: m g + mu Phi_2(z_star) = 0.
     param: a scene key as --vary takes it (`plate.murho`, `top.moment`, `plate.remanence`,
     `top.mass`), or a generated parameter's name (`mu`, `plate_rho`; the default mu)."""
@@ -116,13 +118,54 @@ def fit_equilibrium_height(model, z_star: float, param: str = "mu") -> dict:
         raise UserError(f"the fitted {param} = {value:.6g} solves m g + mu Phi_2(z*) = 0 but the "
                         f"equilibrium finder finds no equilibrium at z* = {z_star:g} (equilibria: "
                         f"{', '.join(f'{e.z:.6g}' for e in rep.equilibria) or 'none'})")
-    out = {"objective": "m g + mu Phi_2(z*) = 0 (thesis eq. 3.3.2)", "z_star": z_star,
-           "optimum": {param: value}, "residual_N": res,
-           "solver_status": "converged",
-           "z_star_vertically_stable": found[0].vertically_stable,
-           "equilibria": [e.as_dict() for e in rep.equilibria],
-           "stats": {"solver": "casadi rootfinder newton", **{k: v for k, v in stats.items()
-                                                              if isinstance(v, (int, float, bool, str))}}}
-    if "plate_rho" in names and param != "plate.murho":
-        out["optimum"]["murho"] = float(pv[names.index("mu")] * pv[names.index("plate_rho")])
-    return out
+    murho = (float(pv[names.index("mu")] * pv[names.index("plate_rho")])
+             if "plate_rho" in names and param != "plate.murho" else None)
+    return HeightFit(z_star, param, value, res, found[0].vertically_stable,
+                     [e.as_dict() for e in rep.equilibria],
+                     {"solver": "casadi rootfinder newton",
+                      **{k: v for k, v in stats.items() if isinstance(v, (int, float, bool, str))}},
+                     murho, Units.of_scene(model.scene))
+
+
+@dataclass(frozen=True, repr=False)
+class HeightFit:
+    """The answer of `optimize --fit-height Z` and Study.fit_height(): the value of one parameter
+    (`param`: a scene key or a generated parameter's name) that puts the top's equilibrium at
+    z_star (m; thesis eq. 3.3.2), the residual m g + mu Phi_2(z*) (N) there, whether z* is
+    vertically stable, every equilibrium at the fitted value, the rootfinder's stats; `murho`
+    (A m^2 T m) the product the plate's field scales with, where the fit did not give it itself.
+    `answer["key"]` reads as_json()'s keys (as the dict it was)."""
+    z_star: float
+    param: str
+    value: float
+    residual_N: float
+    z_star_vertically_stable: bool
+    equilibria: list
+    stats: dict
+    murho: float | None = None
+    units: Units = field(default=Units(si=True), compare=False)
+
+    @property
+    def success(self) -> bool:
+        """scipy-style: the rootfinder converged and z* is an equilibrium (a failure raises instead)."""
+        return True
+
+    @property
+    def message(self) -> str:
+        stable = "vertically stable" if self.z_star_vertically_stable else "not vertically stable"
+        return (f"{self.param} = {self.value:.6g} puts the top at z* = {quantity(self.units, self.z_star, 'm')} "
+                f"({stable})")
+
+    def __repr__(self) -> str:
+        return f"HeightFit({self.param}={self.value:.6g}, z_star={quantity(self.units, self.z_star, 'm')})"
+
+    def as_json(self) -> dict:
+        """docs/contract.md's `optimize --fit-height` object (SI)."""
+        optimum = {self.param: self.value, **({"murho": self.murho} if self.murho is not None else {})}
+        return {"objective": "m g + mu Phi_2(z*) = 0 (thesis eq. 3.3.2)", "z_star": self.z_star,
+                "optimum": optimum, "residual_N": self.residual_N, "solver_status": "converged",
+                "z_star_vertically_stable": self.z_star_vertically_stable, "equilibria": self.equilibria,
+                "stats": self.stats}
+
+    def __getitem__(self, key: str):
+        return self.as_json()[key]

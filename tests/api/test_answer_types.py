@@ -333,3 +333,18 @@ def test_the_launch_odds_design_is_one_answer_for_the_api_and_the_command_line(t
     assert f"{100 * api.probability:.3g} %" in api.message and "LaunchDesign(launch-odds=" in repr(api)
     with pytest.raises(lev.UserError, match="launch options go with maximize='launch-odds' only"):
         lev.load("thesis_air").optimize("spin-range", {"top.mass": (0.0505, 0.0520)}, n=40)
+
+
+def test_the_height_fit_is_one_answer_for_the_api_and_the_command_line(capsys):
+    """runtime/design/fit_height.py: `optimize --fit-height Z --json` is the answer's as_json(),
+    which Study.fit_height(Z) returns; the fitted moment puts the top's equilibrium at Z, as the
+    equilibrium finder sees it (thesis eq. 3.3.2: the thesis's lower height 7.62 cm)."""
+    from levitron.runtime.design.fit_height import HeightFit
+    fit = lev.load("thesis").fit_height(0.0762)
+    assert type(fit) is HeightFit and lev.HeightFit is HeightFit and fit.success
+    _same(_cli_json(capsys, "optimize", "thesis", "--fit-height", "0.0762"), cli._clean(fit.as_json()),
+          skip=("wall_s", "provenance", "scene", "stats"))
+    assert fit.param == "mu" and fit["optimum"]["mu"] == fit.value      # answer["key"]: its JSON's
+    assert any(abs(e["z"] - 0.0762) <= 1e-8 for e in fit.equilibria) and abs(fit.residual_N) < 1e-10
+    assert fit.message.startswith(f"mu = {fit.value:.6g} puts the top at z* = 0.0762 m")
+    assert repr(fit) == f"HeightFit(mu={fit.value:.6g}, z_star=0.0762 m)"

@@ -76,7 +76,7 @@ def run(args) -> dict:
             raise UserError("--fit-height takes --param, not --vary or --constrain")
         model = model_of(args)
         refuse_tilted(model, "optimize fits and designs")
-        out = fit_equilibrium_height(model, args.fit_height, args.param)
+        out = fit_equilibrium_height(model, args.fit_height, args.param).as_json()     # its HeightFit
     elif args.fit is not None:
         from levitron.runtime.design.fit import fit
         from levitron.runtime.design.measurements import read_rows
