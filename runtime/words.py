@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import dataclasses
 import re
+import sys
 
 __all__ = ["FACES", "MARKER", "render", "setting", "speak"]
 
@@ -77,29 +78,36 @@ def render(text, face: str):
 
 def speak(answer, face: str):
     """`answer` with every sentence in it worded for `face`: text, and the text inside dicts,
-    lists, tuples, object arrays and dataclasses (a new one where anything changed); numbers,
+    lists, tuples, object arrays and dataclasses (a new one where anything changed: an answer
+    without a marker comes back as the same object, so the API pays only the walk); numbers,
     numeric arrays and other objects as they are."""
-    import numpy as np      # here: the command line's --version and --help start without NumPy
     if isinstance(answer, str):
         return render(answer, face)
-    if isinstance(answer, dict):
-        return type(answer)((k, speak(v, face)) for k, v in answer.items()) if type(answer) is dict \
-            else answer
-    if isinstance(answer, (list, tuple)) and type(answer) in (list, tuple):
-        return type(answer)(speak(v, face) for v in answer)
-    if isinstance(answer, np.ndarray) and answer.dtype == object:
-        out = answer.copy()
-        for i, v in np.ndenumerate(answer):
-            out[i] = speak(v, face)
+    if answer is None or type(answer) in (bool, int, float):
+        return answer
+    if type(answer) is dict:
+        new = {k: speak(v, face) for k, v in answer.items()}
+        return answer if all(new[k] is v for k, v in answer.items()) else new
+    if type(answer) in (list, tuple):
+        new = [speak(v, face) for v in answer]
+        return answer if all(a is b for a, b in zip(new, answer)) else type(answer)(new)
+    np = sys.modules.get("numpy")      # no array without NumPy: --version and --help start without it
+    if np is not None and isinstance(answer, (np.ndarray, np.generic)):
+        if answer.dtype != object:
+            return answer
+        new = [speak(v, face) for v in answer.flat]
+        if all(a is b for a, b in zip(new, answer.flat)):
+            return answer
+        out = np.empty(answer.shape, dtype=object)
+        out.flat[:] = new
         return out
     if dataclasses.is_dataclass(answer) and not isinstance(answer, type):
         changes = {}
         for f in dataclasses.fields(answer):
-            if not f.init:
-                continue
-            v = getattr(answer, f.name)
-            new = speak(v, face)
-            if new is not v:
-                changes[f.name] = new
+            if f.init:
+                v = getattr(answer, f.name)
+                new = speak(v, face)
+                if new is not v:
+                    changes[f.name] = new
         return dataclasses.replace(answer, **changes) if changes else answer
     return answer
