@@ -20,7 +20,7 @@ from levitron.runtime.design.measurements import Row, read_rows
 from levitron.runtime.design.fit import fit as _fit
 from levitron.runtime.model.load import NEEDS_OF_PART, Model, load_model
 from levitron.runtime.design.scene_keys import Vary, key_value, pvector, with_values
-from levitron.runtime.ui.human import Units, restate
+from levitron.runtime.ui.human import Units
 from levitron.runtime.words import render, speak
 
 from . import arguments as arg
@@ -65,20 +65,19 @@ def load(scene: str | Path, overrides: Mapping[str, float | str] | None = None, 
 
 def _in_scene_units(method):
     """A Study method that speaks the API's words and the scene's units: the settings its answer's
-    sentences and its UserError name are worded as keyword arguments (runtime/words.py, "api"),
-    and a dimensionless scene's message is restated without SI units (the runtime's speak SI, as
-    the JSON does). The UserError keeps the setting, value, unit and hint it carried."""
+    sentences and its UserError name are worded as keyword arguments (runtime/words.py, "api");
+    the error's quantities are shown in the scene's units, the answer's in SI (as the JSON's). The
+    UserError keeps the setting, value, unit and hint it carried."""
     @functools.wraps(method)
     def wrapper(self, *args, **kwargs):
         try:
             return speak(method(self, *args, **kwargs), "api")
         except UserError as exc:
-            text = exc.words("api")
-            text = text if self.units.si else restate(text, self.units)
+            text = exc.words("api", self.units)
             if text == str(exc):
                 raise
             raise UserError(text, param=exc.param, value=exc.value, unit=exc.unit,
-                            hint=exc.hint and render(exc.hint, "api")) from None
+                            hint=exc.hint and render(exc.hint, "api", self.units)) from None
     return wrapper
 
 

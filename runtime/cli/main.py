@@ -205,17 +205,13 @@ def _scene_units(args):
 
 
 def _report(args, exc: BaseException) -> int:
-    """Print the one-line message of `exc` and return the exit code. The messages speak SI (as the
-    JSON does); on a dimensionless scene they are restated in its own units."""
+    """Print the one-line message of `exc` and return the exit code. A UserError's settings are
+    worded as flags and its quantities shown in the scene's units (runtime/words.py)."""
     from levitron.scene.checks import SceneError
     from levitron.runtime.model.cbuild import CompileError
     prefix = f"levitron {args.command}"
     if isinstance(exc, (UserError, SceneError)):
-        message = exc.words("cli") if isinstance(exc, UserError) else str(exc)
-        units = _scene_units(args) if isinstance(exc, UserError) else None
-        if units is not None and not units.si:
-            from levitron.runtime.ui.human import restate
-            message = restate(message, units)
+        message = exc.words("cli", _scene_units(args)) if isinstance(exc, UserError) else str(exc)
         text, code = f"{prefix}: error: {one_line(message)}", EXIT_USER
     elif isinstance(exc, CompileError):
         output = str(exc).splitlines()[1:]          # the first line is the compiler's command

@@ -19,6 +19,7 @@ import math
 
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.errors import UserError
+from levitron.runtime.words import si, si_unit
 
 VANISHING = 1e-2     # k z_s / (m g) below this: the stiffness is vanishing (1% of the hover's scale m g / z_s)
 UNBOUNDED = 1e6      # an interval end at z_c this many times the optimum's sigma_hi: no upper bound
@@ -37,8 +38,8 @@ def warning(stiffness: float, mass: float, g: float, z_s: float, max_mass: float
         return None
     margin = "" if max_mass is None else (f"; a top {(max_mass - mass) / mass:.2g} (relative) heavier "
                                           "no longer hovers")
-    return (f"the optimum sits at vanishing stiffness: k = {stiffness:.3g} N/m, {rel:.2g} of m g / z_s, "
-            f"z_s = {z_s:.6g} m near z_c{margin}; add «constrain» stiffness>=K for a robust design")
+    return (f"the optimum sits at vanishing stiffness: k = {si(stiffness, 'N/m', '.3g')}, {rel:.2g} of m g / z_s, "
+            f"z_s = {si(z_s, 'm')} near z_c{margin}; add «constrain» stiffness>=K for a robust design")
 
 
 def check_bounded(model, p, interval: tuple[float, float], where: str) -> None:
@@ -55,6 +56,6 @@ def check_bounded(model, p, interval: tuple[float, float], where: str) -> None:
                   default=None)
     if at_edge is not None and at_edge[1] > UNBOUNDED * interval[1]:
         raise UserError(f"the spin objective is unbounded at {where}: as the hover height nears "
-                        f"z_c = {rep.z_c:.6g} m (mass {rep.max_mass:.6g} kg, g = {P['g']:.6g}) the stable "
-                        f"interval from {at_edge[0]:.4g} rad/s has no upper end; add «constrain» "
-                        "stiffness>=K with K > 0 (N/m)")
+                        f"z_c = {si(rep.z_c, 'm')} (mass {si(rep.max_mass, 'kg')}, g = {P['g']:.6g}) the stable "
+                        f"interval from {si(at_edge[0], 'rad/s', '.4g')} has no upper end; add «constrain» "
+                        f"stiffness>=K with K > 0 ({si_unit('N/m')})")

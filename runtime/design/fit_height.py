@@ -21,7 +21,7 @@ from levitron.scene import plates
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.errors import UserError
 from levitron.runtime.ui.human import Units, quantity
-from levitron.runtime.words import setting
+from levitron.runtime.words import setting, si_unit
 
 # parameters that must be positive
 POSITIVE = ("m", "g", "A", "C")
@@ -86,7 +86,8 @@ def fit_equilibrium_height(model, z_star: float, param: str = "mu") -> HeightFit
     by_key = "." in str(param)
     x0, p_of, exact = _key_route(model, param) if by_key else _name_route(model, param)
     if not (z_star > 0 and math.isfinite(z_star)):
-        raise UserError(f"{setting('fit_height', f'{z_star}')} must be a positive height (m) above the plate")
+        raise UserError(f"{setting('fit_height', f'{z_star}')} must be a positive height "
+                        f"({si_unit('m')}) above the plate")
     onaxis = model.casadi("onaxis")
     x = ca.SX.sym("x")
     p = p_of(x)

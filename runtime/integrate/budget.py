@@ -26,6 +26,7 @@ import sys
 
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.methods import lookup, refuse_step
+from levitron.runtime.words import si
 
 MAX_STEPS_CAP = 10**7      # absolute cap on the steps of one run, whatever the options ...
 SCIPY_STEPS_CAP = 10**5    # ... and for scipy, whose steps cost ~0.1-1 ms (a Python call per stage)
@@ -60,9 +61,14 @@ def default_budget(method: str, t_end: float, h: float | None = None,
     return int(min(cap, max(MIN_BUDGET, math.ceil(est))))
 
 
+def _s(t: float) -> str:
+    """A run time in a message: a quantity in s (runtime/words.py), shown in the scene's units."""
+    return si(t, "s", ".3g")
+
+
 def budget_message(max_steps: int, t: float | None = None) -> str:
     """The message of a run stopped by its step budget."""
-    at = "" if t is None else f" at t = {t:.6g} s"
+    at = "" if t is None else f" at t = {si(t, 's', '.6g')}"
     return (f"stopped: the step budget of {max_steps} steps ran out{at} before t_end (the motion "
             "needs ever smaller steps, e.g. near a singularity of the coordinates; try other "
             "coordinates, a looser «tol» or a shorter «t_end»)")
@@ -100,20 +106,20 @@ def check_options(method: str, t_end: float, tol: float | None = None, h: float 
             raise UserError(f"step h={h} must be positive and finite; pass e.g. «step=1e-4»",
                             param="step", value=h, unit="s")
         if h > t_end:
-            raise UserError(f"step h={h:.3g} s is longer than the run t_end={t_end:.3g} s; pass h <= t_end",
+            raise UserError(f"step h={_s(h)} is longer than the run t_end={_s(t_end)}; pass h <= t_end",
                             param="step", value=h, unit="s")
         if time_scale is not None:
             if h > time_scale:
-                raise UserError(f"step h={h:.3g} s is longer than {what} ({time_scale:.3g} s), which it "
-                                f"cannot resolve; pass h <= {time_scale / 20:.3g} s", param="step", value=h, unit="s")
+                raise UserError(f"step h={_s(h)} is longer than {what} ({_s(time_scale)}), which it "
+                                f"cannot resolve; pass h <= {_s(time_scale / 20)}", param="step", value=h, unit="s")
             if h < MIN_STEP_FRACTION * time_scale:
-                raise UserError(f"step h={h:.3g} s is below {MIN_STEP_FRACTION:g} of {what} "
-                                f"({time_scale:.3g} s); pass h >= {MIN_STEP_FRACTION * time_scale:.3g} s",
+                raise UserError(f"step h={_s(h)} is below {MIN_STEP_FRACTION:g} of {what} "
+                                f"({_s(time_scale)}); pass h >= {_s(MIN_STEP_FRACTION * time_scale)}",
                                 param="step", value=h, unit="s")
         n = fixed_steps(t_end, h)
         if n > cap:
-            raise UserError(f"t_end={t_end:.3g} s at step h={h:.3g} s takes {n:.3g} steps, above the budget "
-                            f"cap of {cap:.0e} for {method}; pass t_end <= {cap * h:.3g} s or a "
+            raise UserError(f"t_end={_s(t_end)} at step h={_s(h)} takes {n:.3g} steps, above the budget "
+                            f"cap of {cap:.0e} for {method}; pass t_end <= {_s(cap * h)} or a "
                             "larger step", param="t_end", value=t_end, unit="s")
         return
     refuse_step(method, h)
@@ -130,12 +136,12 @@ def check_options(method: str, t_end: float, tol: float | None = None, h: float 
         return
     resolvable = RESOLUTION_ULPS * sys.float_info.epsilon * t_end * STEPS_PER_PERIOD
     if time_scale < resolvable:
-        raise UserError(f"{what} ({time_scale:.3g} s) is below what the time variable resolves over "
-                        f"t_end={t_end:.3g} s (at least {resolvable:.3g} s); pass a shorter «t_end» or a "
+        raise UserError(f"{what} ({_s(time_scale)}) is below what the time variable resolves over "
+                        f"t_end={_s(t_end)} (at least {_s(resolvable)}); pass a shorter «t_end» or a "
                         "slower spin", param="t_end", value=t_end, unit="s")
     need = STEPS_PER_PERIOD * t_end / time_scale
     if need > cap:
-        raise UserError(f"t_end={t_end:.3g} s spans {t_end / time_scale:.3g} times {what} "
-                        f"({time_scale:.3g} s): about {need:.3g} steps, above the budget cap of "
-                        f"{cap:.0e} for {method}; pass t_end <= {cap * time_scale / STEPS_PER_PERIOD:.3g} s",
+        raise UserError(f"t_end={_s(t_end)} spans {t_end / time_scale:.3g} times {what} "
+                        f"({_s(time_scale)}): about {need:.3g} steps, above the budget cap of "
+                        f"{cap:.0e} for {method}; pass t_end <= {_s(cap * time_scale / STEPS_PER_PERIOD)}",
                         param="t_end", value=t_end, unit="s")

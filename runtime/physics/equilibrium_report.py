@@ -11,6 +11,7 @@ import math
 from dataclasses import dataclass, field
 
 from levitron.runtime.ui.human import Units, quantity
+from levitron.runtime.words import si
 
 
 @dataclass(frozen=True, repr=False)
@@ -76,22 +77,27 @@ class EquilibriumReport:
         sing = ""
         if self.singularities:
             sing = ("; the on-axis functions are singular at " + ", ".join(
-                f"z = {s.z:.6g} m ({s.kind})" if s.kind == "pole" else
-                f"z in [{s.z:.6g}, {s.z_end:.6g}] m ({s.kind})" for s in self.singularities))
+                f"z = {si(s.z, 'm')} ({s.kind})" if s.kind == "pole" else
+                f"z in {si(f'[{s.z:.6g}, {s.z_end:.6g}]', 'm')} ({s.kind})" for s in self.singularities))
         marginal = [e for e in self.equilibria if e.marginal]
         if marginal:
-            return (f"the top ({m:.6g} kg) is exactly as heavy as the plate can hold: a double root "
-                    f"at z_c = {marginal[0].z:.6g} m with U'' = 0, marginal, not vertically stable "
+            return (f"the top ({si(m, 'kg')}) is exactly as heavy as the plate can hold: a double root "
+                    f"at z_c = {si(marginal[0].z, 'm')} with U'' = 0, marginal, not vertically stable "
                     "(thesis 3.3.3); take a lighter top" + sing)
         if self.equilibria:
             return ("no vertically stable equilibrium: at every root of m g + mu Phi_2 = 0 "
-                    f"(z = {', '.join(f'{e.z:.6g}' for e in self.equilibria)} m) mu Phi_3 <= 0 "
+                    f"(z = {si(', '.join(f'{e.z:.6g}' for e in self.equilibria), 'm')}) mu Phi_3 <= 0 "
                     "(thesis 3.3.3)" + sing)
         if self.max_mass is not None and self.z_c is not None and m > self.max_mass:
-            return (f"the top of mass {m:.6g} kg is too heavy for the plate, which holds at most "
-                    f"{self.max_mass:.6g} kg (at z_c = {self.z_c:.6g} m)" + sing)
+            return (f"the top of mass {si(m, 'kg')} is too heavy for the plate, which holds at most "
+                    f"{si(self.max_mass, 'kg')} (at z_c = {si(self.z_c, 'm')})" + sing)
         return (f"m g + mu Phi_2(z) has no root for z > 0: the field cannot hold a top of mass "
-                f"{m:.6g} with this moment" + sing)
+                f"{si(m, 'kg')} with this moment" + sing)
+
+
+def _span(ends, unit: str) -> str:
+    """"[lo, hi]" as one quantity marker (runtime/words.py) in the SI unit `unit`."""
+    return si(f"[{ends[0]:.6g}, {ends[1]:.6g}]", unit)
 
 
 def hover_reasons(rep: EquilibriumReport, m: float) -> list[str]:
@@ -106,10 +112,10 @@ def hover_reasons(rep: EquilibriumReport, m: float) -> list[str]:
     else:
         zs = [e.z for e in rep.equilibria if e.vertically_stable]
         if not zs:
-            reasons.append(f"a top of mass in [{band.mass[0]:.6g}, {band.mass[1]:.6g}] kg would hover "
-                           f"inside the stable band [{band.z[0]:.6g}, {band.z[1]:.6g}] m")
+            reasons.append(f"a top of mass in {_span(band.mass, 'kg')} would hover "
+                           f"inside the stable band {_span(band.z, 'm')}")
         elif not any(b.z[0] <= z <= b.z[1] for b in rep.stable_bands for z in zs):
-            reasons.append(f"this top hovers at z = {zs[0]:.6g} m, outside the stable band "
-                           f"[{band.z[0]:.6g}, {band.z[1]:.6g}] m: no spin stabilises it there; a top of "
-                           f"mass in [{band.mass[0]:.6g}, {band.mass[1]:.6g}] kg would hover inside it")
+            reasons.append(f"this top hovers at z = {si(zs[0], 'm')}, outside the stable band "
+                           f"{_span(band.z, 'm')}: no spin stabilises it there; a top of "
+                           f"mass in {_span(band.mass, 'kg')} would hover inside it")
     return reasons

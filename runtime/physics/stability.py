@@ -20,6 +20,7 @@ from levitron.scene.plates.symmetry import symmetry
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.errors import UserError
 from levitron.runtime.physics.friction import without_friction
+from levitron.runtime.words import si
 from levitron.runtime.physics.eigen_route import (
     full_equilibrium_state,
     spin_intervals_eigen,
@@ -113,9 +114,10 @@ def _verdict(z_s: float, ph, mu: float, disc, eig, approximations, timings: dict
     reason = None
     interval = None
     if not vertical:
-        reason = f"z_s = {z_s:.6g} m is not vertically stable (mu Phi_3 = {mu * ph[3]:.3g} N/m <= 0, thesis 3.3.3)"
+        reason = (f"z_s = {si(z_s, 'm')} is not vertically stable (mu Phi_3 = {si(mu * ph[3], 'N/m', '.3g')} <= 0, "
+                  "thesis 3.3.3)")
     elif not bounded:
-        reason = (f"at z_s = {z_s:.6g} m the top is vertically stable but no spin rate makes it "
+        reason = (f"at z_s = {si(z_s, 'm')} the top is vertically stable but no spin rate makes it "
                   "linearly stable: N(t) (thesis 3.3.11) never has four real roots; the height is "
                   "outside the stable band (see `«levitron=equilibrium»`)")
     else:
@@ -172,8 +174,8 @@ def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
         P = eqm.params_of(model, p)
         m_z = eqm.hover_mass(eqm.model_onaxis(model, p), P["g"], P["mu"], float(height))
         if not (math.isfinite(m_z) and m_z > 0):
-            raise UserError(f"no top hovers at z = {height:.6g} m: the field there holds no mass "
-                            f"(m(z) = -mu Phi_2(z)/g = {m_z:.3g} kg <= 0, thesis 3.3.2); pick a height "
+            raise UserError(f"no top hovers at z = {si(height, 'm')}: the field there holds no mass "
+                            f"(m(z) = -mu Phi_2(z)/g = {si(m_z, 'kg', '.3g')} <= 0, thesis 3.3.2); pick a height "
                             "inside the stable band (`«levitron=equilibrium»` gives it)")
         return stability_of(model, mass=m_z, p=p, z_s=float(height), eigen=eigen)
     p = without_friction(model, model.with_params({} if mass is None else {"m": float(mass)}, p))

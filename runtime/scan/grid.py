@@ -10,6 +10,7 @@ import math
 import numpy as np
 
 from levitron.runtime.errors import UserError
+from levitron.runtime.words import si_unit
 from levitron.runtime.ui.validate import count_text, number_text
 
 AXES = ("tilt", "mass", "height")
@@ -67,7 +68,7 @@ def check_axis(axis: str, values: np.ndarray) -> None:
                         "3.2.1), where the ideal top stays at any spin, so that row tests nothing; "
                         "start the axis above 0, e.g. «tilt=0.001:0.3:10»")
     if axis == "mass" and values[0] <= 0:
-        raise UserError(f"«mass» must be positive (kg); got LO = {values[0]:g}")
+        raise UserError(f"«mass» must be positive ({si_unit('kg')}); got LO = {values[0]:g}")
     if axis == "height" and not (values[0] > -0.5 and values[-1] < 0.5):
         raise UserError(f"«height» is the displacement as a fraction of z_s and must lie strictly "
                         f"between -0.5 and 0.5 (the box is z_s / 2 wide); got {values[0]:g}:{values[-1]:g}")

@@ -23,8 +23,8 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
-
 from levitron.runtime.ui import progress
+from levitron.runtime.ui.human import duration      # wall times: the computer's seconds, any scene
 from levitron.runtime.errors import UserError
 from levitron.scene.faults import die_at
 from levitron.runtime.integrate.methods import resolve
@@ -309,7 +309,7 @@ def dask_client(address: str, timeout: float | None = None):
     wait = timeout + min(CONNECT_GRACE_S, max(1.0, 0.5 * timeout))
     th.join(wait)
     if th.is_alive():
-        raise UserError(f"no dask scheduler answered at {address!r} within {wait:g} s (is it a "
+        raise UserError(f"no dask scheduler answered at {address!r} within {duration(wait)} (is it a "
                         "dask scheduler? another service accepts the connection but never answers "
                         "dask's handshake): give the address `dask scheduler` prints, or use «workers» N")
     if isinstance(box.get("error"), MemoryError):      # numpy's _ArrayMemoryError too
@@ -327,7 +327,7 @@ def dask_client(address: str, timeout: float | None = None):
         client.wait_for_workers(1, timeout=timeout)
     except TimeoutError:
         client.close()
-        raise UserError(f"the dask scheduler at {address!r} has no workers (waited {timeout:g} s): "
+        raise UserError(f"the dask scheduler at {address!r} has no workers (waited {duration(timeout)}): "
                         f"start some with `dask worker {address}`, or use «workers» N") from None
     return client
 
@@ -393,7 +393,7 @@ def run_dask(common: Common, chunks: Sequence[list], client, quiet: bool = False
                 elif alone_since is None:
                     alone_since = time.monotonic()
                 elif time.monotonic() - alone_since > timeout:
-                    raise lost(f"lost every worker mid-{what} (none for {timeout:g} s)")
+                    raise lost(f"lost every worker mid-{what} (none for {duration(timeout)})")
         finally:
             if pending:
                 client.cancel(list(pending))

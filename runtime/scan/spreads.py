@@ -9,6 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from levitron.runtime.errors import UserError
+from levitron.runtime.words import si_unit
 from levitron.runtime.ui.validate import number_text
 
 
@@ -100,7 +101,7 @@ def parse_input(name: str, spec, reference: float = 1.0) -> Dist:
         return parse_dist(name, body)
     d = parse_dist(name, spec)
     centre = 0.5 * (d.a + d.b) if d.kind == "uniform" else d.a
-    what = "the mass in kg" if name == "mass" else "the magnets' strength as a factor (1 = the scene's)"
+    what = f"the mass in {si_unit('kg')}" if name == "mass" else "the magnets' strength as a factor (1 = the scene's)"
     if not (0.5 * reference < centre < 2 * reference):
         flag = f"«{name}»"
         raise UserError(f"launch {name} = {spec!r} reads as {what}, centred at {centre:g}, not near "

@@ -39,6 +39,7 @@ import numpy as np
 
 from levitron.runtime.physics.equilibrium import hover_height
 from levitron.runtime.errors import UserError
+from levitron.runtime.words import si
 from levitron.runtime.ui.validate import count, real
 from levitron.runtime.integrate.budget import MAX_N_OUT
 from levitron.runtime.integrate.run import Box, Result, integrate
@@ -118,8 +119,8 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
     if part == "full" and "base_tilt" in model.param_names:      # plate.tilt: start off the axis
         x0, tilted_note = tilted_start(model, pt, z_s, spin, x0, p)
     if bx.excess(x0) > 0:
-        raise UserError(f"the initial state is already outside the box (offset {offset} m vs half-width "
-                        f"{bx.z_hi - z_s:.4g} m); pass a smaller «offset» or a larger «box»")
+        raise UserError(f"the initial state is already outside the box (offset {si(offset, 'm', '')} vs "
+                        f"half-width {si(bx.z_hi - z_s, 'm', '.4g')}); pass a smaller «offset» or a larger «box»")
     scale = state_scales(pt, z_s, spin, pvals)
     air = part == "full" and flight.has_friction(model)
     # in air the work of friction is integrated inside the run (the energy balance's W)

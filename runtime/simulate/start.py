@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from levitron.runtime.errors import UserError
+from levitron.runtime.words import si, si_unit
 from levitron.runtime.integrate.run import Box
 from levitron.runtime.physics.eigen_route import growth_rate, transverse_matrix
 from levitron.runtime.simulate.invariants import rows_of
@@ -180,7 +181,7 @@ def tilted_start(model, part, z_s: float, spin: float, x0: np.ndarray, p) -> tup
         return x0, f"{exc}: the run starts on the axis"
     off = math.hypot(*eq.position[:2])
     return eq.at_spin(sigma) + (x0 - level), (
-        f"base tilted: the launch is taken at the top's equilibrium there, {off:.6g} m off the axis "
+        f"base tilted: the launch is taken at the top's equilibrium there, {si(off, 'm')} off the axis "
         "(`«levitron=stability»`); L_z is not conserved over a tilted base")
 
 
@@ -205,7 +206,7 @@ def default_box(part, z_s: float, half_width: float | None = None) -> Box:
     """|z - z_s| <= b and sqrt(x^2 + y^2) <= b, b = z_s / 2 unless given."""
     b = 0.5 * z_s if half_width is None else float(half_width)
     if not (b > 0 and math.isfinite(b)):
-        raise UserError(f"box half-width {half_width} must be a positive length in m")
+        raise UserError(f"box half-width {half_width} must be a positive length in {si_unit('m')}")
     s = list(part.states)
     ix = s.index("x") if "x" in s else -1
     iy = s.index("y") if "y" in s else -1

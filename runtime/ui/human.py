@@ -213,10 +213,11 @@ def restate(text, units: Units) -> str:
     "z_s = 0.157391") with its lengths and masses in the human units (bare numbers in a
     dimensionless scene, whose JSON sentences still say m and kg)."""
     import re
+    from levitron.runtime.words import in_units
     if not text:
         return ""
     text = re.sub(rf"\[{_NUM}, {_NUM}\] m\b",
-                  lambda m: units.length_span(float(m.group(1)), float(m.group(2))), str(text))
+                  lambda m: units.length_span(float(m.group(1)), float(m.group(2))), in_units(str(text)))
     text = re.sub(rf"\[{_NUM}, {_NUM}\] kg\b",
                   lambda m: span(float(m.group(1)), float(m.group(2)), units.mass), text)
     text = re.sub(rf"{_NUM} m\b(?!/)", lambda m: units.length(float(m.group(1))), text)

@@ -13,7 +13,7 @@ import numbers
 import numpy as np
 
 from levitron.runtime.errors import UserError
-from levitron.runtime.words import MARKER
+from levitron.runtime.words import MARKER, si, si_unit
 
 
 def _param(label: str) -> str:
@@ -27,8 +27,11 @@ def real(value, label: str, *, positive: bool = False, nonnegative: bool = False
     """`value` as a finite float (not a bool, not text), within the given bounds; `what` names the
     quantity in the messages ("run length", "tolerance"); the UserError carries the setting
     (`param`, from the label's marker), the value, `unit` and the hint."""
-    noun = f"{what} in {unit}" if what and unit else what or (f"number in {unit}" if unit else "number")
-    sp = f" {unit}" if unit else ""
+    named = si_unit(unit) if unit else ""
+    noun = f"{what} in {named}" if what and unit else what or (f"number in {named}" if unit else "number")
+
+    def said_with_unit(v) -> str:
+        return si(v, unit, "g") if unit else f"{v:g}"
 
     def refuse(said, v, problem: str, hint: str):
         raise UserError(f"{label} = {said} {problem}" + (f": {hint}" if hint else ""), param=_param(label),
@@ -41,9 +44,9 @@ def real(value, label: str, *, positive: bool = False, nonnegative: bool = False
     if positive and not v > 0:
         refuse(f"{v:g}", v, f"must be a positive {noun}", "")
     if nonnegative and v < 0:
-        refuse(f"{v:g}{sp}", v, "must not be negative", "")
+        refuse(said_with_unit(v), v, "must not be negative", "")
     if max_abs is not None and abs(v) > max_abs:
-        refuse(f"{v:g}{sp}", v, f"is beyond +-{max_abs:g}{sp}", "give a smaller value")
+        refuse(said_with_unit(v), v, f"is beyond +-{said_with_unit(max_abs)}", "give a smaller value")
     return v
 
 

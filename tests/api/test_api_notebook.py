@@ -146,6 +146,8 @@ def test_a_study_says_what_it_is():
     ("«Tilt» and «two words» are no markers", "«Tilt» and «two words» are no markers",
      "«Tilt» and «two words» are no markers"),
     ("a 2-3 mm top at 1e-9 s", "a 2-3 mm top at 1e-9 s", "a 2-3 mm top at 1e-9 s"),
+    ("«t_end» = ‹-1|s›, at z = ‹0.1574|m› in ‹|m›", "--t-end = -1 s, at z = 0.1574 m in m",
+     "t_end = -1 s, at z = 0.1574 m in m"),
 ])
 def test_a_runtime_sentence_is_worded_by_each_face(text, cli, api):
     """runtime/words.py render: the settings a runtime sentence names by marker are the command
@@ -227,6 +229,9 @@ def test_a_stability_without_interval_gives_its_height_with_a_unit():
     study = lev.load("thesis")
     msg = study.stability().message
     assert "at z_s = 15.74 cm the top is vertically stable" in msg and "0.157391" not in msg
-    # the runtime's own sentence (the JSON's, the command line's errors) carries its SI unit
+    # the runtime's own sentence carries its SI unit (the JSON's, as every face shows it by default)
     from levitron.runtime.physics.stability import stability_of
-    assert "at z_s = 0.157391 m the top is vertically stable" in stability_of(study.model).reason
+    from levitron.runtime.words import in_units, render
+    reason = stability_of(study.model).reason
+    assert "at z_s = 0.157391 m the top is vertically stable" in in_units(reason), reason
+    assert study.stability().as_json()["reason"] == render(reason, "api")

@@ -88,7 +88,7 @@ def test_no_si_unit_in_the_apis_results(scene):
     """The Python API's results (their repr and message) show the scene's units too; the same
     results of an SI scene keep theirs (the check can fail)."""
     import levitron as lev
-    with pytest.raises(lev.UserError) as too_heavy:       # a message of the runtime, restated
+    with pytest.raises(lev.UserError) as too_heavy:       # a message of the runtime, in the scene's units
         lev.load(scene, {"top.mass": 5.2}).simulate(40.0)
     assert "too heavy" in str(too_heavy.value) and si_units(str(too_heavy.value)) == []
     study = lev.load(scene)
@@ -104,8 +104,8 @@ def test_no_si_unit_in_the_apis_results(scene):
 
 
 def test_no_si_unit_in_a_dimensionless_scenes_error_line(scene, capsys):
-    """The runtime's error messages speak SI (as the JSON does); the command line restates them in
-    a dimensionless scene's units. An SI scene's keep theirs."""
+    """The runtime's error messages write their quantities as markers (runtime/words.py `si`); the
+    command line shows them in a dimensionless scene's units. An SI scene's keep theirs."""
     assert cli.main(["simulate", scene, "--set", "top.mass=5.2", "--spin", "40"]) == 2
     err = capsys.readouterr().err
     assert "too heavy" in err and si_units(err) == [], err

@@ -118,3 +118,81 @@ def test_speak_words_every_sentence_of_an_answer(face):
     assert b.details["note"] == ("--set top.mass=0.05" if flag else "overrides={'top.mass': 0.05}")
     assert b.numbers is xs and list(b.reasons) == [None, "--tol 1e-9" if flag else "tol=1e-9"]
     assert a.reason == "raise «t_end»"          # the answer itself is not changed
+
+
+# ---------------------------------------------------------------- quantities in the scene's units
+
+SI_UNIT = r"A m\^2|kg m\^2|m/s\^2|m/s|A/m|T m|J m|N/m|rad/s|mT|Hz|rpm|kg|N|T|A|m|s"
+AFTER_A_NUMBER = re.compile(rf"^ ({SI_UNIT})(?![\w^/])|\d ({SI_UNIT})(?![\w^/])")
+AS_A_WORD = re.compile(rf"\b(in|number) ({SI_UNIT})(?![\w^/])|\(({SI_UNIT})\)")
+# magpylib speaks SI whatever the scene: its collection's positions are in m, its magnetisation in A/m
+SI_ALWAYS = {"levitron/from_magpylib.py": "magpylib's own SI inputs, before any scene"}
+
+
+def _unit_spelt(message: ast.AST) -> str | None:
+    """The SI unit an error message's literal text spells after a number or a value (an f-string's
+    field) or names as a word, outside a quantity marker; None if it spells none."""
+    for node in ast.walk(message):
+        if not isinstance(node, ast.JoinedStr | ast.Constant):
+            continue
+        parts = node.values if isinstance(node, ast.JoinedStr) else [node]
+        for before, part in zip([None, *parts], parts):
+            if not (isinstance(part, ast.Constant) and isinstance(part.value, str)):
+                continue
+            text = part.value
+            hit = AS_A_WORD.search(text) or re.search(rf"\d ({SI_UNIT})(?![\w^/])", text)
+            if isinstance(before, ast.FormattedValue):
+                hit = hit or AFTER_A_NUMBER.match(text)
+            if hit:
+                return hit.group()
+    return None
+
+
+def _errors(roots):
+    """(module, call) of every UserError the source makes, its subclasses' (NoEquilibrium, ...) too."""
+    trees = {path.relative_to(ROOT).as_posix(): ast.parse(path.read_text())
+             for root in roots for path in sorted(root.rglob("*.py"))}
+    kinds = {"UserError"} | {n.name for tree in trees.values() for n in ast.walk(tree)
+                             if isinstance(n, ast.ClassDef)
+                             and any(getattr(b, "id", None) == "UserError" for b in n.bases)}
+    for rel, tree in trees.items():
+        for node in ast.walk(tree):
+            if (isinstance(node, ast.Call) and node.args
+                    and getattr(node.func, "id", getattr(node.func, "attr", None)) in kinds):
+                yield rel, node
+
+
+def test_no_error_spells_an_si_unit_outside_a_quantity():
+    """A UserError's number with an SI unit is a quantity marker (runtime/words.py `si`), which
+    each face shows in the scene's units: a dimensionless scene's error has no m, kg or s (before,
+    a regex, ui/human.py restate, dropped them from the finished text, and with them the seconds
+    of a wall time, which are the computer's in every scene)."""
+    bad = [f"{rel}:{node.lineno}: {unit!r}" for rel, node in _errors((RUNTIME, ROOT / "levitron"))
+           if rel not in SI_ALWAYS and (unit := _unit_spelt(node.args[0])) is not None]
+    assert bad == [], "write the number as si(value, unit) (runtime/words.py):\n" + "\n".join(bad)
+
+
+def test_the_unit_check_finds_a_unit_and_spares_a_quantity():
+    def spelt(src: str):
+        return _unit_spelt(ast.parse(src, mode="eval").body.args[0])
+    assert spelt('UserError(f"z = {z:.6g} m is too low")') == " m"
+    assert spelt('UserError(f"step h={h} s; pass a number in s")') == "in s"
+    assert spelt('UserError("give a height (m) above the plate")') == "(m)"
+    assert spelt('UserError(f"z = {si(z, \'m\')} is too low, {n} steps, {mass} kg")') == " kg"
+    assert spelt('UserError(f"z = {si(z, \'m\')} is too low after {n} steps")') is None
+
+
+@pytest.mark.parametrize("si_scene,shown", [
+    (True, "z = 0.1574 m, spin 3 rad/s over 5 s, a height in m, [0.1, 0.2] kg"),
+    (False, "z = 0.1574, spin 3 rad/time over 5 time units, a height in scene units, [0.1, 0.2]"),
+])
+def test_a_quantity_is_shown_in_the_scenes_units(si_scene, shown):
+    from levitron.runtime.errors import UserError
+    from levitron.runtime.ui.human import Units
+    from levitron.runtime.words import si, si_unit
+    text = (f"z = {si(0.1574, 'm')}, spin {si(3, 'rad/s')} over {si(5.0, 's', 'g')}, a height in "
+            f"{si_unit('m')}, {si('[0.1, 0.2]', 'kg')}")
+    for face in ("cli", "api"):
+        assert render(text, face, Units(si=si_scene)) == shown
+        assert UserError(text).words(face, Units(si=si_scene)) == shown
+    assert render(text, "cli") == render(text, "cli", Units(si=True))      # no scene: SI, the JSON's

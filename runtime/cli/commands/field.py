@@ -13,6 +13,7 @@ import math
 import numpy as np
 
 from levitron.runtime.errors import UserError
+from levitron.runtime.words import si
 from levitron.runtime.ui.validate import number_text
 from levitron.runtime.ui.human import Units, lines, restate, sig
 from levitron.runtime.physics.plates import plate_field
@@ -52,7 +53,7 @@ def run(args) -> dict:
     reach = FAR * scene.length_scale
     for t, r in zip(args.at, points):
         if np.max(np.abs(r)) > reach:
-            raise UserError(f"--at {t}: the point is more than {FAR:g} plate sizes ({reach:.3g} m) from "
+            raise UserError(f"--at {t}: the point is more than {FAR:g} plate sizes ({si(reach, 'm', '.3g')}) from "
                             "the plate, where the field is zero in double precision: give a nearer point")
     with np.errstate(all="ignore"):       # an overflow far out is reported as B_exact null
         exact = plate_field(scene.data["plate"], scene.params, points)

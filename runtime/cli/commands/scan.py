@@ -7,6 +7,7 @@ import re
 
 from levitron.runtime.scan import stability_map as sc
 from levitron.runtime.errors import UserError
+from levitron.runtime.words import si_unit
 from levitron.runtime.ui.human import Units, duration, lines, sig
 from levitron.runtime.integrate import verdict
 from levitron.runtime.integrate.methods import DEFAULT, FULL_MODEL_METHODS, lookup
@@ -82,7 +83,7 @@ def run(args) -> dict:
     others = parse_range(spec, axis)
     check_axis(axis, others)
     if args.t_end is not None and not args.t_end > 0:
-        raise UserError(f"--t-end {args.t_end} must be a positive run length in s, e.g. --t-end 5")
+        raise UserError(f"--t-end {args.t_end} must be a positive run length in {si_unit('s')}, e.g. --t-end 5")
     if args.workers is None or args.workers < 1:
         raise UserError(f"--workers {args.workers} must be at least 1 (1 = serial)")
     if args.scheduler is not None and args.workers != 1:

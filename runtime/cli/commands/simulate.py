@@ -4,6 +4,7 @@ are its actions, and a full-model run without air friction adds `linear`."""
 from __future__ import annotations
 
 from levitron.runtime.errors import UserError
+from levitron.runtime.words import si_unit
 from levitron.runtime.simulate import animation, trajectory_file
 from levitron.scene.plates.symmetry import symmetry
 from levitron.runtime.simulate.start import linear_context
@@ -54,10 +55,10 @@ def add_arguments(parser) -> None:
 
 def run(args) -> dict:
     if args.spin is None:
-        raise UserError("pass --spin W (rad/s, or rad per time unit in a dimensionless scene); "
+        raise UserError(f"pass --spin W ({si_unit('rad/s')}); "
                         "`levitron stability SCENE` gives the stable spin interval")
     if args.t_end is not None and not args.t_end > 0:
-        raise UserError(f"--t-end {args.t_end} must be a positive run length in s, e.g. --t-end 1")
+        raise UserError(f"--t-end {args.t_end} must be a positive run length in {si_unit('s')}, e.g. --t-end 1")
     lookup(args.integrator)   # an unknown name is a one-line UserError
     if args.plot is not None:
         check_plot_path(args.plot)

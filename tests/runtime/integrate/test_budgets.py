@@ -128,12 +128,19 @@ def test_unreasonable_options_are_refused_with_the_reason(kwargs, words, param):
 
 
 def test_the_budgets_sentences_carry_their_time_unit():
-    """A refused step or run length says its times in s (restated in a dimensionless scene's time
-    units by the views): 'step h=1 s is longer than the run t_end=0.5 s', not bare numbers."""
+    """A refused step or run length says its times as quantities in s (runtime/words.py), shown in
+    s in an SI scene and in time units in a dimensionless one: 'step h=1 s is longer than the run
+    t_end=0.5 s', not bare numbers."""
     from levitron.runtime.errors import UserError
     from levitron.runtime.integrate.budget import budget_message, check_options
-    with pytest.raises(UserError, match=r"step h=1 s is longer than the run t_end=0.5 s"):
+    from levitron.runtime.ui.human import Units
+    from levitron.runtime.words import in_units
+    with pytest.raises(UserError) as exc:
         check_options("rk4", 0.5, h=1.0)
-    with pytest.raises(UserError, match=r"\(0.01 s\), which it cannot resolve; pass h <= 0.0005 s"):
+    assert "step h=1 s is longer than the run t_end=0.5 s" in exc.value.words("cli"), exc.value
+    assert "step h=1 time units is longer than the run t_end=0.5 time units" in \
+        exc.value.words("api", Units(si=False)), exc.value
+    with pytest.raises(UserError) as exc:
         check_options("rk4", 1.0, h=0.1, time_scale=0.01)
-    assert "at t = 0.25 s before t_end" in budget_message(100, 0.25)
+    assert "(0.01 s), which it cannot resolve; pass h <= 0.0005 s" in exc.value.words("cli"), exc.value
+    assert "at t = 0.25 s before t_end" in in_units(budget_message(100, 0.25))
