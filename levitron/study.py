@@ -65,13 +65,13 @@ def load(scene: str | Path, overrides: Mapping[str, float | str] | None = None, 
 
 def _in_scene_units(method):
     """A Study method that speaks the API's words and the scene's units: the settings its answer's
-    sentences and its UserError name are worded as keyword arguments (runtime/words.py, "api");
-    the error's quantities are shown in the scene's units, the answer's in SI (as the JSON's). The
-    UserError keeps the setting, value, unit and hint it carried."""
+    sentences and its UserError name are worded as keyword arguments (runtime/words.py, "api"),
+    their quantities shown in the scene's units (as the command's JSON shows them). The UserError
+    keeps the setting, value, unit and hint it carried."""
     @functools.wraps(method)
     def wrapper(self, *args, **kwargs):
         try:
-            return speak(method(self, *args, **kwargs), "api")
+            return speak(method(self, *args, **kwargs), "api", self.units)
         except UserError as exc:
             text = exc.words("api", self.units)
             if text == str(exc):

@@ -256,7 +256,7 @@ def validate(data: dict, path: Path | None = None) -> Scene:
     mu = resolved.pop("mu", moment)
     if resolved.pop("moment_nominal", None) is not None:
         notes.append("top.moment not given: only mu*rho (plate.murho) is physical; fields are "
-                     "reported for a nominal moment of -1 A m^2")
+                     "reported for a nominal moment, top.moment = -1 in the scene's units")
     if mu is None:
         raise SceneError("[top] moment is missing: add `moment = <A m^2>` (signed, along the axis)")
 

@@ -321,8 +321,10 @@ def main(argv=None) -> int:
         progress.enable()
     try:
         with progress.task(f"levitron {args.command}"):
-            result = speak(_clean(_with_provenance(args, args._run(args))), "cli")
-        text = words(render(args, result), "cli")     # a sentence a plain view took from elsewhere
+            result = _clean(_with_provenance(args, args._run(args)))
+            units = _scene_units(args)         # the answer's quantities in the scene's units
+            result = speak(result, "cli", units)
+        text = words(render(args, result), "cli", units)     # a sentence a plain view took from elsewhere
     except KeyboardInterrupt:
         print(f"levitron {args.command}: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED

@@ -8,6 +8,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from levitron.runtime.physics.ray_algebra import thesis_approximations
+from levitron.runtime.words import si_unit
 
 
 @dataclass
@@ -72,7 +73,7 @@ def approximations_at_z_c(onaxis, z_c, max_mass, g, A, C) -> dict:
     """Thesis 3.3.22/3.3.23 at z_c for the top of mass m(z_c) that hovers there."""
     out = {"sigma1": None, "sigma2": None, "z_c": z_c, "mass_at_z_c": max_mass, "g21": None,
            "note": "thesis eqs. 3.3.22/3.3.23 (printed as squares) at z_c, for the top of mass "
-                   "m(z_c) that hovers there; rad/s"}
+                   f"m(z_c) that hovers there; {si_unit('rad/s')}"}
     if z_c is not None and max_mass is not None and max_mass > 0:
         ph = onaxis(z_c)
         out.update(thesis_approximations(ph[1], ph[2], g, max_mass, A, C))

@@ -191,7 +191,7 @@ def build(model, provenance: dict | None = None) -> tuple[str, dict]:
             "</body></html>\n")
     if provenance is not None:
         facts["provenance"] = provenance
-    return render(page, "cli"), facts       # the page tells its reader commands to type
+    return render(page, "cli", u), facts    # the page tells its reader commands to type, in its units
 
 
 def _cite_first(body: str) -> str:

@@ -4,6 +4,7 @@ bars) and the report's page. Wall times stay seconds: they are the computer's, n
 from __future__ import annotations
 
 import html
+import json
 import re
 
 import matplotlib.figure
@@ -82,6 +83,40 @@ def test_no_si_unit_in_a_dimensionless_scene(name, scene, tmp_path, plot_texts, 
         assert plot_texts
     found = [u for t in texts for u in si_units(t)]
     assert found == [], f"`levitron {' '.join(argv)}` shows SI units {found}:\n" + "\n".join(texts)
+
+
+def _sentences(answer, path=""):
+    """(key path, text) of every string of a JSON answer but the provenance (paths, the command
+    typed) and the report's `rebuild.toml` (the author's scene file, whose key `A` is no ampere)."""
+    if isinstance(answer, dict):
+        for k, v in answer.items():
+            if k not in ("provenance", "toml"):
+                yield from _sentences(v, f"{path}.{k}")
+    elif isinstance(answer, list):
+        for i, v in enumerate(answer):
+            yield from _sentences(v, f"{path}[{i}]")
+    elif isinstance(answer, str):
+        yield path, answer
+
+
+@pytest.mark.parametrize("name", list(COMMANDS))
+def test_no_si_unit_in_a_dimensionless_scenes_json(name, scene, tmp_path, capsys):
+    """The JSON's sentences (reasons, notes, warnings) show a dimensionless scene's quantities in
+    its units too: the runtime writes them as quantity markers (runtime/words.py `si`) that the
+    command shows in the scene's units. Before, its JSON read "at z_s = 1.99539 m" and "k = 3e-06
+    N/m" while the plain view read "1.995"."""
+    argv = [name.split("-")[0], scene] + [a.format(tmp=tmp_path) for a in COMMANDS[name]] + ["--json"]
+    assert cli.main(argv) == 0, capsys.readouterr().err
+    answer = json.loads(capsys.readouterr().out)
+    found = [(k, text, si_units(text)) for k, text in _sentences(answer) if si_units(text)]
+    assert found == [], f"`levitron {' '.join(argv)}` shows SI units in its JSON: {found}"
+
+
+def test_an_si_scenes_json_keeps_its_units(capsys):
+    """The same check finds the units of an SI scene's JSON sentences (so it can fail)."""
+    assert cli.main(["stability", "thesis_stable", "--height", "0.15", "--json"]) == 0
+    answer = json.loads(capsys.readouterr().out)
+    assert [u for _, text in _sentences(answer) for u in si_units(text)], answer
 
 
 def test_no_si_unit_in_the_apis_results(scene):
