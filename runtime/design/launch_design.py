@@ -38,6 +38,7 @@ import numpy as np
 from levitron.runtime.design.launch_design_answer import LaunchDesign
 from levitron.runtime.design.scene_keys import Vary, key_value
 from levitron.runtime.errors import UserError
+from levitron.runtime.words import si
 from levitron.runtime.model.scenes import SceneRef
 from levitron.runtime.scan import launch_odds as mc
 from levitron.runtime.scan import spreads
@@ -92,8 +93,9 @@ class Pinned:
 
 
 def key_text(key: str, value: float) -> str:
-    """A varied key's value in a warning (the JSON's SI; the plain view restates kg as g)."""
-    return f"{value:.6g} kg" if key == "top.mass" else f"{value:.6g}"
+    """A varied key's value in a warning: the top's mass a quantity (runtime/words.py), shown in
+    the scene's units (the plain view's SI in g)."""
+    return si(value, "kg") if key == "top.mass" else f"{value:.6g}"
 
 
 def variant(ref: SceneRef, keys: Sequence[str], x) -> SceneRef:

@@ -57,6 +57,10 @@ COMMANDS = {
     # 2e-6 to 4e-6 below the largest mass that hovers (1.0199985): the vanishing-stiffness warning
     "optimize-edge": ["--maximize", "spin-range", "--vary", "top.mass=1.0199945:1.0199965"],
     "optimize-fit-height": ["--fit-height", "1.0"],
+    "optimize-launch": ["--maximize", "launch-odds", "--vary", "top.mass=0.99:1.0", "--n", "12", "--t-end", "20"],
+    "trim": ["--n", "12", "--t-end", "20"],
+    # a top too heavy to hover: the warnings name the masses that hover
+    "trim-heavy": ["--set", "top.mass=1.05", "--n", "12", "--t-end", "20"],
     "report": ["--out", "{tmp}/r.html"],
     "launch": ["--n", "12", "--t-end", "20", "--out", "{tmp}/launch.png", "--save", "{tmp}/launch.csv"],
     "figures": ["--out", "{tmp}/figs", "--quick"],
