@@ -152,6 +152,32 @@ def test_no_si_unit_in_a_dimensionless_scenes_error_line(scene, capsys):
     assert si_units(capsys.readouterr().err)
 
 
+ERRORS = {       # a refusal on a dimensionless scene, and what its one line must say
+    "field-no-point": (["field"], "no point given"),
+    "field-bad-point": (["field", "--at", "1,2"], "is not a point"),
+    "field-far": (["field", "--at", "1e9,0,0"], "plate sizes"),
+    "step-longer-than-run": (["simulate", "--spin", "60", "--integrator", "rk4", "--step", "10",
+                              "--t-end", "1"], "longer than the run"),
+    "offset-outside-box": (["simulate", "--spin", "60", "--offset", "5"], "outside the box"),
+    "run-too-long": (["simulate", "--spin", "60", "--t-end", "1e9"], "budget cap"),
+    "negative-run": (["simulate", "--spin", "60", "--t-end", "-1"], "positive run length"),
+    "no-hover-height": (["stability", "--height", "1e-9"], "no top hovers"),
+    "launch-mass": (["launch", "--mass", "normal:100,1"], "reads as the mass in scene units"),
+    "negative-box": (["simulate", "--spin", "60", "--box", "-1"], "positive number in scene units"),
+    "scan-mass": (["scan", "--spin", "30:60:2", "--mass", "-1:1:2"], "must be positive"),
+}
+
+
+@pytest.mark.parametrize("name", list(ERRORS))
+def test_no_si_unit_in_a_dimensionless_scenes_refusals(name, scene, capsys):
+    """Every refusal speaks the scene's units: its quantities are markers (runtime/words.py) that
+    the command line shows in them ("step h=10 time units", "in scene units"; before, "in metres")."""
+    argv, says = ERRORS[name]
+    assert cli.main([argv[0], scene, *argv[1:]]) == 2
+    err = capsys.readouterr().err
+    assert re.search(says, err) and si_units(err) == [], err
+
+
 def test_no_si_unit_in_design_and_scan_results(scene):
     """The design and scan results (repr, message) and the units their JSON names are the scene's:
     before, a dimensionless scene's optimum read "spin-range 25.3 rad/s" and its map "t_end 20 s

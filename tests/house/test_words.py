@@ -124,7 +124,7 @@ def test_speak_words_every_sentence_of_an_answer(face):
 
 SI_UNIT = r"A m\^2|kg m\^2|m/s\^2|m/s|A/m|T m|J m|N/m|rad/s|mT|Hz|rpm|kg|N|T|A|m|s"
 AFTER_A_NUMBER = re.compile(rf"^ ({SI_UNIT})(?![\w^/])|\d ({SI_UNIT})(?![\w^/])")
-AS_A_WORD = re.compile(rf"\b(in|number) ({SI_UNIT})(?![\w^/])|\(({SI_UNIT})\)")
+AS_A_WORD = re.compile(rf"\b(in|number) ({SI_UNIT})(?![\w^/])|\(({SI_UNIT})\)|\b(metres?|meters?|kilograms?)\b")
 # magpylib speaks SI whatever the scene: its collection's positions are in m, its magnetisation in A/m
 SI_ALWAYS = {"levitron/from_magpylib.py": "magpylib's own SI inputs, before any scene"}
 
@@ -178,6 +178,7 @@ def test_the_unit_check_finds_a_unit_and_spares_a_quantity():
     assert spelt('UserError(f"z = {z:.6g} m is too low")') == " m"
     assert spelt('UserError(f"step h={h} s; pass a number in s")') == "in s"
     assert spelt('UserError("give a height (m) above the plate")') == "(m)"
+    assert spelt('UserError("give three numbers X,Y,Z in metres")') == "metres"
     assert spelt('UserError(f"z = {si(z, \'m\')} is too low, {n} steps, {mass} kg")') == " kg"
     assert spelt('UserError(f"z = {si(z, \'m\')} is too low after {n} steps")') is None
 

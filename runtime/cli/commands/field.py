@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from levitron.runtime.errors import UserError
-from levitron.runtime.words import si
+from levitron.runtime.words import si, si_unit
 from levitron.runtime.ui.validate import number_text
 from levitron.runtime.ui.human import Units, lines, restate, sig
 from levitron.runtime.physics.plates import plate_field
@@ -26,7 +26,7 @@ EXAMPLE = 'levitron field ring_magnet --at 0.01,0,0.05'
 
 def add_arguments(parser) -> None:
     parser.add_argument("--at", action="append", default=[], metavar="X,Y,Z",
-                        help="a point in metres (repeatable), e.g. --at 0,0,0.1")
+                        help="a point in the scene's lengths (m in an SI scene; repeatable), e.g. --at 0,0,0.1")
 
 
 FAR = 1e6      # plate sizes: the farthest point --at takes
@@ -39,14 +39,14 @@ def parse_point(text: str) -> list[float]:
     except ValueError:
         xyz = []
     if len(xyz) != 3 or not all(math.isfinite(v) for v in xyz):
-        raise UserError(f"--at {text!r} is not a point: give three numbers X,Y,Z in metres, "
+        raise UserError(f"--at {text!r} is not a point: give three numbers X,Y,Z in {si_unit('m')}, "
                         "e.g. --at 0,0,0.1")
     return xyz
 
 
 def run(args) -> dict:
     if not args.at:
-        raise UserError("no point given: add --at X,Y,Z (metres, repeatable), e.g. --at 0,0,0.1")
+        raise UserError(f"no point given: add --at X,Y,Z (in {si_unit('m')}, repeatable), e.g. --at 0,0,0.1")
     points = np.array([parse_point(t) for t in args.at])
     model = model_of(args)
     scene = model.scene
