@@ -1,6 +1,6 @@
 """Every command's answer on every scene, kept to compare two versions of the code (issue 29).
 
-    python tests/tools/json_snapshot.py OUT_DIR [--jobs 2] [--only SUBSTRING] [--resume]   # take a snapshot
+    python tests/tools/json_snapshot.py OUT_DIR [--jobs 2] [--only SUBSTRING] [--skip SUBSTRING] [--resume]
     python tests/tools/json_snapshot.py --compare BEFORE_DIR AFTER_DIR           # diff two snapshots
 
 A snapshot runs each case of `cases()` (equilibrium, stability, simulate, scan, launch, optimize,
@@ -119,6 +119,13 @@ def cases(scene: str, st: dict | None, tmp: Path) -> dict[str, list[str]]:
                                 f"top.mass={0.98 * mass!r}:{1.02 * mass!r}"],
         "optimize_fit_height": ["optimize", scene, "--fit-height", repr(1.01 * z)],
         "trim": ["trim", scene, "--n", "8", "--t-end", t],
+        # refusals: their one error line, its quantities in the scene's units
+        "refuse_step": ["simulate", scene, "--spin", repr(spin), "--integrator", "rk4", "--step", "10",
+                        "--t-end", "1"],
+        "refuse_offset": ["simulate", scene, "--spin", repr(spin), "--offset", repr(5 * z)],
+        "refuse_t_end": ["simulate", scene, "--spin", repr(spin), "--t-end", "1e9"],
+        "refuse_height": ["stability", scene, "--height", repr(1e-9 * z)],
+        "refuse_point": ["field", scene, "--at", "1,2"],
     }
     if scene == "thesis_stable":
         c["optimize_fit"] = ["optimize", scene, "--fit", str(tmp / "fit.csv"), "--vary",
@@ -133,7 +140,7 @@ def cases(scene: str, st: dict | None, tmp: Path) -> dict[str, list[str]]:
     return c
 
 
-def take(out: Path, jobs: int, only: str | None, resume: bool = False) -> None:
+def take(out: Path, jobs: int, only: str | None, resume: bool = False, skip: tuple = ()) -> None:
     out.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="levitron-snapshot-") as t:
         tmp = Path(t)
@@ -145,7 +152,8 @@ def take(out: Path, jobs: int, only: str | None, resume: bool = False) -> None:
             name = Path(scene).stem
             for case, argv in cases(scene, stability_of(scene, tmp), tmp).items():
                 done = resume and (out / f"{name}.{case}.json").exists()
-                if (only is None or only in f"{name}.{case}") and not done:
+                if (only is None or only in f"{name}.{case}") and not done \
+                        and not any(s in f"{name}.{case}" for s in skip):
                     todo.append((f"{name}.{case}", argv))
 
         def one(item):
@@ -256,12 +264,14 @@ def main() -> int:
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--only", default=None, help="only the cases whose 'scene.case' contains this")
     ap.add_argument("--resume", action="store_true", help="skip the cases OUT_DIR already holds")
+    ap.add_argument("--skip", action="append", default=[],
+                    help="leave out the cases whose 'scene.case' contains this (repeatable)")
     a = ap.parse_args()
     if a.compare:
         return compare(*a.compare, except_hash=a.except_hash)
     if a.out is None:
         ap.error("give OUT_DIR or --compare BEFORE AFTER")
-    take(a.out, a.jobs, a.only, a.resume)
+    take(a.out, a.jobs, a.only, a.resume, tuple(a.skip))
     return 0
 
 
