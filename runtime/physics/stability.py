@@ -176,7 +176,9 @@ def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
         if not (math.isfinite(m_z) and m_z > 0):
             raise UserError(f"no top hovers at z = {si(height, 'm')}: the field there holds no mass "
                             f"(m(z) = -mu Phi_2(z)/g = {si(m_z, 'kg', '.3g')} <= 0, thesis 3.3.2); pick a height "
-                            "inside the stable band (`«levitron=equilibrium»` gives it)")
+                            "inside the stable band (`«levitron=equilibrium»` gives it)",
+                            param="height", value=float(height), unit="m",
+                            hint="pick a height inside the stable band")
         return stability_of(model, mass=m_z, p=p, z_s=float(height), eigen=eigen)
     p = without_friction(model, model.with_params({} if mass is None else {"m": float(mass)}, p))
     P = eqm.params_of(model, p)

@@ -120,7 +120,8 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
         x0, tilted_note = tilted_start(model, pt, z_s, spin, x0, p)
     if bx.excess(x0) > 0:
         raise UserError(f"the initial state is already outside the box (offset {si(offset, 'm', '')} vs "
-                        f"half-width {si(bx.z_hi - z_s, 'm', '.4g')}); pass a smaller «offset» or a larger «box»")
+                        f"half-width {si(bx.z_hi - z_s, 'm', '.4g')}); pass a smaller «offset» or a larger «box»",
+                        param="offset", value=offset, unit="m", hint="pass a smaller «offset» or a larger «box»")
     scale = state_scales(pt, z_s, spin, pvals)
     air = part == "full" and flight.has_friction(model)
     # in air the work of friction is integrated inside the run (the energy balance's W)

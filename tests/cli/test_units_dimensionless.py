@@ -221,3 +221,19 @@ def test_no_si_unit_word_in_a_dimensionless_scenes_argument_errors(scene, capsys
         assert cli.main(argv) == 2
         err = capsys.readouterr().err
         assert "error" in err and UNIT_WORD.findall(err) == [], err
+
+
+def test_a_refusal_about_a_place_carries_it(scene):
+    """A height no top hovers at and an offset outside the box are UserErrors about one setting:
+    they carry it (param, value, its SI unit as the key of the quantity) for a program, and their
+    sentence and hint in the API's words and the scene's units for a person."""
+    import levitron as lev
+    study = lev.load(scene)
+    with pytest.raises(lev.UserError) as low:
+        study.stability(1e-9)
+    with pytest.raises(lev.UserError) as out:
+        study.simulate(60.0, offset=5.0)
+    assert (low.value.param, low.value.value, low.value.unit) == ("height", 1e-9, "m")
+    assert (out.value.param, out.value.value, out.value.unit) == ("offset", 5.0, "m")
+    assert out.value.hint == "pass a smaller offset or a larger box", out.value.hint
+    assert si_units(str(low.value)) == [] and si_units(str(out.value)) == [], (low.value, out.value)
