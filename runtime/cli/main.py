@@ -322,9 +322,11 @@ def main(argv=None) -> int:
     try:
         with progress.task(f"levitron {args.command}"):
             result = _clean(_with_provenance(args, args._run(args)))
-            units = _scene_units(args)         # the answer's quantities in the scene's units
-            result = speak(result, "cli", units)
-        text = words(render(args, result), "cli", units)     # a sentence a plain view took from elsewhere
+            units = _scene_units(args)
+            # the JSON's quantities in the scene's units; a plain view shows them in the human ones
+            # (ui/human.py restate: cm, g, spans), so it reads the quantity markers themselves
+            result = speak(result, "cli", units) if args.json else result
+        text = words(render(args, result), "cli", units)     # what the plain view left: the scene's units
     except KeyboardInterrupt:
         print(f"levitron {args.command}: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED

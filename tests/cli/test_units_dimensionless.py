@@ -237,3 +237,14 @@ def test_a_refusal_about_a_place_carries_it(scene):
     assert (out.value.param, out.value.value, out.value.unit) == ("offset", 5.0, "m")
     assert out.value.hint == "pass a smaller offset or a larger box", out.value.hint
     assert si_units(str(low.value)) == [] and si_units(str(out.value)) == [], (low.value, out.value)
+
+
+def test_a_plain_view_shows_a_dimensionless_reasons_spans_as_a_person_reads_them(scene, capsys):
+    """The plain view reads the reason's quantity markers and shows them in the human form
+    (runtime/ui/human.py restate: spans as lo-hi, 4 digits), the JSON keeps them whole; before its
+    fix the plain view read the JSON's '[0.978335, 1.02]' on a dimensionless scene."""
+    assert cli.main(["equilibrium", scene, "--set", "top.mass=1.5"]) == 0
+    reason = next(ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("reason:"))
+    assert "mass in 0.9783-1.02 would hover inside the stable band 0.9948-1.102" in reason, reason
+    assert cli.main(["equilibrium", scene, "--set", "top.mass=1.5", "--json"]) == 0
+    assert "stable band [0.994772, 1.10212]" in json.loads(capsys.readouterr().out)["reason"]
