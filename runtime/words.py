@@ -30,7 +30,7 @@ import dataclasses
 import re
 import sys
 
-__all__ = ["FACES", "MARKER", "QUANTITY", "in_units", "render", "setting", "si", "si_unit", "speak"]
+__all__ = ["FACES", "MARKER", "QUANTITY", "in_units", "render", "setting", "si", "si_span", "si_unit", "speak"]
 
 FACES = ("cli", "api")
 
@@ -77,6 +77,11 @@ def si(value, unit: str, fmt: str = ".6g") -> str:
     "[0.1, 0.2]") in the SI unit `unit`."""
     text = value if isinstance(value, str) else f"{value:{fmt}}"
     return f"‹{text}|{unit}›"
+
+
+def si_span(lo: float, hi: float, unit: str) -> str:
+    """The quantity marker of the interval [lo, hi] in the SI unit `unit`."""
+    return si(f"[{lo:.6g}, {hi:.6g}]", unit)
 
 
 def si_unit(unit: str) -> str:

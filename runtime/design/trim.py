@@ -25,7 +25,7 @@ from levitron.runtime.physics.bands import edge_note
 from levitron.runtime.physics.stability import stability_of
 from levitron.runtime.scan import launch_odds as mc
 from levitron.runtime.ui.human import Units
-from levitron.runtime.words import si
+from levitron.runtime.words import si, si_span
 
 LIMIT_POINTS = 41        # masses at which the spin window is drawn, the band's edges included
 
@@ -63,8 +63,8 @@ def trim(model, request: mc.Request) -> Trim:
     warnings = []
     note = edge_note(band, eqm.span_of(model) is not None)
     if note:
-        warnings.append(f"the masses that hover, {si(f'[{lo:.6g}, {hi:.6g}]', 'kg')}: {note}")
+        warnings.append(f"the masses that hover, {si_span(lo, hi, 'kg')}: {note}")
     if not lo <= model.param("m") <= hi:
         warnings.append(f"the scene's top ({si(model.param('m'), 'kg')}) is outside the masses that can "
-                        f"hover, {si(f'[{lo:.6g}, {hi:.6g}]', 'kg')}: as written it does not float at all")
+                        f"hover, {si_span(lo, hi, 'kg')}: as written it does not float at all")
     return Trim(model.param("m"), (lo, hi), design, limits, widest, warnings, Units.of_scene(model.scene))

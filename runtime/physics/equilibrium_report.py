@@ -11,7 +11,7 @@ import math
 from dataclasses import dataclass, field
 
 from levitron.runtime.ui.human import Units, quantity
-from levitron.runtime.words import si
+from levitron.runtime.words import si, si_span
 
 
 @dataclass(frozen=True, repr=False)
@@ -78,7 +78,7 @@ class EquilibriumReport:
         if self.singularities:
             sing = ("; the on-axis functions are singular at " + ", ".join(
                 f"z = {si(s.z, 'm')} ({s.kind})" if s.kind == "pole" else
-                f"z in {si(f'[{s.z:.6g}, {s.z_end:.6g}]', 'm')} ({s.kind})" for s in self.singularities))
+                f"z in {si_span(s.z, s.z_end, 'm')} ({s.kind})" for s in self.singularities))
         marginal = [e for e in self.equilibria if e.marginal]
         if marginal:
             return (f"the top ({si(m, 'kg')}) is exactly as heavy as the plate can hold: a double root "
@@ -95,11 +95,6 @@ class EquilibriumReport:
                 f"{si(m, 'kg')} with this moment" + sing)
 
 
-def _span(ends, unit: str) -> str:
-    """"[lo, hi]" as one quantity marker (runtime/words.py) in the SI unit `unit`."""
-    return si(f"[{ends[0]:.6g}, {ends[1]:.6g}]", unit)
-
-
 def hover_reasons(rep: EquilibriumReport, m: float) -> list[str]:
     """Why a top of mass m cannot be made to levitate over this plate, as SI sentences (the JSON's
     `reason`), each ending in what would help: no vertically stable height; no stable band; or a
@@ -112,10 +107,10 @@ def hover_reasons(rep: EquilibriumReport, m: float) -> list[str]:
     else:
         zs = [e.z for e in rep.equilibria if e.vertically_stable]
         if not zs:
-            reasons.append(f"a top of mass in {_span(band.mass, 'kg')} would hover "
-                           f"inside the stable band {_span(band.z, 'm')}")
+            reasons.append(f"a top of mass in {si_span(*band.mass, 'kg')} would hover "
+                           f"inside the stable band {si_span(*band.z, 'm')}")
         elif not any(b.z[0] <= z <= b.z[1] for b in rep.stable_bands for z in zs):
             reasons.append(f"this top hovers at z = {si(zs[0], 'm')}, outside the stable band "
-                           f"{_span(band.z, 'm')}: no spin stabilises it there; a top of "
-                           f"mass in {_span(band.mass, 'kg')} would hover inside it")
+                           f"{si_span(*band.z, 'm')}: no spin stabilises it there; a top of "
+                           f"mass in {si_span(*band.mass, 'kg')} would hover inside it")
     return reasons

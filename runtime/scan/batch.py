@@ -25,7 +25,6 @@ from collections.abc import Mapping
 import numpy as np
 
 from levitron.runtime.errors import UserError
-from levitron.runtime.words import si
 from levitron.runtime.integrate.budget import check_options, default_budget
 from levitron.runtime.integrate.methods import DEFAULT, default_step, refuse_on_full_model, resolve
 from levitron.runtime.integrate.verdict import NO_HOVER, stopped_early
@@ -161,9 +160,8 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
         pk, pv, zs, stiffness, bx, _ = at[i]
         spin_i = float(cols["spin"][i])
         if bx.excess(x0[i]) > 0:
-            raise UserError(f"launch {i}: the initial state is already outside the box (offset "
-                            f"{si(cols['offset'][i], 'm', '')} vs half-width {si(bx.z_hi - zs, 'm', '.4g')}); "
-                            "pass a smaller offset or a larger box")
+            raise start.outside_box(float(cols["offset"][i]), bx.z_hi - zs, f"launch {i}: ",
+                                    "pass a smaller offset or a larger box")
         T, what = start.fastest_period(spin_i, pv, stiffness)
         hi = (default_step(T) if h is None else h) if entry.fixed_step else None
         check_options(integrator, run_t_end, tol, hi, CHECK_N_OUT, T, what)

@@ -39,7 +39,6 @@ import numpy as np
 
 from levitron.runtime.physics.equilibrium import hover_height
 from levitron.runtime.errors import UserError
-from levitron.runtime.words import si
 from levitron.runtime.ui.validate import count, real
 from levitron.runtime.integrate.budget import MAX_N_OUT
 from levitron.runtime.integrate.run import Box, Result, integrate
@@ -52,7 +51,8 @@ from levitron.runtime.simulate.simulation import Simulation
 from levitron.runtime.simulate.invariants import Samples, deviations, spin_rate
 from levitron.runtime.simulate.rotations import DEFAULT_AZIMUTH, coordinates_of
 from levitron.runtime.simulate.start import (DEFAULT_TILT, PERIODS, default_box, initial_state, on_invariant_set,
-                                             slow_period, state_scales, tilted_start, time_scale, untested_reason)
+                                             outside_box, slow_period, state_scales, tilted_start, time_scale,
+                                             untested_reason)
 
 FRICTION_T_END_TAUS = 5.0        # default run length with friction: 5 tau, the spin falls by e^5
 
@@ -119,9 +119,7 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
     if part == "full" and "base_tilt" in model.param_names:      # plate.tilt: start off the axis
         x0, tilted_note = tilted_start(model, pt, z_s, spin, x0, p)
     if bx.excess(x0) > 0:
-        raise UserError(f"the initial state is already outside the box (offset {si(offset, 'm', '')} vs "
-                        f"half-width {si(bx.z_hi - z_s, 'm', '.4g')}); pass a smaller «offset» or a larger «box»",
-                        param="offset", value=offset, unit="m", hint="pass a smaller «offset» or a larger «box»")
+        raise outside_box(offset, bx.z_hi - z_s)
     scale = state_scales(pt, z_s, spin, pvals)
     air = part == "full" and flight.has_friction(model)
     # in air the work of friction is integrated inside the run (the energy balance's W)

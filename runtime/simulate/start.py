@@ -202,6 +202,15 @@ def state_scales(part, z_s: float, spin: float, pvals: dict) -> np.ndarray:
     return np.array(out)
 
 
+def outside_box(offset: float, half_width: float, which: str = "",
+                fix: str = "pass a smaller «offset» or a larger «box»") -> UserError:
+    """The refusal of a launch whose initial state is already outside its box (`which`: "launch
+    3: " in a batch, whose commands have no box to name)."""
+    return UserError(f"{which}the initial state is already outside the box (offset {si(offset, 'm', '')} "
+                     f"vs half-width {si(half_width, 'm', '.4g')}); {fix}",
+                     param="offset", value=offset, unit="m", hint=fix)
+
+
 def default_box(part, z_s: float, half_width: float | None = None) -> Box:
     """|z - z_s| <= b and sqrt(x^2 + y^2) <= b, b = z_s / 2 unless given."""
     b = 0.5 * z_s if half_width is None else float(half_width)
