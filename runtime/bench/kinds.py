@@ -41,6 +41,12 @@ KINDS = {k.name: k for k in (
     Kind("launch-design", "levitron.runtime.bench.launch_design", "wall time of a design by the launch "
          "odds over the top's mass (300 launches an evaluation) on 1 and 2 workers, with the machine's load",
          ("thesis_air",), "reports/launch_design"),
+    Kind("advice", "levitron.runtime.bench.advice", "CPU and wall time of the advice a person waits for "
+         "(trim, launch-odds designs, the level tolerance with a tilted magnet, a launch), before and after",
+         ("thesis_air",), "reports/advice"),
+    Kind("verdict-tolerance", "levitron.runtime.bench.verdict_tolerance", "the launch odds' verdicts and "
+         "CPU time against the integrator tolerance, 1000 launches against tol 1e-10",
+         ("thesis_air", "levitron_toy"), "reports/verdict_tolerance/{scene}"),
     Kind("functions", "levitron.runtime.bench.functions", "ns per call of every generated function",
          ("thesis_stable", "ring_magnet"), "reports/{scene}/functions"),
     Kind("startup", "levitron.runtime.bench.startup", "wall time of warm one-shot commands (the version, the help, "

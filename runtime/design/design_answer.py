@@ -87,11 +87,13 @@ class Design:
     def write_scene(self, path) -> str:
         """Write the scene at the optimum (re-validated) to path (.toml; runtime/design/scene_write.py),
         its first line naming the design."""
-        from levitron.runtime.design.scene_write import write_scene
+        from levitron.runtime.design.scene_keys import with_values
+        from levitron.runtime.design.scene_write import shortest, write_scene
         from levitron.runtime.words import render
         note = (f"levitron optimize {self.scene.name} «maximize» {self.objective}: "
                 + ", ".join(f"{k} = {v:.6g}" for k, v in self.optimum.items()))
-        return str(write_scene(self.scene, path, render(note, "cli")))   # the command it names
+        at = with_values(self.scene, {k: shortest(v) for k, v in self.optimum.items()})
+        return str(write_scene(at, path, render(note, "cli")))   # the command it names
 
 
 DesignResult = Design      # its name before issue 29, kept for scripts that import it

@@ -13,17 +13,23 @@ runtime/scan/launch_odds.py, estimated as `levitron launch` estimates it:
 2. **Common random numbers.** Every design point runs the same seed, hence the same draws: the
    odds of two designs differ by the design, not by the sampling noise, and odds(x) is a
    step function with small steps (one launch in n) that a grid can search.
-3. **Grid, then zoom.** GRID[k] points a key over the --vary box, then the same number over the
+3. **Grid, then zoom.** GRID[k] points a key over the --vary box (from its middle outwards, so
+   that a good point is the first to compare with), then the same number over the
    two grid cells around the best point, ZOOMS times. Where several points share the best odds
    (a plateau: a spread small against the band gives 100 % over a range), the answer is the
    middle of the plateau, the design farthest from both cliffs; for one key each edge of the
    plateau is first bisected EDGE_STEPS times on the same draws.
+   Each point is compared launch by launch with the best so far and stopped once it is clearly
+   worse; a point within a float step of one already run is not run again
+   (runtime/design/paired_odds.py).
 4. **Decide on fresh numbers.** The odds of the answer and of the start (the scene as written)
    are estimated again with a fresh seed (seed + 1): the search picked the best of many noisy
    values, so its own estimate is biased upwards; the fresh one is not, and carries its 95 %
    Wilson interval.
 
-The cost is (GRID[k] (1 + ZOOMS) + 3) Monte Carlos of n launches (make bench: kind launch-design).
+The cost is at most (GRID[k] (1 + ZOOMS) + 3) Monte Carlos of n launches, less the launches the
+paired comparison saves (make bench: kinds launch-design and advice). With local workers every
+Monte Carlo of the design runs in one kept pool: the workers start once for the whole command.
 """
 from __future__ import annotations
 
@@ -36,12 +42,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from levitron.runtime.design.launch_design_answer import LaunchDesign
+from levitron.runtime.design.paired_odds import PairedOdds, variant
 from levitron.runtime.design.scene_keys import Vary, key_value
 from levitron.runtime.errors import UserError
 from levitron.runtime.words import si
 from levitron.runtime.model.scenes import SceneRef
 from levitron.runtime.scan import launch_odds as mc
 from levitron.runtime.scan import spreads
+from levitron.runtime.ui import progress
 
 GRID = {1: 7, 2: 5, 3: 3}       # points a key of each grid, by the number of keys
 ZOOMS = 2
@@ -64,7 +72,7 @@ class Pinned:
     at: dict | None = None          # where it was pinned: None (the scene as written) or keys -> values
 
     @classmethod
-    def at_start(cls, model, request: mc.Request, varies: Sequence[Vary]) -> Pinned:
+    def at_start(cls, model, request: mc.Request, varies: Sequence[Vary], pool=None) -> Pinned:
         """Pinned at the scene as written; where its top cannot hover there (or has no spin
         interval for the default spin), at the box's middle, else its first grid point that can."""
         keys = [v.key for v in varies]
@@ -78,12 +86,15 @@ class Pinned:
         for x in tries:
             try:
                 if x is None:
-                    start = request.run(model, quiet=True)
+                    start = request.run(model, quiet=True, pool=pool)
                 else:
                     from levitron.runtime.scan.runners import model_for
-                    start = request.run(model_for(*variant(model.ref, keys, x)), quiet=True)
+                    start = request.run(model_for(*variant(model.ref, keys, x)), quiet=True, pool=pool)
             except UserError as exc:
                 first = first or exc
+                continue
+            if start.get("reason"):          # the top cannot hover there: no launch spread to pin
+                first = first or UserError(start["reason"])
                 continue
             pinned = mc.Request(dict(start["inputs"]), request.n, request.seed, start["success_time"],
                                 start["t_end"], request.integrator, request.tol, request.workers,
@@ -96,11 +107,6 @@ def key_text(key: str, value: float) -> str:
     """A varied key's value in a warning: the top's mass a quantity (runtime/words.py), shown in
     the scene's units (the plain view's SI in g)."""
     return si(value, "kg") if key == "top.mass" else f"{value:.6g}"
-
-
-def variant(ref: SceneRef, keys: Sequence[str], x) -> SceneRef:
-    """The recipe of the design at the scene keys x: the scene's overrides, then keys = x."""
-    return ref.with_overrides(f"{k}={float(v)!r}" for k, v in zip(keys, x))
 
 
 def odds_at(ref: SceneRef, keys: Sequence[str], x, request: mc.Request, pool=None) -> dict:
@@ -119,6 +125,13 @@ def _axes(varies: Sequence[Vary], box: Sequence[tuple[float, float]], n: int) ->
     return list(itertools.product(*(np.linspace(lo, hi, n) for lo, hi in box)))
 
 
+def _middle_out(points: Sequence[tuple[float, ...]], box) -> list[tuple[float, ...]]:
+    """The grid's points from the box's middle outwards (ties in grid order)."""
+    mid = [0.5 * (lo + hi) for lo, hi in box]
+    width = [max(hi - lo, 1e-300) for lo, hi in box]
+    return sorted(points, key=lambda x: sum(((v - m) / w) ** 2 for v, m, w in zip(x, mid, width)))
+
+
 def _plateau(evaluated: dict) -> bool:
     top = max(evaluated.values())
     return sum(v >= top for v in evaluated.values()) > 1
@@ -135,50 +148,70 @@ def plateau_middle(points: Sequence[tuple[tuple[float, ...], float]]) -> tuple[f
     return tuple(float(v) for v in min(top, key=lambda x: float(np.sum((x - mean) ** 2))))
 
 
+def kept_pool(stack: contextlib.ExitStack, request: mc.Request, n_tasks: int):
+    """One runners.KeptPool for every Monte Carlo of a command (a design, a trim), entered on
+    `stack`; None where they run serially or on dask."""
+    from levitron.runtime.scan import runners
+    from levitron.runtime.scan.workers import auto_workers
+    if request.scheduler:
+        return None
+    workers = auto_workers(n_tasks) if request.workers is None else request.workers
+    workers = min(workers, runners.usable_cores())
+    return stack.enter_context(runners.KeptPool(workers)) if workers > 1 else None
+
+
 def maximize_launch_odds(model, varies: Sequence[Vary], request: mc.Request, pinned: Pinned | None = None,
-                         where: str = "the «vary» box") -> LaunchDesign:
+                         where: str = "the «vary» box", pool=None, early: bool = True) -> LaunchDesign:
     """The design of the module docstring over the --vary box (`where`: what its messages call it).
     With local workers every Monte Carlo of the design runs in one kept pool (runners.KeptPool:
-    the workers start once, not once an evaluation)."""
-    from levitron.runtime.scan import runners
-    workers = min(request.workers, runners.usable_cores())
+    the workers start once, not once an evaluation): `pool` where the caller keeps one, else
+    this design's own. early False: every point runs all its launches (no paired stopping)."""
     with contextlib.ExitStack() as stack:
-        pool = (stack.enter_context(runners.KeptPool(workers)) if workers > 1 and not request.scheduler
-                else None)
-        return _maximize(model, varies, request, pinned, where, pool)
+        pool = pool or kept_pool(stack, request, request.n)
+        return _maximize(model, varies, request, pinned, where, pool, early)
 
 
 def _maximize(model, varies: Sequence[Vary], request: mc.Request, pinned: Pinned | None, where: str,
-              pool) -> LaunchDesign:
+              pool, early: bool) -> LaunchDesign:
     t0 = time.perf_counter()
     if not 1 <= len(varies) <= 3:
         raise UserError("«vary»: give one to three keys for «maximize» launch-odds")
     keys = [v.key for v in varies]
-    pinned = pinned or Pinned.at_start(model, request, varies)
-    req = pinned.request
-    box = [(v.lo, v.hi) for v in varies]
+    n_axis = GRID[len(varies)]
+    most = n_axis ** len(varies) * (ZOOMS + 1) + (2 * EDGE_STEPS if len(varies) == 1 else 0) + 4
+    with progress.task(f"launch-odds design over {', '.join(keys)}: launches (at most {most} evaluations)",
+                       total=most * request.n, log_every=10.0) as tick:
+        pinned = pinned or Pinned.at_start(model, request, varies, pool)
+        tick(request.n)
+        req = pinned.request
+        box = [(v.lo, v.hi) for v in varies]
+        odds = PairedOdds(model.ref, keys, req, box, pool, tick, early)
+        return _search(model, varies, keys, pinned, req, box, odds, where, t0)
+
+
+def _search(model, varies, keys, pinned: Pinned, req: mc.Request, box, odds: PairedOdds, where: str,
+            t0: float) -> LaunchDesign:
     n_axis = GRID[len(varies)]
     evaluated: dict[tuple[float, ...], float] = {}
     rows = []
+
+    def run(x):
+        r = odds(x)
+        evaluated[x] = r["probability"]
+        rows.append({**dict(zip(keys, x)), "probability": r["probability"],
+                     **{k: r[k] for k in ("reason", "stopped_early", "launches_run") if k in r}})
+        return r["probability"]
     for _ in range(ZOOMS + 1):
-        for x in _axes(varies, box, n_axis):
+        for x in _middle_out(_axes(varies, box, n_axis), box):
             x = tuple(float(v) for v in x)
             if x not in evaluated:
-                r = odds_at(model.ref, keys, x, req, pool)
-                evaluated[x] = r["probability"]
-                rows.append({**dict(zip(keys, x)), "probability": r["probability"],
-                             **({"reason": r["reason"]} if "reason" in r else {})})
+                run(x)
         best = plateau_middle(list(evaluated.items()))
         if len(varies) == 1 and _plateau(evaluated):
             break                       # 1 key, a plateau: its edges are bisected below
         cells = [(hi - lo) / (n_axis - 1) for lo, hi in box]
         box = [(max(v.lo, b - c), min(v.hi, b + c)) for v, b, c in zip(varies, best, cells)]
 
-    def run(x):
-        r = odds_at(model.ref, keys, x, req, pool)
-        evaluated[x] = r["probability"]
-        rows.append({**dict(zip(keys, x)), "probability": r["probability"]})
-        return r["probability"]
     if len(varies) == 1 and _plateau(evaluated):
         for _ in range(EDGE_STEPS):     # bisect each edge of the plateau on the same draws
             top = max(evaluated.values())
@@ -202,9 +235,11 @@ def _maximize(model, varies: Sequence[Vary], request: mc.Request, pinned: Pinned
                         + "check the launch spread with `«levitron=launch»` (a steadier hand: smaller "
                         "«mass», «strength» or «tilt» spreads)")
     fresh = req.with_seed(req.seed + FRESH)
-    final = odds_at(model.ref, keys, best, fresh, pool)
+    final = odds_at(model.ref, keys, best, fresh, odds.pool)
+    odds.tick(req.n)
     start_x = [key_value(model.scene.data, k) for k in keys]
-    first = odds_at(model.ref, keys, start_x, fresh, pool)
+    first = odds_at(model.ref, keys, start_x, fresh, odds.pool)
+    odds.tick(req.n)
     warnings = []
     for v, b in zip(varies, best):
         span = v.hi - v.lo
@@ -218,7 +253,7 @@ def _maximize(model, varies: Sequence[Vary], request: mc.Request, pinned: Pinned
     return LaunchDesign(dict(zip(keys, best)), dict(zip(keys, map(float, start_x))), odds_dict(final),
                         odds_dict(first), evaluated[best], rows, dict(req.given), req.success_time,
                         req.t_end, req.seed, req.n, time.perf_counter() - t0, warnings,
-                        list(pinned.start.get("defaulted", [])), model.scene)
+                        list(pinned.start.get("defaulted", [])), model.scene, dict(odds.counts))
 
 
 def what_it_costs(model, varies: Sequence[Vary], request: mc.Request, optimum: dict[str, float], objective: str,

@@ -18,7 +18,9 @@ class LaunchDesign:
     probability, its 95 % Wilson interval probability_ci95, n, seed,
     successes), the search's best estimate and every point it evaluated, the
     launch spread it ran (`inputs`; `defaulted`: those no flag or [launch] table gave), n, seed,
-    success_time and t_end (s), the warnings; `scene` the scene it designed (for write_scene)."""
+    success_time and t_end (s), the warnings; `scene` the scene it designed (for write_scene);
+    `work` what the search ran: evaluations, stopped_early, duplicates, launches_run and
+    launches_full (the launches without paired stopping)."""
     optimum: dict[str, float]
     start: dict[str, float]
     launch_odds: dict
@@ -34,6 +36,7 @@ class LaunchDesign:
     warnings: list[str] = field(default_factory=list)
     defaulted: list[str] = field(default_factory=list)     # the inputs no flag or [launch] table gave
     scene: object = field(default=None, compare=False)
+    work: dict = field(default_factory=dict, compare=False)   # runtime/design/paired_odds.py's counts
 
     @property
     def probability(self) -> float:
@@ -63,9 +66,11 @@ class LaunchDesign:
         return {"objective": self.probability, "objective_name": "launch-odds", "objective_unit": "1",
                 "optimum": self.optimum, "start": self.start, "launch_odds": self.launch_odds,
                 "start_launch_odds": self.start_launch_odds, "warnings": self.warnings,
-                "search": {"method": "common random numbers on a grid, zoomed (runtime/design/launch_design.py)",
+                "search": {"method": "common random numbers on a grid, zoomed, each point compared launch by "
+                                     "launch with the best so far and stopped once clearly worse "
+                                     "(runtime/design/launch_design.py, paired_odds.py)",
                            "seed": self.seed, "n": self.n, "evaluations": len(self.evaluations),
-                           "best_search_odds": self.search_odds, "points": self.evaluations},
+                           "best_search_odds": self.search_odds, "points": self.evaluations, **self.work},
                 "inputs": self.inputs, "defaulted": self.defaulted, "success_time": self.success_time,
                 "t_end": self.t_end,
                 "solver_status": "grid search", "wall_s": self.wall_s}
@@ -75,11 +80,12 @@ class LaunchDesign:
         """Write the scene at the optimum (re-validated) to path (.toml; runtime/design/scene_write.py),
         its first line naming the design."""
         from levitron.runtime.design.scene_keys import with_values
-        from levitron.runtime.design.scene_write import write_scene
+        from levitron.runtime.design.scene_write import shortest, write_scene
         from levitron.runtime.words import render
         note = (f"levitron optimize {self.scene.name} «maximize=launch-odds»: "
                 + ", ".join(f"{k} = {v:.6g}" for k, v in self.optimum.items()))
-        return str(write_scene(with_values(self.scene, self.optimum), path, render(note, "cli")))
+        at = with_values(self.scene, {k: shortest(v) for k, v in self.optimum.items()})
+        return str(write_scene(at, path, render(note, "cli")))
 
     @property
     def units(self) -> Units:

@@ -1,6 +1,10 @@
 """Write a scene's data back as TOML (`optimize --write-scene FILE`): a small writer for what
 scene/load.py reads (top-level keys, sections, sub-tables, arrays of tables, numbers, strings,
-booleans, lists of strings), checked by re-reading; written atomically (nothing half-written)."""
+booleans, lists of strings), checked by re-reading; written atomically (nothing half-written).
+The scene carries its `name` (the file's stem); a designed key is written as the shortest decimal
+within RESOLUTION of the optimum (`shortest`: 0.0519 g, not 0.018999999999999996), finer than any
+design's own resolution (the launch-odds grid's last step is ~1e-3 of its box, IPOPT's optimum is
+flat to second order)."""
 from __future__ import annotations
 
 import json
@@ -11,6 +15,18 @@ from pathlib import Path
 from levitron.scene.load import Scene, SceneError, validate
 
 from levitron.runtime.errors import UserError
+
+RESOLUTION = 1e-6        # relative: a designed value is written to within this of the optimum
+
+
+def shortest(v: float, rel: float = RESOLUTION) -> float:
+    """The float of the shortest decimal within rel |v| of v (v itself where none is shorter)."""
+    v = float(v)
+    for digits in range(1, 18):
+        w = float(f"{v:.{digits}g}")
+        if abs(w - v) <= rel * abs(v):
+            return w
+    return v
 
 
 def _value(v) -> str:
@@ -39,10 +55,11 @@ def _table(lines: list[str], name: str, table: dict) -> None:
                 lines += [f"{pk} = {_value(pv)}" for pk, pv in part.items()]
 
 
-def scene_toml(scene: Scene, comment: str = "") -> str:
+def scene_toml(scene: Scene, comment: str = "", name: str | None = None) -> str:
     data = scene.data
     lines = [f"# {line}" for line in comment.splitlines()]
-    # no `name`: the written scene is named after its file (scene/load.py load_scene)
+    # the scene's `name`: the file's (scene/load.py load_scene names a scene without one after it)
+    lines += [f"name = {_value(name)}"] if name else []
     lines += [f"{k} = {_value(v)}" for k, v in data.items() if not isinstance(v, dict) and k != "name"]
     for k, v in data.items():
         if isinstance(v, dict):
@@ -66,7 +83,7 @@ def write_scene(scene: Scene, path: str | Path, comment: str = "") -> Path:
     from levitron.runtime.ui.atomic import output
     p = check_target(path)
     with output(p, "«write_scene»") as tmp:     # mode 0666 less the umask, as any file written
-        text = scene_toml(scene, comment)
+        text = scene_toml(scene, comment, p.stem)
         tmp.write_text(text, encoding="utf-8")
         try:                  # read back as load_scene reads the file, named after the target
             data = tomllib.loads(tmp.read_text(encoding="utf-8"))

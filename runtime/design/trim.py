@@ -12,6 +12,7 @@ answer is runtime/design/trim_answer.py's Trim.
 """
 from __future__ import annotations
 
+import contextlib
 from collections.abc import Sequence
 
 import numpy as np
@@ -49,17 +50,11 @@ def trim(model, request: mc.Request) -> Trim:
         raise UserError(f"{model.scene.name}: no mass can hover over this plate (no stable band), so "
                         "there is nothing to trim; `«levitron=equilibrium»` says why")
     lo, hi = band.mass
-    design = ld.maximize_launch_odds(model, [Vary("top.mass", lo, hi)], request,
-                                     where="the masses that hover (the stable band)")
-    limits = spin_limits(model, np.linspace(lo, hi, LIMIT_POINTS))
-    widths = [(r["spin_interval"][1] - r["spin_interval"][0]) if r["spin_interval"] else -np.inf
-              for r in limits]
-    k = int(np.argmax(widths))
-    widest = dict(limits[k])
-    pinned = design.inputs
-    fresh = mc.Request(dict(pinned), design.n, design.seed + ld.FRESH, design.success_time, design.t_end,
-                       request.integrator, request.tol, request.workers, request.scheduler)
-    widest["launch_odds"] = ld.odds_dict(ld.odds_at(model.ref, ["top.mass"], [widest["mass"]], fresh))
+    with contextlib.ExitStack() as stack:      # one pool of workers for every Monte Carlo of the trim
+        pool = ld.kept_pool(stack, request, request.n)
+        design = ld.maximize_launch_odds(model, [Vary("top.mass", lo, hi)], request,
+                                         where="the masses that hover (the stable band)", pool=pool)
+        widest, limits = _widest(model, lo, hi, design, request, pool)
     warnings = []
     note = edge_note(band, eqm.span_of(model) is not None)
     if note:
@@ -68,3 +63,16 @@ def trim(model, request: mc.Request) -> Trim:
         warnings.append(f"the scene's top ({si(model.param('m'), 'kg')}) is outside the masses that can "
                         f"hover, {si_span(lo, hi, 'kg')}: as written it does not float at all")
     return Trim(model.param("m"), (lo, hi), design, limits, widest, warnings, Units.of_scene(model.scene))
+
+
+def _widest(model, lo: float, hi: float, design, request: mc.Request, pool) -> tuple[dict, list[dict]]:
+    """The widest linear spin window over the band's masses, with its launch odds on the design's
+    fresh draws (in `pool`), and the window of every mass."""
+    limits = spin_limits(model, np.linspace(lo, hi, LIMIT_POINTS))
+    widths = [(r["spin_interval"][1] - r["spin_interval"][0]) if r["spin_interval"] else -np.inf
+              for r in limits]
+    widest = dict(limits[int(np.argmax(widths))])
+    fresh = mc.Request(dict(design.inputs), design.n, design.seed + ld.FRESH, design.success_time,
+                       design.t_end, request.integrator, request.tol, request.workers, request.scheduler)
+    widest["launch_odds"] = ld.odds_dict(ld.odds_at(model.ref, ["top.mass"], [widest["mass"]], fresh, pool))
+    return widest, limits

@@ -48,6 +48,14 @@ class Trim:
         return self.design.start_launch_odds["probability"]
 
     @property
+    def no_change(self) -> bool:
+        """The best mass's odds lie inside the 95 % interval of the odds as written (both on the
+        fresh draws): the search cannot tell the change from its own noise, so the advice is to
+        change nothing (the best mass stays in `advice`, as data)."""
+        lo, hi = self.design.start_launch_odds["probability_ci95"]
+        return lo <= self.probability <= hi
+
+    @property
     def widest_window_mass(self) -> float:
         return self.widest["mass"]
 
@@ -68,7 +76,7 @@ class Trim:
     def as_json(self) -> dict:
         """docs/contract.md's `trim --json` (SI) but for the command's own `scene` and `out`."""
         d = self.design
-        return {"mass": self.mass, "advice": self.advice, "change": self.change,
+        return {"mass": self.mass, "advice": self.advice, "change": self.change, "no_change": self.no_change,
                 "band_mass": list(self.band_mass), "launch_odds": d.launch_odds,
                 "start_launch_odds": d.start_launch_odds, "widest_window": self.widest,
                 "spin_limits": self.limits, "inputs": d.inputs, "success_time": d.success_time,
@@ -78,6 +86,8 @@ class Trim:
     def message(self) -> str:
         d, u = self.change, self.units
         how = f"take {u.mass(-d)} off" if d < 0 else f"add {u.mass(d)}"
+        if self.no_change:
+            how = f"no change (the best mass, {how}, floats within the interval of the mass as written)"
         return (f"{how}: launch odds {sig(100 * self.start_probability, 3)}% -> {sig(100 * self.probability, 3)}%"
                 f" (the widest spin window, at {u.mass(self.widest_window_mass)}: "
                 f"{sig(100 * self.widest_window_probability, 3)}%)")

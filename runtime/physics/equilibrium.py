@@ -134,6 +134,11 @@ def naming_the_formula(model):
         raise UserError(f"{where}: {exc}; fix the formula or its [plate.params]") from None
 
 
+class NoHover(UserError):
+    """The top has no vertically stable hover height (hover_height): a fact about the design,
+    which a launch counts as probability 0 rather than as bad input."""
+
+
 def hover_height(model, p: np.ndarray | None = None) -> float:
     """z_s: the lowest vertically stable equilibrium (thesis 3.3.2-3.3.3); a one-line UserError
     naming the reason when there is none."""
@@ -146,6 +151,6 @@ def hover_height(model, p: np.ndarray | None = None) -> float:
         known[key] = rep.stable[0].z if rep.stable else None
     if not rep.stable:
         m = params_of(model, p)["m"]
-        raise UserError(f"scene '{model.scene.name}' has no vertically stable hover height: "
-                        f"{rep.no_hover_reason(m)} (see `«levitron=equilibrium»`)")
+        raise NoHover(f"scene '{model.scene.name}' has no vertically stable hover height: "
+                      f"{rep.no_hover_reason(m)} (see `«levitron=equilibrium»`)")
     return rep.stable[0].z

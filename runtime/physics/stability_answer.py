@@ -4,7 +4,8 @@ and `Study.stability()` returns (thesis 3.3).
 `Stability.of(model, height, level_tolerance)` runs the analysis (runtime/physics/stability.py:
 the exact route, thesis 3.3.9-3.3.16, and the eigenvalue route beside it; over a tilted base the
 equilibrium off the axis, runtime/physics/tilted_stability.py) and, on request, how level the base
-and how well aligned the magnet must be; `as_json()` is docs/contract.md's `stability` object,
+(checked against higher orders of the field's expansion, runtime/physics/truncation.py) and how
+well aligned the magnet must be; `as_json()` is docs/contract.md's `stability` object,
 `plot(path)` draws the spin interval against the base's tilt. SI throughout; `units` says how the
 repr and the message show the numbers.
 """
@@ -41,7 +42,7 @@ class Stability:
     level_tolerance: dict | None = None
     wall_s: float = 0.0
     units: Units = field(default=_SI, compare=False)
-    _model: object = field(default=None, compare=False)      # for plot()
+    _model: object = field(default=None, compare=False)      # for plot(): at the tolerance's field order
 
     @classmethod
     def of(cls, model, height: float | None = None, level_tolerance: bool = False) -> Stability:
@@ -53,14 +54,15 @@ class Stability:
         res = stability_of(model, height=height)
         eigen = ("full_jac (generated)" if model.has_function("full_jac") and "p_zeta" in model.part("full").states
                  else "transverse_matrix (8-D)")
-        tol = _level_tolerance(model) if level_tolerance else None
+        tol, drawn, lines = _level_tolerance(model) if level_tolerance else (None, model, [])
+        res.notes.extend(lines)    # a tolerance's field order raised, or a warning
         wall = time.perf_counter() - t0
         # the vertical stiffness U'' = mu Phi_3(z_s) (thesis 3.3.3), N/m: what «constrain»
         # stiffness>=K of `optimize` speaks of; it does not depend on the mass
         k = (model.param("mu") * float(model.onaxis(res.z_s)[3])
              if res.z_s and res.equilibrium is None else None)
         return cls(res, model.scene.name, model.param("m"), height is not None, eigen, k, tol, wall,
-                   Units.of_scene(model.scene), model)
+                   Units.of_scene(model.scene), drawn)
 
     # ---- what the result says, as the API has always named it
     @property
@@ -134,19 +136,90 @@ class Stability:
         return str(draw(model, without_friction(model, model.p), self.level_tolerance, path))
 
 
-def _level_tolerance(model) -> dict:
+def _level_tolerance(model) -> tuple[dict, object, list[str]]:
     """How level the base must be (the aligned top's relative equilibrium) and how well aligned
     the magnet (at the scene's base tilt, route Floquet), with the height difference across the
-    plate's largest length that the base's tolerance is."""
+    plate's largest length that the base's tolerance is; the model at the field order of the
+    base's tolerance (for the plot); the sentences for the answer's notes.
+
+    The top over a tilted base hovers off the axis, where the field is the Laplace expansion cut at
+    the scene's field.order (thesis eqs. 2.2.4-2.2.7): max_base_tilt is computed at higher orders
+    too until it changes by less than 1 % (runtime/physics/truncation.py), and reported at the
+    order used, with the `truncation` block; max_moment_tilt likewise (moment_tolerance's
+    `truncation`) where its route is the relative equilibrium's (about a second an order), not
+    where it is shooting (minutes an order): there it stays at the model's order and says so.
+    Each order is a progress stage (runtime/ui/progress.py)."""
+    from levitron.runtime.physics.rotating_equilibrium import refusal
     from levitron.runtime.physics.tilted_stability import level_tolerance
+    from levitron.runtime.physics.truncation import MAX_ORDER, Truncation, by_order
+    from levitron.runtime.ui import progress
     p = without_friction(model, model.p)
-    aligned = model.with_params({"moment_tilt": 0.0}, p) if "moment_tilt" in model.param_names else p
-    tol = level_tolerance(model, aligned)
-    tol.update(_moment_tolerance(model, p))
+    n0 = int(model.manifest.field_order)
+    orders = range(n0, max(n0, MAX_ORDER) + 1, 2)
+    moment = "moment_tilt" in model.param_names
+    shooting = refusal(model, p) if moment else None
+    names = [f"base tilt (order {n})" for n in orders] + (
+        [] if not moment else ["moment tilt"] if shooting else [f"moment tilt (order {n})" for n in orders])
+    # shares of the time: the first order ~5 s, each higher one a derivation too (10-40 s); the
+    # moment tilt ~1 s an order by the relative equilibrium, minutes by shooting
+    weights = [0.3] + [1.0] * (len(orders) - 1) + ([6.0] if shooting else [0.1] * (len(names) - len(orders)))
+    load = _loaded_once(model)
+    base_at, moment_at = {}, {}
+
+    def base_tilt(m) -> float | None:
+        pm = without_friction(m, m.p)
+        got = level_tolerance(m, m.with_params({"moment_tilt": 0.0}, pm) if moment else pm)
+        base_at[int(m.manifest.field_order)] = (got, m)
+        return got["max_base_tilt"]
+
+    def moment_tilt(m) -> float | None:
+        got = _moment_tolerance(m, without_friction(m, m.p))
+        moment_at[int(m.manifest.field_order)] = got
+        return got["max_moment_tilt"]
+    with progress.stages("level tolerance", names, weights) as stage:
+        trunc = by_order(model, base_tilt, "the largest base tilt (max_base_tilt)", "rad", load=load,
+                         stage=lambda n: stage(f"base tilt (order {n})"))
+        tol, used = base_at[trunc.order_used]
+        tol = dict(tol)
+        mtrunc = None
+        if moment and not shooting:
+            mtrunc = by_order(model, moment_tilt, "the largest moment tilt (max_moment_tilt)", "rad",
+                              load=load, stage=lambda n: stage(f"moment tilt (order {n})"))
+            tol.update(moment_at[mtrunc.order_used])
+        else:
+            if moment:
+                stage("moment tilt")
+            tol.update(_moment_tolerance(model, p))
+            if moment:
+                mtrunc = Truncation("the largest moment tilt (max_moment_tilt)", "rad", (n0,),
+                                    (tol["max_moment_tilt"],), (), n0, unchecked=(
+                                        "not checked at higher field orders: its route is shooting, "
+                                        f"minutes an order ({shooting})"))
     tol["length"] = model.scene.length_scale
     tol["height_difference"] = (None if tol["max_base_tilt"] is None
                                 else math.tan(tol["max_base_tilt"]) * tol["length"])
-    return tol
+    tol["truncation"] = trunc.as_json()
+    if mtrunc is not None:
+        tol["moment_tolerance"] = {**tol["moment_tolerance"], "truncation": mtrunc.as_json()}
+    return tol, used, [t.line for t in (trunc, mtrunc) if t is not None and t.line]
+
+
+def _loaded_once(model):
+    """order -> the model at that field order (runtime/physics/truncation.py `loader`), each
+    loaded (or refused) once: the base's and the magnet's tolerance share them."""
+    from levitron.runtime.physics.truncation import loader
+    load, seen = loader(model), {int(model.manifest.field_order): model}
+
+    def once(order: int):
+        if order not in seen:
+            try:
+                seen[order] = load(order)
+            except UserError as exc:
+                seen[order] = exc
+        if isinstance(seen[order], UserError):
+            raise seen[order]
+        return seen[order]
+    return once
 
 
 def _moment_tolerance(model, p) -> dict:

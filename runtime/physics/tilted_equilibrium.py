@@ -79,17 +79,23 @@ def gravity_height(xyz, tilt: float, azimuth: float):
             - (xyz[0] * math.cos(azimuth) + xyz[1] * math.sin(azimuth)) * math.sin(tilt))
 
 
+def newton_step(F: np.ndarray, J: np.ndarray, scale: np.ndarray) -> np.ndarray | None:
+    """One Newton step du of F + J du = 0, solved in units of `scale`; None where J is singular
+    or the step is not finite."""
+    try:
+        du = np.linalg.solve(J * scale[None, :], -F) * scale
+    except np.linalg.LinAlgError:
+        return None
+    return du if np.all(np.isfinite(du)) else None
+
+
 def newton(FJ: Callable, u0: np.ndarray, scale: np.ndarray) -> np.ndarray | None:
     """Newton's method on F(u) = 0 from u0 (FJ(u) = (F, dF/du)), steps measured in units of
     `scale`; None if it does not converge in NEWTON_ITER steps (or a step is not finite)."""
     u = np.array(u0, dtype=float)
     for _ in range(NEWTON_ITER):
-        F, J = FJ(u)
-        try:
-            du = np.linalg.solve(J * scale[None, :], -F) * scale
-        except np.linalg.LinAlgError:
-            return None
-        if not np.all(np.isfinite(du)):
+        du = newton_step(*FJ(u), scale)
+        if du is None:
             return None
         u = u + du
         if np.max(np.abs(du / scale)) <= STEP_TOL:

@@ -19,10 +19,10 @@ TEMPERATURE_STEP = 8.0   # degC either side of the scene's temperature
 
 def mass_windows(model) -> list[dict]:
     """The stable band's mass window at the scene's temperature T and at T -/+ TEMPERATURE_STEP
-    (mu scaled by launch_odds.temperature_factor)."""
+    (mu scaled by launch_inputs.temperature_factor)."""
     from levitron.runtime.physics import equilibrium as eqm
     from levitron.runtime.physics.bands import edge_note
-    from levitron.runtime.scan.launch_odds import temperature_factor
+    from levitron.runtime.scan.launch_inputs import temperature_factor
     from levitron.scene.keys import T_REF
     T0 = float(model.scene.data.get("temperature", T_REF))
     mu = model.param("mu")

@@ -82,7 +82,14 @@ class LaunchOdds:
         return not self._failed()
 
     @property
+    def reason(self) -> str | None:
+        """Why no launch was run, where the scene's top cannot hover (the odds are then 0)."""
+        return self.details.get("reason")
+
+    @property
     def message(self) -> str:
+        if self.reason:
+            return f"0% of {self.n} launches float: no launch can, {self.reason}"
         lo, hi = self.probability_ci95
         decided = self.n - self.details.get("no_verdict", 0)     # the odds leave out the runs with no verdict
         text = (f"{sig(100 * self.probability, 3)}% of {decided} launches float at least "

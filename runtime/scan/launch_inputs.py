@@ -2,7 +2,9 @@
 its azimuth, offset, velocity, mass, strength, temperature) and the apparatus's imperfections, each
 an `Apparatus` entry that sets a runtime parameter of the model (a base that is not level, a magnet
 off its axis), with the unit of each input's JSON numbers. Another imperfection with a runtime
-parameter is one entry of APPARATUS.
+parameter is one entry of APPARATUS. Beside them what an input means for the top: the magnets'
+strength at a temperature (`temperature_factor`) and whether a spin can float the success time at
+all (`reach_warnings`).
 """
 from __future__ import annotations
 
@@ -71,3 +73,41 @@ def refuse_apparatus(model, given) -> None:
             raise UserError(f"launch {a.name}: scene '{model.scene.name}' has no {a.scene_key}, so its "
                             f"model has no {a.param} to sample; pass «set» {a.scene_key}=0 (or put "
                             f"{a.scene_key} in the scene) and the launches set it")
+
+
+def temperature_factor(model, T: float) -> float:
+    """The factor on mu at temperature T relative to the scene's own (scene/load.py's linear
+    model of both magnets' remanence)."""
+    from levitron.scene.keys import T_REF
+    data = model.scene.data
+    ap = float(data["plate"].get("temperature_coefficient", 0.0))
+    at = float(data["top"].get("temperature_coefficient", 0.0))
+    T0 = float(data.get("temperature", T_REF))
+    f = (1 + ap * (T - T_REF)) * (1 + at * (T - T_REF))
+    return f / ((1 + ap * (T0 - T_REF)) * (1 + at * (T0 - T_REF)))
+
+
+def centre(d: Dist) -> float:
+    """The middle of a distribution: the mean, the middle of a uniform range, the fixed value."""
+    return 0.5 * (d.a + d.b) if d.kind == "uniform" else d.a
+
+
+def reach_warnings(model, spin: Dist, interval, tau, success_time: float, defaulted: bool) -> list[str]:
+    """In air: a one-line warning when a launch at the spin's centre cannot float the success time
+    at all by the adiabatic prediction, tau ln(omega_0 / sigma_lo) < success_time (runtime/physics/
+    friction.py: the spin decays as exp(-t/tau) and the top falls where it crosses sigma_lo), so
+    that the odds say more of the spin asked for than of the top (issue 26: the default spin flew
+    88 s against a default success time of 100 s). [] without air or without a spin interval."""
+    from levitron.runtime.physics.friction import crossing_time
+    from levitron.runtime.ui.human import Units
+    if tau is None or not interval:
+        return []
+    w0 = centre(spin)
+    t = crossing_time(w0, interval[0], 1 / tau)
+    if t is None or t >= success_time:
+        return []
+    u = Units.of_scene(model.scene)
+    which = "the default spin" if defaulted else "the spin's centre"
+    return [f"{which} {u.rate(w0).split(' (')[0]} floats only about {u.time(t)} by the adiabatic prediction "
+            f"tau ln(omega_0 / sigma_lo), less than the success time {u.time(success_time)}: even a steady "
+            "launch at it cannot succeed; launch faster («spin») or ask for a shorter flight («success_time»)"]

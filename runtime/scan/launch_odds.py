@@ -60,12 +60,16 @@ from levitron.runtime.physics.friction import has_friction
 from levitron.runtime.integrate.verdict import stopped_early
 from levitron.runtime.integrate.methods import DEFAULT, refuse_on_full_model, resolve
 from levitron.runtime.scan.launch_answer import LaunchOdds
-from levitron.runtime.scan.launch_summary import effects, launches, wilson
-from levitron.runtime.scan.launch_inputs import ALL_INPUTS, INPUTS, apparatus_of, refuse_apparatus
+from levitron.runtime.scan.launch_summary import cannot_hover, effects, launches, wilson
+from levitron.runtime.scan.launch_inputs import (ALL_INPUTS, INPUTS, apparatus_of, reach_warnings,
+                                                  refuse_apparatus, temperature_factor)
 from levitron.runtime.scan.spreads import Dist, parse_input, spec_text
+from levitron.runtime.scan.workers import auto_workers
 from levitron.runtime.ui.validate import count, real, spread_range, temperature
 
 MAX_N = 10**6
+# a launch's tolerance: its odds well inside their Wilson interval (runtime/bench/verdict_tolerance.py)
+LAUNCH_TOL = 1e-6
 
 
 @dataclass(frozen=True)
@@ -102,18 +106,6 @@ def samples(plan: Plan) -> dict[str, np.ndarray]:
     (the apparatus inputs come last, so a level scene's draws are those of before)."""
     rng = np.random.Generator(np.random.PCG64(plan.seed))
     return {name: d.sample(rng, plan.n) for name, d in plan.dists}
-
-
-def temperature_factor(model, T: float) -> float:
-    """The factor on mu at temperature T relative to the scene's own (scene/load.py's linear
-    model of both magnets' remanence)."""
-    from levitron.scene.keys import T_REF
-    data = model.scene.data
-    ap = float(data["plate"].get("temperature_coefficient", 0.0))
-    at = float(data["top"].get("temperature_coefficient", 0.0))
-    T0 = float(data.get("temperature", T_REF))
-    f = (1 + ap * (T - T_REF)) * (1 + at * (T - T_REF))
-    return f / ((1 + ap * (T0 - T_REF)) * (1 + at * (T0 - T_REF)))
 
 
 def run_chunk(plan: Plan, indices) -> dict:
@@ -197,8 +189,8 @@ class Request:
     success_time: float | None = None
     t_end: float | None = None
     integrator: str = DEFAULT
-    tol: float = 1e-8
-    workers: int = 1
+    tol: float = LAUNCH_TOL
+    workers: int | None = None      # None: every usable core (runtime/scan/workers.py)
     scheduler: str | None = None
 
     @classmethod
@@ -234,11 +226,44 @@ class Request:
 
 def monte_carlo(model, given: Mapping[str, object], n: int = 1000,
                 seed: int = 0, success_time: float | None = None, t_end: float | None = None,
-                integrator: str = DEFAULT, tol: float = 1e-8, workers: int = 1,
+                integrator: str = DEFAULT, tol: float = LAUNCH_TOL, workers: int | None = None,
                 scheduler: str | None = None, quiet: bool = False, pool=None) -> LaunchOdds:
     """The launch odds of the module docstring (runtime/scan/launch_answer.py's LaunchOdds). given:
     input name -> a distribution spec (flags or the scene's [launch] table, flags first); others
-    take `defaults`."""
+    take `defaults`. workers None: every usable core (runtime/scan/workers.py)."""
+    from levitron.runtime.physics.equilibrium import NoHover
+    try:
+        prep = prepare(model, given, n, seed, success_time, t_end, integrator, tol, workers, scheduler)
+    except NoHover as exc:          # a design where the top cannot hover is an answer: it floats never
+        return LaunchOdds.of(cannot_hover(n, seed, str(exc), given, success_time, t_end), model)
+    results = execute(prep, model, range(prep.plan.n), quiet=quiet, pool=pool)
+    return LaunchOdds.of(summarize(prep.plan, results, prep.success_time, prep.interval, prep.z_s, prep.tau,
+                                   prep.given, prep.warnings), model)
+
+
+@dataclass(frozen=True)
+class Prepared:
+    """A Monte Carlo checked and planned, not yet run: its Plan and what the summary needs."""
+    plan: Plan
+    success_time: float
+    interval: tuple | None
+    z_s: float
+    tau: float | None
+    given: Mapping
+    warnings: tuple
+    workers: int
+    scheduler: str | None
+
+    def floats(self, points) -> dict[int, bool]:
+        """Launch index -> floated the success time (summarize's test), for some launches' points."""
+        return {p["i"]: p["t"] >= self.success_time * (1 - 1e-12) for p in points}
+
+
+def prepare(model, given: Mapping[str, object], n: int = 1000,
+            seed: int = 0, success_time: float | None = None, t_end: float | None = None,
+            integrator: str = DEFAULT, tol: float = LAUNCH_TOL, workers: int | None = None,
+            scheduler: str | None = None) -> Prepared:
+    """monte_carlo's checks, defaults and plan (one-line UserErrors), without running a launch."""
     from levitron.runtime.scan import runners
     from levitron.runtime.physics.equilibrium import hover_height
     from levitron.runtime.physics.stability import stability_of
@@ -283,7 +308,7 @@ def monte_carlo(model, given: Mapping[str, object], n: int = 1000,
                                                           positive=True, unit="s", what="time")
     t_end = None if t_end is None else real(t_end, "«t_end»", positive=True, unit="s", what="time")
     tol = real(tol, "«tol»", positive=True, what="tolerance")
-    workers = count(workers, "«workers»", low=1)
+    workers = auto_workers(n) if workers is None else count(workers, "«workers»", low=1)
     if scheduler is not None and not isinstance(scheduler, str):
         raise UserError(f"«scheduler» {scheduler!r}: give the scheduler's address as text, e.g. "
                         "tcp://127.0.0.1:8786")
@@ -313,48 +338,29 @@ def monte_carlo(model, given: Mapping[str, object], n: int = 1000,
     plan = Plan(*model.ref, tuple((k, dists[k]) for k in names), int(n), int(seed),
                 float(t_end), method, float(tol))
     workers = min(workers, runners.usable_cores())     # more processes than cores only queue
+    return Prepared(plan, success_time, interval, z_s, tau, dict(given), tuple(warnings), workers, scheduler)
+
+
+def execute(prep: Prepared, model, indices, quiet: bool = False, pool=None) -> list[dict]:
+    """The launches `indices` of a prepared Monte Carlo: serially, on local processes (in `pool`, a
+    runners.KeptPool, where given) or on dask; the chunks' results."""
+    from levitron.runtime.scan import runners
+    plan, workers, scheduler = prep.plan, prep.workers, prep.scheduler
+    indices = list(indices)
     # serial runs go in chunks of ~20 launches too, so that the progress bar moves (the verdicts do
     # not depend on the chunking: each launch is its own run, test_launch_odds)
-    n_chunks = max(1, workers) * 4 if (workers > 1 or scheduler) else max(1, min(50, plan.n // 20))
-    chunks = runners.split(list(range(plan.n)), n_chunks)
+    n_chunks = max(1, workers) * 4 if (workers > 1 or scheduler) else max(1, min(50, len(indices) // 20))
+    chunks = runners.split(indices, n_chunks)
     runners.remember(plan, model)
     if scheduler:
         client = runners.dask_client(scheduler)
         try:
-            results = runners.run_dask(plan, chunks, client, quiet, fn=run_chunk, what="launch")
+            return runners.run_dask(plan, chunks, client, quiet, fn=run_chunk, what="launch")
         finally:
             client.close()
-    elif workers > 1:
-        results = runners.run_processes(plan, chunks, workers, quiet, fn=run_chunk, what="launch", pool=pool)
-    else:
-        results = runners.run_serial(plan, chunks, quiet, fn=run_chunk, what="launch")
-    return LaunchOdds.of(summarize(plan, results, success_time, interval, z_s, tau, given, warnings), model)
-
-
-def centre(d: Dist) -> float:
-    """The middle of a distribution: the mean, the middle of a uniform range, the fixed value."""
-    return 0.5 * (d.a + d.b) if d.kind == "uniform" else d.a
-
-
-def reach_warnings(model, spin: Dist, interval, tau, success_time: float, defaulted: bool) -> list[str]:
-    """In air: a one-line warning when a launch at the spin's centre cannot float the success time
-    at all by the adiabatic prediction, tau ln(omega_0 / sigma_lo) < success_time (runtime/physics/
-    friction.py: the spin decays as exp(-t/tau) and the top falls where it crosses sigma_lo), so
-    that the odds say more of the spin asked for than of the top (issue 26: the default spin flew
-    88 s against a default success time of 100 s). [] without air or without a spin interval."""
-    from levitron.runtime.physics.friction import crossing_time
-    from levitron.runtime.ui.human import Units
-    if tau is None or not interval:
-        return []
-    w0 = centre(spin)
-    t = crossing_time(w0, interval[0], 1 / tau)
-    if t is None or t >= success_time:
-        return []
-    u = Units.of_scene(model.scene)
-    which = "the default spin" if defaulted else "the spin's centre"
-    return [f"{which} {u.rate(w0).split(' (')[0]} floats only about {u.time(t)} by the adiabatic prediction "
-            f"tau ln(omega_0 / sigma_lo), less than the success time {u.time(success_time)}: even a steady "
-            "launch at it cannot succeed; launch faster («spin») or ask for a shorter flight («success_time»)"]
+    if workers > 1:
+        return runners.run_processes(plan, chunks, workers, quiet, fn=run_chunk, what="launch", pool=pool)
+    return runners.run_serial(plan, chunks, quiet, fn=run_chunk, what="launch")
 
 
 def summarize(plan: Plan, results, success_time: float, interval, z_s: float, tau,

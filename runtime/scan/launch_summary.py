@@ -92,3 +92,14 @@ def launches(S: Mapping[str, np.ndarray], pts: list[dict], ok: np.ndarray, t: np
     out["floats"] = ok.astype(np.int64)
     out["flight_time"] = np.asarray(t, float)
     return {k: out[k] for k in LAUNCH_UNITS if k in out}
+
+
+def cannot_hover(n: int, seed: int, reason: str, given, success_time, t_end) -> dict:
+    """The answer (summarize's keys) where the scene's top has no hover height: every launch
+    fails, none is run; `reason` says why (the optimiser scores such a design 0 the same way)."""
+    return {"probability": 0.0, "probability_ci95": [0.0, 0.0], "successes": 0, "n": int(n), "no_verdict": 0,
+            "seed": int(seed), "success_time": success_time, "t_end": t_end,
+            "flight_time": {"median": 0.0, "q1": 0.0, "q3": 0.0, "censored": 0, "values": [0.0] * int(n)},
+            "outcomes": {"cannot_hover": int(n)}, "ranking": [], "inputs": {k: str(v) for k, v in given.items()},
+            "defaulted": [], "z_s": None, "spin_interval": None, "verdicts": [False] * int(n), "launches": {},
+            "warnings": [], "reason": reason}

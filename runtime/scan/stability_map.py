@@ -77,8 +77,10 @@ from levitron.runtime.scan.runners import (
 )
 from levitron.runtime.ui.human import Units
 from levitron.runtime.ui.validate import axis_values, count, real
+from levitron.runtime.scan.workers import auto_workers
 
 BASE_TILT = 0.01       # rad, the seed tilt of mass and height scans
+MIN_POINTS = 4         # a map of fewer points runs serially by default (runtime/scan/workers.py)
 CHUNKS_PER_WORKER = 8  # chunks per worker (process or dask thread): the last ones balance the load
 ENGINES = ("c", "python")
 
@@ -109,12 +111,14 @@ def check_run_options(model, axis: str, spins: np.ndarray, others: np.ndarray, h
 
 
 def scan(model, spins: np.ndarray, axis: str, others: np.ndarray, t_end: float | None = None,
-         integrator: str = DEFAULT, tol: float | None = 1e-9, workers: int = 1, scheduler: str | None = None,
+         integrator: str = DEFAULT, tol: float | None = 1e-9, workers: int | None = None,
+         scheduler: str | None = None,
          base_tilt: float = BASE_TILT, h: float | None = None, quiet: bool = False,
          engine: str = "c", scheduler_timeout: float | None = None) -> Scan:
     """Run the map (module docstring); the workers load the same model from model.ref.
     engine "c": chunks of points through the C chunk driver (runtime/scan/chunk_c.py) when the integrator
-    is a C one; "python": one runtime.simulate.run-style run per point (the reference path)."""
+    is a C one; "python": one runtime.simulate.run-style run per point (the reference path).
+    workers None: every usable core (runtime/scan/workers.py), serial with a scheduler."""
     spins, others, workers, t_end, base_tilt = _checked(axis, spins, others, workers, scheduler,
                                                         t_end, engine, base_tilt)
     t_wall = time.perf_counter()
@@ -155,6 +159,8 @@ def _checked(axis: str, spins, others, workers, scheduler, t_end, engine: str, b
     spins = axis_values(spins, "spin", MAX_POINTS)
     others = axis_values(others, axis, MAX_POINTS)
     check_axis(axis, others)
+    if workers is None:
+        workers = 1 if scheduler is not None else auto_workers(spins.size * others.size, MIN_POINTS)
     workers = count(workers, "«workers»")
     if spins.size * others.size > MAX_POINTS:
         raise UserError(f"{spins.size * others.size} grid points is too many (at most {MAX_POINTS}); "

@@ -59,17 +59,28 @@ def span(lo, hi, fmt) -> str:
 
 
 def duration(t) -> str:
-    """A wall time or a run length in seconds: "7 ms", "4.2 s", "3 min 5 s"."""
+    """A wall time or a run length in seconds: "7 ms", "4.2 s", "3 min 5 s", "5 h 12 min",
+    "12.3 days", "84 years"."""
     if t is None:
         return "n/a"
     t = float(t)
+    if not math.isfinite(t):
+        return f"{t} s"
+    if t >= 365.25 * 86400:
+        return f"{sig(t / (365.25 * 86400), 3)} years"
+    if t >= 86400:
+        return f"{sig(t / 86400, 3)} days"
+    if round(t / 60) >= 60:
+        h, m = divmod(round(t / 60), 60)
+        return f"{h} h {m} min"
     if t < 1e-3:
         return f"{sig(t * 1e6, 3)} us"
     if t < 1:
         return f"{sig(t * 1e3, 3)} ms"
     if t < 120:
         return f"{sig(t, 3)} s"
-    return f"{int(t // 60)} min {round(t % 60)} s"
+    m, sec = divmod(round(t), 60)
+    return f"{m} min {sec} s"
 
 
 @dataclass(frozen=True)

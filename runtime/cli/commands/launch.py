@@ -52,17 +52,20 @@ def add_launch_arguments(parser) -> None:
     parser.add_argument("--t-end", type=float, default=None, metavar="T",
                         help="run length of each launch, s (default: the success time)")
     parser.add_argument("--integrator", default="auto", metavar="NAME", help="dop853, vern9 or auto")
-    parser.add_argument("--tol", type=float, default=1e-8, help="tolerance (default 1e-8)")
-    parser.add_argument("--workers", type=int, default=1, metavar="N",
-                        help="local worker processes (default 1: serial; at most the usable cores)")
+    parser.add_argument("--tol", type=float, default=mc.LAUNCH_TOL,
+                        help=f"tolerance (default {mc.LAUNCH_TOL:g}: the loosest whose odds stay well inside their "
+                             "interval, docs/contract.md)")
+    parser.add_argument("--workers", type=int, default=None, metavar="N",
+                        help="local worker processes (default: every usable core, serial below 64 launches; "
+                             "1: serial; at most the usable cores)")
     parser.add_argument("--scheduler", default=None, metavar="ADDRESS", help="a dask scheduler")
 
 
 def launch_request(args, scene) -> mc.Request:
     """The launch Monte Carlo the flags ask for, over the scene's [launch] table."""
-    if args.workers is None or args.workers < 1:
+    if args.workers is not None and args.workers < 1:
         raise UserError(f"--workers {args.workers} must be at least 1 (1 = serial)")
-    if args.scheduler is not None and args.workers != 1:
+    if args.scheduler is not None and args.workers not in (None, 1):
         raise UserError("pass either --workers N (local processes) or --scheduler ADDRESS (dask), not both")
     given = {k: getattr(args, f"dist_{k}") for k in li.ALL_INPUTS if getattr(args, f"dist_{k}") is not None}
     return mc.Request.of(scene.data.get("launch", {}), given, n=args.n, seed=args.seed,
@@ -97,6 +100,9 @@ def run(args) -> dict:
     odds = request.run(model, quiet=args.quiet)
     out = odds.as_json()        # the JSON stays its size: the launches' table goes to --save
     out["saved"] = None
+    if odds.reason:                 # the top cannot hover: no launch ran, nothing to save or draw
+        out["out"] = None
+        return out
     if args.save is not None:
         out["saved"] = saved_block(odds.save(args.save, flag="--save"), len(odds.launches["launch"]),
                                    odds.units, tuple(odds.launches))
@@ -143,6 +149,9 @@ def _temperature_matters(spec: str, scene) -> bool:
 def human(r: dict, scene=None) -> str:
     """Answer first: the odds with their interval; the flight times; what matters most."""
     u = Units.of_scene(scene) if scene is not None else Units(si=True)
+    if r.get("reason"):
+        return lines(f"launch odds: 0% of {r['n']} launches float: the top cannot hover, so no launch was run",
+                     f"reason: {r['reason']}", u.note)
     lo, hi = r["probability_ci95"]
     ft = r["flight_time"]
     rank = [f"{e['input']} ({sig(100 * e['effect'], 3)} points of success rate across its quintiles"

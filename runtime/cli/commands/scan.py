@@ -56,9 +56,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--tol", type=float, default=1e-9, help="tolerance of adaptive integrators (default 1e-9)")
     parser.add_argument("--step", type=float, default=None, metavar="H",
                         help="step of fixed-step integrators, s (default: 1/100 of the fastest period)")
-    parser.add_argument("--workers", type=int, default=1, metavar="N",
-                        help="local worker processes (default 1: serial); the grid is dealt into "
-                             "chunks, each run by one C call")
+    parser.add_argument("--workers", type=int, default=None, metavar="N",
+                        help="local worker processes (default: every usable core; 1: serial); the grid "
+                             "is dealt into chunks, each run by one C call")
     parser.add_argument("--scheduler", default=None, metavar="ADDRESS",
                         help="run on a dask.distributed cluster (e.g. tcp://host:8786; start it with "
                              "`dask scheduler` and `dask worker ADDRESS` on each machine, which needs "
@@ -84,9 +84,9 @@ def run(args) -> dict:
     check_axis(axis, others)
     if args.t_end is not None and not args.t_end > 0:
         raise UserError(f"--t-end {args.t_end} must be a positive run length in {si_unit('s')}, e.g. --t-end 5")
-    if args.workers is None or args.workers < 1:
+    if args.workers is not None and args.workers < 1:
         raise UserError(f"--workers {args.workers} must be at least 1 (1 = serial)")
-    if args.scheduler is not None and args.workers != 1:
+    if args.scheduler is not None and args.workers not in (None, 1):
         raise UserError("pass either --workers N (local processes) or --scheduler ADDRESS (dask), not both")
     lookup(args.integrator)   # an unknown name is a one-line UserError
     if args.out is not None:

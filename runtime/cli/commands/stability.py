@@ -108,7 +108,7 @@ def _moment_line(t: dict) -> str:
 
 
 def _level_tolerance(t: dict, u: Units) -> str:
-    """"level to 0.0948 deg: 0.17 mm across 10 cm (the plate's largest length)"."""
+    """"level to 0.0822 deg: 0.14 mm across 10 cm (the plate's largest length)"."""
     if t["max_base_tilt"] is None:
         return "level_tolerance: none: the top has no stable spin interval even on a level base"
     why = {"fold": "beyond it the equilibrium itself is gone",
@@ -138,6 +138,15 @@ def _approximations(ap: dict, u: Units) -> str:
             f"{u.rate_span(ap['sigma1'], ap['sigma2'])}")
 
 
+def _notes(r: dict) -> list[str]:
+    """The answer's notes, the level tolerance's truncation warnings (runtime/physics/truncation.py:
+    the base's and the magnet's) as "warning: " lines."""
+    t = r.get("level_tolerance") or {}
+    blocks = (t.get("truncation"), (t.get("moment_tolerance") or {}).get("truncation"))
+    warn = {b["warning"] for b in blocks if b and b.get("warning")}
+    return [f"warning: {n}" if n in warn else n for n in r.get("notes") or []]
+
+
 def human(r: dict, scene=None) -> str:
     """Answer first: the spin interval (rad/s, Hz, rpm), then where, the thesis's approximations."""
     u = Units.of_scene(scene) if scene is not None else Units(si=True)
@@ -161,5 +170,5 @@ def human(r: dict, scene=None) -> str:
         if r.get("stiffness") is not None else "",
         "further intervals: " + ", ".join(_interval(ivl, u) for ivl in more) if more else "",
         f"reason: {restate(r['reason'], u)}" if r.get("reason") else "",
-        approx, *(r.get("notes") or []), u.note,
+        approx, *_notes(r), u.note,
         f"plot: {r['plot']}" if r.get("plot") else "")

@@ -43,9 +43,15 @@ def human(r: dict, scene=None) -> str:
     a, b, w = r["start_launch_odds"], r["launch_odds"], r["widest_window"]
     lo, hi = r["band_mass"]
     iv = w["spin_interval"]
+    change = f"{change_text('top.mass', r['mass'], r['advice'], u)} (to {u.mass(r['advice'])})"
+    first = (f"{change}: launch odds {odds_text(a)} -> {odds_text(b)} of {b['n']} launches floating at least "
+             f"{u.time(r['success_time'])}")
+    if r.get("no_change"):
+        first = (f"no change: the best mass ({change}) floats {odds_text(b)}, inside the interval of the "
+                 f"mass as written, {odds_text(a)}, of {b['n']} launches floating at least "
+                 f"{u.time(r['success_time'])}")
     return lines(
-        f"{change_text('top.mass', r['mass'], r['advice'], u)} (to {u.mass(r['advice'])}): launch odds "
-        f"{odds_text(a)} -> {odds_text(b)} of {b['n']} launches floating at least {u.time(r['success_time'])}",
+        first,
         f"the masses that hover: {u.mass(lo)} to {u.mass(hi)}; as written {u.mass(r['mass'])}",
         f"the widest spin window ({u.rate_span(*iv)}) is at {u.mass(w['mass'])}: odds there "
         f"{odds_text(w['launch_odds'])}" if iv else "",

@@ -119,8 +119,18 @@ def test_command_writes_a_scene_that_reads_back(tmp_path):
         assert key in data
     assert {"float_route", "grid_best", "grid_points"} <= set(data["verification"])
     again = load_scene(out)
-    assert again.data["top"]["mass"] == data["optimum"]["top.mass"]
+    # the shortest decimal within a millionth of the optimum (scene_write.shortest), and the scene's name
+    written = again.data["top"]["mass"]
+    assert written == pytest.approx(data["optimum"]["top.mass"], rel=1e-6) and len(repr(written)) <= 10
+    assert 'name = "best"' in out.read_text() and again.name == "best"
     assert pvector(["plate_a"], again)[0] == 0.05
+
+
+def test_the_shortest_decimal_keeps_the_resolution():
+    from levitron.runtime.design.scene_write import shortest
+    assert shortest(0.018999999999999996) == 0.019
+    assert shortest(0.05187747195948692) == 0.0518775
+    assert shortest(1.0) == 1.0 and shortest(-2.5e-7) == -2.5e-7 and shortest(0.0) == 0.0
 
 
 def test_command_refuses_bad_input(tmp_path):

@@ -15,7 +15,7 @@ from levitron.runtime.cli.main import main
 from levitron.runtime.scan import runners
 
 N = 100
-ARGS = ["launch", "thesis_air", "--n", str(N), "--t-end", "1", "--tilt", "0.01"]
+ARGS = ["launch", "thesis_air", "--n", str(N), "--t-end", "1", "--tilt", "0.01", "--workers", "1"]
 
 
 def test_the_serial_launch_logs_its_count_and_eta_off_a_terminal(monkeypatch, capsys):
@@ -36,7 +36,8 @@ def test_the_serial_launch_bar_moves_on_a_terminal(tmp_path):
     if pid == 0:                                   # the child: the command, its stderr the terminal
         env = {k: v for k, v in os.environ.items() if k != "LEVITRON_PROGRESS"}
         env.update(COLUMNS="120", TERM="xterm")
-        os.execve(exe, [exe, "launch", "thesis_air", "--n", "200", "--t-end", "2", "--tilt", "0.01"], env)
+        os.execve(exe, [exe, "launch", "thesis_air", "--n", "200", "--t-end", "2", "--tilt", "0.01",
+                        "--workers", "1"], env)
     out = b""
     while True:
         try:

@@ -11,6 +11,7 @@ import re
 import pytest
 
 from levitron.runtime.cli.main import main
+from levitron.runtime.scan import launch_inputs as li
 from levitron.runtime.scan import launch_odds as mc
 
 # thesis_air's top 1 g lighter: near the band's upper edge its interval is 2837-2949 rad/s, so the
@@ -43,9 +44,9 @@ def test_a_reachable_success_time_gives_no_warning(capsys, derived_model):
     assert json.loads(capsys.readouterr().out)["warnings"] == []
     model = derived_model("thesis_air")
     iv, tau = (459.6, 2740.0), 150.0
-    assert mc.reach_warnings(model, mc.Dist("normal", math.sqrt(iv[0] * iv[1]), 100.0), iv, tau, 75.0, True) == []
-    given = mc.reach_warnings(model, mc.Dist("uniform", 550.0, 650.0), iv, tau, 75.0, False)
+    assert li.reach_warnings(model, mc.Dist("normal", math.sqrt(iv[0] * iv[1]), 100.0), iv, tau, 75.0, True) == []
+    given = li.reach_warnings(model, mc.Dist("uniform", 550.0, 650.0), iv, tau, 75.0, False)
     assert len(given) == 1 and given[0].startswith("the spin's centre 600 rad/s floats only about ")
     shown = float(re.search(r"about ([\d.]+) s", given[0]).group(1))
     assert shown == pytest.approx(tau * math.log(600.0 / iv[0]), rel=1e-3)      # 39.99 s
-    assert mc.reach_warnings(model, mc.Dist("fixed", 600.0), iv, None, 75.0, False) == []     # no air
+    assert li.reach_warnings(model, mc.Dist("fixed", 600.0), iv, None, 75.0, False) == []     # no air

@@ -95,7 +95,7 @@ def test_default_t_end_is_three_slow_periods(model):
 
 def test_workers_equal_serial(model):
     spins, tilts = [300.0, 1000.0, 2000.0, 3200.0], [0.01, 0.06]
-    a = run_scan(model, spins, "tilt", tilts, t_end=2.0)
+    a = run_scan(model, spins, "tilt", tilts, t_end=2.0, workers=1)
     b = run_scan(model, spins, "tilt", tilts, t_end=2.0, workers=2)
     assert b.runner == {"kind": "processes", "workers": 2, "chunks": 8, "engine": "c"}
     assert a.runner["kind"] == "serial" and a.runner["engine"] == "c"

@@ -218,3 +218,11 @@ def test_a_narrow_span_of_rates_keeps_its_ends_apart():
     assert text == "459.615-459.616 rad/s (73.15-73.1502 Hz, 4389-4389.01 rpm)", text
     assert Units(si=True).rate_span(459.6, 2740.0) == "459.6-2740 rad/s (73.1-436 Hz, 4390-26200 rpm)"
     assert Units(si=False).rate_span(30.28281, 30.28289) == "30.2828-30.2829 rad/time"
+
+
+def test_long_durations_read_in_hours_days_and_years():
+    """A flight of 7252946 min read as "7252946 min": above an hour, hours; above a day, days."""
+    from levitron.runtime.ui.human import duration
+    assert duration(150) == "2 min 30 s" and duration(179.6) == "3 min 0 s"
+    assert duration(3599.7) == "1 h 0 min" and duration(18720) == "5 h 12 min"
+    assert duration(2.5 * 86400) == "2.5 days" and duration(7252946 * 60) == "13.8 years"
