@@ -15,7 +15,9 @@ The plates' convention is a top face in z = 0 (docs/contract.md): every magnet's
 every loop must lie in one plane, the assembly's top, which becomes z = 0. Anything else is refused
 with one line naming the source: a rotated or off-axis source, a magnetisation with an x or y
 part, a partial ring, a path of several positions, sources at different heights, and other source
-types (spheres, meshes, dipoles, polylines, ...). magpylib is not a dependency of levitron: the
+types (spheres, meshes, dipoles, polylines, ...), a number that is not finite (a position, a
+magnetisation, a dimension, a current) or a source without its dimension, and a collection of more
+than MAX_SOURCES sources (each is a part the model derives and evaluates). magpylib is not a dependency of levitron: the
 caller has it, since it passes its objects.
 """
 from __future__ import annotations
@@ -26,6 +28,24 @@ import numpy as np
 
 from levitron.runtime.errors import UserError
 
+MAX_SOURCES = 200       # the parts of one compound plate: each is derived and evaluated on its own
+
+
+def _finite(values, who: str, what: str, size: int | None = None) -> np.ndarray:
+    """`values` as finite floats (one-line UserError naming the source and `what` otherwise): a NaN
+    compares false with everything, so it would pass every check below as 0 (on the axis, along z)."""
+    if values is None:
+        raise UserError(f"{who} has no {what}: set it (magpylib leaves it unset until given)")
+    try:
+        arr = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise UserError(f"{who} has {what} {values!r}, not numbers: give numbers") from None
+    if size is not None and arr.shape[-1:] != (size,):
+        raise UserError(f"{who} has {what} {arr.tolist()}: give {size} numbers")
+    if not np.all(np.isfinite(arr)):
+        raise UserError(f"{who} has {what} {arr.tolist()}, not finite: give finite numbers")
+    return arr
+
 
 def _name(src, i: int) -> str:
     label = getattr(getattr(src, "style", None), "label", None)
@@ -35,7 +55,7 @@ def _name(src, i: int) -> str:
 def _placed(src, who: str, turn_ok: bool) -> tuple[float, np.ndarray]:
     """(z of the source's centre, its local z axis in global coordinates), after the checks that it
     sits on the axis with one position and, unless turn_ok (an axisymmetric source), unrotated."""
-    pos = np.asarray(src.position, dtype=float)
+    pos = _finite(src.position, who, "position", 3)
     if pos.ndim != 1:
         raise UserError(f"{who} has a path of {len(pos)} positions: give it one position")
     if abs(pos[0]) > 0 or abs(pos[1]) > 0:
@@ -54,7 +74,7 @@ def _placed(src, who: str, turn_ok: bool) -> tuple[float, np.ndarray]:
 
 
 def _magnetization(src, who: str) -> float:
-    m = np.asarray(src.magnetization, dtype=float)
+    m = _finite(src.magnetization, who, "magnetization", 3)
     if m.ndim != 1:
         raise UserError(f"{who} has a magnetisation that changes along a path: give it one")
     if abs(m[0]) > 0 or abs(m[1]) > 0 or not m[2]:
@@ -68,17 +88,17 @@ def _part(src, i: int, magpy) -> tuple[dict, float]:
     who = _name(src, i)
     if isinstance(src, magpy.magnet.Cuboid):
         zc, _ = _placed(src, who, turn_ok=False)
-        a, b, c = (float(v) for v in src.dimension)
+        a, b, c = (float(v) for v in _finite(src.dimension, who, "dimension", 3))
         return ({"kind": "rectangle", "side_x": a, "side_y": b, "thickness": c,
                  "magnetization": _magnetization(src, who)}, zc + c / 2)
     if isinstance(src, magpy.magnet.Cylinder):
         zc, _ = _placed(src, who, turn_ok=True)
-        d, h = (float(v) for v in src.dimension)
+        d, h = (float(v) for v in _finite(src.dimension, who, "dimension", 2))
         return ({"kind": "ring_magnet", "r_out": d / 2, "thickness": h,
                  "magnetization": _magnetization(src, who)}, zc + h / 2)
     if isinstance(src, magpy.magnet.CylinderSegment):
         zc, _ = _placed(src, who, turn_ok=True)
-        r1, r2, h, phi1, phi2 = (float(v) for v in src.dimension)
+        r1, r2, h, phi1, phi2 = (float(v) for v in _finite(src.dimension, who, "dimension", 5))
         if not math.isclose(phi2 - phi1, 360.0, rel_tol=0, abs_tol=1e-9):
             raise UserError(f"{who} spans {phi2 - phi1:g} deg, not a full turn: the plate kinds are "
                             "axisymmetric rings (give phi2 - phi1 = 360)")
@@ -88,8 +108,9 @@ def _part(src, i: int, magpy) -> tuple[dict, float]:
         return part, zc + h / 2
     if isinstance(src, magpy.current.Circle):
         zc, _ = _placed(src, who, turn_ok=True)
-        current = float(np.asarray(src.current, dtype=float).reshape(-1)[0])
-        return {"kind": "loop", "radius": float(src.diameter) / 2, "current": current}, zc
+        current = float(_finite(src.current, who, "current").reshape(-1)[0])
+        diameter = float(_finite(src.diameter, who, "diameter").reshape(-1)[0])
+        return {"kind": "loop", "radius": diameter / 2, "current": current}, zc
     raise UserError(f"{who} is not supported: the plate kinds express Cuboid, Cylinder, CylinderSegment "
                     "(a full turn) and Circle sources on the z axis, magnetised along z")
 
@@ -104,6 +125,9 @@ def plate_from_magpylib(collection) -> dict:
     sources = list(collection.sources_all) if isinstance(collection, magpy.Collection) else [collection]
     if not sources:
         raise UserError("the collection has no sources: add magnets or loops to it")
+    if len(sources) > MAX_SOURCES:
+        raise UserError(f"the collection has {len(sources)} sources, more than the {MAX_SOURCES} one "
+                        "plate takes: merge rings of one radius, or model fewer magnets")
     parts, tops = [], []
     for i, src in enumerate(sources):
         part, top = _part(src, i, magpy)

@@ -184,6 +184,14 @@ class Study:
         return Stability.of(self.model, height=h, level_tolerance=bool(level_tolerance))
 
     @_in_scene_units
+    def modes(self, spin: float, height: float | None = None):
+        """The linear modes at `spin` (rad/s), those `levitron stability --spin` prints: name, frequency,
+        sense and energy (Krein) sign of each (runtime/physics/modes.py's Modes; height (m) as
+        `stability` takes it). The resonances among them: `stability().resonances`."""
+        from levitron.runtime.physics.modes import Modes
+        return Modes.at(self.model, arg.number(spin, "spin"), None if height is None else arg.number(height, "height"))
+
+    @_in_scene_units
     def simulate(self, spin: float, **options) -> Simulation:
         """One trajectory (runtime.simulate.run.simulate; options: tilt (rad, default 0.005: a launch
         with tilt 0 and offset 0 tests nothing and gives levitating None), offset (m), t_end (s;
@@ -330,13 +338,14 @@ class Study:
     def optimize(self, maximize: str, vary: Mapping[str, tuple[float, float]],
                  constrain: Sequence[str] = (), grid: int = 20, *, n: int | None = None,
                  seed: int | None = None, inputs: Mapping[str, object] | None = None,
-                 **launch_options) -> Design | LaunchDesign:
+                 tolerance: Mapping[str, float] | None = None, **launch_options) -> Design | LaunchDesign:
         """Maximise spin-range, spin-ratio or mass-window over scene keys in boxes {key: (lo, hi)},
         with constraints such as "stiffness>=1" (runtime/design/optimize.py; IPOPT, verified): a
         Design. Or maximise "launch-odds", the odds that a launch by hand floats
         (runtime/design/launch_design.py, the design `levitron optimize --maximize launch-odds`
         runs): a LaunchDesign; its launches are taken as Study.launch takes them (n, seed, inputs,
-        success_time, t_end, integrator, tol, workers, scheduler), and it takes no constraint."""
+        success_time, t_end, integrator, tol, workers, scheduler), and it takes no constraint. Either
+        says how sharp it is at +- tolerance {key: value} (runtime/design/sharpness.py: `sharpness`)."""
         constrain = arg.names(constrain, "constrain")
         varies = arg.varies(vary)
         if maximize == "launch-odds":
@@ -346,12 +355,12 @@ class Study:
                 raise UserError("maximize='launch-odds' takes no constrain: the odds already count a "
                                 "top that cannot hover or falls as a failure")
             request = Request.of(self.scene.data.get("launch", {}), inputs, n=n, seed=seed, **launch_options)
-            return maximize_launch_odds(self.model, varies, request)
+            return maximize_launch_odds(self.model, varies, request, tolerance=tolerance)
         given = [k for k, v in (("n", n), ("seed", seed), ("inputs", inputs)) if v is not None]
         if given or launch_options:
             raise UserError(f"{', '.join([*given, *launch_options])}: launch options go with "
                             "maximize='launch-odds' only")
-        return _optimize(self.model, varies, maximize, [Constraint.parse(c) for c in constrain], grid)
+        return _optimize(self.model, varies, maximize, [Constraint.parse(c) for c in constrain], grid, tolerance)
 
     @_in_scene_units
     def fit_height(self, z_star: float, param: str = "mu") -> HeightFit:

@@ -6,6 +6,9 @@ reads them where it names a key (the report's tables, the air friction's rates).
 """
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
+
 from .plates.base import Key
 
 NEEDS = ("reduced", "full", "linear")
@@ -73,6 +76,38 @@ TILT_KEYS = (
 )
 TILT_PARAMS = {"tilt": "base_tilt", "tilt_azimuth": "base_tilt_azimuth"}
 
+
+@dataclass(frozen=True)
+class Bound:
+    """The values a scene key takes, lo to hi (each end open or closed), read as `text`: the one
+    statement a key's value (scene/load.py) and a launch spread of the key (runtime/scan/spreads.py,
+    its whole support) are both checked against. `mirrored`: the bound of |value| (a launch's base
+    tilt of -t is the tilt t downhill the other way)."""
+    lo: float
+    hi: float
+    lo_open: bool = False
+    hi_open: bool = False
+    text: str = ""
+
+    def admits(self, value: float) -> bool:
+        return ((self.lo < value if self.lo_open else self.lo <= value)
+                and (value < self.hi if self.hi_open else value <= self.hi))
+
+    def first_outside(self, lo: float, hi: float) -> float | None:
+        """The end of [lo, hi] that the bound does not admit (lo first), or None if it admits both."""
+        return next((v for v in (lo, hi) if not self.admits(v)), None)
+
+    def mirrored(self, text: str) -> Bound:
+        """The bound of a signed value whose size this bound limits: |value| in [lo, hi)."""
+        return Bound(-self.hi, self.hi, self.hi_open, self.hi_open, text)
+
+
+# keys with bounds beyond finiteness and size (scene/checks.py number): "section.key" -> Bound
+KEY_BOUNDS = {
+    "plate.tilt": Bound(0.0, math.pi / 2, hi_open=True, text="0 <= tilt < pi/2"),
+    "top.moment_tilt": Bound(-math.pi / 2, math.pi / 2, True, True, "|moment_tilt| < pi/2"),
+}
+
 # decay-time key of [top] -> the runtime parameter it sets, the rate 1 / tau (0 where not given)
 FRICTION_KEYS = {"spin_decay_time": "k_spin", "tilt_decay_time": "k_tilt",
                  "translation_decay_time": "k_trans"}
@@ -94,6 +129,8 @@ LAUNCH_KEYS = tuple(Key(k, u, d) for k, u, d in (
     ("base_tilt", "rad", "the base's tilt from level, sampled per launch (same forms; needs plate.tilt)"),
     ("base_tilt_azimuth", "rad", "the base's downhill direction, sampled per launch (same forms; "
      "needs plate.tilt)"),
+    ("moment_tilt", "rad", "the magnet's tilt from the top's axis, sampled per launch (same forms; needs "
+     "top.moment_tilt)"),
     ("success_time", "s", "a launch succeeds when the top floats at least this long"),
     ("t_end", "s", "the run length of each launch"),
     ("n", "", "the number of launches"),

@@ -24,7 +24,7 @@ import tomllib
 from . import plates
 from .checks import SceneError, check_keys, number
 from .keys import (
-    ABSOLUTE_ZERO, COORDINATES, FIELD_KEYS, FRICTION_KEYS, LAUNCH_KEYS, MODEL_KEYS, NEEDS, REFERENCE_KEYS,
+    ABSOLUTE_ZERO, COORDINATES, FIELD_KEYS, FRICTION_KEYS, KEY_BOUNDS, LAUNCH_KEYS, MODEL_KEYS, NEEDS, REFERENCE_KEYS,
     SCENE_KEYS, T_REF, TEMPERATURE_KEY, TILT_KEYS_NAMES, TOP_KEYS, UNITS,
 )
 from .overrides import apply_override
@@ -336,9 +336,9 @@ def base_tilt(plate: dict) -> dict[str, float]:
         raise SceneError("plate.tilt_azimuth without plate.tilt: give the tilt (rad) too, e.g. "
                          "plate.tilt = 0.001")
     tilt = number(plate, "tilt", "plate")
-    if not 0 <= tilt < math.pi / 2:
-        raise SceneError(f"plate.tilt = {tilt:g} rad: give the base's tilt from level, 0 <= tilt < "
-                         "pi/2 (its direction is plate.tilt_azimuth)")
+    if not KEY_BOUNDS["plate.tilt"].admits(tilt):
+        raise SceneError(f"plate.tilt = {tilt:g} rad: give the base's tilt from level, "
+                         f"{KEY_BOUNDS['plate.tilt'].text} (its direction is plate.tilt_azimuth)")
     az = number(plate, "tilt_azimuth", "plate", default=0.0)
     return {"base_tilt": tilt, "base_tilt_azimuth": az}
 
@@ -356,9 +356,10 @@ def magnet_tilt(top: dict) -> dict[str, float]:
     if "moment_tilt" not in top:
         return {}
     b = number(top, "moment_tilt", "top")
-    if not abs(b) < math.pi / 2:
+    if not KEY_BOUNDS["top.moment_tilt"].admits(b):
         raise SceneError(f"top.moment_tilt = {b:g} rad: give the moment's angle from the symmetry "
-                         "axis, |b| < pi/2 (a larger one is a top with the moment the other way)")
+                         f"axis, {KEY_BOUNDS['top.moment_tilt'].text} (a larger one is a top with the "
+                         "moment the other way)")
     return {"moment_tilt": b}
 
 

@@ -14,7 +14,8 @@ RUSAGE_CHILDREN over the run: the command and the worker processes it waited for
 load average before and after (os.getloadavg: another job on the machine shows), and the answer's
 headline number (the odds, the advice, max_moment_tilt). GOALS are the speed goals the product set itself (CPU seconds).
 
-Before and after: with LEVITRON_BENCH_CODE=/path/to/another/checkout the commands run that
+LEVITRON_BENCH_CASES=trim,launch runs only the cases named. Before and after: with
+LEVITRON_BENCH_CODE=/path/to/another/checkout the commands run that
 checkout's code (PYTHONPATH), so the same bench measures an older commit; its advice.json, saved
 as advice_before.json in the report folder, is shown beside the new figures in the table and the
 plot. Writes advice.json, advice.csv and advice.png.
@@ -140,7 +141,8 @@ def draw(rows: list[dict], path: Path, scene: str) -> None:
 
 def bench(model, out: Path, quick: bool) -> dict:
     """The bench protocol (runtime/bench/kinds.py)."""
-    rows = [measure(case, argv) for case, argv in cases(model, quick).items()]
+    only = [c for c in os.environ.get("LEVITRON_BENCH_CASES", "").split(",") if c]
+    rows = [measure(case, argv) for case, argv in cases(model, quick).items() if not only or case in only]
     out.mkdir(parents=True, exist_ok=True)
     before_file = out / "advice_before.json"
     if before_file.exists():

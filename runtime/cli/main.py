@@ -7,7 +7,8 @@ and rpm for SI scenes, runtime/ui/human.py), in colour on a terminal (rich), pla
 Every failure is one line on stderr: bad input (a scene, an option, a path, the cache) exits 2 with
 what is wrong and how to fix it; an unexpected exception is a bug and exits 3 with its type and
 message (LEVITRON_DEBUG=1 shows the traceback). A closed stdout (`levitron ... | head -1`) ends
-the command quietly.
+the command quietly. Ctrl-C (SIGINT) and SIGTERM stop any command within seconds, its worker
+processes killed with it (runtime/model/processes.py): "levitron CMD: interrupted", exit 130 or 143.
 """
 from __future__ import annotations
 
@@ -18,7 +19,6 @@ import math
 import os
 import sys
 import textwrap
-import threading
 
 from levitron.runtime.ui import progress
 from levitron.runtime.ui import provenance
@@ -32,7 +32,7 @@ from levitron.runtime.words import render as words, speak
 
 EXIT_USER = 2        # bad input: the message says what to fix
 EXIT_INTERNAL = 3    # a bug: please report it
-EXIT_INTERRUPTED = 130
+EXIT_INTERRUPTED = 130   # 128 + SIGINT; a SIGTERM exits 143 (runtime/model/processes.py)
 
 
 class Parser(argparse.ArgumentParser):
@@ -311,32 +311,38 @@ def main(argv=None) -> int:
     args._argv = argv
     from levitron.scene.checks import SceneError
     from levitron.runtime.model.cbuild import resolve_cache_env
-    from levitron.runtime.model.processes import terminate_as_exit
+    from levitron.runtime.model import processes
     resolve_cache_env()           # a relative LEVITRON_CACHE: from the user's folder, once
-    if threading.current_thread() is threading.main_thread():
-        terminate_as_exit()       # SIGTERM: the finally blocks remove their temporaries
     if args.json or args.quiet:
         progress.disable()
     else:
         progress.enable()
-    try:
-        with progress.task(f"levitron {args.command}"):
-            result = _clean(_with_provenance(args, args._run(args)))
-            units = _scene_units(args)
-            # the JSON's quantities in the scene's units; a plain view shows them in the human ones
-            # (ui/human.py restate: cm, g, spans), so it reads the quantity markers themselves
-            result = speak(result, "cli", units) if args.json else result
-        text = words(render(args, result), "cli", units)     # what the plain view left: the scene's units
-    except KeyboardInterrupt:
-        print(f"levitron {args.command}: interrupted", file=sys.stderr)
-        return EXIT_INTERRUPTED
-    except BrokenPipeError:
-        _quiet_stdout()
-        return 0
-    except Exception as exc:    # every failure is one line; the traceback only on request
-        if _debug() and not isinstance(exc, (UserError, SceneError)):
-            raise
-        return _report(args, exc)
+    # SIGINT and SIGTERM: one KeyboardInterrupt; the finally blocks remove their temporaries and
+    # end the worker processes, and the command exits 128 + the signal's number
+    with processes.stop_on_signals():
+        try:
+            with progress.task(f"levitron {args.command}"):
+                result = _clean(_with_provenance(args, args._run(args)))
+                units = _scene_units(args)
+                # the JSON's quantities in the scene's units; a plain view shows them in the human ones
+                # (ui/human.py restate: cm, g, spans), so it reads the quantity markers themselves
+                result = speak(result, "cli", units) if args.json else result
+            text = words(render(args, result), "cli", units)     # what the plain view left: the scene's units
+        except KeyboardInterrupt:
+            processes.stopped()
+            print(f"levitron {args.command}: interrupted", file=sys.stderr)
+            return processes.exit_code(EXIT_INTERRUPTED)
+        except BrokenPipeError:
+            _quiet_stdout()
+            return 0
+        except Exception as exc:    # every failure is one line; the traceback only on request
+            processes.stopped()
+            if processes.stop_signal() is not None and not _debug():    # an error the stop caused
+                print(f"levitron {args.command}: interrupted", file=sys.stderr)    # (CasADi's SystemError)
+                return processes.exit_code(EXIT_INTERRUPTED)
+            if _debug() and not isinstance(exc, (UserError, SceneError)):
+                raise
+            return _report(args, exc)
     return _emit(text, styled=not args.json)
 
 

@@ -25,7 +25,9 @@ class Design:
     spin_interval (rad/s; None where it has none) of the scene's top at the optimum; band (mass-window:
     {"z": [z_lo, z_hi] m, "mass": [m_lo, m_hi] kg}, the float route's); scene: the re-validated
     scene at the optimum; verification: float_route (the objective by the exact float routes),
-    grid_best, grid_points, grid_feasible, max_relative_gap (NLP vs float route)."""
+    grid_best, grid_points, grid_feasible, max_relative_gap (NLP vs float route); sharpness: the
+    objective by the float routes at +- a maker's tolerance of each key, the knife-edge verdicts
+    and, for two or three keys, the ridge (runtime/design/sharpness.py)."""
 
     objective: str
     value: float
@@ -45,6 +47,7 @@ class Design:
     wall_s: float = 0.0
     at_bound: dict[str, str] = field(default_factory=dict)   # key -> "lower" | "upper" (--vary bound)
     warnings: list[str] = field(default_factory=list)        # plain sentences: at a bound, vanishing stiffness
+    sharpness: dict | None = None      # the objective at +- a tolerance of each key, the ridge (sharpness.py)
 
     @property
     def success(self) -> bool:
@@ -54,8 +57,9 @@ class Design:
     @property
     def message(self) -> str:
         """scipy-style: IPOPT's status, then every warning."""
+        from levitron.runtime.design.launch_design_answer import knife_edges
         return "; ".join([f"{self.solver_status}: {self.objective} {self.value:.6g} "
-                          f"{self.objective_unit}", *self.warnings])
+                          f"{self.objective_unit}", *knife_edges(self.sharpness), *self.warnings])
 
     @property
     def objective_unit(self) -> str:
@@ -81,7 +85,8 @@ class Design:
                 "z_s": self.z_s, "stiffness": self.stiffness,
                 "spin_interval": None if self.spin_interval is None else list(self.spin_interval),
                 "band": self.band, "constraints": self.constraints,
-                "verification": self.verification, "wall_s": self.wall_s, "scene": self.scene.name}
+                "verification": self.verification, "sharpness": self.sharpness, "wall_s": self.wall_s,
+                "scene": self.scene.name}
 
     # ---- actions
     def write_scene(self, path) -> str:

@@ -26,8 +26,10 @@ runtime/scan/launch_odds.py, estimated as `levitron launch` estimates it:
    are estimated again with a fresh seed (seed + 1): the search picked the best of many noisy
    values, so its own estimate is biased upwards; the fresh one is not, and carries its 95 %
    Wilson interval.
+5. **Say how sharp it is.** The odds on the same fresh draws at +- a maker's tolerance of each
+   key, and for two or three keys the ridge they share (runtime/design/sharpness.py).
 
-The cost is at most (GRID[k] (1 + ZOOMS) + 3) Monte Carlos of n launches, less the launches the
+The cost is at most (GRID[k] (1 + ZOOMS) + 3 + 2 k) Monte Carlos of n launches, less the launches the
 paired comparison saves (make bench: kinds launch-design and advice). With local workers every
 Monte Carlo of the design runs in one kept pool: the workers start once for the whole command.
 """
@@ -41,6 +43,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from levitron.runtime.design import sharpness
 from levitron.runtime.design.launch_design_answer import LaunchDesign
 from levitron.runtime.design.paired_odds import PairedOdds, variant
 from levitron.runtime.design.scene_keys import Vary, key_value
@@ -161,24 +164,28 @@ def kept_pool(stack: contextlib.ExitStack, request: mc.Request, n_tasks: int):
 
 
 def maximize_launch_odds(model, varies: Sequence[Vary], request: mc.Request, pinned: Pinned | None = None,
-                         where: str = "the «vary» box", pool=None, early: bool = True) -> LaunchDesign:
+                         where: str = "the «vary» box", pool=None, early: bool = True,
+                         tolerance: dict | None = None) -> LaunchDesign:
     """The design of the module docstring over the --vary box (`where`: what its messages call it).
     With local workers every Monte Carlo of the design runs in one kept pool (runners.KeptPool:
     the workers start once, not once an evaluation): `pool` where the caller keeps one, else
-    this design's own. early False: every point runs all its launches (no paired stopping)."""
+    this design's own. early False: every point runs all its launches (no paired stopping).
+    tolerance {key: value}: the makers' tolerances of its sharpness (runtime/design/sharpness.py;
+    default per key there)."""
+    sharpness.tolerances(model.scene, {v.key: v.lo for v in varies}, tolerance)     # checked before the search
     with contextlib.ExitStack() as stack:
         pool = pool or kept_pool(stack, request, request.n)
-        return _maximize(model, varies, request, pinned, where, pool, early)
+        return _maximize(model, varies, request, pinned, where, pool, early, tolerance)
 
 
 def _maximize(model, varies: Sequence[Vary], request: mc.Request, pinned: Pinned | None, where: str,
-              pool, early: bool) -> LaunchDesign:
+              pool, early: bool, tolerance: dict | None = None) -> LaunchDesign:
     t0 = time.perf_counter()
     if not 1 <= len(varies) <= 3:
         raise UserError("«vary»: give one to three keys for «maximize» launch-odds")
     keys = [v.key for v in varies]
     n_axis = GRID[len(varies)]
-    most = n_axis ** len(varies) * (ZOOMS + 1) + (2 * EDGE_STEPS if len(varies) == 1 else 0) + 4
+    most = n_axis ** len(varies) * (ZOOMS + 1) + (2 * EDGE_STEPS if len(varies) == 1 else 0) + 4 + 2 * len(varies)
     with progress.task(f"launch-odds design over {', '.join(keys)}: launches (at most {most} evaluations)",
                        total=most * request.n, log_every=10.0) as tick:
         pinned = pinned or Pinned.at_start(model, request, varies, pool)
@@ -186,11 +193,11 @@ def _maximize(model, varies: Sequence[Vary], request: mc.Request, pinned: Pinned
         req = pinned.request
         box = [(v.lo, v.hi) for v in varies]
         odds = PairedOdds(model.ref, keys, req, box, pool, tick, early)
-        return _search(model, varies, keys, pinned, req, box, odds, where, t0)
+        return _search(model, varies, keys, pinned, req, box, odds, where, t0, tolerance)
 
 
 def _search(model, varies, keys, pinned: Pinned, req: mc.Request, box, odds: PairedOdds, where: str,
-            t0: float) -> LaunchDesign:
+            t0: float, tolerance: dict | None = None) -> LaunchDesign:
     n_axis = GRID[len(varies)]
     evaluated: dict[tuple[float, ...], float] = {}
     rows = []
@@ -250,10 +257,15 @@ def _search(model, varies, keys, pinned: Pinned, req: mc.Request, box, odds: Pai
         where = ", ".join(f"{k} = {key_text(k, v)}" for k, v in pinned.at.items())
         warnings.append(f"the scene as written cannot be launched ({first.get('reason', 'no hover')}); "
                         f"the launch spread's defaults are taken at {where}")
+    def fresh_odds(x):              # the sharpness's evaluations: the optimum's fresh draws, kept pool
+        odds.tick(req.n)
+        return odds_at(model.ref, keys, x, fresh, odds.pool)["probability"]
+    sharp = sharpness.sharpness(fresh_odds, model, varies, dict(zip(keys, best)), final["probability"],
+                                tolerance, launch=True)
     return LaunchDesign(dict(zip(keys, best)), dict(zip(keys, map(float, start_x))), odds_dict(final),
                         odds_dict(first), evaluated[best], rows, dict(req.given), req.success_time,
                         req.t_end, req.seed, req.n, time.perf_counter() - t0, warnings,
-                        list(pinned.start.get("defaulted", [])), model.scene, dict(odds.counts))
+                        list(pinned.start.get("defaulted", [])), model.scene, dict(odds.counts), sharp)
 
 
 def what_it_costs(model, varies: Sequence[Vary], request: mc.Request, optimum: dict[str, float], objective: str,

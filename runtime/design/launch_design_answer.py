@@ -11,6 +11,18 @@ from dataclasses import dataclass, field
 from levitron.runtime.ui.human import Units
 
 
+def knife_edges(block: dict | None) -> list[str]:
+    """One sentence for each key of a sharpness block that is a knife edge (the message's; the
+    tolerance itself is the block's, in the key's SI unit)."""
+    out = []
+    for k, r in ((block or {}).get("keys") or {}).items():
+        if r["knife_edge"]:
+            sides = ["none" if v is None else f"{v:.3g}" for v in (r["at_minus"], r["at_plus"])]
+            out.append(f"a knife edge: {k} at +- its tolerance takes the objective from {block['objective']:.3g} "
+                       f"to {sides[0]} and {sides[1]}")
+    return out
+
+
 @dataclass(frozen=True, repr=False)
 class LaunchDesign:
     """The launch-odds optimum (docs/contract.md `optimize --maximize launch-odds`): `optimum` and
@@ -20,7 +32,9 @@ class LaunchDesign:
     launch spread it ran (`inputs`; `defaulted`: those no flag or [launch] table gave), n, seed,
     success_time and t_end (s), the warnings; `scene` the scene it designed (for write_scene);
     `work` what the search ran: evaluations, stopped_early, duplicates, launches_run and
-    launches_full (the launches without paired stopping)."""
+    launches_full (the launches without paired stopping); `sharpness` the odds on the same fresh
+    draws at +- a maker's tolerance of each key, the knife-edge verdicts and, for two or three
+    keys, the ridge (runtime/design/sharpness.py; docs/contract.md `optimize`)."""
     optimum: dict[str, float]
     start: dict[str, float]
     launch_odds: dict
@@ -37,6 +51,7 @@ class LaunchDesign:
     defaulted: list[str] = field(default_factory=list)     # the inputs no flag or [launch] table gave
     scene: object = field(default=None, compare=False)
     work: dict = field(default_factory=dict, compare=False)   # runtime/design/paired_odds.py's counts
+    sharpness: dict | None = None       # the odds at +- a tolerance of each key, the ridge (sharpness.py)
 
     @property
     def probability(self) -> float:
@@ -54,7 +69,7 @@ class LaunchDesign:
         lo, hi = self.launch_odds["probability_ci95"]
         return "; ".join([f"launch odds {100 * self.probability:.3g} % (95 %: {100 * lo:.3g}-{100 * hi:.3g} %) "
                           f"at the optimum, {100 * self.start_launch_odds['probability']:.3g} % as written",
-                          *self.warnings])
+                          *knife_edges(self.sharpness), *self.warnings])
 
     def __repr__(self) -> str:
         keys = ", ".join(f"{k}={v:.6g}" for k, v in self.optimum.items())
@@ -72,7 +87,7 @@ class LaunchDesign:
                            "seed": self.seed, "n": self.n, "evaluations": len(self.evaluations),
                            "best_search_odds": self.search_odds, "points": self.evaluations, **self.work},
                 "inputs": self.inputs, "defaulted": self.defaulted, "success_time": self.success_time,
-                "t_end": self.t_end,
+                "t_end": self.t_end, "sharpness": self.sharpness,
                 "solver_status": "grid search", "wall_s": self.wall_s}
 
     # ---- actions

@@ -47,7 +47,7 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from levitron.runtime.design import edge as design_edge
+from levitron.runtime.design import edge as design_edge, sharpness
 from levitron.runtime.physics import stability_casadi as sc
 from levitron.runtime.design.constraints import Constraint
 from levitron.runtime.design.design_answer import OBJECTIVES, Design, DesignResult  # noqa: F401 (DesignResult: its old name)
@@ -274,8 +274,9 @@ class _BandNlp(_Nlp):
 
 
 def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequence[Constraint] = (),
-             n_grid: int = GRID_MIN) -> DesignResult:
-    """Maximise `objective` over the varied scene keys (module docstring); verified."""
+             n_grid: int = GRID_MIN, tolerance: dict | None = None) -> DesignResult:
+    """Maximise `objective` over the varied scene keys (module docstring); verified; then its
+    sharpness at +- `tolerance` {key: value} of each key (runtime/design/sharpness.py)."""
     t0 = time.perf_counter()
     check_objective(objective, constraints)
     if objective == "mass-window" and any(v.key == "top.mass" for v in varies):
@@ -292,6 +293,7 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
                         f"the {MAX_GRID_POINTS} of a verification grid (about 5 ms each): give «grid={most}» "
                         "or fewer")
     keymap = KeyMap(model.scene, model.param_names, varies)
+    sharpness.tolerances(model.scene, {v.key: v.lo for v in varies}, tolerance)     # checked before the solve
     pts = [evaluate(model, keymap, x, objective, constraints) for x in grid_points(varies, n_grid)]
     feasible = [pt for pt in pts if pt.value is not None]
     if not feasible:
@@ -356,6 +358,8 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
     scene_x = [key_value(model.scene.data, k) for k in keys]
     inside = all(v.lo <= s <= v.hi for v, s in zip(varies, scene_x))
     scene_pt = evaluate(model, keymap, scene_x, objective, constraints) if inside else None
+    sharp = sharpness.sharpness(lambda y: evaluate(model, keymap, y, objective, constraints).value, model,
+                                varies, dict(zip(keys, map(float, x))), check.value, tolerance, launch=False)
     return Design(
         objective=objective, value=check.value, optimum=dict(zip(keys, map(float, x))),
         start=dict(zip(keys, start.x)), start_value=start.value,
@@ -371,7 +375,7 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
                       "grid_feasible": len(feasible), "grid_per_key": n_grid,
                       "tolerance": VERIFY_RTOL},
         scene=keymap.resolve(x), wall_s=time.perf_counter() - t0, at_bound=at_bound,
-        warnings=warnings)
+        warnings=warnings, sharpness=sharp)
 
 
 def _bounded_search(model, keymap, vary: Vary, start: Point, objective: str, constraints, n_grid: int) -> tuple:

@@ -31,7 +31,10 @@ class Stability:
     (None without a full model), mass (kg: the top analysed; with a height, the one that hovers
     there), equilibrium (over a tilted base: position, axis, offset, ...) are this answer's too);
     stiffness: mu Phi_3(z_s) (N/m, thesis 3.3.3; None over a tilted base); level_tolerance: the
-    largest base tilt and moment tilt that keep a stable interval (asked for, else None)."""
+    largest base tilt and moment tilt that keep a stable interval (asked for, else None);
+    resonances: the low-order resonances among the linear modes inside the spin interval
+    (runtime/physics/resonances.py, docs/resonances.md; strongest first), None where not
+    computed (no interval, or the steady motion is off the axis)."""
 
     result: StabilityResult
     scene: str
@@ -43,6 +46,7 @@ class Stability:
     wall_s: float = 0.0
     units: Units = field(default=_SI, compare=False)
     _model: object = field(default=None, compare=False)      # for plot(): at the tolerance's field order
+    resonances: tuple | None = None
 
     @classmethod
     def of(cls, model, height: float | None = None, level_tolerance: bool = False) -> Stability:
@@ -56,13 +60,14 @@ class Stability:
                  else "transverse_matrix (8-D)")
         tol, drawn, lines = _level_tolerance(model) if level_tolerance else (None, model, [])
         res.notes.extend(lines)    # a tolerance's field order raised, or a warning
+        reso = _resonances(model, res)
         wall = time.perf_counter() - t0
         # the vertical stiffness U'' = mu Phi_3(z_s) (thesis 3.3.3), N/m: what «constrain»
         # stiffness>=K of `optimize` speaks of; it does not depend on the mass
         k = (model.param("mu") * float(model.onaxis(res.z_s)[3])
              if res.z_s and res.equilibrium is None else None)
         return cls(res, model.scene.name, model.param("m"), height is not None, eigen, k, tol, wall,
-                   Units.of_scene(model.scene), drawn)
+                   Units.of_scene(model.scene), drawn, reso)
 
     # ---- what the result says, as the API has always named it
     @property
@@ -120,6 +125,7 @@ class Stability:
             out["level_tolerance"] = self.level_tolerance
         out["wall_s"] = self.wall_s
         out["stiffness"] = self.stiffness
+        out["resonances"] = None if self.resonances is None else [r.as_json() for r in self.resonances]
         return out
 
     # ---- actions
@@ -134,6 +140,21 @@ class Stability:
         from levitron.runtime.physics.tilt_plot import draw
         model = self._model
         return str(draw(model, without_friction(model, model.p), self.level_tolerance, path))
+
+
+def _resonances(model, res: StabilityResult) -> tuple | None:
+    """The resonances inside the spin interval (runtime/physics/resonances.py), strongest first;
+    None without an interval or where the steady motion is off the axis (a tilted base, the magnet
+    off the axis or off the centre: runtime/physics/modes.py OFF_AXIS)."""
+    from levitron.runtime.physics.modes import OFF_AXIS
+    if res.spin_interval is None or not res.z_s or res.floquet is not None:
+        return None
+    p = without_friction(model, model.with_params({"m": res.mass}) if res.mass else model.p)
+    P = model.pvals(p)
+    if any(P.get(k, 0.0) != 0 for k in OFF_AXIS):
+        return None
+    from levitron.runtime.physics.resonances import find
+    return tuple(find(model, res.z_s, tuple(res.spin_interval), p)[0])
 
 
 def _level_tolerance(model) -> tuple[dict, object, list[str]]:

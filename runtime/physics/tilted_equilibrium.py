@@ -164,6 +164,12 @@ class TiltedTop:
         self.model, self.p = model, np.asarray(p, float)
         self.P = model.pvals(self.p)
         self.z_level = z_magnet - self.P.get("moment_offset", 0.0)
+        if not self.z_level > 0:            # the centre of mass at or below the base: no such top
+            from levitron.runtime.words import si
+            raise UserError(f"top.moment_offset = {si(self.P['moment_offset'], 'm')} is not less than the "
+                            f"magnet's hover height {si(z_magnet, 'm')}: the top's centre of mass would sit "
+                            "at or below the base; give a smaller one, e.g. "
+                            f"«set=top.moment_offset={0.5 * z_magnet:.3g}»")
         part = model.part("full")
         self.states = tuple(part.states)
         self.free = [i for i, s in enumerate(self.states) if s not in FIXED]

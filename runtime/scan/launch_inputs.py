@@ -11,8 +11,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from levitron.scene.keys import KEY_BOUNDS, LAUNCH_KEYS, Bound
 from levitron.runtime.errors import UserError
-from levitron.runtime.scan.spreads import Dist
+from levitron.runtime.scan.spreads import Dist, check_support, spec_text
 
 INPUTS = ("spin", "tilt", "tilt_azimuth", "offset", "velocity", "mass", "strength", "temperature")
 
@@ -54,10 +55,38 @@ APPARATUS = (
               "the scene's top.moment_tilt (0: the magnet on the axis)"),
 )
 ALL_INPUTS = INPUTS + tuple(a.name for a in APPARATUS)
+# the [launch] table takes every input a flag takes: its keys (scene/keys.py LAUNCH_KEYS) are checked
+# here, at import, so an input added above without its table key fails at once, not in a user's scene
+_UNTABLED = set(ALL_INPUTS) - {k.name for k in LAUNCH_KEYS}
+if _UNTABLED:
+    raise ImportError(f"launch inputs without a [launch] key in scene/keys.py LAUNCH_KEYS: {sorted(_UNTABLED)}")
 # what each input's numbers are (the module docstring): the SI unit of its JSON numbers, "1" for a
 # relative deviation d (mass m (1 + d), strength mu (1 + d)), "degC" for the temperature
 INPUT_UNITS = {"spin": "rad/s", "tilt": "rad", "tilt_azimuth": "rad", "offset": "m", "velocity": "m/s",
                "mass": "1", "strength": "1", "temperature": "degC", **{a.name: a.unit for a in APPARATUS}}
+
+
+# the bounds a spread's whole support is held to, each the bound of the scene key the input stands
+# for (scene/keys.py KEY_BOUNDS: `--set plate.tilt=1.6` and `--base-tilt uniform:0,1.6` are refused
+# alike); mass and strength are relative deviations d of a quantity that must stay positive
+_POSITIVE = Bound(-1.0, math.inf, lo_open=True, text="a deviation > -100 %")
+INPUT_BOUNDS = {
+    "base_tilt": KEY_BOUNDS["plate.tilt"].mirrored("|base_tilt| < pi/2 (plate.tilt's bound: a negative "
+                                                   "tilt is the same tilt downhill the other way)"),
+    "moment_tilt": KEY_BOUNDS["top.moment_tilt"],
+    "mass": _POSITIVE,
+    "strength": _POSITIVE,
+}
+
+
+def check_bounds(dists: dict, given) -> None:
+    """Every input's spread against its bound (INPUT_BOUNDS), quoting it as given (the defaults as
+    spec_text): one place for the flags, the [launch] table and the API's inputs."""
+    for name, bound in INPUT_BOUNDS.items():
+        if name in dists:
+            typed = given[name] if name in given else spec_text(name, dists[name])
+            what = f" (it makes the {name} non-positive)" if bound is _POSITIVE else ""
+            check_support(name, dists[name], typed, bound, INPUT_UNITS[name], what)
 
 
 def apparatus_of(model) -> tuple[Apparatus, ...]:

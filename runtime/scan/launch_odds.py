@@ -61,8 +61,8 @@ from levitron.runtime.integrate.verdict import stopped_early
 from levitron.runtime.integrate.methods import DEFAULT, refuse_on_full_model, resolve
 from levitron.runtime.scan.launch_answer import LaunchOdds
 from levitron.runtime.scan.launch_summary import cannot_hover, effects, launches, wilson
-from levitron.runtime.scan.launch_inputs import (ALL_INPUTS, INPUTS, apparatus_of, reach_warnings,
-                                                  refuse_apparatus, temperature_factor)
+from levitron.runtime.scan.launch_inputs import (ALL_INPUTS, INPUTS, apparatus_of, check_bounds,
+                                                  reach_warnings, refuse_apparatus, temperature_factor)
 from levitron.runtime.scan.spreads import Dist, parse_input, spec_text
 from levitron.runtime.scan.workers import auto_workers
 from levitron.runtime.ui.validate import count, real, spread_range, temperature
@@ -294,12 +294,7 @@ def prepare(model, given: Mapping[str, object], n: int = 1000,
         raise UserError("tilt, offset and velocity are all exactly 0: every launch starts on the "
                         "invariant set (thesis 3.2.1), where the ideal top stays at any spin, so the "
                         "odds would test nothing; give a spread, e.g. «tilt» uniform:0,0.02")
-    for key in ("mass", "strength"):
-        d = dists[key]
-        low = d.a - 8 * d.b if d.kind == "normal" else d.a
-        if low <= -1:
-            raise UserError(f"«{key}» {spec_text(key, d)} makes the {key} non-positive (a relative deviation "
-                            f"reaches {low:g} <= -1): give a smaller spread")
+    check_bounds(dists, given)          # each spread's support against its key's bound
     d = dists["temperature"]             # the check of --temperature, over the spread's range
     lo, hi, how = spread_range(d.kind, d.a, d.b)
     temperature(model.scene.data, lo, hi, f"«temperature_spread» {d.text()}{how}")

@@ -28,6 +28,7 @@ from levitron.runtime.ui.human import duration      # wall times: the computer's
 from levitron.runtime.errors import UserError
 from levitron.scene.faults import die_at
 from levitron.runtime.integrate.methods import resolve
+from levitron.runtime.model.processes import end_pool, ending_on_error
 from levitron.runtime.scan.points import point_run
 
 CONNECT_TIMEOUT_S = 20  # how long to try to reach a dask scheduler (and to wait for a worker)
@@ -86,10 +87,11 @@ def remember(common: Common, model) -> None:
 
 def _init_worker(scene: str, overrides: tuple[str, ...], parent: int | None = None) -> None:
     """A local worker's start: it dies with its parent (runtime/model/processes.py: a kill -9 of
-    the command leaves no worker running on, nor the resource tracker the workers keep open),
-    loads the model once and the C driver."""
-    from levitron.runtime.model.processes import die_with_parent
+    the command leaves no worker running on, nor the resource tracker the workers keep open), leaves
+    Ctrl-C to its parent (which ends it), loads the model once and the C driver."""
+    from levitron.runtime.model.processes import die_with_parent, ignore_interrupts
     die_with_parent()
+    ignore_interrupts()
     if parent is not None and os.getppid() != parent:      # the parent died before the line above
         os._exit(1)
     model_for(scene, overrides)
@@ -126,18 +128,15 @@ def run_chunk(common: Common, tasks: Sequence[tuple]) -> dict:
     cpu0 = time.thread_time()
     if common.engine == "c" and choice.entry.backend == "c":
         from levitron.runtime.scan.chunk_c import run_chunk_c
-        points = run_chunk_c(model, common, [(t, task_point(common, t)) for t in tasks])
-        engine = "c"
+        points, engine = run_chunk_c(model, common, [(t, task_point(common, t)) for t in tasks]), "c"
     else:
-        points = [run_point(common, t) for t in tasks]
-        engine = "python"
+        points, engine = [run_point(common, t) for t in tasks], "python"
     return {"points": points, "cpu_s": time.thread_time() - cpu0, "engine": engine,
             "method": common.integrator}
 
 
 def _run_chunk_packed(args: tuple) -> dict:
-    fn, common, chunk = args
-    return fn(common, chunk)
+    return args[0](*args[1:])          # (fn, common, chunk)
 
 
 def split(tasks: Sequence[tuple], n_chunks: int) -> list[list[tuple]]:
@@ -207,7 +206,8 @@ class KeptPool:
     """One pool of local worker processes kept across several runs (a design's Monte Carlos), so
     that each run does not pay the start of its workers (spawn, imports: about 1 s). A worker loads
     each (scene, overrides) model once (model_for). `with KeptPool(workers) as pool:` and pass
-    `pool` to run_processes; it ends with the block; a broken pool is replaced."""
+    `pool` to run_processes; it ends with the block (an exception, Ctrl-C, SIGTERM: its workers
+    killed at once, not waited for); a broken pool is replaced."""
 
     def __init__(self, workers: int):
         self.workers = workers
@@ -231,9 +231,9 @@ class KeptPool:
     def __enter__(self) -> KeptPool:
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, kind, *_) -> None:
         if self._ex is not None:
-            self._ex.shutdown(wait=True, cancel_futures=True)
+            end_pool(self._ex) if kind is not None else self._ex.shutdown(wait=True, cancel_futures=True)
             self._ex = None
 
 
@@ -243,7 +243,8 @@ def run_processes(common: Common, chunks: Sequence[list], workers: int,
     fn as in run_serial; `pool`: a KeptPool to run in (else a pool for this run alone). A worker
     that dies (killed, out of memory) breaks the pool: the chunks not yet returned run again in a
     new pool, at most MAX_POOL_RESTARTS times; runs are deterministic, so the answer is the one a
-    serial run gives."""
+    serial run gives. Any other way out (an error, KeyboardInterrupt: Ctrl-C or SIGTERM through
+    runtime/model/processes.py) kills the workers at once, the chunks in flight with them."""
     fn = fn or run_chunk
     script = unguarded_script()
     if script is not None:
@@ -264,6 +265,7 @@ def run_processes(common: Common, chunks: Sequence[list], workers: int,
                     ex = pool.executor(common) if pool is not None else stack.enter_context(ProcessPoolExecutor(
                         max_workers=workers, mp_context=ctx, initializer=_init_worker,
                         initargs=(common.scene, tuple(common.overrides), os.getpid())))
+                    stack.push(ending_on_error(ex, pool and pool.broken))
                     futures = {ex.submit(run_worker_chunk, fn, common, c): k for k, c in pending.items()}
                     for fut in as_completed(futures):
                         k = futures[fut]
@@ -271,8 +273,6 @@ def run_processes(common: Common, chunks: Sequence[list], workers: int,
                         del pending[k]
                         tick(len(done[k]["points"]))
             except BrokenProcessPool:
-                if pool is not None:
-                    pool.broken()
                 restarts += 1
                 if restarts > MAX_POOL_RESTARTS:
                     raise UserError(f"{what}: worker processes died {restarts} times (killed, or out of "

@@ -1,5 +1,9 @@
 """The spread language of the launch inputs: "normal:MEAN,SD", "uniform:LO,HI" or a number, and
 for mass and strength the relative spelling "rel:..." (runtime/scan/launch_odds.py samples them).
+
+Every refusal quotes the input as the user typed it (never a form the parser made of it), and
+`check_support` holds a spread's whole support (a normal's mean +- SUPPORT_SDS sd) to its key's
+bound (scene/keys.py Bound), the same bound the key's own value is held to.
 """
 from __future__ import annotations
 
@@ -9,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from levitron.runtime.errors import UserError
-from levitron.runtime.words import si_unit
+from levitron.runtime.words import si, si_unit
 from levitron.runtime.ui.validate import number_text
 
 
@@ -37,41 +41,53 @@ class Dist:
                 "fixed": f"{self.a:g}"}[self.kind]
 
 
-def parse_dist(name: str, spec) -> Dist:
-    """ "normal:MEAN,SD" | "uniform:LO,HI" | a number -> Dist (one-line UserError otherwise)."""
+def typed_text(spec) -> str:
+    """The input as the user typed it, for a refusal: a text quoted as given, a number as a number."""
+    return repr(spec.strip()) if isinstance(spec, str) else repr(spec)
+
+
+def parse_dist(name: str, spec, typed=None) -> Dist:
+    """ "normal:MEAN,SD" | "uniform:LO,HI" | a number -> Dist (one-line UserError otherwise,
+    quoting `typed`: the input as typed where spec is a part of it, e.g. the body of a rel: spec)."""
     how = f"write e.g. «{name}» normal:MEAN,SD, uniform:LO,HI or a number"
+    said = f"launch {name} = {typed_text(spec if typed is None else typed)}"
     if isinstance(spec, bool):
-        raise UserError(f"launch {name} = {spec!r} is not a distribution: {how}")
+        raise UserError(f"{said} is not a distribution: {how}")
     if isinstance(spec, (int, float)):
         try:
             value = float(spec)
         except OverflowError:             # an integer beyond any double (the API's 10**400)
             value = math.inf
         if not math.isfinite(value):
-            raise UserError(f"launch {name} = {spec} is not finite: {how}")
+            raise UserError(f"{said} is not finite: {how}")
         return Dist("fixed", value)
     if not isinstance(spec, str):         # a TOML array or table, or an API object
-        raise UserError(f"launch {name} = {spec!r} is not a distribution: {how}")
+        raise UserError(f"{said} is not a distribution: {how}")
     text = str(spec).strip()
     kind, sep, args = text.partition(":")
     if not sep:
         try:
-            return parse_dist(name, number_text(text))
+            return parse_dist(name, number_text(text), spec if typed is None else typed)
         except ValueError:
-            raise UserError(f"launch {name} = {text!r} is not a distribution: {how}") from None
+            raise UserError(f"{said} is not a distribution: {how}") from None
     kind = kind.strip().lower()
     if kind not in ("normal", "uniform"):
-        raise UserError(f"launch {name}: unknown distribution {kind!r}: use normal or uniform ({how})")
+        raise UserError(f"{said}: unknown distribution {kind!r}: use normal or uniform ({how})")
     try:
         a, b = (number_text(v.strip()) for v in args.split(","))
     except ValueError:
-        raise UserError(f"launch {name} = {text!r} needs two numbers after '{kind}:': {how}") from None
+        raise UserError(f"{said} needs two numbers after '{kind}:': {how}") from None
     if not (math.isfinite(a) and math.isfinite(b)):
-        raise UserError(f"launch {name} = {text!r} has a number that is not finite: {how}")
+        raise UserError(f"{said} has a number that is not finite: {how}")
+    return checked(name, kind, a, b, said)
+
+
+def checked(name: str, kind: str, a: float, b: float, said: str) -> Dist:
+    """Dist(kind, a, b) once its two numbers make sense (`said`: the input as typed, for the error)."""
     if kind == "normal" and b < 0:
-        raise UserError(f"launch {name} = {text!r}: the standard deviation {b:g} is negative; give SD >= 0")
+        raise UserError(f"{said}: the standard deviation {b:g} is negative; give SD >= 0")
     if kind == "uniform" and b < a:
-        raise UserError(f"launch {name} = {text!r}: the range {a:g},{b:g} is reversed; give LO <= HI")
+        raise UserError(f"{said}: the range {a:g},{b:g} is reversed; give LO <= HI")
     return Dist(kind, a + 0.0, b + 0.0)    # -0.0 as 0.0: numpy's uniform refuses hi - lo = -0.0
 
 
@@ -96,15 +112,22 @@ def parse_input(name: str, spec, reference: float = 1.0) -> Dist:
             try:
                 sd = number_text(body[:-1].strip()) / 100
             except ValueError:
-                raise UserError(f"launch {name} = {spec!r}: write rel:SD% with a number, e.g. rel:0.2%") from None
-            return parse_dist(name, f"normal:0,{sd!r}")
-        return parse_dist(name, body)
+                raise UserError(f"launch {name} = {typed_text(spec)}: write rel:SD% with a number, e.g. "
+                                "rel:0.2%") from None
+            if not math.isfinite(sd):
+                raise UserError(f"launch {name} = {typed_text(spec)} has a number that is not finite: "
+                                "write rel:SD% with a number, e.g. rel:0.2%")
+            if sd < 0:
+                raise UserError(f"launch {name} = {typed_text(spec)}: the standard deviation {body} is "
+                                "negative; give SD >= 0, e.g. rel:0.2%")
+            return Dist("normal", 0.0, sd + 0.0)
+        return parse_dist(name, body, spec)
     d = parse_dist(name, spec)
     centre = 0.5 * (d.a + d.b) if d.kind == "uniform" else d.a
     what = f"the mass in {si_unit('kg')}" if name == "mass" else "the magnets' strength as a factor (1 = the scene's)"
     if not (0.5 * reference < centre < 2 * reference):
         flag = f"«{name}»"
-        raise UserError(f"launch {name} = {spec!r} reads as {what}, centred at {centre:g}, not near "
+        raise UserError(f"launch {name} = {typed_text(spec)} reads as {what}, centred at {centre:g}, not near "
                         f"{reference:g}: a relative spread says so, e.g. {flag} rel:normal:0,0.002 or "
                         f"{flag} rel:0.2%")
     if d.kind == "uniform":
@@ -118,3 +141,27 @@ def spec_text(name: str, d: Dist) -> str:
     body = {"normal": f"normal:{r(d.a)},{r(d.b)}", "uniform": f"uniform:{r(d.a)},{r(d.b)}",
             "fixed": r(d.a)}[d.kind]
     return REL + body if name in RELATIVE else body
+
+
+SUPPORT_SDS = 8.0       # a normal spread's support: mean +- 8 sd (a draw beyond it: about 1e-15)
+
+
+def support(d: Dist) -> tuple[float, float]:
+    """The values a spread draws: a normal's mean +- SUPPORT_SDS sd, a uniform's range, the fixed value."""
+    if d.kind == "normal":
+        return d.a - SUPPORT_SDS * d.b, d.a + SUPPORT_SDS * d.b
+    return (d.a, d.b) if d.kind == "uniform" else (d.a, d.a)
+
+
+def check_support(name: str, d: Dist, typed, bound, unit: str, what: str = "") -> None:
+    """One-line UserError where a draw of `d` (its `support`) leaves `bound` (scene/keys.py Bound),
+    quoting the input as `typed` and the bound as it reads; `what` says what such a value means."""
+    lo, hi = support(d)
+    out = bound.first_outside(lo, hi)
+    if out is None:
+        return
+    reach = (f"a relative deviation of {100 * out:.4g} %" if unit == "1"
+             else si(out, unit) if unit else f"{out:g}")
+    sds = f" (mean +- {SUPPORT_SDS:g} sd)" if d.kind == "normal" and d.b > 0 else ""
+    raise UserError(f"«{name}» {str(typed).strip()} reaches {reach}{sds}, outside {bound.text}"
+                    f"{what}: give a spread inside it")

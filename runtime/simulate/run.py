@@ -43,7 +43,7 @@ from levitron.runtime.ui.validate import count, real
 from levitron.runtime.integrate.budget import MAX_N_OUT
 from levitron.runtime.integrate.run import Box, Result, integrate
 from levitron.runtime.integrate.methods import AUTO, DEFAULT, Choice, auto_note, default_step, resolve
-from levitron.runtime.integrate.verdict import no_verdict_reason, verdict
+from levitron.runtime.integrate.verdict import no_verdict_reason, past_window, verdict
 
 from levitron.runtime.physics import friction as flight
 from levitron.runtime.physics.stability import onaxis_refusal, stability_of
@@ -144,6 +144,9 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
         out["levitating"], out["untested"] = None, untested_reason(pt)
     elif verdict(res.status) is None:        # the step budget, ...: neither up nor down
         out["levitating"], out["untested"] = None, no_verdict_reason(res.status, res.message)
+    elif fl is not None and (past := past_window(res.status, t_end, iv[0] if iv else None,
+                                                 fl["spin_final"], fl["t_cross"])):
+        out["levitating"], out["untested"] = None, past   # up at the end, its spin below the window
     out["integrator_requested"] = choice.requested
     if choice.requested == AUTO:
         out["integrator_choice"] = auto_note(choice.tol)

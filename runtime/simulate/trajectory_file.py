@@ -24,7 +24,6 @@ from levitron.runtime.errors import UserError
 from levitron.runtime.ui.validate import shown
 
 SUFFIXES = (".csv", ".npz", ".parquet")
-NAME_MAX = 255          # bytes of one file name (Linux, macOS)
 FORMATS = ".csv, .npz or .parquet"
 
 
@@ -39,8 +38,9 @@ def _pyarrow():
 
 
 def check_path(path, flag: str = "«save»") -> Path:
-    """The --save path: a .csv, .npz or .parquet file in an existing, writable folder, with a name
-    the file system takes (one-line UserError otherwise, before the run: never a run lost at the end).
+    """The --save path: a .csv, .npz or .parquet file, then every writer's check (runtime/ui/atomic.py
+    check_target: not a folder, a name the file system takes, a writable folder or one that can be
+    made; one-line UserError otherwise, before the run: never a run lost at the end).
     `flag` names the option (the API passes its own words)."""
     if not isinstance(path, (str, os.PathLike)):
         raise UserError(f"{flag} {path!r}: give a file name (text or a path) ending in {FORMATS}")
@@ -51,17 +51,8 @@ def check_path(path, flag: str = "«save»") -> Path:
     if p.suffix.lower() == ".parquet" and _pyarrow() is None:
         raise UserError(f"{flag} {path}: Parquet needs pyarrow, which is not installed: pip install "
                         "pyarrow, or save to .csv or .npz")
-    if len(os.fsencode(p.name)) > NAME_MAX:
-        raise UserError(f"{flag} {path}: the file name is {len(os.fsencode(p.name))} bytes long, "
-                        f"more than the {NAME_MAX} a file system takes: give a shorter name")
-    if p.is_dir():
-        raise UserError(f"{flag} {path} is a folder: give a file name ending in {FORMATS}")
-    if not p.parent.exists():
-        raise UserError(f"{flag} {path}: the folder {shown(p.parent)} does not exist: create it first")
-    if not p.parent.is_dir():
-        raise UserError(f"{flag} {path}: {shown(p.parent)} is a file, not a folder: save into a folder")
-    if not os.access(p.parent, os.W_OK):
-        raise UserError(f"{flag} {path}: the folder {shown(p.parent)} is not writable: save elsewhere")
+    from levitron.runtime.ui.atomic import check_target
+    check_target(p, flag, "run.csv")
     return p
 
 

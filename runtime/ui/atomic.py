@@ -2,12 +2,18 @@
 
 `output(path, option)` is a context manager that yields a temporary path in the target's folder
 (`.<name>.<pid>-<hex>.tmp<suffix>`: the owner's pid in the name, the target's suffix kept for
-writers that choose a format by it), created empty with mode 0666 less the umask (what `open`
+writers that choose a format by it; `.t.<pid>-<hex>.tmp<suffix>` where the long name would not fit
+the folder's NAME_MAX), created empty with mode 0666 less the umask (what `open`
 gives, so a written file has the usual 0644, never mkstemp's 0600). When the block ends normally
 the file is flushed to disk and renamed over the target in one step; on any error the temporary
 is removed and the target is untouched. So a kill, a full disk or a file-size limit never leaves
 a half file under the target's name, and two concurrent writers leave one whole file (the last
 rename). An OSError becomes one UserError line naming the option and what to do.
+
+Paths are taken as the user gave them: a path through a symbolic link writes the link's target
+(`os.path.realpath`: the temporary in the target's folder, the link kept), and a missing folder is
+made, for every writer alike (plots, pages, animations and tables: `check_target` checks a path
+before the work, the same way for each).
 
 `sweep(folder)` removes the temporaries of this pattern whose owner process is gone and that are
 older than STALE_AFTER_S (a kill -9 leaves them); every `output` into a folder sweeps it first.
@@ -34,9 +40,68 @@ _FULL = (errno.EFBIG, errno.ENOSPC, errno.EDQUOT)
 _TMP = re.compile(r"\..+\.(\d+)-[0-9a-f]{8}\.tmp(\.[A-Za-z0-9]+)?\Z", re.S)
 
 
+NAME_MAX = 255          # bytes of one file name where the folder does not say (Linux, macOS)
+
+
+def name_max(folder: Path) -> int:
+    """The longest file name (bytes) the file system of `folder` (or of its nearest existing
+    ancestor) takes: PC_NAME_MAX, else NAME_MAX."""
+    for f in (Path(folder), *Path(folder).parents):
+        try:
+            return int(os.pathconf(f, "PC_NAME_MAX"))
+        except (OSError, ValueError):
+            continue
+    return NAME_MAX
+
+
 def temp_beside(path: Path) -> Path:
-    """The temporary name for `path` (module docstring)."""
-    return path.with_name(f".{path.name}.{os.getpid()}-{secrets.token_hex(4)}.tmp{path.suffix}")
+    """The temporary name for `path` (module docstring): the long form where it fits the folder's
+    NAME_MAX, else a short one (the suffix kept where it is a plain one)."""
+    tag = f"{os.getpid()}-{secrets.token_hex(4)}.tmp"
+    long = f".{path.name}.{tag}{path.suffix}"
+    if len(os.fsencode(long)) <= name_max(path.parent):
+        return path.with_name(long)
+    suffix = path.suffix if re.fullmatch(r"\.[A-Za-z0-9]{1,16}", path.suffix) else ""
+    return path.with_name(f".t.{tag}{suffix}")
+
+
+def target(path) -> Path:
+    """Where a write of `path` lands: the path itself, or through symbolic links the file they
+    point to (os.path.realpath), so that a link is written through, never replaced."""
+    return Path(os.path.realpath(path))
+
+
+def check_target(path, option: str, example: str) -> Path:
+    """`path` as an output file, checked before any work is done (nothing is created here), the one
+    check of every writer: not a folder, a name the file system takes, below a folder that exists
+    and is writable or can be made there (`output` makes it). `example`: a file name to suggest.
+    One-line UserError otherwise; returns the path as given."""
+    from levitron.runtime.ui.validate import shown
+    p = Path(path)
+    try:
+        _fits(p, option, shown(path))           # the name as given (a longer one cannot be looked up)
+        real = target(path)
+        _fits(real, option, shown(path))        # and the link's target's
+        if p.is_dir() or not p.name:
+            raise UserError(f"{option} {shown(path)} is a folder: give a file name in it, e.g. {option} "
+                            f"{shown(p / example)}")
+        folder = next((f for f in real.parents if f.exists()), Path("."))
+        if not folder.is_dir():
+            raise UserError(f"{option} {shown(path)}: {shown(folder)} is a file, not a folder: choose "
+                            "another path")
+        if not os.access(folder, os.W_OK | os.X_OK):
+            raise UserError(f"{option} {shown(path)}: the folder {shown(folder)} is not writable: choose "
+                            "another path")
+    except OSError as exc:                      # a path too long as a whole, a loop of links, ...
+        raise _problem(option, p, exc) from None
+    return p
+
+
+def _fits(p: Path, option: str, shown_path: str) -> None:
+    size, limit = len(os.fsencode(p.name)), name_max(p.parent)
+    if size > limit:
+        raise UserError(f"{option} {shown_path}: the file name is {size} bytes long, more than the "
+                        f"{limit} the file system takes: give a shorter name")
 
 
 def stale(path: Path, pid: int, now: float, stale_after: float = STALE_AFTER_S) -> bool:
@@ -80,14 +145,15 @@ def _problem(option: str, path: Path, exc: OSError) -> UserError:
 
 
 @contextmanager
-def output(path, option: str, mkdir: bool = False):
-    """Yield a temporary beside `path`; rename it over `path` when the block succeeds (module
-    docstring). `option` names the flag or argument in the error line; `mkdir`: make the folder."""
-    path = Path(path)
+def output(path, option: str, mkdir: bool = True):
+    """Yield a temporary beside `path` (through links: beside their target); rename it over that
+    target when the block succeeds (module docstring). `option` names the flag or argument in the
+    error line. A missing folder is made (every writer alike; `mkdir` is kept for old callers)."""
+    given, path = Path(path), target(path)
+    check_target(given, option, f"file{given.suffix}")   # a writer that checked nothing before its work
     tmp = None
     try:
-        if mkdir:
-            path.parent.mkdir(parents=True, exist_ok=True)
+        path.parent.mkdir(parents=True, exist_ok=True)
         sweep(path.parent)
         tmp = temp_beside(path)
         os.close(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
@@ -101,7 +167,7 @@ def output(path, option: str, mkdir: bool = False):
         os.replace(tmp, path)
         tmp = None
     except OSError as exc:
-        raise _problem(option, path, exc) from None
+        raise _problem(option, given, exc) from None
     finally:
         if tmp is not None:
             try:
@@ -110,14 +176,14 @@ def output(path, option: str, mkdir: bool = False):
                 pass
 
 
-def write_text(path, text: str, option: str, mkdir: bool = False) -> Path:
+def write_text(path, text: str, option: str, mkdir: bool = True) -> Path:
     """`text` (UTF-8) to `path` through `output`."""
     with output(path, option, mkdir) as tmp:
         tmp.write_text(text, encoding="utf-8")
     return Path(path)
 
 
-def write_bytes(path, data: bytes, option: str, mkdir: bool = False) -> Path:
+def write_bytes(path, data: bytes, option: str, mkdir: bool = True) -> Path:
     """`data` to `path` through `output`."""
     with output(path, option, mkdir) as tmp:
         tmp.write_bytes(data)

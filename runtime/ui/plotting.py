@@ -7,7 +7,6 @@
 """
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 from levitron.runtime.errors import UserError
@@ -50,31 +49,20 @@ def band(ax, lo: float, hi: float, label: str, axis: str = "x") -> None:
     shade(lo, hi, color=BAND_COLOR, alpha=0.15, lw=0, label=label)
 
 
-def _existing_ancestor(path: Path) -> Path:
-    for parent in path.parents:
-        if parent.exists():
-            return parent
-    return Path(".")
-
-
 def check_plot_path(path, option: str = "«plot»") -> Path:
     """`path` as a plot file the command can write, checked before any work is done (nothing is
-    created here): a suffix matplotlib writes (.png, .pdf, .svg), not a folder, and below a
-    writable folder (or one that can be made). UserError, one line, otherwise."""
+    created here): a suffix matplotlib writes (.png, .pdf, .svg), then every writer's check
+    (runtime/ui/atomic.py check_target: not a folder, a name that fits, a writable folder or one
+    that can be made). UserError, one line, otherwise."""
+    from levitron.runtime.ui.atomic import check_target
     path = Path(path)
     suffixes = ", ".join(PLOT_SUFFIXES)
-    if path.is_dir():
-        raise UserError(f"{option} {path} is a folder: give a file name in it, e.g. {option} "
-                        f"{path / 'plot.png'}")
+    if path.is_dir() or not path.name:
+        check_target(path, option, "plot.png")
     if path.suffix.lower() not in PLOT_SUFFIXES:
         raise UserError(f"{option} {path}: the file name must end in one of {suffixes}, e.g. "
                         f"{option} {path.with_suffix('.png')}")
-    folder = _existing_ancestor(path)
-    if not folder.is_dir():
-        raise UserError(f"{option} {path}: {folder} is a file, not a folder; choose another path")
-    if not os.access(folder, os.W_OK | os.X_OK):
-        raise UserError(f"{option} {path}: the folder {folder} is not writable; choose another path")
-    return path
+    return check_target(path, option, "plot.png")
 
 
 def save_figure(fig, path, option: str = "«plot»") -> Path:

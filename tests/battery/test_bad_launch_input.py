@@ -131,7 +131,8 @@ HOSTILE = [
     Case("save-300-character-name", SIM + " --save {tmp}/" + "a" * 300 + ".csv", r"bytes long"),      # fixed
     Case("save-dev-null", SIM + " --save /dev/null", r"\.csv, \.npz or \.parquet"),
     Case("launch-save-txt", L + " --save {tmp}/x.txt", r"\.csv, \.npz or \.parquet"),
-    Case("launch-save-no-folder", L + " --save {tmp}/nowhere/x.csv", r"does not exist"),
+    Case("launch-save-below-a-file", L + " --save {tmp}/afile/x.csv", r"is a file, not a folder",
+         setup=files(afile="a file\n")),
     # --- fit CSVs and --vary
     fit_case("value-with-underscore", "quantity,value,sigma\nz_s,0.1_065,1e-4\n", r"line 2.*numbers"),  # fixed
     fit_case("full-width-digits", "quantity,value,sigma\nz_s,\uff10.1065,1e-4\n", r"line 2.*numbers"),  # fixed

@@ -119,7 +119,7 @@ def test_a_moment_tilt_has_no_reduced_model_and_bad_values_are_one_line():
     with pytest.raises(SceneError, match="breaks the top's own symmetry") as exc:
         load_scene("reduced_only", ["top.moment_tilt=0.01"])
     assert "\n" not in str(exc.value)
-    with pytest.raises(SceneError, match=r"\|b\| < pi/2"):
+    with pytest.raises(SceneError, match=r"\|moment_tilt\| < pi/2"):
         load_scene("thesis_stable", ["top.moment_tilt=2"])
     with pytest.raises(SceneError, match="moment_tilt"):
         load_scene("thesis_stable", ["top.moment_tilt=\"x\""])

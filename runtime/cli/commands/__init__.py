@@ -13,5 +13,6 @@ COMMANDS = (
     "scan",
     "launch",
     "trim",
+    "compare",
     "report",
 )

@@ -16,6 +16,7 @@ from levitron.runtime.physics.level_only import refuse_tilted
 from levitron.runtime.ui.human import Units, lines, restate, sig
 from levitron.runtime.design.fit_height import fit_equilibrium_height
 from levitron.runtime.design.scene_keys import Vary
+from levitron.runtime.design.sharpness import parse_tolerance, sharpness_lines
 from levitron.runtime.cli.commands import launch
 from levitron.runtime.cli.commands.common import model_of, scene_of
 
@@ -38,6 +39,11 @@ def add_arguments(parser) -> None:
     parser.add_argument("--constrain", action="append", default=[], metavar="EXPR",
                         help="NAME>=NUMBER or NAME<=NUMBER, NAME one of z_s, stiffness, sigma_lo, "
                              "sigma_hi (SI units), e.g. stiffness>=1 (repeatable)")
+    parser.add_argument("--tolerance", action="append", default=[], metavar="KEY=VALUE",
+                        help="a maker's tolerance of a --vary key in its SI unit, e.g. plate.hole=0.0005 "
+                             "(repeatable; default 0.1 mm of a length, 0.1 g of a mass, 1 %% of a magnet's "
+                             "strength, 0.2 %% of any other key): the design's sharpness, the objective at "
+                             "+- it")
     parser.add_argument("--grid", type=int, default=20, metavar="N",
                         help="points a key of the verification grid (>= 20)")
     parser.add_argument("--write-scene", metavar="FILE", default=None,
@@ -70,6 +76,9 @@ def run(args) -> dict:
         from levitron.runtime.design.scene_write import check_target
         check_target(args.write_scene)
     varies = [Vary.parse(v) for v in args.vary]
+    tolerance = parse_tolerance(args.tolerance)
+    if tolerance and args.maximize is None:
+        raise UserError("--tolerance goes with --maximize (a design's sharpness)")
     constraints = [Constraint.parse(c) for c in args.constrain]
     if args.fit_height is not None:
         if varies or constraints:
@@ -92,7 +101,7 @@ def run(args) -> dict:
         scene = scene_of(args)
         request = launch.launch_request(args, scene)
         model = model_of(args)
-        res = maximize_launch_odds(model, varies, request)
+        res = maximize_launch_odds(model, varies, request, tolerance=tolerance)
         out = res.as_json()      # the answer (runtime/design/launch_design_answer.py)
         if args.write_scene:
             out["written"] = res.write_scene(args.write_scene)
@@ -100,7 +109,7 @@ def run(args) -> dict:
         from levitron.runtime.design.optimize import optimize
         model = model_of(args)
         refuse_tilted(model, "optimize fits and designs")
-        res = optimize(model, varies, args.maximize, constraints, args.grid)
+        res = optimize(model, varies, args.maximize, constraints, args.grid, tolerance)
         out = res.as_json()      # the answer (runtime/design/design_answer.py), then what the face adds
         from levitron.runtime.design import launch_design
         if launch_design.worth_the_launches(model):
@@ -137,7 +146,8 @@ def human(r: dict, scene=None) -> str:
             f"({r['objective']})",
             u.note)
     if r.get("objective_name") == "launch-odds":
-        return lines(*launch_odds_lines(r, u, scene), *warning_lines(r, scene), u.note)
+        return lines(*launch_odds_lines(r, u, scene), *sharpness_lines(r.get("sharpness"), u, scene),
+                     *warning_lines(r, scene), u.note)
     status = f"solver: {r['solver_status']}, {r['iterations']} iterations"
     if "parameters" in r:
         fitted = ", ".join(f"{k} = {sig(v['value'], 6)} +- {sig(v['stderr'], 2)}"
@@ -162,7 +172,8 @@ def human(r: dict, scene=None) -> str:
         if r.get("scene_objective") is not None else "",
         f"verified: float route at the optimum, best of {ver['grid_points']} grid points "
         f"{sig(ver['grid_best'], 6) if ver.get('grid_best') is not None else 'none feasible'} {unit}".rstrip(),
-        status, *cost_lines(r, u), *warning_lines(r, scene),
+        status, *sharpness_lines(r.get("sharpness"), u, scene, r["objective_name"], r.get("objective_unit") or "1"),
+        *cost_lines(r, u), *warning_lines(r, scene),
         f"scene written: {r['written']} (check it: levitron stability {r['written']})"
         if r.get("written") else "", u.note)
 

@@ -3,7 +3,9 @@
 Two routes (thesis 3.3; runtime/physics/stability.py): "discriminant" (exact rational arithmetic on the ray
 polynomial L and a Sturm count of N(t)) and "eigenvalues" (the generated full model's Jacobian at the
 relative equilibrium). spin_interval is the discriminant route's; both are reported. Rates in rad/s,
-with Hz and rpm beside.
+with Hz and rpm beside. Inside the interval, the low-order resonances among the linear modes
+(runtime/physics/resonances.py, docs/resonances.md); with --spin W the linear modes at W
+(runtime/physics/modes.py: frequency, sense, energy sign).
 """
 from __future__ import annotations
 
@@ -18,7 +20,7 @@ from levitron.runtime.cli.commands.common import model_of
 
 NAME = "stability"
 HELP = "spin interval of linear stability at the stable height (two routes), thesis approximations"
-EXAMPLE = 'levitron stability thesis_stable'
+EXAMPLE = 'levitron stability thesis_stable --spin 1000'
 
 
 def add_arguments(parser) -> None:
@@ -30,6 +32,9 @@ def add_arguments(parser) -> None:
                         help="also how level the base must be: the largest base tilt at which a "
                              "stable spin interval still exists (rad; needs the tilted model: "
                              "plate.tilt in the scene or --set plate.tilt=0)")
+    parser.add_argument("--spin", type=float, default=None, metavar="W",
+                        help="also the linear modes at this spin (rad/s): each mode's frequency, its "
+                             "sense of rotation relative to the spin and its energy (Krein) sign")
     parser.add_argument("--plot", default=None, metavar="FILE",
                         help="with --level-tolerance: draw the spin interval against the base's "
                              "tilt up to the tolerance (.png, .pdf, .svg)")
@@ -47,12 +52,59 @@ def run(args) -> dict:
     model = model_of(args)
     if args.height is not None:
         real(args.height, "--height", positive=True, unit="m (above the plate, z > 0)")
+    spin = getattr(args, "spin", None)
+    if spin is not None:
+        real(spin, "--spin", positive=True, unit="rad/s")
     answer = Stability.of(model, height=args.height, level_tolerance=level)
     out = answer.as_json()
+    if spin is not None:
+        out["modes"] = _modes(model, answer, spin)
     if plot is not None:
         drawn = answer.plot(plot)
         if drawn is not None:
             out["plot"] = drawn
+    return out
+
+
+def _modes(model, answer, spin: float) -> dict:
+    """runtime/physics/modes.py's Modes at `spin` for the top analysed (its mass), as JSON."""
+    from levitron.runtime.physics.modes import Modes
+    if not answer.z_s:
+        raise UserError("--spin: the top has no stable hover height, so no linear modes")
+    p = model.with_params({"m": answer.mass}) if answer.mass else model.p
+    return Modes.of(model, spin, answer.z_s, answer.spin_interval, p).as_json()
+
+
+_SENSE = {1: "with the spin", -1: "against the spin", 0: "vertical"}
+
+
+def _mode_lines(md: dict, u: Units) -> list[str]:
+    """"modes at 1000 rad/s (...):" then one line a mode."""
+    out = [f"modes at {u.rate(md['spin'])}" + ("" if md["stable"] else " (not all stable)") + ":"]
+    for m in md["modes"]:
+        energy = {1: "energy +", -1: "energy - (Krein)"}.get(m["krein"]) or \
+            f"unstable (grows at {u.value(m['growth_rate'], '1/s', 3)})"
+        out.append(f"  {m['name']}: {u.rate(m['frequency'])}, {_SENSE[m['sense']]}, {energy}")
+    return out
+
+
+SHOWN = 5      # resonances listed in the plain view, the strongest first (all in the JSON)
+
+
+def _resonance_lines(rs, u: Units) -> list[str]:
+    """"resonances: strongest: 3-wave, explosive, at 213.1 rad/s (...)" and one line each."""
+    if rs is None:
+        return []
+    if not rs:
+        return ["resonances: none of order 3 or 4 inside the spin interval"]
+    r = rs[0]
+    out = [f"resonances: {len(rs)} inside the spin interval; strongest: {r['order']}-wave, "
+           f"{'explosive' if r['explosive'] else 'bounded'}, at {u.rate(r['spin'])} ({r['relation']})"]
+    for r in rs[:SHOWN]:
+        out.append(f"  {u.value(r['spin'], 'rad/s')}: {r['order']}-wave, {r['relation']}, m-balance "
+                   f"{r['m_balance']}, {'explosive' if r['explosive'] else 'bounded'}")
+    if len(rs) > SHOWN:
+        out.append(f"  ... {len(rs) - SHOWN} more (weaker) in --json")
     return out
 
 
@@ -170,5 +222,6 @@ def human(r: dict, scene=None) -> str:
         if r.get("stiffness") is not None else "",
         "further intervals: " + ", ".join(_interval(ivl, u) for ivl in more) if more else "",
         f"reason: {restate(r['reason'], u)}" if r.get("reason") else "",
-        approx, *_notes(r), u.note,
+        approx, *_resonance_lines(r.get("resonances"), u),
+        *(_mode_lines(r["modes"], u) if r.get("modes") else []), *_notes(r), u.note,
         f"plot: {r['plot']}" if r.get("plot") else "")

@@ -48,9 +48,18 @@ def test_cli_save(tmp_path, capsys):
     assert table[-1, names.index("z")] == pytest.approx(r["final_state"]["z"], rel=1e-15)
 
 
-@pytest.mark.parametrize("bad,needle", [("run.txt", ".csv, .npz or .parquet"), ("nowhere/run.csv", "does not exist")])
+@pytest.mark.parametrize("bad,needle", [("run.txt", ".csv, .npz or .parquet"), ("afile/run.csv", "is a file")])
 def test_cli_save_bad_path_is_one_line(tmp_path, capsys, bad, needle):
+    (tmp_path / "afile").write_text("a file\n")
     assert main(["simulate", "thesis_stable", "--spin", "1000", "--t-end", "0.1",
                  "--save", str(tmp_path / bad)]) == 2
     err = capsys.readouterr().err.strip()
     assert needle in err and "\n" not in err
+
+
+def test_cli_save_makes_a_missing_folder_as_every_writer_does(tmp_path, capsys):
+    """--save, --out, --plot and report --out treat a missing folder alike: they make it
+    (runtime/ui/atomic.py check_target)."""
+    out = tmp_path / "new" / "deeper" / "run.csv"
+    assert main(["simulate", "thesis_stable", "--spin", "1000", "--t-end", "0.1", "--save", str(out)]) == 0
+    assert out.stat().st_size > 0

@@ -1,0 +1,39 @@
+"""`levitron compare SCENE SCENE ...`: bases compared under one launch spread (docs/contract.md
+`compare`; runtime/design/compare.py, whose Comparison.as_json() this prints)."""
+from __future__ import annotations
+
+from levitron.runtime.cli.commands import launch
+from levitron.runtime.cli.commands.common import load
+from levitron.runtime.scan.launch_inputs import ALL_INPUTS
+
+NAME = "compare"
+HELP = ("bases compared under one hand: hover height, stable band, spin and weight windows and the launch "
+        "odds (at each scene's mass and at its best mass), every scene launched by the same spread")
+MULTI_SCENE = True
+EXAMPLE = "levitron compare thesis_air levitron_toy --n 100 --t-end 10"
+
+
+def add_arguments(parser) -> None:
+    launch.add_launch_arguments(parser.add_argument_group(
+        "the one launch spread (default: the first scene's, as `levitron launch` resolves it)"))
+
+
+def run(args) -> dict:
+    from levitron.runtime.design.compare import compare
+    from levitron.runtime.errors import UserError
+    from levitron.runtime.model.load import load_model
+    if len(args.scenes) < 2:
+        raise UserError("compare needs two scenes or more, e.g. levitron compare thesis_air levitron_toy")
+    scenes = [load(n, args.set) for n in args.scenes]       # validate all before running any
+    request = launch.launch_request(args, scenes[0])
+    flags = [k for k in ALL_INPUTS if getattr(args, f"dist_{k}") is not None]
+    return compare([load_model(s) for s in scenes], request, flags).as_json()
+
+
+def human(r: dict, scene=None) -> str:
+    """The hand first, then one row a scene."""
+    from levitron.runtime.design.compare import comparison_lines
+    from levitron.runtime.ui.human import Units, lines
+    u = Units(si=r.get("units", "SI") == "SI")
+    spread = "; ".join(launch.launch_input(k, v, u) for k, v in r["hand"]["inputs"].items())
+    return lines(*comparison_lines(r, spread))
