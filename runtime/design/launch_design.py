@@ -12,7 +12,9 @@ runtime/scan/launch_odds.py, estimated as `levitron launch` estimates it:
    strength enter as relative deviations, so a varied top.mass keeps its spread.
 2. **Common random numbers.** Every design point runs the same seed, hence the same draws: the
    odds of two designs differ by the design, not by the sampling noise, and odds(x) is a
-   step function with small steps (one launch in n) that a grid can search.
+   step function with small steps (one launch in n) that a grid can search. The search runs the
+   first min(n, SEARCH_N) launches of the seed at each point (`search_n`): paired, neighbours
+   differ in a few launches in a hundred, which a few hundred launches decide.
 3. **Grid, then zoom.** GRID[k] points a key over the --vary box (from its middle outwards, so
    that a good point is the first to compare with), then the same number over the
    two grid cells around the best point, ZOOMS times. Where several points share the best odds
@@ -55,6 +57,7 @@ from levitron.runtime.scan import spreads
 from levitron.runtime.ui import progress
 
 GRID = {1: 7, 2: 5, 3: 3}       # points a key of each grid, by the number of keys
+SEARCH_N = 500                  # the search compares points on the first this many launches of the seed
 ZOOMS = 2
 EDGE_STEPS = 5                  # bisections of each edge of a one-key plateau
 FRESH = 1                       # the deciding Monte Carlo's seed: the search's seed + FRESH
@@ -88,11 +91,12 @@ class Pinned:
         first = None
         for x in tries:
             try:
+                probe = request.with_n(search_n(request.n))      # pins the spread: no odds needed
                 if x is None:
-                    start = request.run(model, quiet=True, pool=pool)
+                    start = probe.run(model, quiet=True, pool=pool)
                 else:
                     from levitron.runtime.scan.runners import model_for
-                    start = request.run(model_for(*variant(model.ref, keys, x)), quiet=True, pool=pool)
+                    start = probe.run(model_for(*variant(model.ref, keys, x)), quiet=True, pool=pool)
             except UserError as exc:
                 first = first or exc
                 continue
@@ -104,6 +108,13 @@ class Pinned:
                                 request.scheduler)
             return cls(pinned, start, None if x is None else dict(zip(keys, x)))
         raise UserError(f"{first} (and at every point of the «vary» box's grid): move or widen the box")
+
+
+def search_n(n: int) -> int:
+    """The launches a search point runs (module docstring, step 2): the first min(n, SEARCH_N) of the
+    seed's draws. Paired on common draws, neighbouring designs differ in a few launches in a
+    hundred, so a few hundred decide between them; the answer is then judged on all n fresh ones."""
+    return min(int(n), SEARCH_N)
 
 
 def key_text(key: str, value: float) -> str:
@@ -186,13 +197,15 @@ def _maximize(model, varies: Sequence[Vary], request: mc.Request, pinned: Pinned
     keys = [v.key for v in varies]
     n_axis = GRID[len(varies)]
     most = n_axis ** len(varies) * (ZOOMS + 1) + (2 * EDGE_STEPS if len(varies) == 1 else 0) + 4 + 2 * len(varies)
+    m = search_n(request.n)
     with progress.task(f"launch-odds design over {', '.join(keys)}: launches (at most {most} evaluations)",
-                       total=most * request.n, log_every=10.0) as tick:
+                       total=(most - 4 - 2 * len(varies)) * m + (4 + 2 * len(varies)) * request.n,
+                       log_every=10.0) as tick:
         pinned = pinned or Pinned.at_start(model, request, varies, pool)
-        tick(request.n)
+        tick(m)
         req = pinned.request
         box = [(v.lo, v.hi) for v in varies]
-        odds = PairedOdds(model.ref, keys, req, box, pool, tick, early)
+        odds = PairedOdds(model.ref, keys, req.with_n(m), box, pool, tick, early)
         return _search(model, varies, keys, pinned, req, box, odds, where, t0, tolerance)
 
 

@@ -64,7 +64,7 @@ class PairedOdds:
         self.best_k = -1
         self.seen: dict[tuple, dict] = {}
         self.counts = {"evaluations": 0, "stopped_early": 0, "duplicates": 0, "launches_run": 0,
-                       "launches_full": 0}
+                       "launches_full": 0, "launches_per_point": int(request.n)}
 
     def key(self, x) -> tuple:
         return tuple(round((float(v) - lo) / s / RESOLUTION) for v, lo, s in zip(x, self.lo, self.span))

@@ -50,7 +50,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -212,8 +212,10 @@ class Request:
         return cls(inputs, **chosen)
 
     def with_seed(self, seed: int) -> Request:
-        return Request(self.given, self.n, int(seed), self.success_time, self.t_end, self.integrator,
-                       self.tol, self.workers, self.scheduler)
+        return replace(self, seed=int(seed))
+
+    def with_n(self, n: int) -> Request:
+        return replace(self, n=int(n))
 
     def run(self, model, quiet: bool = False, pool=None) -> LaunchOdds:
         """monte_carlo of this request on the model (its workers load model.ref); pool: a
