@@ -30,6 +30,18 @@ if all((_CHECKOUT / d / "__init__.py").is_file() for d in ("scene", "derive", "r
 
 from levitron.runtime import lazy_surface as _lazy_surface  # noqa: E402  (needs the path above)
 
+
+def _version() -> str:
+    """The installed distribution's version (pyproject.toml), or "0+unknown" outside one."""
+    from importlib.metadata import PackageNotFoundError, version
+    try:
+        return version("levitron")
+    except PackageNotFoundError:
+        return "0+unknown"
+
+
+__version__ = _version()
+
 # the public names, loaded on first use: `import levitron` (and `python -m levitron.derive`, the
 # command line's start) costs no numpy, casadi or scipy
 __getattr__, __dir__, __all__ = _lazy_surface(__name__, {

@@ -75,3 +75,21 @@ def test_the_installed_package_answers_from_its_own_files(fresh_venv):
                           capture_output=True, text=True, check=True)
     assert out["spin_interval"] == json.loads(mine.stdout)["spin_interval"]
     assert list(work.iterdir()) == []
+
+
+def test_the_wheel_carries_its_licence_version_and_types(fresh_venv):
+    """A real package's papers: the licence as SPDX metadata with its file, `levitron.__version__`
+    equal to the metadata's version, and py.typed for type checkers."""
+    venv, added, _ = fresh_venv
+    (dist,) = [n for n in added if n.endswith(".dist-info")]
+    site = (venv / "lib").glob("python*/site-packages")
+    site = next(iter(site))
+    meta = (site / dist / "METADATA").read_text()
+    assert "License-Expression: BSD-3-Clause" in meta and "Classifier: Typing :: Typed" in meta
+    assert list((site / dist).rglob("LICENSE"))
+    assert (site / "levitron" / "py.typed").is_file()
+    env = dict(os.environ, PYTHONPATH=sysconfig.get_paths()["purelib"])
+    got = subprocess.run([str(venv / "bin" / "python"), "-c", "import levitron; print(levitron.__version__)"],
+                         cwd=venv, env=env, capture_output=True, text=True, check=True).stdout.strip()
+    version = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["version"]
+    assert got == version
