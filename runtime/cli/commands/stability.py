@@ -13,6 +13,7 @@ import math
 
 from levitron.runtime.ui.human import Units, lines, restate, sig
 from levitron.runtime.physics.stability_answer import Stability
+from levitron.runtime.scan.tilt_tolerance import plain_lines
 from levitron.runtime.errors import UserError
 from levitron.runtime.ui.plotting import check_plot_path
 from levitron.runtime.ui.validate import real
@@ -35,20 +36,27 @@ def add_arguments(parser) -> None:
     parser.add_argument("--spin", type=float, default=None, metavar="W",
                         help="also the linear modes at this spin (rad/s): each mode's frequency, its "
                              "sense of rotation relative to the spin and its energy (Krein) sign")
+    parser.add_argument("--tilt-tolerance", action="store_true",
+                        help="also the largest launch tilt each spin tolerates, by simulation (40 spins "
+                             "inside the window, the spin held, a bisection each: seconds), with the "
+                             "resonances marked")
     parser.add_argument("--plot", default=None, metavar="FILE",
                         help="with --level-tolerance: draw the spin interval against the base's "
-                             "tilt up to the tolerance (.png, .pdf, .svg)")
+                             "tilt up to the tolerance; with --tilt-tolerance: the tolerated tilt "
+                             "against the spin (.png, .pdf, .svg)")
 
 
 def run(args) -> dict:
     """runtime/physics/stability_answer.py's Stability, its as_json() (and the plot's path)."""
     plot = getattr(args, "plot", None)
     level = getattr(args, "level_tolerance", False)     # (a Namespace built by hand may lack it)
+    tilts = getattr(args, "tilt_tolerance", False)
     if plot is not None:
         check_plot_path(plot)
-        if not level:
-            raise UserError("--plot draws the spin interval against the base's tilt: add "
-                            "--level-tolerance")
+        if level == tilts:
+            raise UserError("--plot draws the spin interval against the base's tilt (add "
+                            "--level-tolerance) or the tolerated launch tilt against the spin (add "
+                            "--tilt-tolerance): give one of them")
     model = model_of(args)
     if args.height is not None:
         real(args.height, "--height", positive=True, unit="m (above the plate, z > 0)")
@@ -59,6 +67,15 @@ def run(args) -> dict:
     out = answer.as_json()
     if spin is not None:
         out["modes"] = _modes(model, answer, spin)
+    if tilts:
+        from levitron.runtime.scan.tilt_tolerance import tilt_tolerance
+        if args.height is not None:
+            raise UserError("--tilt-tolerance launches the scene's own top: leave out --height")
+        curve = tilt_tolerance(model, answer.spin_interval, answer.z_s, out.get("resonances") or [])
+        out["tilt_tolerance"] = curve.as_json()
+        if plot is not None:
+            out["plot"] = curve.plot(plot)
+            plot = None
     if plot is not None:
         drawn = answer.plot(plot)
         if drawn is not None:
@@ -223,5 +240,6 @@ def human(r: dict, scene=None) -> str:
         "further intervals: " + ", ".join(_interval(ivl, u) for ivl in more) if more else "",
         f"reason: {restate(r['reason'], u)}" if r.get("reason") else "",
         approx, *_resonance_lines(r.get("resonances"), u),
-        *(_mode_lines(r["modes"], u) if r.get("modes") else []), *_notes(r), u.note,
+        *(_mode_lines(r["modes"], u) if r.get("modes") else []),
+        *(plain_lines(r["tilt_tolerance"], u) if r.get("tilt_tolerance") else []), *_notes(r), u.note,
         f"plot: {r['plot']}" if r.get("plot") else "")
