@@ -60,7 +60,7 @@ class Stability:
                  else "transverse_matrix (8-D)")
         tol, drawn, lines = _level_tolerance(model) if level_tolerance else (None, model, [])
         res.notes.extend(lines)    # a tolerance's field order raised, or a warning
-        reso = _resonances(model, res)
+        reso = resonances_of(model, res)
         wall = time.perf_counter() - t0
         # the vertical stiffness U'' = mu Phi_3(z_s) (thesis 3.3.3), N/m: what «constrain»
         # stiffness>=K of `optimize` speaks of; it does not depend on the mass
@@ -142,7 +142,7 @@ class Stability:
         return str(draw(model, without_friction(model, model.p), self.level_tolerance, path))
 
 
-def _resonances(model, res: StabilityResult) -> tuple | None:
+def resonances_of(model, res: StabilityResult) -> tuple | None:
     """The resonances inside the spin interval (runtime/physics/resonances.py), strongest first;
     None without an interval or where the steady motion is off the axis (a tilted base, the magnet
     off the axis or off the centre: runtime/physics/modes.py OFF_AXIS)."""

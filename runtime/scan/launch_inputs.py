@@ -140,3 +140,26 @@ def reach_warnings(model, spin: Dist, interval, tau, success_time: float, defaul
     return [f"{which} {u.rate(w0).split(' (')[0]} floats only about {u.time(t)} by the adiabatic prediction "
             f"tau ln(omega_0 / sigma_lo), less than the success time {u.time(success_time)}: even a steady "
             "launch at it cannot succeed; launch faster («spin») or ask for a shorter flight («success_time»)"]
+
+
+def resonance_warnings(model, res, spin: Dist, tau, success_time: float) -> list[str]:
+    """A one-line warning where the hand's spins (the central 95 % of its distribution) include an
+    explosive three-wave resonance inside the window (runtime/physics/resonances.py,
+    docs/resonances.md), or in air pass one while they slow down over the success time (the spin
+    decays as exp(-t/tau), runtime/physics/friction.py): near it a launch tolerates less tilt
+    (`stability --tilt-tolerance`). [] where none is crossed or the resonances are not computed
+    (no window, the top off the axis). res: the StabilityResult of the scene's top."""
+    from levitron.runtime.physics.stability_answer import resonances_of
+    from levitron.runtime.words import si
+    found = resonances_of(model, res) or ()
+    lo, hi = ((spin.a - 2 * spin.b, spin.a + 2 * spin.b) if spin.kind == "normal" else
+              (spin.a, spin.b) if spin.kind == "uniform" else (spin.a, spin.a))
+    slowest = lo * math.exp(-success_time / tau) if tau else lo
+    hits = [r for r in found if r.order == 3 and r.explosive and min(lo, slowest) <= r.spin <= hi]
+    if not hits:
+        return []
+    r = hits[0]
+    how = ("include" if lo <= r.spin else f"pass, slowing down over {si(success_time, 's')} of flight,")
+    return [f"the hand's spins, {si(lo, 'rad/s')} to {si(hi, 'rad/s')}, {how} the explosive resonance at "
+            f"{si(r.spin, 'rad/s')} ({r.relation}), where a launch tolerates less tilt "
+            f"(`«levitron=stability» «tilt_tolerance»`): launch away from it or with less wobble"]

@@ -61,8 +61,8 @@ from levitron.runtime.integrate.verdict import stopped_early
 from levitron.runtime.integrate.methods import DEFAULT, refuse_on_full_model, resolve
 from levitron.runtime.scan.launch_answer import LaunchOdds
 from levitron.runtime.scan.launch_summary import cannot_hover, effects, launches, wilson
-from levitron.runtime.scan.launch_inputs import (ALL_INPUTS, INPUTS, apparatus_of, check_bounds,
-                                                  reach_warnings, refuse_apparatus, temperature_factor)
+from levitron.runtime.scan.launch_inputs import (ALL_INPUTS, INPUTS, apparatus_of, check_bounds, reach_warnings,
+                                                  refuse_apparatus, resonance_warnings, temperature_factor)
 from levitron.runtime.scan.spreads import Dist, parse_input, spec_text
 from levitron.runtime.scan.workers import auto_workers
 from levitron.runtime.ui.validate import count, real, spread_range, temperature
@@ -280,7 +280,8 @@ def prepare(model, given: Mapping[str, object], n: int = 1000,
         raise UserError(f"unknown launch input {unknown[0]!r}: use one of {', '.join(ALL_INPUTS)}")
     refuse_apparatus(model, given)
     z_s = hover_height(model)
-    interval = stability_of(model, z_s=z_s).spin_interval
+    lin = stability_of(model, z_s=z_s)
+    interval = lin.spin_interval
     dists = defaults(model, interval, z_s)
     reference = {"mass": model.param("m"), "strength": 1.0}
     dists.update({k: parse_input(k, v, reference.get(k, 1.0)) for k, v in given.items()})
@@ -325,7 +326,8 @@ def prepare(model, given: Mapping[str, object], n: int = 1000,
     if success_time > t_end:
         raise UserError(f"«success_time={success_time:g}» is longer than «t_end={t_end:g}»: no run "
                         "could succeed; make «t_end» at least the success time")
-    warnings = reach_warnings(model, dists["spin"], interval, tau, success_time, "spin" not in given)
+    warnings = reach_warnings(model, dists["spin"], interval, tau, success_time, "spin" not in given) \
+        + resonance_warnings(model, lin, dists["spin"], tau, success_time)
     choice = resolve(integrator, tol, None)
     method = choice.name
     refuse_on_full_model(method, "launch")
