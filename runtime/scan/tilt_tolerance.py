@@ -17,8 +17,8 @@ linearly stable. This module measures it by simulation, the nonlinear full model
 The bisection assumes that a launch that floats floats at every smaller tilt too; where that fails
 it finds one edge of the tolerated tilts. t_end defaults to the maps' run length, PERIODS slow
 periods at the window's middle (runtime/scan/stability_map.py); the launch direction is the
-scene's default azimuth. A dip is a spin whose tolerance is below DIP of the median's; each is
-named with the nearest resonance (within NEAR of its spin). No sympy here.
+scene's default azimuth. A dip is a spin whose tolerance is below DIP of the median's, or below
+LOCAL of both its neighbours'; each is named with the nearest resonance (within NEAR of its spin). No sympy here.
 """
 from __future__ import annotations
 
@@ -35,6 +35,7 @@ INSET = 0.01           # relative: the spins stay this far inside the window's e
 TILT_LO, TILT_HI = 5e-4, 0.2
 BISECTIONS = 10        # log bisection: (TILT_HI / TILT_LO) ** (1 / 2**10): 0.6 % resolution
 DIP = 0.5
+LOCAL = 0.75
 NEAR = 0.03            # relative distance in spin from a dip to the resonance it is named with
 
 
@@ -51,11 +52,14 @@ class TiltTolerance:
 
     @property
     def dips(self) -> list[dict]:
-        """Spins whose tolerance is below DIP of the median's, each with the nearest resonance."""
+        """Spins whose tolerance is below DIP of the median's, or a local minimum below LOCAL of
+        both neighbours', each with the nearest resonance."""
         median = float(np.median(self.max_tilt))
+        tt = self.max_tilt
         out = []
-        for w, t in zip(self.spins, self.max_tilt):
-            if t < DIP * median:
+        for i, (w, t) in enumerate(zip(self.spins, tt)):
+            local = 0 < i < len(tt) - 1 and t < LOCAL * min(tt[i - 1], tt[i + 1])
+            if t < DIP * median or local:
                 near = [r for r in self.resonances if abs(r["spin"] - w) <= NEAR * w]
                 best = min(near, key=lambda r: abs(r["spin"] - w)) if near else None
                 out.append({"spin": float(w), "max_tilt": float(t),
