@@ -64,7 +64,7 @@ from levitron.runtime.scan.launch_summary import cannot_hover, effects, launches
 from levitron.runtime.scan.launch_inputs import (ALL_INPUTS, INPUTS, apparatus_of, check_bounds, reach_warnings,
                                                   refuse_apparatus, resonance_warnings, temperature_factor)
 from levitron.runtime.scan.spreads import Dist, parse_input, spec_text
-from levitron.runtime.scan.workers import auto_workers
+from levitron.runtime.scan.workers import auto_workers, dask_errors_as_ours
 from levitron.runtime.ui.validate import count, real, spread_range, temperature
 
 MAX_N = 10**6
@@ -352,11 +352,12 @@ def execute(prep: Prepared, model, indices, quiet: bool = False, pool=None) -> l
     chunks = runners.split(indices, n_chunks)
     runners.remember(plan, model)
     if scheduler:
-        client = runners.dask_client(scheduler)
-        try:
-            return runners.run_dask(plan, chunks, client, quiet, fn=run_chunk, what="launch")
-        finally:
-            client.close()
+        with dask_errors_as_ours():
+            client = runners.dask_client(scheduler)
+            try:
+                return runners.run_dask(plan, chunks, client, quiet, fn=run_chunk, what="launch")
+            finally:
+                client.close()
     if workers > 1:
         return runners.run_processes(plan, chunks, workers, quiet, fn=run_chunk, what="launch", pool=pool)
     return runners.run_serial(plan, chunks, quiet, fn=run_chunk, what="launch")

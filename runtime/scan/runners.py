@@ -20,6 +20,7 @@ import os
 import sys
 import threading
 import time
+from concurrent.futures import CancelledError
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
@@ -353,8 +354,8 @@ def run_dask(common: Common, chunks: Sequence[list], client, quiet: bool = False
     out: list[dict] = []
 
     def lost(why: str) -> UserError:
-        done = sum(len(r["points"]) for r in out)
-        return UserError(f"the dask cluster at {address!r} {why} ({done} of {total} points done): "
+        done, unit = sum(len(r["points"]) for r in out), "launches" if what == "launch" else "points"
+        return UserError(f"the dask cluster at {address!r} {why} ({done} of {total} {unit} done): "
                          f"start workers with `dask worker {address}` and run again, or use "
                          "«workers» N")
 
@@ -367,19 +368,18 @@ def run_dask(common: Common, chunks: Sequence[list], client, quiet: bool = False
                     done, pending = wait(pending, timeout=DASK_POLL_S, return_when="FIRST_COMPLETED")
                 except TimeoutError:
                     done = set()
+                except CancelledError as exc:       # dask's FuturesCancelledError: the scheduler died
+                    raise lost(f"cancelled the work ({type(exc).__name__}: its scheduler died?)") from None
                 for fut in done:
-                    try:
-                        # bounded: a result can leave with its worker between "done" and the
-                        # gather, and then waits for a recomputation no worker may ever run
+                    try:    # bounded: a result can leave with its worker before the gather
                         out.append(fut.result(timeout=DASK_POLL_S))
                     except TimeoutError:
                         pending.add(fut)
                         continue
                     except Exception as exc:    # noqa: BLE001 (dask's own errors, named below)
-                        if type(exc).__name__ in ("KilledWorker", "CancelledError",
-                                                  "FutureCancelledError"):
-                            raise lost(f"gave a chunk up ({type(exc).__name__}: the workers "
-                                       "running it died)") from None
+                        if isinstance(exc, CancelledError) or type(exc).__name__ == "KilledWorker":
+                            raise lost(f"gave a chunk up ({type(exc).__name__}: the workers or the "
+                                       "scheduler running it died)") from None
                         raise
                     tick(len(out[-1]["points"]))
                 if not pending:
@@ -395,6 +395,6 @@ def run_dask(common: Common, chunks: Sequence[list], client, quiet: bool = False
                 elif time.monotonic() - alone_since > timeout:
                     raise lost(f"lost every worker mid-{what} (none for {duration(timeout)})")
         finally:
-            if pending:
-                client.cancel(list(pending))
+            with contextlib.suppress(OSError, TimeoutError, CancelledError):    # a dead scheduler too
+                client.cancel(list(pending)) if pending else None
     return out

@@ -77,7 +77,7 @@ from levitron.runtime.scan.runners import (
 )
 from levitron.runtime.ui.human import Units
 from levitron.runtime.ui.validate import axis_values, count, real
-from levitron.runtime.scan.workers import auto_workers
+from levitron.runtime.scan.workers import auto_workers, dask_errors_as_ours
 
 BASE_TILT = 0.01       # rad, the seed tilt of mass and height scans
 MIN_POINTS = 4         # a map of fewer points runs serially by default (runtime/scan/workers.py)
@@ -256,14 +256,15 @@ def _run_tasks(model, common: Common, tasks: list, workers: int, scheduler: str 
     """The tasks dealt into chunks and run on dask, local processes or serially here: (the chunks'
     results, the runner's description)."""
     if scheduler is not None:
-        client = dask_client(scheduler, scheduler_timeout)
-        try:
-            threads = dask_threads(client)
-            chunks = split(tasks, CHUNKS_PER_WORKER * threads)
-            runner = {"kind": "dask", "scheduler": scheduler, "threads": threads}
-            chunk_results = run_dask(common, chunks, client, quiet, timeout=scheduler_timeout)
-        finally:
-            client.close()
+        with dask_errors_as_ours():
+            client = dask_client(scheduler, scheduler_timeout)
+            try:
+                threads = dask_threads(client)
+                chunks = split(tasks, CHUNKS_PER_WORKER * threads)
+                runner = {"kind": "dask", "scheduler": scheduler, "threads": threads}
+                chunk_results = run_dask(common, chunks, client, quiet, timeout=scheduler_timeout)
+            finally:
+                client.close()
     elif workers > 1 and len(tasks) > 1:
         n = min(workers, len(tasks), usable_cores())
         if n < min(workers, len(tasks)):

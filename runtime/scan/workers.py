@@ -13,6 +13,9 @@ cannot start:
 """
 from __future__ import annotations
 
+import contextlib
+import logging
+
 MIN_TASKS = 64          # launches (about 10 ms each); a map's points run seconds each: MIN_POINTS
 
 
@@ -22,3 +25,19 @@ def auto_workers(n_tasks: int, min_tasks: int = MIN_TASKS) -> int:
     if n_tasks < min_tasks or unguarded_script() is not None:
         return 1
     return usable_cores()
+
+
+@contextlib.contextmanager
+def dask_errors_as_ours():
+    """While a run uses a dask client: dask's client logs nothing below CRITICAL. A lost scheduler
+    is then one UserError line of runtime/scan/runners.py run_dask, not that line after dask's
+    tracebacks of its reconnection; the logger's level is restored afterwards."""
+    with contextlib.suppress(ImportError):      # its import sets its loggers' levels: first
+        import distributed  # noqa: F401
+    log = logging.getLogger("distributed.client")
+    level = log.level
+    log.setLevel(logging.CRITICAL)
+    try:
+        yield
+    finally:
+        log.setLevel(level)

@@ -125,3 +125,40 @@ def test_losing_every_dask_worker_mid_scan_is_one_line(model):
                                        quiet=True, scheduler=cluster.scheduler_address,
                                        scheduler_timeout=2))
         assert "\n" not in str(exc.value) and time.monotonic() - t0 < 30
+
+
+@pytest.mark.parametrize("where", ["wait", "result"])
+def test_a_scheduler_that_dies_mid_run_is_one_line(monkeypatch, where):
+    """kill -9 of the dask scheduler while futures run: dask raises FuturesCancelledError (a
+    concurrent.futures.CancelledError), from `wait` or from a future's result; the run ends in one
+    UserError naming the cluster and the count done (it was 'internal error: FuturesCancelledError',
+    exit 3), and the cancel of the rest, on a dead scheduler, does not mask it."""
+    distributed = pytest.importorskip("dask.distributed")
+    from distributed.client import CancelledFuturesGroup, FutureCancelledError, FuturesCancelledError
+    from levitron.runtime.scan import runners
+
+    def cancelled():
+        lost = FutureCancelledError("chunk-1", "scheduler-connection-lost")
+        return FuturesCancelledError([CancelledFuturesGroup([lost], "scheduler-connection-lost")])
+
+    class Future:
+        def result(self, timeout=None):
+            raise cancelled()
+
+    class Client:
+        scheduler = type("S", (), {"address": "tcp://127.0.0.1:9"})()
+
+        def map(self, fn, items, pure=False):
+            return [Future() for _ in items]
+
+        def cancel(self, futures):
+            raise OSError("the scheduler is gone")
+
+    def wait(pending, timeout=None, return_when=None):
+        if where == "wait":
+            raise cancelled()
+        return set(pending), set()
+    monkeypatch.setattr(distributed, "wait", wait)
+    with pytest.raises(UserError, match=r"the dask cluster at 'tcp://127.0.0.1:9' .*(cancelled|gave a chunk up)"
+                                        r".*\(0 of 2 points done\)"):
+        runners.run_dask(None, [[1], [2]], Client(), quiet=True, fn=lambda c, chunk: {"points": chunk})
