@@ -48,6 +48,7 @@ import casadi as ca
 import numpy as np
 
 from levitron.runtime.design import edge as design_edge, sharpness
+from levitron.runtime.design.design_notes import barely_moves_note, mass_window_note
 from levitron.runtime.physics import stability_casadi as sc
 from levitron.runtime.design.constraints import Constraint
 from levitron.runtime.design.design_answer import OBJECTIVES, Design, DesignResult  # noqa: F401 (DesignResult: its old name)
@@ -358,6 +359,8 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
     scene_x = [key_value(model.scene.data, k) for k in keys]
     inside = all(v.lo <= s <= v.hi for v, s in zip(varies, scene_x))
     scene_pt = evaluate(model, keymap, scene_x, objective, constraints) if inside else None
+    warnings += [n for n in (mass_window_note(check.band and check.band[1], model.param("m")),
+                             barely_moves_note(objective, check.value, scene_pt and scene_pt.value)) if n]
     sharp = sharpness.sharpness(lambda y: evaluate(model, keymap, y, objective, constraints).value, model,
                                 varies, dict(zip(keys, map(float, x))), check.value, tolerance, launch=False)
     return Design(
