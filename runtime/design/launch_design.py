@@ -260,7 +260,7 @@ def _search(model, varies, keys, pinned: Pinned, req: mc.Request, box, odds: Pai
     start_x = [key_value(model.scene.data, k) for k in keys]
     first = odds_at(model.ref, keys, start_x, fresh, odds.pool)
     odds.tick(req.n)
-    warnings = []
+    warnings = list(final.get("warnings", []))     # the launches' own at the optimum (reach, resonances)
     for v, b in zip(varies, best):
         span = v.hi - v.lo
         if b <= v.lo + 1e-9 * span or b >= v.hi - 1e-9 * span:

@@ -25,3 +25,11 @@ def test_a_top_slowing_down_through_it_in_air_is_warned(capsys):
     long = _warnings(capsys, "--spin", "normal:225,3", "--success-time", "75", "--t-end", "75")
     assert any("pass, slowing down over 75 s" in w for w in long)
     assert not [w for w in _warnings(capsys, "--spin", "normal:225,3") if "resonance" in w]
+
+
+def test_a_design_says_the_launches_warning_at_its_optimum(capsys):
+    """The launch-odds design (and so trim) carries the warnings of the launches it decides on."""
+    assert main(["optimize", "levitron_toy", "--maximize", "launch-odds", "--vary", "top.mass=0.0209:0.0213",
+                 "--spin", "normal:212,3", "--n", "8", "--t-end", "1", "--json"]) == 0
+    w = json.loads(capsys.readouterr().out)["warnings"]
+    assert any("include the explosive resonance" in x for x in w)
