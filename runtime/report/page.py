@@ -183,6 +183,8 @@ def build(model, provenance: dict | None = None) -> tuple[str, dict]:
             "flight_time": (facts.get("air") or {}).get("flight_time")}, u)
         if stated:
             parts.insert(answer_at, "<h3>Beside the stated values</h3>" + _table(stated))
+        if facts.get("air"):          # what a maker decides on, right under the answer
+            parts.insert(answer_at, _p(facts["air"]["summary"], "answer"))
         block, facts["rebuild"] = rebuild.section(scene, overrides, provenance)
         parts.append(block)
     page = ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"

@@ -36,6 +36,57 @@ def mass_windows(model) -> list[dict]:
     return out
 
 
+def hover_temperatures(model, step: float = 1.0, reach: float = 40.0) -> tuple[float | None, float | None]:
+    """The temperatures (degC) nearest the scene's, below and above, at which its top stops
+    hovering (its mass leaves the stable band's masses as the magnets' strength moves with the
+    temperature: launch_inputs.temperature_factor), to `step` by a scan then bisection over
+    +-`reach`; None where it still hovers at the end of the reach (or has no temperature
+    coefficients)."""
+    from levitron.runtime.physics import equilibrium as eqm
+    from levitron.runtime.scan.launch_inputs import temperature_factor
+    from levitron.scene.keys import T_REF
+    T0, mu, m = float(model.scene.data.get("temperature", T_REF)), model.param("mu"), model.param("m")
+
+    def hovers(T: float) -> bool:
+        band = eqm.equilibria_of(model, model.with_params({"mu": mu * temperature_factor(model, T)}),
+                                 bands=True).stable_band
+        return band is not None and band.mass[0] <= m <= band.mass[1]
+    if not hovers(T0) or temperature_factor(model, T0 + reach) == 1.0:
+        return None, None
+    out = []
+    for sign in (-1, 1):
+        a, b = T0, None
+        for k in range(1, int(reach / 4) + 1):          # scan in 4 degC steps, then bisect
+            if not hovers(T0 + sign * 4 * k):
+                a, b = T0 + sign * 4 * (k - 1), T0 + sign * 4 * k
+                break
+        while b is not None and abs(b - a) > step:
+            mid = 0.5 * (a + b)
+            a, b = (mid, b) if hovers(mid) else (a, mid)
+        out.append(None if b is None else b)
+    return out[0], out[1]
+
+
+def maker_summary(model, odds: dict, band_mass, temps, u: Units) -> str:
+    """What a maker decides on, first: the odds with their interval, the margins in mass to both
+    edges of the masses that hover, and the temperatures at which the top stops hovering."""
+    m = model.param("m")
+    lo, hi = odds["probability_ci95"]
+    parts = [f"Launch odds {sig(100 * odds['probability'], 3)} % ({sig(100 * lo, 3)}-{sig(100 * hi, 3)} %) "
+             f"of {odds['n']} launches by hand"]
+    if band_mass is not None and band_mass[0] <= m <= band_mass[1]:
+        parts.append(f"the top may lose {u.mass(m - band_mass[0])} or gain {u.mass(band_mass[1] - m)} and "
+                     "still hover")
+    else:
+        parts.append("the top as written does not hover: `«levitron=trim»` gives the mass to set")
+    cold, hot = temps
+    if cold is not None or hot is not None:
+        parts.append("it stops hovering " + " and ".join(
+            t for t in (f"below about {sig(cold, 3)} degC" if cold is not None else "",
+                        f"above about {sig(hot, 3)} degC" if hot is not None else "") if t))
+    return "; ".join(parts) + "."
+
+
 def _input_text(name: str, spec: str, u: Units) -> str:
     from levitron.runtime.scan import launch_odds as mc
     from levitron.runtime.scan import launch_inputs as li
@@ -93,6 +144,9 @@ def section(model, run: dict, u: Units, tmp: Path, png) -> tuple[str, dict]:
               f"points{_noise(e)})" for e in odds["ranking"][:3]]
     windows = mass_windows(model)
     facts["mass_windows"] = windows
+    facts["stops_hovering"] = dict(zip(("below", "above"), hover_temperatures(model)))
+    facts["summary"] = maker_summary(model, odds, windows[1]["mass"], tuple(facts["stops_hovering"].values()), u)
+    m = model.param("m")
     out = ["<h2>The real launch: in air</h2>", _table(rows),
            f"<p class=\"answer\">Launch odds: {sig(100 * odds['probability'], 3)} % of {odds['n']} launches by "
            f"hand float at least {html.escape(u.time(odds['success_time']))} (95 % interval "
@@ -104,8 +158,9 @@ def section(model, run: dict, u: Units, tmp: Path, png) -> tuple[str, dict]:
            "<h3>The masses that hover, and the temperature</h3>",
            _table([(f"{sig(w['temperature'], 3)} degC" + (" (the scene's)" if i == 1 else ""),
                     f"mass {span(*w['mass'], u.mass)}, heights {u.length_span(*w['z'])}"
-                    + (f" ({w['note']})" if w["note"] else "") if w["mass"]
-                    else "no stable band") for i, w in enumerate(windows)]),
+                    + (f" ({w['note']})" if w["note"] else "")
+                    + ("" if w["mass"][0] <= m <= w["mass"][1] else f"; the scene's {u.mass(m)} top does not hover")
+                    if w["mass"] else "no stable band") for i, w in enumerate(windows)]),
            "<p class=\"note\">The magnets weaken as they warm (the scene's temperature coefficients); the "
            "masses that hover move with them: trim the top with washers at the temperature it flies in.</p>"]
     return "".join(out), facts

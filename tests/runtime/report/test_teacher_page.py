@@ -368,3 +368,21 @@ def test_the_packed_frames_round_trip():
     assert np.max(np.abs(back["n"] - n)) < 2e-5
     m = back["mark"]
     assert np.allclose(np.linalg.norm(m, axis=1), 1) and np.max(np.abs(np.sum(m * back["n"], axis=1))) < 1e-12
+
+
+def test_air_report_leads_with_what_a_maker_decides(air):
+    """Right under the answer: the odds with their interval, the mass margins to both edges of the
+    masses that hover, the temperatures at which the top stops hovering; the 28 degC row says the
+    51.5 g top does not hover there (its band is 49.07-51.16 g)."""
+    path, facts = air
+    text = _text(path.read_text())
+    fl = facts["air"]
+    below, above = fl["stops_hovering"]["below"], fl["stops_hovering"]["above"]
+    assert 8 < below < 20 < above <= 28            # 28 degC: too heavy, 12 degC: too light (README)
+    lo, hi = fl["mass_windows"][1]["mass"]
+    summary = fl["summary"]
+    assert summary.startswith("Launch odds ") and "still hover" in summary and "stops hovering" in summary
+    first = text.index(summary.split(";")[0])
+    assert first < text.index("The set-up, to scale") and summary.split(";")[0] in text
+    assert "the scene's 51.5 g top does not hover" in text
+    assert lo < 0.0515 < hi
