@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from levitron.runtime.errors import UserError
+from levitron.runtime.ui import progress
 from levitron.runtime.ui.human import Units
 
 N_SPINS = 40
@@ -135,19 +136,22 @@ def tilt_tolerance(model, window: tuple[float, float], z_s: float, resonances=()
         r = simulate_many(model, w, tilt=tilt, t_end=t_end, p=p)
         return np.asarray(r["levitating"], bool) & ~np.asarray(r["untested"], bool)
     best = np.zeros(spins.size)
-    low_ok = floats(spins, TILT_LO)
-    high_ok = floats(spins, TILT_HI)
-    best[high_ok] = TILT_HI
-    open_ = low_ok & ~high_ok
-    a = np.full(spins.size, math.log(TILT_LO))
-    b = np.full(spins.size, math.log(TILT_HI))
-    for _ in range(BISECTIONS):
-        idx = np.flatnonzero(open_)
-        if idx.size == 0:
-            break
-        mid = 0.5 * (a[idx] + b[idx])
-        ok = floats(spins[idx], np.exp(mid))
-        a[idx[ok]] = mid[ok]
-        b[idx[~ok]] = mid[~ok]
+    with progress.task(f"tilt tolerance at {spins.size} spins: bisection steps", total=BISECTIONS + 2,
+                       log_every=10.0) as tick:
+        low_ok = floats(spins, TILT_LO)
+        high_ok = floats(spins, TILT_HI)
+        tick(2)
+        best[high_ok] = TILT_HI
+        open_ = low_ok & ~high_ok
+        a = np.full(spins.size, math.log(TILT_LO))
+        b = np.full(spins.size, math.log(TILT_HI))
+        for _ in range(BISECTIONS):
+            idx = np.flatnonzero(open_)
+            if idx.size:
+                mid = 0.5 * (a[idx] + b[idx])
+                ok = floats(spins[idx], np.exp(mid))
+                a[idx[ok]] = mid[ok]
+                b[idx[~ok]] = mid[~ok]
+            tick()
     best[open_] = np.exp(a[open_])
     return TiltTolerance(spins, best, float(t_end), list(resonances), Units.of_scene(model.scene))
