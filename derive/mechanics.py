@@ -3,7 +3,7 @@
 L = T - U with T from derive/kinematics.py (thesis eq. 2.1.14) and the potential energy
 U = m g z - mu n.B(r) (thesis eq. 2.2.1, with n the symmetry axis in space components; see
 docs/errata.md for why n = R_bs e_z and not the thesis's R e_z).
-On a tilted base (scene key plate.tilt, issue 27) gravity is no longer along -e_z of the plate's
+On a tilted base (scene key plate.tilt) gravity is no longer along -e_z of the plate's
 frame: g_vec = g (sin t cos a, sin t sin a, -cos t) with t the tilt and a its azimuth (the downhill
 direction), so m g z becomes -m g_vec.r = m g (z cos t - (x cos a + y sin a) sin t); t = 0 gives
 thesis eq. 2.2.1 back. The axial symmetry is broken (L_z is no longer conserved), L.n still is.

@@ -64,7 +64,7 @@ TOP_KEYS = (
         "model"),
 )
 
-# The base's tilt (issue 27): keys of [plate] that every plate kind takes; they put gravity along a
+# The base's tilt: keys of [plate] that every plate kind takes; they put gravity along a
 # tilted vector in the full model (derive/mechanics.py), as runtime parameters base_tilt and
 # base_tilt_azimuth (their values never change the generated code; their presence does).
 TILT_KEYS = (

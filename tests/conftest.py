@@ -24,6 +24,44 @@ def thesis_model(thesis_scene):
     return load_model(thesis_scene)
 
 
+LIGHT_TOP = ("top.mass=0.0515",)
+
+
+@pytest.fixture(scope="module")
+def model():
+    """The thesis's model with a 51.5 g top (LIGHT_TOP): the one the maps, the C call path and the
+    integrator's `auto` run on."""
+    from levitron.runtime.model.load import load_model
+    return load_model(load_scene("thesis", list(LIGHT_TOP)))
+
+
+@pytest.fixture(scope="module")
+def study():
+    """The API's Study of thesis_stable, as written."""
+    import levitron
+    return levitron.load("thesis_stable")
+
+
+@pytest.fixture(scope="module")
+def level(derived_model):
+    """thesis_stable on a level base: the reference of the tilted-base and tilted-moment tests."""
+    return derived_model("thesis_stable")
+
+
+@pytest.fixture(scope="session")
+def lib():
+    """The tests' C library: runtime/csrc with the systems of tests/c/systems.c (tests/helpers/c_systems.py)."""
+    from tests.helpers import c_systems
+    return c_systems.library()
+
+
+@pytest.fixture(scope="module")
+def osc(lib):
+    """The unit oscillator of tests/c/systems.c as a C system (x, y, vx, vy; p[0] = w2 = 1)."""
+    from levitron.runtime.integrate.c_backend import CSystem
+    return CSystem(lib, "lev_oscillator", ["x", "y", "vx", "vy"], [1.0])
+
+
 @pytest.fixture(scope="session")
 def derived_model():
     """derived_model(scene_name, *overrides) -> the Model of a scene variant, as a user gets it

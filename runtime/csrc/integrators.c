@@ -20,11 +20,12 @@
 #include <time.h>
 
 /* integrators.c is one translation unit (the compiler inlines the stages and the drivers across
- * methods, as it did when they were one file); each idea is its own file, included here once
- * and in this order. */
+ * methods, as it did when they were one file); each idea is its own fragment (integrators_*.c.h:
+ * named .c.h, not .h, for it is a piece of this file, not a header; README.md), included here
+ * once and in this order. */
 #define LEV_INTEGRATORS_TU
 
-#include "integrators_tableaus.h"
+#include "integrators_tableaus.c.h"
 
 /* ---- bookkeeping shared by all methods ---- */
 
@@ -201,17 +202,17 @@ size_t lev_work_bytes(int method, int n)
     }
 }
 
-#include "integrators_rk_stages.h"
+#include "integrators_rk_stages.c.h"
 
-#include "integrators_dop853_vern9.h"
+#include "integrators_dop853_vern9.c.h"
 
-#include "integrators_fixed.h"
+#include "integrators_fixed.c.h"
 
-#include "integrators_adaptive.h"
+#include "integrators_adaptive.c.h"
 
-#include "integrators_taylor.h"
+#include "integrators_taylor.c.h"
 
-#include "integrators_gauss.h"
+#include "integrators_gauss.c.h"
 
 /* ---- driver ---- */
 
@@ -310,7 +311,7 @@ int lev_integrate_job(const lev_job *job)
                          job->out_e, job->st);
 }
 
-#include "integrators_lanes.h"
+#include "integrators_lanes.c.h"
 
 /* ---- timing ---- */
 

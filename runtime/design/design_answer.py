@@ -101,4 +101,4 @@ class Design:
         return str(write_scene(at, path, render(note, "cli")))   # the command it names
 
 
-DesignResult = Design      # its name before issue 29, kept for scripts that import it
+DesignResult = Design      # its former name, kept for scripts that import it

@@ -75,4 +75,4 @@ class Fit:
                 "scene": self.scene}
 
 
-FitResult = Fit      # its name before issue 29, kept for scripts that import it
+FitResult = Fit      # its former name, kept for scripts that import it

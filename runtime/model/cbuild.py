@@ -112,8 +112,9 @@ def _compiler_identity(cc: str) -> str:
 def source_hash(sources: list[Path], flags: tuple[str, ...],
                 include_dirs: tuple[Path | str, ...] = ()) -> str:
     """The cache key: compiler, flags, the bytes of every source and of every header in the include
-    folders or beside the sources (an edited header rebuilds too). Contents, not locations: the
-    same model in another folder reuses the library."""
+    folders or beside the sources (`*.h`, which takes in the fragments named .c.h: an edited header
+    or fragment rebuilds too). Contents, not locations: the same model in another folder reuses the
+    library."""
     h = hashlib.sha256()
     h.update(_compiler_identity(compiler()).encode())
     h.update("\0".join(flags).encode())

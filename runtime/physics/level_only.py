@@ -1,4 +1,4 @@
-"""Which answers serve a level base only (issue 27, plate.tilt): the on-axis analysis of thesis 3.3.
+"""Which answers serve a level base only (plate.tilt = 0): the on-axis analysis of thesis 3.3.
 
 The vertical equilibria, the stable band, the critical spins of thesis 3.3.9-3.3.23 and the designs
 and fits built on them (`optimize --maximize` of an interval, `--fit`, `--fit-height`; `figures`

@@ -1,4 +1,4 @@
-"""Where the level top's linear modes meet, so that the tilted base's narrow gaps are probed (issue 27).
+"""Where the level top's linear modes meet, so that the tilted base's narrow gaps are probed.
 
 On a level base the axial symmetry keeps the vertical bounce (z, p_z; frequency sqrt(mu Phi_3 /
 m), thesis 3.3.3) apart from the transverse modes, and the transverse modes of opposite sense of

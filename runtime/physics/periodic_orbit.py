@@ -1,4 +1,4 @@
-"""The periodic steady motion of a top whose moment is off its axis (issue 27, top.moment_tilt).
+"""The periodic steady motion of a top whose moment is off its axis (top.moment_tilt).
 
 With the moment m = mu (cos b n + sin b e1) fixed in the body (derive/mechanics.py), the potential
 depends on the spin angle zeta: the relative equilibrium of the aligned top (the top spinning at

@@ -1,4 +1,4 @@
-"""The spin interval against the base's tilt, the level tolerance marked (issue 27).
+"""The spin interval against the base's tilt, the level tolerance marked.
 
 The interval at each tilt is runtime/physics/tilted_stability.py's (the eigenvalues of the
 generated Jacobian at the relative equilibrium off the axis); the tilts run from level to the
@@ -15,7 +15,7 @@ import numpy as np
 from levitron.runtime.physics.tilted_equilibrium import TiltedTop
 from levitron.runtime.physics.tilted_stability import tilted_analysis
 from levitron.runtime.ui.human import Units, sig
-from levitron.runtime.ui.plotting import pyplot, save_figure, style
+from levitron.runtime.ui.plotting import canvas, finish, in_style
 
 POINTS = 24
 
@@ -35,13 +35,14 @@ def interval_against_tilt(model, p, tolerance: dict, points: int = POINTS) -> di
     return {"tilt": [float(t) for t in tilts], "low": low, "high": high}
 
 
-def draw(model, p, tolerance: dict, path: str | Path) -> Path:
-    """The figure of the module docstring, written to `path` (.png, .pdf or .svg)."""
+@in_style
+def draw(model, p, tolerance: dict, path: str | Path | None = None, ax=None):
+    """The figure of the module docstring, into `ax` (an Axes) or a figure of its own, written to
+    `path` (.png, .pdf or .svg) when given one; the Figure (the Axes when given `ax`)."""
     data = interval_against_tilt(model, p, tolerance)
     u = Units.of_scene(model.scene)
-    style()
-    plt = pyplot()
-    fig, ax = plt.subplots()
+    given = ax
+    fig, ax = canvas(given)
     deg = np.degrees(data["tilt"])
     ax.fill_between(deg, data["low"], data["high"], alpha=0.25, lw=0, label="linearly stable")
     ax.plot(deg, data["low"], color="C0")
@@ -52,4 +53,4 @@ def draw(model, p, tolerance: dict, path: str | Path) -> Path:
     ax.set_ylabel(u.label("spin", "rad/s"))
     ax.set_title(f"{model.scene.name}: the spin interval against the base's tilt")
     ax.legend(loc="best")
-    return save_figure(fig, path)
+    return finish(fig, path, ax=given)

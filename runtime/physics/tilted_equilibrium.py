@@ -1,4 +1,4 @@
-"""The relative equilibrium of the spinning top over a tilted base (issue 27), by two routes.
+"""The relative equilibrium of the spinning top over a tilted base (plate.tilt), by two routes.
 
 On a tilted base (scene key plate.tilt; derive/mechanics.py) gravity g_vec = g (sin t cos a,
 sin t sin a, -cos t) is no longer along the plate's axis, so the top no longer hovers on it. The
@@ -266,7 +266,7 @@ class TiltedTop:
 
     def lateral_stiffness(self) -> float:
         """k_r = d^2 V / dx^2 at the level equilibrium (0, 0, z_s): the linear estimate of the
-        sideways shift is m g sin(t) / k_r (issue 27)."""
+        sideways shift is m g sin(t) / k_r."""
         return float(np.asarray(self._V([0.0, 0.0, self.z_level], self.params_at(0.0))[2])[0, 0])
 
 

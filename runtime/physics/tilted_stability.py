@@ -1,4 +1,4 @@
-"""Linear stability of the spinning top over a tilted base (issue 27): route "eigenvalues" only.
+"""Linear stability of the spinning top over a tilted base (plate.tilt): route "eigenvalues" only.
 
 The relative equilibrium (runtime/physics/tilted_equilibrium.py) is off the axis with the axis
 tilted, so the ray polynomial of thesis 3.3.9-3.3.16 (route "discriminant", which rests on the
@@ -152,7 +152,7 @@ FOLD_NEAR = 1e-3        # max_base_tilt this close (relative) to the fold: limit
 
 
 def level_tolerance(model, p: np.ndarray) -> dict:
-    """How level the base must be (issue 27): `max_base_tilt` (rad), the largest tilt at which a
+    """How level the base must be: `max_base_tilt` (rad), the largest tilt at which a
     stable spin interval still exists, to TILT_RTOL; `fold_tilt` (rad), where the equilibrium
     itself is gone (the branch from the level one turns back; None if it reaches pi/2);
     `limited_by`: "fold" when max_base_tilt is within FOLD_NEAR of it, else "instability" (the

@@ -125,7 +125,7 @@ def reach_warnings(model, spin: Dist, interval, tau, success_time: float, defaul
     """In air: a one-line warning when a launch at the spin's centre cannot float the success time
     at all by the adiabatic prediction, tau ln(omega_0 / sigma_lo) < success_time (runtime/physics/
     friction.py: the spin decays as exp(-t/tau) and the top falls where it crosses sigma_lo), so
-    that the odds say more of the spin asked for than of the top (issue 26: the default spin flew
+    that the odds say more of the spin asked for than of the top (the default spin once flew
     88 s against a default success time of 100 s). [] without air or without a spin interval."""
     from levitron.runtime.physics.friction import crossing_time
     from levitron.runtime.ui.human import Units

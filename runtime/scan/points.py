@@ -2,7 +2,7 @@
 scales; thesis 3.1-3.3) shared by the Python path (`point_run`) and the C chunk driver
 (runtime/scan/chunk_c.py), so that both integrate the same problem. Over a tilted base (plate.tilt)
 a point starts where `simulate` starts: its perturbation (tilt, height) applied at the relative
-equilibrium off the axis (runtime/simulate/start.py tilted_start; issue 27)."""
+equilibrium off the axis (runtime/simulate/start.py tilted_start)."""
 from __future__ import annotations
 
 from dataclasses import dataclass

@@ -140,13 +140,15 @@ class Scan:
         from levitron.runtime.simulate import trajectory_file
         return str(trajectory_file.write_columns(path, self.table(), flag))
 
-    def plot(self, path, title: str | None = None) -> str:
-        """Draw the map to path (.png; runtime/scan/plot.py, thesis fig. 3.8); title: default
-        "<scene>: levitating vs spin and <axis>"."""
+    def plot(self, path=None, title: str | None = None, ax=None):
+        """Draw the map (runtime/scan/plot.py, thesis fig. 3.8) into `ax` (an Axes) or a figure of
+        its own, written to `path` (.png, .pdf, .svg) only when given one; title: default
+        "<scene>: levitating vs spin and <axis>". Returns the matplotlib Figure (the Axes when
+        given `ax`)."""
         from levitron.runtime.scan.plot import draw
         if title is None:
             title = f"{self.scene}: levitating vs spin and {self.axis}"
-        return str(draw(self, path, title, self.units))
+        return draw(self, path, title, self.units, ax=ax)
 
 
-ScanResult = Scan      # its name before issue 29, kept for scripts that import it
+ScanResult = Scan      # its former name, kept for scripts that import it

@@ -138,12 +138,6 @@ NUMBERS = st.one_of(EDGE_FLOATS, st.floats(allow_nan=True, allow_infinity=True),
 THESIS = load_scene("thesis").data
 
 
-@pytest.fixture(scope="module")
-def thesis_model():
-    from levitron.runtime.model.load import load_model
-    return load_model(load_scene("thesis"))
-
-
 @budget(60)
 @given(changes=st.dictionaries(st.sampled_from([("top", "mass"), ("top", "A"), ("top", "C"),
                                                 ("plate", "radius"), ("plate", "hole"),

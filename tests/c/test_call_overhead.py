@@ -7,26 +7,10 @@ from __future__ import annotations
 import time
 
 import numpy as np
-import pytest
 
-from levitron.scene.load import load_scene
 from levitron.runtime.integrate import c_backend as ci
-from levitron.runtime.model.load import load_model
 from levitron.runtime.scan.points import point_setup
 from levitron.runtime.integrate.trajectory import Box
-from tests.helpers import c_systems
-
-SET = ["top.mass=0.0515"]
-
-
-@pytest.fixture(scope="module")
-def lib():
-    return c_systems.library()
-
-
-@pytest.fixture(scope="module")
-def model():
-    return load_model(load_scene("thesis", SET))
 
 
 def test_buffers_are_disjoint_zeroed_and_at_their_addresses():

@@ -12,24 +12,13 @@ import pytest
 
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.run import Box, CSystem, integrate, run_c
-from tests.helpers import c_systems
 
 TWO_PI = 2.0 * math.pi
 
 
 @pytest.fixture(scope="module")
-def lib():
-    return c_systems.library()
-
-
-@pytest.fixture(scope="module")
 def circle(lib):
     return CSystem(lib, "lev_circle", ["x", "y", "vx", "vy"], [0.0])
-
-
-@pytest.fixture(scope="module")
-def osc(lib):
-    return CSystem(lib, "lev_oscillator", ["x", "y", "vx", "vy"], [1.0])
 
 
 @pytest.fixture(scope="module")

@@ -27,11 +27,6 @@ def askew(derived_model):
     return derived_model("thesis_stable", *ASKEW)
 
 
-@pytest.fixture(scope="module")
-def level(derived_model):
-    return derived_model("thesis_stable")
-
-
 def body_axes(phi: float, vth: float, zeta: float) -> np.ndarray:
     """The columns e1, e2, n of R_bs = Rx(phi) Ry(vth) Rz(zeta) with the thesis's matrices
     (eqs. 3.2.3-3.2.5: Rx = [[1, 0, 0], [0, c, s], [0, -s, c]], ...), written out by hand."""

@@ -23,20 +23,9 @@ from levitron.scene.load import load_scene
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.run import Box, CSystem, integrate, run_c
 from levitron.runtime.model.load import load_model
-from tests.helpers import c_systems
 
 DP = ctypes.POINTER(ctypes.c_double)
 SCENES = ("thesis_stable", "ring_magnet", "square", "loop")
-
-
-@pytest.fixture(scope="module")
-def lib():
-    return c_systems.library()
-
-
-@pytest.fixture(scope="module")
-def osc(lib):
-    return CSystem(lib, "lev_oscillator", ["x", "y", "vx", "vy"], [1.0])
 
 
 def coefficients(fn, x, p, order: int) -> np.ndarray:

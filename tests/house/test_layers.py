@@ -276,7 +276,8 @@ TEST_ROOMS = {"scene", "derive", "c", "api", "cli", "battery", "house", "helpers
 
 def test_every_test_lives_in_its_rooms_folder():
     tests = ROOT / "tests"
-    rooms = {p.parent.relative_to(tests).as_posix() for p in tests.rglob("*.py") if "__pycache__" not in p.parts}
+    rooms = {p.parent.relative_to(tests).as_posix() for p in tests.rglob("*.py")
+             if "__pycache__" not in p.parts and p.name != "conftest.py"}     # a folder's fixtures: any folder
     assert rooms - {"."} <= TEST_ROOMS, sorted(rooms - {"."} - TEST_ROOMS)
     assert sorted(p.name for p in tests.glob("*.py")) == ["conftest.py"], "a flat test: move it to its room"
     runtime_rooms = {p.name for p in (tests / "runtime").iterdir() if p.is_dir() and p.name != "__pycache__"}
@@ -309,15 +310,19 @@ def test_the_c_test_systems_live_under_tests():
 
 
 def test_the_integrators_pieces_are_one_translation_unit():
-    """runtime/csrc/integrators.c includes each integrators_*.h once, and nothing else includes
-    them (each refuses to compile outside it): the C side is one unit, split by idea."""
+    """runtime/csrc/integrators.c includes each fragment integrators_*.c.h once, and nothing else includes
+    them (each refuses to compile outside it): the C side is one unit, split by idea. A fragment is
+    named .c.h (CPython's convention), a header shared by several units .h (runtime/csrc/README.md)."""
     csrc = RUNTIME / "csrc"
-    pieces = sorted(p.name for p in csrc.glob("integrators_*.h"))
+    pieces = sorted(p.name for p in csrc.glob("integrators_*.c.h"))
     assert len(pieces) >= 6
-    included = re.findall(r'^#include "(integrators_\w+\.h)"', (csrc / "integrators.c").read_text(), re.M)
+    included = re.findall(r'^#include "(integrators_\w+\.c\.h)"', (csrc / "integrators.c").read_text(), re.M)
     assert sorted(included) == pieces and len(set(included)) == len(included)
     for path in [*csrc.glob("*.c"), *csrc.glob("*.h"), *(ROOT / "derive").rglob("*.j2")]:
         if path.name != "integrators.c":
             assert not re.search(r'#include "integrators_', path.read_text()), path
     for name in pieces:
         assert "#ifndef LEV_INTEGRATORS_TU" in (csrc / name).read_text(), name
+    guarded = sorted(p.name for p in [*csrc.glob("*.c"), *csrc.glob("*.h")]
+                     if "#ifndef LEV_INTEGRATORS_TU" in p.read_text())
+    assert guarded == pieces, "a piece of integrators.c's unit is named .c.h, never .h"

@@ -179,11 +179,6 @@ def test_the_api_exports_its_error_types():
 
 # ---------------------------------------------------------------- the API raises its own errors
 
-@pytest.fixture(scope="module")
-def study():
-    return levitron.load("thesis_stable")
-
-
 VARY = {"plate.murho": (-0.003, -0.002)}
 API_CALLS = {
     "value-not-text": lambda s: s.value(5),

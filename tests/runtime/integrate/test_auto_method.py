@@ -8,7 +8,6 @@ import json
 import numpy as np
 import pytest
 
-from levitron.scene.load import load_scene
 from levitron.runtime.scan import stability_map as sc
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.run import integrate
@@ -20,23 +19,10 @@ from levitron.runtime.integrate.methods import (
     lookup,
     resolve,
 )
-from levitron.runtime.model.load import load_model
 from levitron.runtime.simulate.run import simulate
-from tests.helpers import c_systems
 
-SET = ["top.mass=0.0515"]
+SET = ["top.mass=0.0515"]        # the `model` fixture's setting (tests/conftest.py LIGHT_TOP)
 OSC = dict(x0=[1.0, 0.0, 0.0, 1.0], scale=[1.0, 1.0, 1.0, 1.0])   # the unit oscillator of tests/c/systems.c
-
-
-@pytest.fixture(scope="module")
-def model():
-    return load_model(load_scene("thesis", SET))
-
-
-@pytest.fixture(scope="module")
-def osc():
-    from levitron.runtime.integrate.c_backend import CSystem
-    return CSystem(c_systems.library(), "lev_oscillator", ["x", "y", "vx", "vy"], [1.0])
 
 
 def test_the_rule_and_its_crossover():

@@ -13,18 +13,12 @@ from levitron.runtime.integrate import run as ig
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.methods import BY_NAME, METHODS, TABLE
 from levitron.runtime.integrate.budget import MAX_STEPS_CAP, check_options, default_budget, step_cap
-from tests.helpers import c_systems
 
 T_END = 1000.0     # 160 periods of the unit oscillator: far more than a budget of 3 steps covers
 
 
 @pytest.fixture(scope="module")
-def lib():
-    return c_systems.library()
-
-
-@pytest.fixture(scope="module")
-def osc(lib):
+def casadi_osc(lib):
     """The unit oscillator of tests/c/systems.c with a CasADi right-hand side for the casadi
     backend (scipy reaches it through ctypes)."""
     import casadi as ca
@@ -81,10 +75,10 @@ def test_every_table_entry_has_a_default_budget():
 
 
 @pytest.mark.parametrize("method", METHODS)
-def test_no_step_budget_free_integrator_path(osc, method):
+def test_no_step_budget_free_integrator_path(casadi_osc, method):
     """Each integrator with a tiny budget stops with status "step_budget", quickly, and says so."""
     kw = {"h": 0.01} if BY_NAME[method].fixed_step else {"tol": 1e-10}
-    r = ig.integrate(osc, [1.0, 0.0, 0.0, 1.0], T_END, method=method, n_out=1, max_steps=3,
+    r = ig.integrate(casadi_osc, [1.0, 0.0, 0.0, 1.0], T_END, method=method, n_out=1, max_steps=3,
                      scale=[1, 1, 1, 1], **kw)
     assert r.status == "step_budget", (method, r.status, r.message)
     assert "step budget of 3 steps" in r.message
@@ -94,9 +88,9 @@ def test_no_step_budget_free_integrator_path(osc, method):
 
 
 @pytest.mark.parametrize("method", ["dop853", "rk4", "scipy-dop853", "cvodes", "casadi-rk"])
-def test_default_budget_lets_a_normal_run_finish(osc, method):
+def test_default_budget_lets_a_normal_run_finish(casadi_osc, method):
     kw = {"h": 0.01} if BY_NAME[method].fixed_step else {"tol": 1e-10}
-    r = ig.integrate(osc, [1.0, 0.0, 0.0, 1.0], 2 * math.pi, method=method, n_out=10,
+    r = ig.integrate(casadi_osc, [1.0, 0.0, 0.0, 1.0], 2 * math.pi, method=method, n_out=10,
                      scale=[1, 1, 1, 1], time_scale=2 * math.pi, **kw)
     assert r.status == "completed", (method, r.message)
     assert np.abs(r.x_final - [1.0, 0.0, 0.0, 1.0]).max() < 1e-6

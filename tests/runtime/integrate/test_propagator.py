@@ -8,15 +8,9 @@ import math
 import numpy as np
 import pytest
 
-import levitron as lev
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.propagator import Propagator
 from levitron.runtime.integrate.run import integrate
-
-
-@pytest.fixture(scope="module")
-def study():
-    return lev.load("thesis_stable")
 
 
 @pytest.mark.parametrize("method", ["dop853", "vern9", "taylor", "auto"])

@@ -27,11 +27,6 @@ def tilted(derived_model):
     return derived_model("thesis_stable", *TILT)
 
 
-@pytest.fixture(scope="module")
-def level(derived_model):
-    return derived_model("thesis_stable")
-
-
 def test_the_symbolic_potential_is_the_hand_form():
     level_sys = hamiltonian_system("tait-bryan", 2)
     tilt_sys = hamiltonian_system("tait-bryan", 2, None, True)

@@ -25,11 +25,6 @@ RATES = {"k_spin": 1 / 150.0, "k_tilt": 1 / 20.0, "k_trans": 1 / 30.0}
 
 
 @pytest.fixture(scope="module")
-def air():
-    return load_model(load_scene("thesis_air"))
-
-
-@pytest.fixture(scope="module")
 def air_zxz(derived_model):
     return derived_model("thesis_air", 'model.coordinates="euler-zxz"')
 

@@ -213,13 +213,6 @@ def test_on_imaginary_axis_tolerance_is_a_real_bound():
 
 # ---------------------------------------------------------------- the full generated model
 
-@pytest.fixture(scope="module")
-def thesis_model():
-    from levitron.scene.load import load_scene
-    from levitron.runtime.model.load import load_model
-    return load_model(load_scene("thesis"))
-
-
 def _with_mass(model, mass):
     names = model.param_names
     p = model.p.copy()

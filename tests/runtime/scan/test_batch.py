@@ -13,11 +13,6 @@ TILTS = [0.0, 0.05, 0.1, 0.02, 0.2, 0.15, 0.01, 0.3, 0.005]
 T_END = 0.5
 
 
-@pytest.fixture(scope="module")
-def study():
-    return lev.load("thesis_stable")
-
-
 def _assert_same_as_one_at_a_time(many, one_at_a_time, at=None):
     """Launch at[k] of many (default k) is run k of one_at_a_time, bit for bit."""
     for k, one in enumerate(one_at_a_time):

@@ -13,24 +13,17 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from levitron.scene.load import load_scene
 from levitron.runtime.scan import stability_map as sc
 from levitron.runtime.physics.eigen_route import full_equilibrium_state
 from levitron.runtime.errors import UserError
-from levitron.runtime.model.load import load_model
 from levitron.runtime.scan.grid import parse_range
 from levitron.runtime.scan.physics import linear_interval
 from levitron.runtime.scan.points import N_OUT, point_run
 from levitron.runtime.physics.stability import model_callables
 
 ROOT = Path(__file__).resolve().parents[3]
-SET = ["top.mass=0.0515"]
+SET = ["top.mass=0.0515"]        # the `model` fixture's setting (tests/conftest.py LIGHT_TOP)
 BASE = [sys.executable, "-m", "levitron.runtime.cli.main", "scan", "thesis", "--set", SET[0]]
-
-
-@pytest.fixture(scope="module")
-def model():
-    return load_model(load_scene("thesis", SET))
 
 
 def run_scan(model, spins, axis, others, **kw):

@@ -9,26 +9,11 @@ import math
 import numpy as np
 import pytest
 
-from levitron.scene.load import load_scene
 from levitron.runtime.scan import stability_map as sc
 from levitron.runtime.integrate.c_backend import run_c
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.run import Box
-from levitron.runtime.model.load import load_model
 from levitron.runtime.scan.chunk_c import drive
-from tests.helpers import c_systems
-
-SET = ["top.mass=0.0515"]
-
-
-@pytest.fixture(scope="module")
-def lib():
-    return c_systems.library()
-
-
-@pytest.fixture(scope="module")
-def model():
-    return load_model(load_scene("thesis", SET))
 
 
 def _oscillator_points():

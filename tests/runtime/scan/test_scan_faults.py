@@ -16,19 +16,11 @@ import time
 import numpy as np
 import pytest
 
-from levitron.scene.load import load_scene
 from levitron.runtime.scan import stability_map as sc
 from levitron.runtime.errors import UserError
-from levitron.runtime.model.load import load_model
 from levitron.runtime.scan.runners import usable_cores
 
-SET = ["top.mass=0.0515"]
 SPINS, TILTS = np.array([300.0, 1000.0, 2000.0, 3200.0]), np.array([0.01, 0.06, 0.12])
-
-
-@pytest.fixture(scope="module")
-def model():
-    return load_model(load_scene("thesis", SET))
 
 
 def within(seconds: float, fn):

@@ -8,20 +8,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from levitron.scene.load import load_scene
 from levitron.runtime.integrate.run import integrate
-from levitron.runtime.model.load import load_model
 from levitron.runtime.physics.equilibrium import hover_height
 from levitron.runtime.physics.friction import energy_scale
 from levitron.runtime.simulate.run import simulate
 from levitron.runtime.simulate.start import initial_state, state_scales
 
 STRONG = {"k_spin": 0.5, "k_tilt": 2.0, "k_trans": 1.0}   # a good part of the energy lost in 2 s
-
-
-@pytest.fixture(scope="module")
-def air():
-    return load_model(load_scene("thesis_air"))
 
 
 def strong_run(air, method, tol=None, h=None, n_out=40, t_end=2.0):

@@ -1,7 +1,7 @@
 /* the Runge-Kutta coefficients: Dormand-Prince 8(5,3) and Verner's 9(8) pair, exact doubles.
  * Part of integrators.c's translation unit: included there once, nowhere else. */
 #ifndef LEV_INTEGRATORS_TU
-#error "integrators_tableaus.h is part of integrators.c: include it only there"
+#error "integrators_tableaus.c.h is part of integrators.c: include it only there"
 #endif
 
 /* ---- Dormand-Prince 8(5,3) coefficients (Hairer, Norsett, Wanner I, II.10; scipy) ---- */

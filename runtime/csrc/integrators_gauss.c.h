@@ -1,7 +1,7 @@
 /* Gauss-Legendre collocation (implicit midpoint, order 4), symplectic.
  * Part of integrators.c's translation unit: included there once, nowhere else. */
 #ifndef LEV_INTEGRATORS_TU
-#error "integrators_gauss.h is part of integrators.c: include it only there"
+#error "integrators_gauss.c.h is part of integrators.c: include it only there"
 #endif
 
 /* ---- Gauss-Legendre collocation (s = 1: implicit midpoint; s = 2: order 4), symplectic ---- */

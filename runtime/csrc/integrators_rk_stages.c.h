@@ -1,7 +1,7 @@
 /* the explicit slopes (Euler 3.1.2, RK4 3.1.3-3.1.4) and the Runge-Kutta stage sums, with compensated summation.
  * Part of integrators.c's translation unit: included there once, nowhere else. */
 #ifndef LEV_INTEGRATORS_TU
-#error "integrators_rk_stages.h is part of integrators.c: include it only there"
+#error "integrators_rk_stages.c.h is part of integrators.c: include it only there"
 #endif
 
 /* ---- fixed-step explicit methods: Euler (3.1.2), RK4 (3.1.3-3.1.4), DOP853 formula ---- */

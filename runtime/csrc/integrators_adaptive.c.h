@@ -1,7 +1,7 @@
 /* the adaptive driver that DOP853 and Verner 9(8) share (start, next, stages, judge).
  * Part of integrators.c's translation unit: included there once, nowhere else. */
 #ifndef LEV_INTEGRATORS_TU
-#error "integrators_adaptive.h is part of integrators.c: include it only there"
+#error "integrators_adaptive.c.h is part of integrators.c: include it only there"
 #endif
 
 /* ---- the adaptive driver ---- */

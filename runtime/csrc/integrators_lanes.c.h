@@ -1,7 +1,7 @@
 /* several runs at once through a lane variant of the rhs (lev_integrate_lanes).
  * Part of integrators.c's translation unit: included there once, nowhere else. */
 #ifndef LEV_INTEGRATORS_TU
-#error "integrators_lanes.h is part of integrators.c: include it only there"
+#error "integrators_lanes.c.h is part of integrators.c: include it only there"
 #endif
 
 /* ---- several runs at once through a lane variant of the rhs (lev_integrate_lanes) ---- */

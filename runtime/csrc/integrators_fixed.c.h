@@ -1,7 +1,7 @@
 /* the fixed-step driver (Euler, RK4, the DOP853 formula).
  * Part of integrators.c's translation unit: included there once, nowhere else. */
 #ifndef LEV_INTEGRATORS_TU
-#error "integrators_fixed.h is part of integrators.c: include it only there"
+#error "integrators_fixed.c.h is part of integrators.c: include it only there"
 #endif
 
 /* The number of fixed steps over [t0, t_end] and the step h that makes them end at t_end (the

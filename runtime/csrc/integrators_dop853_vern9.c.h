@@ -1,7 +1,7 @@
 /* Dormand-Prince 8(5,3) and Verner 9(8): stages, error norms, dense output.
  * Part of integrators.c's translation unit: included there once, nowhere else. */
 #ifndef LEV_INTEGRATORS_TU
-#error "integrators_dop853_vern9.h is part of integrators.c: include it only there"
+#error "integrators_dop853_vern9.c.h is part of integrators.c: include it only there"
 #endif
 
 /* ---- Dormand-Prince 8(5,3), adaptive, with dense output ---- */

@@ -1,7 +1,7 @@
 /* Taylor's method over the generated coefficients (LEV_TAYLOR).
  * Part of integrators.c's translation unit: included there once, nowhere else. */
 #ifndef LEV_INTEGRATORS_TU
-#error "integrators_taylor.h is part of integrators.c: include it only there"
+#error "integrators_taylor.c.h is part of integrators.c: include it only there"
 #endif
 
 /* ---- Taylor's method over the generated coefficients (LEV_TAYLOR) ---- */
