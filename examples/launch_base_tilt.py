@@ -76,10 +76,14 @@ def main(n: int, out: Path | None) -> None:
 
 
 def draw(summary: dict, path: Path) -> None:
-    from levitron.runtime.ui.plotting import pyplot, save_figure, style
-    plt = pyplot()
-    style()
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
+    from levitron.runtime.ui.plotting import styled
+    with styled():                     # the house style, for this figure only
+        _draw(summary, path)
+
+
+def _draw(summary: dict, path: Path) -> None:
+    from levitron.runtime.ui.plotting import canvas, save_figure
+    fig, (ax1, ax2) = canvas(ncols=2, figsize=(11, 4.2))
     runs = summary["runs"]
     x = np.arange(len(runs))
     p = np.array([r["probability"] for r in runs]) * 100

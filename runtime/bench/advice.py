@@ -32,6 +32,7 @@ import time
 from pathlib import Path
 
 from levitron.runtime.ui.atomic import open_text, write_text
+from levitron.runtime.ui.plotting import canvas, in_style, save_figure
 
 GOALS = {"trim": 20.0, "design-mass": 15.0, "design-plate": 60.0, "tolerance": 10.0, "launch": 5.0}
 MOMENT_TILT = 0.05
@@ -117,11 +118,9 @@ def measure(case: str, argv: list[str]) -> dict:
             "load_after": os.getloadavg()[0]}
 
 
+@in_style
 def draw(rows: list[dict], path: Path, scene: str) -> None:
-    from levitron.runtime.ui.plotting import pyplot, save_figure, style
-    plt = pyplot()
-    style()
-    fig, ax = plt.subplots(figsize=(7.5, 3.6))
+    fig, ax = canvas(figsize=(7.5, 3.6))
     x = range(len(rows))
     before = [r.get("before_cpu_s") or 0 for r in rows]
     if any(before):

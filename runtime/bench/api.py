@@ -26,7 +26,7 @@ from pathlib import Path
 
 from levitron.runtime.bench.operating_point import setup
 from levitron.runtime.ui.human import Units
-from levitron.runtime.ui.plotting import pyplot, save_figure, style
+from levitron.runtime.ui.plotting import canvas, in_style, save_figure
 from levitron.runtime.ui.atomic import open_text, write_text
 
 RUN_SPIN_PERIODS = 8          # the short run: 8 spin periods (0.045 s for thesis_stable's top)
@@ -92,12 +92,11 @@ def bench(model, out: Path, quick: bool) -> dict:
     return res
 
 
+@in_style
 def draw(rows: list[dict], path: Path, title: str) -> Path:
     """The fastest call of each part: its integration and the rest of its wall time, in ms, with the
     budget (the integration plus OVERHEAD_BUDGET_S)."""
-    plt = pyplot()
-    style()
-    fig, ax = plt.subplots(figsize=(6.4, 1.6 + 0.6 * len(rows)))
+    fig, ax = canvas(figsize=(6.4, 1.6 + 0.6 * len(rows)))
     ys = range(len(rows))
     integ = [r["integration_s"] * 1e3 for r in rows]
     ax.barh(ys, integ, color="tab:blue", label="integration (C)")

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from levitron.runtime.integrate.c_backend import time_fn_ns
-from levitron.runtime.ui.plotting import pyplot, save_figure, style
+from levitron.runtime.ui.plotting import canvas, save_figure, styled
 from levitron.runtime.ui.atomic import open_text
 
 REPEATS = 3
@@ -31,17 +31,16 @@ def bench(model, out: Path, quick: bool) -> dict:
         w = csv.DictWriter(fh, ["function", "ops", "ns", "ns_per_op"])
         w.writeheader()
         w.writerows(rows)
-    plt = pyplot()
-    style()
-    fig, ax = plt.subplots(figsize=(6, 4))
-    ax.loglog([r["ops"] for r in rows], [r["ns"] for r in rows], "o")
-    for r in rows:
-        ax.annotate(r["function"], (r["ops"], r["ns"]), fontsize="x-small")
-    ax.set_xlabel("operations (manifest.json)")
-    ax.set_ylabel("ns per call (min of repeats)")
-    ax.set_title(f"{model.scene.name}: the generated functions", fontsize="medium")
-    fig.tight_layout()
-    png = save_figure(fig, out / "functions.png")
+    with styled():
+        fig, ax = canvas(figsize=(6, 4))
+        ax.loglog([r["ops"] for r in rows], [r["ns"] for r in rows], "o")
+        for r in rows:
+            ax.annotate(r["function"], (r["ops"], r["ns"]), fontsize="x-small")
+        ax.set_xlabel("operations (manifest.json)")
+        ax.set_ylabel("ns per call (min of repeats)")
+        ax.set_title(f"{model.scene.name}: the generated functions", fontsize="medium")
+        fig.tight_layout()
+        png = save_figure(fig, out / "functions.png")
     rhs = next((r for r in rows if r["function"] == "full_rhs"), rows[0])
     return {"rows": rows, "files": [str(out / "functions.csv"), str(png)],
             "headline": f"{len(rows)} functions; {rhs['function']} {rhs['ns']:.0f} ns a call "

@@ -5,7 +5,7 @@ the scene's temperature (as `levitron trim` runs it; a scene without a band is a
 with FULL["n"] launches an evaluation (the default launch spread, the default success time), on 1
 and on FULL["workers"] processes. Per row: workers, n, evaluations, wall_s, the advice, its odds
 (fresh seed) and the machine's load average before and after (os.getloadavg: a loaded machine's
-figure is slower, and the report says so); the goal GOAL_S (issue 26: one key, 300 launches, under
+figure is slower, and the report says so); the goal GOAL_S (a design by the launch odds: one key, 300 launches, under
 60 s on 2 cores). Writes launch_design.json, launch_design.csv and launch_design.png.
 """
 from __future__ import annotations
@@ -18,6 +18,7 @@ from pathlib import Path
 
 from levitron.runtime.ui.human import Units
 from levitron.runtime.ui.atomic import open_text, write_text
+from levitron.runtime.ui.plotting import canvas, in_style, save_figure
 
 GOAL_S = 60.0
 FULL = {"n": 300, "workers": (1, 2)}
@@ -47,11 +48,9 @@ def measure(model, n: int, workers: int, **options) -> dict:
             "load_before": load_before, "load_after": os.getloadavg()[0]}
 
 
+@in_style
 def draw(rows: list[dict], path: Path, scene: str) -> None:
-    from levitron.runtime.ui.plotting import pyplot, save_figure, style
-    plt = pyplot()
-    style()
-    fig, ax = plt.subplots(figsize=(6, 3.4))
+    fig, ax = canvas(figsize=(6, 3.4))
     labels = [f"{r['workers']} worker{'s' if r['workers'] > 1 else ''}\n(load {r['load_before']:.1f})" for r in rows]
     ax.bar(labels, [r["wall_s"] for r in rows], color="C0")
     ax.axhline(GOAL_S, color="C3", ls="--", label=f"goal {GOAL_S:g} s")

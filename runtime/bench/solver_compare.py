@@ -24,7 +24,7 @@ import numpy as np
 
 from levitron.runtime.integrate.c_backend import CSystem, csrc_library, run_c
 
-from levitron.runtime.ui.plotting import pyplot, save_figure
+from levitron.runtime.ui.plotting import save_figure
 from levitron.runtime.ui.atomic import write_text
 
 R0, V0 = 1.0, 1.0
@@ -92,9 +92,10 @@ def run(out_dir: str | Path = "reports", quick: bool = False) -> dict:
 
 
 def draw_3_2(result: dict, path: Path) -> Path:
-    plt = pyplot()
+    from matplotlib.figure import Figure
     f = result["figure_3_2"]
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig = Figure(figsize=(6, 4))       # matplotlib's own style, as drawn before the house's was set
+    ax = fig.subplots()
     for m, color in (("euler", "green"), ("rk4", "red")):
         ax.semilogy(f["turns"], f["error"][m], color=color, label=m.upper() if m == "rk4" else "Euler")
     ax.set_xlabel("turns")
@@ -106,9 +107,10 @@ def draw_3_2(result: dict, path: Path) -> Path:
 
 
 def draw_3_3(result: dict, path: Path) -> Path:
-    plt = pyplot()
+    from matplotlib.figure import Figure
     f = result["figure_3_3"]
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig = Figure(figsize=(6, 4))       # matplotlib's own style, as drawn before the house's was set
+    ax = fig.subplots()
     for m, color in (("euler", "green"), ("rk4", "red")):
         h = np.array(f["step"])
         n = np.array(f["steps"][m], float)

@@ -19,7 +19,7 @@ import time
 from pathlib import Path
 
 from levitron.runtime.bench.repeat import best_of
-from levitron.runtime.ui.plotting import pyplot, save_figure, style
+from levitron.runtime.ui.plotting import canvas, save_figure, styled
 from levitron.runtime.ui.atomic import open_text, write_text
 
 # (label, arguments after `levitron`, budget in s); "{scene}" is the scene
@@ -90,18 +90,17 @@ def bench(model, out: Path, quick: bool) -> dict:
     res = {"scene": model.scene.name, "launcher": " ".join(base), "rows": rows,
            "load_average_1_5_15": {"before": load_before, "after": load_after}, "quick": quick}
     write_text(out / "startup.json", option="«out»", text=json.dumps(res, indent=2) + "\n")
-    plt = pyplot()
-    style()
-    fig, ax = plt.subplots(figsize=(6, 2.8))
-    ys = range(len(rows))
-    ax.barh(ys, [r["min_s"] for r in rows], color="tab:blue", label="min of repeats")
-    ax.scatter([r["budget_s"] for r in rows], ys, marker="|", s=300, color="tab:red", label="budget")
-    ax.set_yticks(list(ys), [r["command"] for r in rows])
-    ax.set_xlabel("wall time of a warm one-shot command (s)")
-    ax.set_title(f"{model.scene.name}: start-up (load {load_before[0]:.1f})", fontsize="medium")
-    ax.legend(fontsize="small")
-    fig.tight_layout()
-    png = save_figure(fig, out / "startup.png")
+    with styled():
+        fig, ax = canvas(figsize=(6, 2.8))
+        ys = range(len(rows))
+        ax.barh(ys, [r["min_s"] for r in rows], color="tab:blue", label="min of repeats")
+        ax.scatter([r["budget_s"] for r in rows], ys, marker="|", s=300, color="tab:red", label="budget")
+        ax.set_yticks(list(ys), [r["command"] for r in rows])
+        ax.set_xlabel("wall time of a warm one-shot command (s)")
+        ax.set_title(f"{model.scene.name}: start-up (load {load_before[0]:.1f})", fontsize="medium")
+        ax.legend(fontsize="small")
+        fig.tight_layout()
+        png = save_figure(fig, out / "startup.png")
     res["files"] = [str(out / "startup.csv"), str(out / "startup.json"), str(png)]
     res["headline"] = "; ".join(f"{r['command']} {r['min_s']:.3f} s (budget {r['budget_s']:g})"
                                 for r in rows) + f"; load {load_before[0]:.2f}"

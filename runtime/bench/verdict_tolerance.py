@@ -32,6 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from levitron.runtime.ui.atomic import open_text, write_text
+from levitron.runtime.ui.plotting import canvas, in_style, save_figure
 
 REFERENCE = 1e-10
 TOLS = (1e-5, 1e-6, 1e-7, 1e-8, 1e-9)
@@ -72,11 +73,9 @@ def compare(ref: dict, res: dict, cpu_ref: float, cpu: float) -> dict:
             "adequate": bool(abs(change) <= SHARE * half and len(changed) <= MAX_CHANGED * res["n"])}
 
 
+@in_style
 def draw(rows: list[dict], path: Path, scene: str) -> None:
-    from levitron.runtime.ui.plotting import pyplot, save_figure, style
-    plt = pyplot()
-    style()
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(9, 3.6))
+    fig, (ax, bx) = canvas(ncols=2, figsize=(9, 3.6))
     tol = [r["tol"] for r in rows]
     ax.errorbar(tol, [100 * r["probability"] for r in rows],
                 yerr=[[100 * (r["probability"] - r["probability_ci95"][0]) for r in rows],

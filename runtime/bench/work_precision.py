@@ -64,7 +64,7 @@ from levitron.runtime.errors import UserError
 from levitron.runtime.ui.human import Units
 from levitron.runtime.integrate.run import backend_of, integrate, run_c, time_fn_ns
 from levitron.runtime.integrate.methods import lookup
-from levitron.runtime.ui.plotting import pyplot, save_figure
+from levitron.runtime.ui.plotting import save_figure
 from levitron.runtime.bench.repeat import best_of
 from levitron.runtime.ui.atomic import open_text, write_text
 from levitron.runtime.bench.per_call import per_call, write_per_call
@@ -274,8 +274,9 @@ def rhs_costs(model, su: Setup, reps: int) -> dict:
 
 
 def draw(rows: list[dict], path: Path, title: str) -> Path:
-    plt = pyplot()
-    fig, ax = plt.subplots(figsize=(7.5, 5.5))
+    from matplotlib.figure import Figure
+    fig = Figure(figsize=(7.5, 5.5))     # matplotlib's own style, as drawn before the house's was set
+    ax = fig.subplots()
     markers = {"c": "o", "casadi": "s", "scipy": "^", "heyoka": "D"}
     for integ in dict.fromkeys(r["integrator"] for r in rows):
         rs = [r for r in rows if r["integrator"] == integ and math.isfinite(r["error"]) and r["error"] > 0]

@@ -14,7 +14,7 @@ import numpy as np
 
 from levitron.runtime.scan import launch_odds as mc
 from levitron.runtime.ui.human import Units, sig
-from levitron.runtime.ui.plotting import pyplot, save_figure, style
+from levitron.runtime.ui.plotting import canvas, in_style, save_figure
 
 
 def _odds_bar(ax, x: float, block: dict, color: str, label: str) -> None:
@@ -23,13 +23,12 @@ def _odds_bar(ax, x: float, block: dict, color: str, label: str) -> None:
     ax.errorbar([x], [p], yerr=[[p - lo], [hi - p]], fmt="o", color=color, capsize=3, label=label)
 
 
+@in_style
 def draw(r: dict, path, u: Units, scene: str, option: str = "«out»") -> Path:
     """Draw the trim answer r (Trim.as_json) to path (.png, .pdf, .svg)."""
-    plt = pyplot()
-    style()
     scale, unit = (1e3, "g") if u.si else (1.0, u.unit("kg"))
     mlabel = f"top mass ({unit})" if unit else "top mass"
-    fig, (top, bottom) = plt.subplots(2, 1, sharex=True, figsize=(7.5, 6.5))
+    fig, (top, bottom) = canvas(nrows=2, sharex=True, figsize=(7.5, 6.5))
     rows = [row for row in r["spin_limits"] if row["spin_interval"]]
     m = np.array([row["mass"] for row in rows]) * scale
     top.plot(m, [row["spin_interval"][0] for row in rows], color="C0", label="sigma_lo (lower spin limit)")

@@ -129,9 +129,11 @@ class Stability:
         return out
 
     # ---- actions
-    def plot(self, path) -> str | None:
-        """Draw the spin interval against the base's tilt up to the tolerance (runtime/physics/tilt_plot.py;
-        .png, .pdf, .svg); None where there is no tolerance to draw (no stable interval at all)."""
+    def plot(self, path=None, ax=None):
+        """Draw the spin interval against the base's tilt up to the tolerance (runtime/physics/tilt_plot.py)
+        into `ax` (an Axes) or a figure of its own, written to `path` (.png, .pdf, .svg) only when
+        given one. Returns the matplotlib Figure (the Axes when given `ax`); None where there is no
+        tolerance to draw (no stable interval at all)."""
         if self.level_tolerance is None:
             raise UserError("the plot draws the spin interval against the base's tilt: ask for the "
                             "«level_tolerance»")
@@ -139,7 +141,7 @@ class Stability:
             return None
         from levitron.runtime.physics.tilt_plot import draw
         model = self._model
-        return str(draw(model, without_friction(model, model.p), self.level_tolerance, path))
+        return draw(model, without_friction(model, model.p), self.level_tolerance, path, ax=ax)
 
 
 def resonances_of(model, res: StabilityResult) -> tuple | None:

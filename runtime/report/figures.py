@@ -29,7 +29,7 @@ from levitron.runtime.errors import UserError
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.ui import progress
 from levitron.runtime.ui.human import Units, restate, sig, span
-from levitron.runtime.ui.plotting import band, pyplot, save_figure, style
+from levitron.runtime.ui.plotting import band, canvas, in_style, save_figure
 from levitron.runtime.physics.ray_algebra import l_cubic
 
 
@@ -96,13 +96,12 @@ def _panel_3_5(ax, model, p, rep, z, m, g, mu, u, kz, kf, legend: bool) -> None:
         ax.set_xlim(z[0] * kz, z[-1] * kz)
 
 
+@in_style
 def figure_3_5(model, path: Path) -> Path:
     """Thesis fig. 3.5: m g against -mu Phi_2(z) (thesis 3.3.2); the equilibria are the crossings,
     named in the legend (so that close roots never collide), the stable band shaded. Where the
     crossings and the band sit in a small part of the heights (less than ZOOM_BELOW of them), a
     second row zooms in on them."""
-    plt = pyplot()
-    style()
     P = eqm.params_of(model)
     scale = eqm.scale_of(model)
     m, g, mu = P["m"], P["g"], P["mu"]
@@ -116,7 +115,7 @@ def figure_3_5(model, path: Path) -> Path:
         lo, hi = (min(f), max(f)) if f else (0.0, 0.0)
         zooms.append((lo, hi) if f and hi - lo < ZOOM_BELOW * (z[-1] - z[0]) else None)
     rows = 2 if any(zooms) else 1
-    fig, axes = plt.subplots(rows, len(variants), figsize=(6.4 * len(variants), 5.6 + 3.4 * (rows - 1)),
+    fig, axes = canvas(nrows=rows, ncols=len(variants), figsize=(6.4 * len(variants), 5.6 + 3.4 * (rows - 1)),
                              squeeze=False, gridspec_kw={"height_ratios": [5, 3][:rows]})
     for k, ((label, p), rep) in enumerate(zip(variants, reps)):
         ax = axes[0][k]
@@ -153,18 +152,16 @@ def _range_36(model, scale: float) -> tuple[float, float]:
     return 0.8 * min(zs), max(3.0 * max(zs), 4.0 * scale)
 
 
+@in_style
 def figure_3_6(model, path: Path) -> Path:
     """Thesis fig. 3.6: gravity against the magnetic force with and without the hole, over heights
     from below the lowest equilibrium (the crossings, marked) to far above it."""
-    plt = pyplot()
-
     P = eqm.params_of(model)
     scale = eqm.scale_of(model)
     m, g, mu = P["m"], P["g"], P["mu"]
     u, kz, lu, kf, fu = _units(model, P)
-    style()
     z = np.linspace(*_range_36(model, scale), 400)
-    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    fig, ax = canvas(figsize=(6.4, 4.4))
     ax.axhline(m * g * kf, color="b", label=f"gravitational force m g (m = {u.mass(m)})")
     colours = {"without hole": "g"}
     for label, p in _variants(model):
@@ -184,6 +181,7 @@ def figure_3_6(model, path: Path) -> Path:
     return save_figure(fig, path)
 
 
+@in_style
 def figure_3_4(model, path: Path, orbits: int = 7) -> Path:
     """Thesis fig. 3.4: the phase portrait p_z(z) of the reduced model (thesis 3.2.12, on the
     invariant set), one closed orbit per energy. The energies run from just above the bottom of
@@ -194,9 +192,9 @@ def figure_3_4(model, path: Path, orbits: int = 7) -> Path:
     p_z > 0 and is integrated
     over one period and a half with the generated reduced Hamilton equations (DOP853, tol 1e-10);
     the spin (p_psi) does not enter z's motion and is 0."""
+    import matplotlib
+
     from levitron.runtime.integrate import integrate
-    plt = pyplot()
-    style()
     P = eqm.params_of(model)
     m, g, mu = P["m"], P["g"], P["mu"]
     u, kz, lu, _, _ = _units(model, P)
@@ -213,14 +211,14 @@ def figure_3_4(model, path: Path, orbits: int = 7) -> Path:
     if not stable:
         raise NotDrawn("no vertically stable equilibrium, no closed orbit: "
                        + restate(rep.no_hover_reason(m) or "", u))
-    fig, ax = plt.subplots(figsize=(6.4, 5.6))
+    fig, ax = canvas(figsize=(6.4, 5.6))
     zs = stable[0].z
     below = [e.z for e in rep.equilibria if e.z < zs and not e.vertically_stable]
     z_lo = below[-1] if below else 0.5 * zs
     barrier = U(z_lo) - U(zs)
     T0 = 2 * math.pi * math.sqrt(m / stable[0].stiffness)
     part = model.part("reduced")
-    colours = plt.get_cmap("viridis")(np.linspace(0.05, 0.9, orbits))
+    colours = matplotlib.colormaps["viridis"](np.linspace(0.05, 0.9, orbits))
     for k, f in enumerate(np.linspace(0.05, 0.95, orbits)):
         E = f * barrier
         x0 = np.array([zs, 0.0, math.sqrt(2 * m * E), 0.0])
@@ -267,9 +265,8 @@ def critical_spins_g31_zero(g21: np.ndarray, g: float, A: float, C: float, m: fl
     return out
 
 
+@in_style
 def figure_3_7(model, path: Path) -> Path:
-    plt = pyplot()
-
     P = eqm.params_of(model)
     g, A, C, mu = P["g"], P["A"], P["C"], P["mu"]
     scale = eqm.scale_of(model)
@@ -284,8 +281,7 @@ def figure_3_7(model, path: Path) -> Path:
     u = Units.of_scene(model.scene)
     hz = 1 / (2 * math.pi) if u.si else 1.0
     rate_unit = "Hz" if u.si else "rad per time unit"
-    style()
-    fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    fig, ax = canvas(figsize=(6.4, 4.6))
     ax.semilogy(x, exact[:, 0] * hz, "b-", label=r"$\sigma_1$ exact (roots of $L$)")
     ax.semilogy(x, exact[:, 1] * hz, "r-", label=r"$\sigma_2$ exact")
     ax.semilogy(x, s1 * hz, "b--", label=r"$\sigma_1$, $l_1 \approx 1/4$ (3.3.22)")
@@ -346,7 +342,8 @@ def figure_3_8(model, path: Path, quick: bool = False) -> Path:
     T = slow_period(model, m, z_s, math.sqrt(iv[0] * iv[1])) if z_s else \
         slow_period(model, m_ref, z_ref, math.sqrt(iv[0] * iv[1]))
     result = sc.scan(model, spins, "tilt", tilts, t_end=T, quiet=True)
-    return Path(result.plot(path, title))
+    result.plot(path, title)
+    return Path(path)
 
 
 SCENE_FIGURES = (("3.4", "fig3_4_phase_portrait"), ("3.5", "fig3_5_equilibrium"),

@@ -148,7 +148,8 @@ def build(model, provenance: dict | None = None) -> tuple[str, dict]:
                             f"({u.time(T)}); levitating at "
                             f"{sig(100 * facts['map']['fraction_levitating'], 3)}% of the points. "
                             "A sketch: `levitron scan` draws a finer, longer one.", "note"))
-            parts.append(_png(Path(m.plot(tmp / "map.png"))))
+            m.plot(tmp / "map.png")
+            parts.append(_png(tmp / "map.png"))
             stage(3)
             # in air the whole flight, to the fall (simulate's default run length); else 3 slow periods
             sim = simulate(model, spin=spin, tilt=LAUNCH_TILT, t_end=None if air else LAUNCH_PERIODS * T,
@@ -167,7 +168,8 @@ def build(model, provenance: dict | None = None) -> tuple[str, dict]:
                                f"{u.time(run['t_survived'])}")
                             + f"; largest tilt {u.angle(run['max_tilt'])}, "
                             f"energy {'balance residual' if air else 'drift'} {sig(run['energy_drift'], 2)}"))
-            parts.append(_png(Path(sim.plot(tmp / "launch.png"))))
+            sim.plot(tmp / "launch.png")
+            parts.append(_png(tmp / "launch.png"))
             data = sim.animation(setup)
             facts["animation"] = {"frames": len(data["t"]), "speed": data["speed"], "precession": data["precession"]}
             parts.insert(launch_at, "<h2>A launch to watch</h2>" + animation.fragment(

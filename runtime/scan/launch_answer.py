@@ -2,7 +2,7 @@
 (`launch --json` is its `as_json()`, `Study.launch` returns it, the report, the launch-odds design
 and the trim read it; docs/contract.md `launch`). runtime/scan/launch_odds.py's `monte_carlo`
 computes it. Saving the launches and drawing their flight times are actions on it: `save(path)`,
-`plot(path)` (runtime/scan/launch_plot.py).
+`plot(path=None, ax=None)` (runtime/scan/launch_plot.py).
 """
 from __future__ import annotations
 
@@ -63,11 +63,13 @@ class LaunchOdds:
         from levitron.runtime.simulate import trajectory_file
         return str(trajectory_file.write_columns(path, self.launches, flag=flag))
 
-    def plot(self, path) -> str:
-        """Draw the flight times to path (.png): the censored runs as a bar of their own, the success
-        time drawn in (runtime/scan/launch_plot.py)."""
+    def plot(self, path=None, ax=None):
+        """Draw the flight times (runtime/scan/launch_plot.py): the censored runs as a bar of their
+        own, the success time drawn in; into `ax` (an Axes) or a figure of its own, written to
+        `path` (.png, .pdf, .svg) only when given one. Returns the matplotlib Figure (the Axes when
+        given `ax`)."""
         from levitron.runtime.scan.launch_plot import histogram
-        return str(histogram(self.details, path, self.units, self.scene))
+        return histogram(self.details, path, self.units, self.scene, ax=ax)
 
     # a sample's verdict: its run ended normally, or it cannot hover (a launch that fails, no solver's)
     VERDICTS = NORMAL_ENDS + ("cannot_hover",)

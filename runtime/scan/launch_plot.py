@@ -8,19 +8,20 @@ from pathlib import Path
 import numpy as np
 
 from levitron.runtime.ui.human import Units, sig
+from levitron.runtime.ui.plotting import canvas, finish, in_style
 
 
-def histogram(odds: dict, path: Path, u: Units, scene: str) -> Path:
+@in_style
+def histogram(odds: dict, path: Path | None, u: Units, scene: str, ax=None):
     """The flight times of the odds' launches, axis fitted to them, the censored runs (still up at
-    the run's end) as a bar of their own, labelled."""
-    from levitron.runtime.ui.plotting import pyplot, save_figure, style
-    plt = pyplot()
-    style()
+    the run's end) as a bar of their own, labelled; into `ax` (an Axes) or a figure of its own,
+    written to `path` when given one; the Figure (the Axes when given `ax`)."""
+    given = ax
     tu = "s" if u.si else "time units"
     t = np.asarray(odds["flight_time"]["values"], float)
     t_end = odds["t_end"]
     up = t >= t_end * (1 - 1e-12)
-    fig, ax = plt.subplots(figsize=(7, 3.6))
+    fig, ax = canvas(given, figsize=(7, 3.6))
     width = t_end / 40
     if np.any(~up):
         ax.hist(t[~up], bins=np.arange(0, t_end + width, width), color="C0", label="fell")
@@ -37,5 +38,6 @@ def histogram(odds: dict, path: Path, u: Units, scene: str) -> Path:
     ax.set_title(f"{scene}: {sig(100 * odds['probability'], 3)} % of {odds['n']} launches float "
                  f"(95 % interval {sig(100 * lo, 3)}-{sig(100 * hi, 3)} %)", fontsize="medium")
     ax.legend(loc="upper left", fontsize="small")
-    fig.tight_layout()
-    return save_figure(fig, path)
+    if given is None:
+        fig.tight_layout()
+    return finish(fig, path, ax=given)

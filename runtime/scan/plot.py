@@ -6,7 +6,7 @@ from pathlib import Path
 import numpy as np
 
 from levitron.runtime.ui.human import Units
-from levitron.runtime.ui.plotting import pyplot, save_figure, style
+from levitron.runtime.ui.plotting import canvas, finish, in_style
 from levitron.runtime.scan.grid import UNITS
 from levitron.runtime.integrate.verdict import NO_HOVER, stopped_early
 
@@ -23,21 +23,22 @@ def _edges(v: np.ndarray) -> np.ndarray:
     return np.concatenate([[2 * v[0] - mid[0]], mid, [2 * v[-1] - mid[-1]]])
 
 
-def draw(res, path: str | Path, title: str = "", units: Units | None = None) -> Path:
+@in_style
+def draw(res, path: str | Path | None = None, title: str = "", units: Units | None = None, ax=None):
     """The map (thesis fig. 3.8): colour = t_survived / t_end (1 = levitating, marked with dots;
     light grey where the top cannot hover and nothing was run, dark grey where the run stopped early
     without a verdict: step budget, non-finite state, step underflow)
     over spin (x) and the other axis (y); the linear spin interval as vertical lines (for a mass
     scan, one pair per mass row: it moves with the mass). units: the scene's (runtime/ui/human.py;
-    default SI)."""
+    default SI). Into `ax` (an Axes; its colour bar takes room beside it) or a figure of its own,
+    written to `path` when given one; the Figure (the Axes when given `ax`)."""
     u = units or Units(si=True)
-    plt = pyplot()
-    style()
+    given = ax
     frac = (res.t_survived / res.t_end).T
     # masses in g in an SI scene (as everywhere else in the tool), the scene's units otherwise
     ky, y_unit = (1e3, "g") if res.axis == "mass" and u.si else (1.0, None)
     others = res.others * ky
-    fig, ax = plt.subplots(figsize=(8, 5.5))
+    fig, ax = canvas(given, figsize=(8, 5.5))
     mesh = ax.pcolormesh(_edges(res.spins), _edges(others), frac, cmap="viridis", vmin=0, vmax=1,
                          shading="flat")
     fig.colorbar(mesh, ax=ax, label="t_survived / t_end  (1 = levitating)")
@@ -79,5 +80,6 @@ def draw(res, path: str | Path, title: str = "", units: Units | None = None) -> 
     ax.set_title(f"{title}\n{runs}" if title else f"stability map: {res.axis} vs spin, {runs}")
     handles, _ = ax.get_legend_handles_labels()
     ax.legend(handles=handles + extra, loc="upper right", fontsize=8, framealpha=0.8)
-    fig.tight_layout()
-    return save_figure(fig, path, "«out»")
+    if given is None:
+        fig.tight_layout()
+    return finish(fig, path, "«out»", ax=given)

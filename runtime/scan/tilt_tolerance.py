@@ -78,12 +78,17 @@ class TiltTolerance:
         """The plain view (`plain_lines` of as_json())."""
         return plain_lines(self.as_json(), self.units)
 
-    def plot(self, path, ax=None):
-        """The tolerated tilt against the spin, the resonances marked (explosive in red)."""
-        from levitron.runtime.ui.plotting import pyplot, save_figure, style
-        plt = pyplot()
-        style()
-        fig, ax = plt.subplots(figsize=(7.5, 4.2)) if ax is None else (ax.figure, ax)
+    def plot(self, path=None, ax=None):
+        """The tolerated tilt against the spin, the resonances marked (explosive in red); into `ax`
+        (an Axes) or a figure of its own, written to `path` (.png, .pdf, .svg) only when given one.
+        Returns the matplotlib Figure (the Axes when given `ax`)."""
+        from levitron.runtime.ui.plotting import styled
+        with styled():
+            return self._draw(path, ax)
+
+    def _draw(self, path, given):
+        from levitron.runtime.ui.plotting import canvas, finish
+        fig, ax = canvas(given, figsize=(7.5, 4.2))
         ax.plot(self.spins, 1e3 * self.max_tilt, "o-", ms=3, label=f"largest launch tilt floating "
                 f"{self.units.time(self.t_end)}")
         for i, r in enumerate(self.resonances):
@@ -96,9 +101,9 @@ class TiltTolerance:
         ax.set_ylabel("largest launch tilt (mrad)")
         ax.set_yscale("log")
         ax.legend(fontsize="small")
-        fig.tight_layout()
-        save_figure(fig, path, "«plot»")
-        return str(path)
+        if given is None:
+            fig.tight_layout()
+        return finish(fig, path, "«plot»", ax=given)
 
 
 def plain_lines(d: dict, u: Units) -> list[str]:

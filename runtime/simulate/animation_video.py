@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from levitron.runtime.ui.human import sig
+from levitron.runtime.ui.plotting import canvas, in_style
 
 VIDEO_FRAMES = 240
 VIDEO_FPS = 12
@@ -34,20 +35,19 @@ def _disc(c, n, r, h):
     return P[ConvexHull(P).vertices]
 
 
+@in_style
 def render(path: Path, data: dict, frames: dict, title: str) -> Path:
-    """Write the video to path (its suffix picks the writer); frames: animation.unpack(data)."""
+    """Write the video to path (its suffix picks the writer); frames: animation.unpack(data). The
+    figure is made without pyplot (runtime/ui/plotting.py): nothing to close."""
     from matplotlib import animation
     from matplotlib.patches import Ellipse, Polygon
-    from levitron.runtime.ui.plotting import pyplot, style
-    plt = pyplot()
-    style()
     t = np.asarray(data["t"])
     idx = np.unique(np.linspace(0, len(t) - 1, min(VIDEO_FRAMES, len(t))).astype(int))
     X, Y, Z, N, M = (frames[k] for k in ("x", "y", "z", "n", "mark"))
     r, h = data["top_r"], max(data["top_h"], 0.2 * data["top_r"])
     ext = max([data["top_r"] * 3] + [max(b.get("r_out", 0), b.get("half_x", 0), b.get("half_y", 0))
                                      for b in data["base"]]) * 1.12
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(9, 4.2), gridspec_kw={"width_ratios": [1.1, 1]})
+    fig, (ax, bx) = canvas(ncols=2, figsize=(9, 4.2), gridspec_kw={"width_ratios": [1.1, 1]})
     se = math.sin(ELEVATION)
     for b in data["base"]:
         if b["kind"] == "rect":
@@ -98,5 +98,4 @@ def render(path: Path, data: dict, frames: dict, title: str) -> Path:
     writer = (animation.PillowWriter(fps=VIDEO_FPS) if path.suffix.lower() == ".gif"
               else animation.FFMpegWriter(fps=VIDEO_FPS))
     anim.save(str(path), writer=writer, dpi=80)
-    plt.close(fig)
     return path

@@ -1,23 +1,23 @@
 """Pictures of one run: height, radial offset and tilt against time, or for a flight in air the
-spin and the height with the linear limits and the adiabatic crossing (matplotlib, Agg;
-runtime/ui/plotting.py style; the scene's units, runtime/ui/human.py)."""
+spin and the height with the linear limits and the adiabatic crossing (matplotlib without pyplot;
+runtime/ui/plotting.py style; the scene's units, runtime/ui/human.py). Each draws its panels on a
+figure of its own, on `fig` (a Figure or SubFigure) or into `ax` (a list of as many Axes), writes
+`path` when given one, and returns the Figure (the list of Axes when given `ax`)."""
 from __future__ import annotations
-
-from pathlib import Path
 
 import numpy as np
 
 from levitron.runtime.ui.human import Units, sig
-from levitron.runtime.ui.plotting import pyplot, save_figure, style
+from levitron.runtime.ui.plotting import canvas, finish, in_style
 
 
-def draw(t, dz, r, tilt, path, info, u: Units, scene: str = "") -> Path:
-    """Height above z_s, radial offset and tilt against time (matplotlib, Agg; runtime/ui/plotting.py
+@in_style
+def draw(t, dz, r, tilt, path, info, u: Units, scene: str = "", ax=None, fig=None):
+    """Height above z_s, radial offset and tilt against time (three panels; runtime/ui/plotting.py
     style): mm and s in an SI scene, the scene's own units otherwise (u: runtime/ui/human.py)."""
-    plt = pyplot()
-    style()
+    given, made = ax, ax is None and fig is None
     k, lu, tu = (1e3, "mm", "s") if u.si else (1.0, "scene units", "time units")
-    fig, ax = plt.subplots(3, 1, sharex=True, figsize=(7, 7))
+    fig, ax = canvas(given, fig, nrows=3, sharex=True, figsize=(7, 7))
     ax[0].plot(t, dz * k, label="z - z_s")
     ax[0].axhline(0, color="0.5", lw=0.8, ls="--", label=f"z_s = {u.length(info['z_s'])}")
     ax[0].set_ylabel(f"height above z_s ({lu})")
@@ -31,18 +31,20 @@ def draw(t, dz, r, tilt, path, info, u: Units, scene: str = "") -> Path:
     verdict = "levitating" if info["levitating"] else info["status"]
     ax[0].set_title(f"{scene}: spin {u.rate(info['spin']['rad_s'], 4)}, z_s = {u.length(info['z_s'])}\n"
                     f"{verdict} for {u.time(info['t_survived'])}", fontsize="medium")
-    fig.tight_layout()
-    return save_figure(fig, path)
+    if made:
+        fig.tight_layout()
+    return finish(fig, path, ax=given)
 
 
-def draw_flight(t, dz, w, path, info, u: Units, scene: str = "") -> Path:
-    """A flight in air: the spin and the height above z_s against time, with the linear spin limits
-    at z_s and the adiabatic crossing time drawn in (runtime/physics/friction.py; u: runtime/ui/human.py)."""
-    plt = pyplot()
-    style()
+@in_style
+def draw_flight(t, dz, w, path, info, u: Units, scene: str = "", ax=None, fig=None):
+    """A flight in air: the spin and the height above z_s against time (two panels), with the linear
+    spin limits at z_s and the adiabatic crossing time drawn in (runtime/physics/friction.py; u:
+    runtime/ui/human.py)."""
+    given, made = ax, ax is None and fig is None
     fl = info["flight"]
     k, lu, tu, ru = (1e3, "mm", "s", "rad/s") if u.si else (1.0, "scene units", "time units", "rad/time")
-    fig, ax = plt.subplots(2, 1, sharex=True, figsize=(7, 6))
+    fig, ax = canvas(given, fig, nrows=2, sharex=True, figsize=(7, 6))
     ax[0].plot(t, w, label="spin omega_3")
     iv = fl["spin_interval"]
     if iv:
@@ -68,5 +70,6 @@ def draw_flight(t, dz, w, path, info, u: Units, scene: str = "") -> Path:
     # two lines, as draw_trajectory's: one ran past the figure's right edge with "time units"
     ax[0].set_title(f"{scene} in air: launched at {sig(info['spin']['rad_s'], 4)} {ru}\n{verdict}",
                     fontsize="medium")
-    fig.tight_layout()
-    return save_figure(fig, path)
+    if made:
+        fig.tight_layout()
+    return finish(fig, path, ax=given)

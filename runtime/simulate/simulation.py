@@ -75,17 +75,20 @@ class Simulation:
         return str(trajectory_file.write(path, names, np.column_stack([self.trajectory[n] for n in names]),
                                         flag))
 
-    def plot(self, path) -> str:
-        """Draw height, radial offset and tilt against time to path (.png); for a flight in air the
-        spin and the height with the linear limits and the adiabatic crossing (runtime/simulate/plot.py)."""
+    def plot(self, path=None, ax=None, fig=None):
+        """Draw height, radial offset and tilt against time (three panels); for a flight in air the
+        spin and the height with the linear limits and the adiabatic crossing (two panels;
+        runtime/simulate/plot.py). On a figure of its own, on `fig` (a Figure or SubFigure) or into
+        `ax` (a list of as many Axes); written to `path` (.png, .pdf, .svg) only when given one.
+        Returns the matplotlib Figure (the list of Axes when given `ax`)."""
         from levitron.runtime.simulate.plot import draw, draw_flight
         d, tr = self.details, self.trajectory
         info = dict(d, levitating=d["status"] == UP)      # the run's own end, as its title says it
         dz = tr["z"] - d["z_s"]
         if "flight" in d:
-            return str(draw_flight(tr["t"], dz, tr["spin"], path, info, self.units, self.scene))
+            return draw_flight(tr["t"], dz, tr["spin"], path, info, self.units, self.scene, ax=ax, fig=fig)
         r = np.hypot(tr["x"], tr["y"]) if "x" in tr else np.zeros(len(tr["t"]))
-        return str(draw(tr["t"], dz, r, tr["tilt"], path, info, self.units, self.scene))
+        return draw(tr["t"], dz, r, tr["tilt"], path, info, self.units, self.scene, ax=ax, fig=fig)
 
     def animation(self, setup: dict | None = None) -> dict:
         """The run as the animation page draws it (runtime/simulate/animation.py frames); setup: the

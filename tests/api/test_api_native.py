@@ -9,11 +9,6 @@ import pytest
 import levitron as lev
 
 
-@pytest.fixture(scope="module")
-def study():
-    return lev.load("thesis_stable")
-
-
 def test_a_numpy_loop_over_masses():
     """np.linspace yields np.float64: each is a number (it was refused as 'np.float64(0.0512)')."""
     z = []

@@ -100,7 +100,10 @@ def run(args) -> dict:
                   quiet=args.quiet, scheduler_timeout=None if args.scheduler_timeout is None else real(
                       args.scheduler_timeout, "--scheduler-timeout", positive=True, max_abs=3600, unit="s"))
     out = res.as_json()
-    out["out"] = res.plot(args.out) if args.out else None
+    out["out"] = None
+    if args.out:
+        res.plot(args.out)                      # the Figure; the answer names the file written
+        out["out"] = str(check_plot_path(args.out, "--out"))
     if args.save is not None:
         out["saved"] = res.save(args.save, flag="--save")
     return out

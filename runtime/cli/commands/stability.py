@@ -74,12 +74,12 @@ def run(args) -> dict:
         curve = tilt_tolerance(model, answer.spin_interval, answer.z_s, out.get("resonances") or [])
         out["tilt_tolerance"] = curve.as_json()
         if plot is not None:
-            out["plot"] = curve.plot(plot)
+            curve.plot(plot)                    # the Figure; the answer names the file written
+            out["plot"] = str(check_plot_path(plot))
             plot = None
     if plot is not None:
-        drawn = answer.plot(plot)
-        if drawn is not None:
-            out["plot"] = drawn
+        if answer.plot(plot) is not None:       # the Figure; the answer names the file written
+            out["plot"] = str(check_plot_path(plot))
     return out
 
 

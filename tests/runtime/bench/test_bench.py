@@ -289,15 +289,17 @@ def test_the_api_benchs_legend_clears_its_axis_label(tmp_path, monkeypatch, part
     """runtime/bench/api.py draw: the legend under the axes overlapped the x label "wall time of the
     fastest call (ms)" on a scene with one part (a reduced-only scene's api.png, third audit): it
     was anchored at a fraction of the axes' height, which one bar makes short."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
     from levitron.runtime.bench import api
-    from levitron.runtime.ui.plotting import pyplot
-    plt = pyplot()
+    from levitron.runtime.ui import plotting
     made = []
-    monkeypatch.setattr(plt, "close", made.append)      # keep the figure to measure it
+    save = plotting.save_figure
+    monkeypatch.setattr(api, "save_figure", lambda fig, *a: made.append(fig) or save(fig, *a))   # keep it
     rows = [{"part": p, "integration_s": 2e-4, "wall_s": 5e-4, "budget_s": 1e-3} for p in parts]
     api.draw(rows, tmp_path / "api.png", "scene: Study.simulate")
     fig = made[0]
-    r = fig.canvas.get_renderer()
+    r = FigureCanvasAgg(fig).get_renderer()
     ax = fig.axes[0]
     legend, label = ax.get_legend() or fig.legends[0], ax.xaxis.label
     lb, xb = legend.get_window_extent(r), label.get_window_extent(r)

@@ -98,7 +98,7 @@ def test_simulate_json_contract_and_plot(model, tmp_path):
     for k in DESIGN_KEYS:
         assert k in out
     json.dumps(out)   # serialisable
-    assert run.plot(tmp_path / "t.png") == str(tmp_path / "t.png")
+    assert len(run.plot(tmp_path / "t.png").axes) == 3   # the Figure, written to the path
     assert (tmp_path / "t.png").stat().st_size > 5000
     assert set(out["final_state"]) == set(model.part("full").states)
     assert out["box"]["z"][1] - out["z_s"] == pytest.approx(0.5 * out["z_s"])   # scales with z_s
