@@ -1,6 +1,7 @@
-"""The `levitron` command: `levitron <command> SCENE [--set k=v ...] [--json]` (docs/contract.md).
+"""The `levitron` command: `levitron <command> SCENE [--set k=v ...] [--json]` (the contract in the documentation).
 
-With --json a command prints one JSON object on stdout and nothing else; logs go to stderr. Without
+With --json a command prints one JSON object on stdout and nothing else (its `success`: cli/success.py);
+logs go to stderr. Without
 it, the command's human view (its module's `human(result, scene)`: the answer first, in cm, g, Hz
 and rpm for SI scenes, runtime/ui/human.py), in colour on a terminal (rich), plain otherwise. Progress
 (runtime/ui/progress.py) goes to stderr only, and only on a terminal without --json or --quiet.
@@ -24,8 +25,10 @@ from levitron.runtime.ui import progress
 from levitron.runtime.ui import provenance
 from levitron.runtime.ui.provenance import version
 from levitron.runtime.cli.commands import COMMANDS
+from levitron.runtime.cli import suggest
 from levitron.runtime.errors import UserError
 from levitron.runtime.words import render as words, speak
+from levitron.runtime.cli.success import success as success_of
 
 # scene.load (SceneError) and runtime.model (the compiler, process control) are imported where
 # they are used: `levitron --version` and `--help` need neither (a tenth of a second of imports)
@@ -39,7 +42,14 @@ class Parser(argparse.ArgumentParser):
     """argparse with one-line errors (exit 2): no usage block, a pointer to --help instead."""
 
     def error(self, message):
-        self.exit(EXIT_USER, f"{self.prog}: error: {message} (see `{self.prog} --help`)\n")
+        self.exit(EXIT_USER, f"{self.prog}: error: {suggest.choice_hint(message)} (see `{self.prog} --help`)\n")
+
+    def parse_args(self, args=None, namespace=None):
+        """argparse's, with "did you mean --flag?" for a misspelt flag (runtime/cli/suggest.py)."""
+        namespace, extras = self.parse_known_args(args, namespace)
+        if extras:
+            self.exit(EXIT_USER, suggest.unrecognized(self, namespace, extras))
+        return namespace
 
 
 
@@ -87,13 +97,17 @@ def build_parser(only: str | None = None, overview: bool = False) -> argparse.Ar
         p = sub.add_parser(mod.NAME, help=mod.HELP, description=mod.HELP,
                            epilog=f"example:\n  {example}" if example else None,
                            formatter_class=_HelpFormatter)
+        takes_scene = getattr(mod, "TAKES_SCENE", True)      # `levitron scenes`, `keys` take none
         if getattr(mod, "MULTI_SCENE", False):
             p.add_argument("scenes", nargs="*", metavar="SCENE", help="scene names or .toml paths")
-        else:
-            p.add_argument("scene", metavar="SCENE", help="a scene name in scenes/ or a .toml path")
-        p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
-                       help="override a scene key, e.g. --set top.mass=0.03 (repeatable)")
-        if not getattr(mod, "MULTI_SCENE", False):
+        elif takes_scene:
+            p.add_argument("scene", metavar="SCENE",
+                           help="a shipped scene's name (`levitron scenes` lists them) or a .toml path")
+        if takes_scene:
+            p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                           help="override a scene key, e.g. --set top.mass=0.03 (repeatable; "
+                                "`levitron keys` lists the keys)")
+        if takes_scene and not getattr(mod, "MULTI_SCENE", False):
             p.add_argument("--temperature", type=float, default=None, metavar="DEGC",
                            help="the magnets' temperature, degC (the scene key `temperature`: "
                                 "plate/top temperature_coefficient scale their strength from 20 degC)")
@@ -101,7 +115,7 @@ def build_parser(only: str | None = None, overview: bool = False) -> argparse.Ar
         p.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
         mod.add_arguments(p)
         for action in p._actions:        # every number flag read as runtime/ui/validate.py reads numbers
-            action.type = {float: _float, int: _int}.get(action.type, action.type)
+            action.type = _quantity(action.dest) if action.type is float else {int: _int}.get(action.type, action.type)
         p.set_defaults(_run=mod.run, _module=mod)
     return ap
 
@@ -117,6 +131,32 @@ def _int(text: str) -> int:
 
 
 _float.__name__, _int.__name__ = "float", "int"      # argparse's "invalid float value: '1_0'"
+
+
+def _quantity(dest: str):
+    """The reader of number flag `dest`: a bare number as `_float` reads it (SI, the same path as
+    ever), or one number with a unit ("30 Hz", "3 mm") in the flag's SI unit (scene/quantity.py)."""
+    def float(text: str):      # named so: argparse's "invalid float value: '1_0'"
+        from levitron.scene import quantity
+        try:
+            return quantity.typed_setting(text, dest) if quantity.has_unit(text) else _float(text)
+        except quantity.SceneError as exc:
+            raise argparse.ArgumentTypeError(str(exc)) from None
+    return float
+
+
+def _typed_inputs(args) -> None:
+    """scene/quantity.py at the edge: a scene's bare number that reads as grams or millimetres meant is
+    warned of on stderr; a flag typed with a unit is refused in a dimensionless scene, else made a float."""
+    from levitron.scene.quantity import Typed
+    for note in getattr(_scene_or_none(args), "notes", ()):
+        if note.startswith("warning: "):
+            print(f"levitron {args.command}: {note}", file=sys.stderr)
+    for name, v in [(k, v) for k, v in vars(args).items() if isinstance(v, Typed)]:
+        if not getattr(_scene_units(args), "si", True):
+            raise UserError(f"--{name.replace('_', '-')} {v.text!r}: this scene is dimensionless: give the "
+                            "number in the scene's own units, without a unit")
+        setattr(args, name, float(v))
 
 
 def _clean(obj):
@@ -281,7 +321,7 @@ def _refuse_empty(argv: list[str]) -> None:
             flag = argv[i - 1] if argv[i - 1].startswith("-") else None
             if flag is None:
                 raise UserError(f"an empty argument '' after `levitron {argv[0]}`: give the scene (a name "
-                                "of scenes/ or a .toml path)")
+                                "`levitron scenes` lists, or a .toml path)")
         if flag is not None:
             raise UserError(f"{flag} '': an empty value; give one (see `levitron {argv[0]} --help`)")
 
@@ -298,7 +338,8 @@ def main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv == ["--version"]:       # without the command modules (numpy, casadi): ~0.1 s, not ~1 s
         return _emit(f"levitron {version()}")
-    if not argv or argv[0] in ("-h", "--help"):     # the overview: no command module imported
+    if not argv or argv[0] in ("-h", "--help") or argv[0] not in COMMANDS and not argv[0].startswith("-"):
+        # the overview, no command module imported: the help, or a misspelt command's one line
         build_parser(overview=True).parse_args(argv)
     args = build_parser(argv[0] if argv else None).parse_args(argv)
     try:
@@ -306,6 +347,7 @@ def main(argv=None) -> int:
         if getattr(args, "temperature", None) is not None:     # one more --set, resolved by the scene
             _one_temperature(args)
             args.set = [*args.set, f"temperature={args.temperature!r}"]
+        _typed_inputs(args)
     except UserError as exc:
         return _report(args, exc)
     args._argv = argv
@@ -323,6 +365,8 @@ def main(argv=None) -> int:
         try:
             with progress.task(f"levitron {args.command}"):
                 result = _clean(_with_provenance(args, args._run(args)))
+                if args.json and isinstance(result, dict):     # the API answer's success (cli/success.py)
+                    result["success"] = success_of(args.command, result)
                 units = _scene_units(args)
                 # the JSON's quantities in the scene's units; a plain view shows them in the human ones
                 # (ui/human.py restate: cm, g, spans), so it reads the quantity markers themselves

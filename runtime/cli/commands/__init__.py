@@ -1,6 +1,8 @@
 """The `levitron` subcommands, one module each (protocol in docs/INTERFACES.md)."""
 
 COMMANDS = (
+    "scenes",
+    "keys",
     "derive",
     "info",
     "field",

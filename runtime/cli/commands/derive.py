@@ -21,8 +21,8 @@ from levitron.runtime.model.locate import committed_folder, locate
 from levitron.runtime.cli.commands.common import load
 
 NAME = "derive"
-HELP = ("regenerate the models of the given scenes (default: all of scenes/); variants (--set) and "
-        "out-of-tree scenes go to the cache, never to generated/")
+HELP = ("regenerate the models of the given scenes (default: every shipped scene, `levitron scenes`); "
+        "variants (--set) and out-of-tree scenes go to the cache, never to generated/")
 MULTI_SCENE = True
 EXAMPLE = 'levitron derive thesis ring_magnet'
 

@@ -54,7 +54,7 @@ def add_launch_arguments(parser) -> None:
     parser.add_argument("--integrator", default="auto", metavar="NAME", help="dop853, vern9 or auto")
     parser.add_argument("--tol", type=float, default=mc.LAUNCH_TOL,
                         help=f"tolerance (default {mc.LAUNCH_TOL:g}: the loosest whose odds stay well inside their "
-                             "interval, docs/contract.md)")
+                             "interval; the contract in the documentation)")
     parser.add_argument("--workers", type=int, default=None, metavar="N",
                         help="local worker processes (default: every usable core, serial below 64 launches; "
                              "1: serial; at most the usable cores)")
@@ -106,7 +106,10 @@ def run(args) -> dict:
     if args.save is not None:
         out["saved"] = saved_block(odds.save(args.save, flag="--save"), len(odds.launches["launch"]),
                                    odds.units, tuple(odds.launches))
-    out["out"] = odds.plot(args.out) if args.out else None
+    out["out"] = None
+    if args.out:
+        odds.plot(args.out)                     # the Figure; the answer names the file written
+        out["out"] = str(check_plot_path(args.out, "--out"))
     return out
 
 
