@@ -19,8 +19,8 @@ import numpy as np
 
 from levitron.runtime.errors import UserError
 
-__all__ = ["UserError", "Named", "bind", "boxes", "choice", "names", "number", "options", "plain", "scene_keys",
-           "varies"]
+__all__ = ["UserError", "Named", "bind", "boxes", "choice", "launch_values", "names", "number", "options", "plain",
+           "real_column", "real_columns", "scene_keys", "units_allowed", "varies"]
 
 
 def is_number(value) -> bool:
@@ -33,10 +33,54 @@ def is_number(value) -> bool:
 
 
 def number(value, what: str) -> float:
-    """`value` as a float; UserError naming `what` if it is no real number."""
+    """`value` as a float; UserError naming `what` if it is no real number. A setting with a unit
+    (scene/quantity.py SETTING_UNITS) also takes one number with a unit: spin="30 Hz" is 2 pi 30."""
+    from levitron.scene import quantity
+    if quantity.has_unit(value) and what in quantity.SETTING_UNITS:
+        try:
+            return quantity.setting_value(value, what)
+        except quantity.SceneError as exc:
+            raise UserError(str(exc)) from None
     if not is_number(value):
         raise UserError(f"{what} = {value!r} is not a number: pass a float (NumPy scalars are fine)")
     return float(value)
+
+
+def real_column(value, what: str):
+    """`value` (a number or an array) as given, refused if it is complex: NumPy would drop its
+    imaginary part with a warning. NaN and inf are refused where the numbers are read
+    (runtime/scan/batch.py, Study._grid)."""
+    if isinstance(value, (str, bytes)) or not np.iscomplexobj(value):
+        return value
+    a = np.ravel(np.asarray(value))
+    first = complex(a[np.flatnonzero(np.imag(a))[0]] if np.any(np.imag(a)) else a[0])
+    raise UserError(f"{what} has the complex value {first}: pass real numbers (NumPy would drop the "
+                    "imaginary part); take np.real(...) if it is zero")
+
+
+def real_columns(columns: Mapping) -> None:
+    """real_column of every {name: number or array} (simulate_many's spin, tilt, ... and scene values)."""
+    for name, value in columns.items():
+        real_column(value, name)
+
+
+def launch_values(values, columns: Mapping) -> Mapping:
+    """simulate_many's `values` ({scene key: number or array}) once checked to be a mapping, and
+    every launch column (`columns`: spin, tilt, ...) and value real (real_columns)."""
+    if not isinstance(values, Mapping):
+        raise UserError("values must be a mapping of scene key -> number or array, e.g. "
+                        "{'top.mass': [0.051, 0.052]}")
+    real_columns({**columns, **values})
+    return values
+
+
+def units_allowed(si: bool, values) -> None:
+    """A number typed with a unit ("30 Hz", scene/quantity.py) is refused in a dimensionless scene."""
+    from levitron.scene.quantity import has_unit
+    typed = next((v for v in values if has_unit(v)), None) if not si else None
+    if typed is not None:
+        raise UserError(f"{typed!r}: this scene is dimensionless: give the number in the scene's own units, "
+                        "without a unit")
 
 
 def plain(value):

@@ -70,6 +70,7 @@ def _in_scene_units(method):
     keeps the setting, value, unit and hint it carried."""
     @functools.wraps(method)
     def wrapper(self, *args, **kwargs):
+        arg.units_allowed(self.units.si, (*args, *kwargs.values()))     # "30 Hz": SI scenes only
         try:
             return speak(method(self, *args, **kwargs), "api", self.units)
         except UserError as exc:
@@ -225,10 +226,7 @@ class Study:
         from levitron.runtime.scan.batch import launch_columns, simulate_many
         options = arg.options(options, MANY_OPTIONS, SIMULATE_ALIASES, "simulate_many option",
                               ("t_end", "tol", "box", "h"))
-        values = options.pop("values", None) or {}
-        if not isinstance(values, Mapping):
-            raise arg.UserError("values must be a mapping of scene key -> number or array, e.g. "
-                                "{'top.mass': [0.051, 0.052]}")
+        values = arg.launch_values(options.pop("values", None) or {}, {"spin": spin, **options})
         p = None
         if values:
             keys = list(values)
@@ -326,7 +324,7 @@ class Study:
         if isinstance(values, str):
             raise arg.UserError(f"{what} must be numbers (a list or an array), not the string {values!r}")
         try:
-            a = np.atleast_1d(np.asarray(values, float))
+            a = np.atleast_1d(np.asarray(arg.real_column(values, what), float))
         except (TypeError, ValueError):
             raise arg.UserError(f"{what} must be numbers (a list or an array), not {values!r}") from None
         if a.ndim != 1 or a.size == 0 or not np.all(np.isfinite(a)):

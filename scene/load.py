@@ -30,6 +30,7 @@ from .keys import (
 from .overrides import apply_override
 from .paths import SCENES_DIR
 from .plates.base import Key
+from .quantity import convert_scene
 
 __all__ = ["Scene", "SceneError", "find_scene_file", "load_scene", "validate"]
 
@@ -210,7 +211,9 @@ def _reference_value(ref: dict, key: str) -> None:
 
 
 def validate(data: dict, path: Path | None = None) -> Scene:
-    """Check every key and resolve the parameters; raises SceneError on the first problem."""
+    """Check every key and resolve the parameters; raises SceneError on the first problem. A value
+    with a unit ("51.5 g") becomes its SI number first (scene/quantity.py)."""
+    warned = convert_scene(data)
     check_keys(data, _names(SCENE_KEYS) | {"top", "plate", "field", "model", "reference", "launch"},
                "scene")
     if not isinstance(data.get("launch", {}), dict):
@@ -252,7 +255,7 @@ def validate(data: dict, path: Path | None = None) -> Scene:
     temp = temperature_factors(data)
     resolved = plates.resolve({k: v for k, v in data["plate"].items()
                                if k != TEMPERATURE_KEY.name and k not in TILT_KEYS_NAMES}, moment)
-    notes = []
+    notes = list(warned)      # a bare number that reads as grams or millimetres meant
     mu = resolved.pop("mu", moment)
     if resolved.pop("moment_nominal", None) is not None:
         notes.append("top.moment not given: only mu*rho (plate.murho) is physical; fields are "

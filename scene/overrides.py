@@ -19,7 +19,8 @@ _BARE_WORD = re.compile(r"[^\"'\\]*\Z")
 
 def parse_override(text: str) -> tuple[list[str], Any]:
     """`section.key=value` -> (["section", "key"], value); value parsed as one TOML value (or a
-    bare word without quotes, e.g. plate.kind=disk). The one reader of overrides: the command
+    bare word without quotes, e.g. plate.kind=disk, or a number with a unit, top.mass=51.5 g, which
+    scene/quantity.py converts to SI when the scene is validated). The one reader of overrides: the command
     line's --set and the API's keys (`override_text`) both come through it. A newline or another
     control character is refused (TOML would read the rest as more keys, and drop or change them)."""
     if not isinstance(text, str):
