@@ -1,4 +1,4 @@
-"""Trim by the launch odds: the mass to add or take off so that most launches by hand float (issue 26).
+"""Trim by the launch odds: the mass to add or take off so that most launches by hand float.
 
 The stable band (thesis 3.3: the heights z where the top of mass m(z) = -mu Phi_2(z)/g, eq. 3.3.2,
 has a spin interval of linear stability) fixes the masses that can hover at all, [m_lo, m_hi] at the
@@ -13,6 +13,7 @@ answer is runtime/design/trim_answer.py's Trim.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 from collections.abc import Sequence
 
 import numpy as np
@@ -62,17 +63,74 @@ def trim(model, request: mc.Request) -> Trim:
     if not lo <= model.param("m") <= hi:
         warnings.append(f"the scene's top ({si(model.param('m'), 'kg')}) is outside the masses that can "
                         f"hover, {si_span(lo, hi, 'kg')}: as written it does not float at all")
-    return Trim(model.param("m"), (lo, hi), design, limits, widest, warnings, Units.of_scene(model.scene))
+    return _with_resonance(model, Trim(model.param("m"), (lo, hi), design, limits, widest, warnings,
+                                       Units.of_scene(model.scene)))
+
+
+def _with_resonance(model, t: Trim) -> Trim:
+    """The trim with the resonance advice (resonance_advice) at the mass it tells the person to set
+    (the scene's where it says no change), first among its warnings, in place of the launches' own
+    warning of a resonance at the best mass (said once, of the mass the person sets)."""
+    spin = mc.parse_input("spin", t.design.inputs["spin"])
+    sets = t.mass if t.no_change else t.advice
+    said = [resonance_advice(model, m, spin, t.design.success_time) for m in dict.fromkeys((sets, t.advice))]
+    if not any(said):
+        return t
+    refined = {a[1] for a in said if a}
+    design = dataclasses.replace(t.design, warnings=[w for w in t.design.warnings if w not in refined])
+    return dataclasses.replace(t, design=design, warnings=([said[0][0]] if said[0] else []) + t.warnings)
+
+
+def resonance_advice(model, mass: float, spin, success_time: float) -> tuple[str, str] | None:
+    """Where the hand's spins (a spreads.Dist) of a top of `mass` include, or in air slow down
+    through, an explosive resonance (the launch's own warning: runtime/scan/launch_inputs.py
+    resonance_warnings, the resonance it names), one sentence saying on which side of it to launch,
+    and the warning it refines; None where none is crossed. Milliseconds: the modes at a few spins.
+    In air below it (a top launched above slows down through it), else on the side of the hand's
+    mean; the aim keeps the hand's spread (2 sd, or half a uniform's width) clear of it and inside
+    the window, else only less wobble is left."""
+    from levitron.runtime.physics.stability_answer import resonances_of
+    from levitron.runtime.scan.launch_inputs import resonance_warnings
+    try:
+        res = stability_of(model, mass=mass, eigen=False)
+    except UserError:              # no window to speak of: the launch's own answer says why
+        return None
+    air = model.pvals().get("k_spin", 0.0) > 0
+    warned = resonance_warnings(model, res, spin, 1 / model.pvals()["k_spin"] if air else None, success_time)
+    if not warned:
+        return None
+    named = [r.spin for r in resonances_of(model, res) or () if si(r.spin, "rad/s") in warned[0]]
+    if not named:                  # (not reached: the warning names one) its own words stand
+        return warned[0], warned[0]
+    r = named[0]
+    mean = 0.5 * (spin.a + spin.b) if spin.kind == "uniform" else spin.a
+    margin = max({"normal": 2 * spin.b, "uniform": 0.5 * (spin.b - spin.a)}.get(spin.kind, 0.0), 0.01 * r)
+    lo, hi = res.spin_interval
+    first = "below" if air or mean < r else "above"
+    order = [first] if air else [first, "above" if first == "below" else "below"]
+    fit = [(side, aim) for side in order if lo < (aim := r - margin if side == "below" else r + margin) < hi]
+    if fit:
+        side, aim = fit[0]
+        why = "; a top launched above it slows down through it in flight" if air and mean >= r else ""
+        act = (f"launch {side} it (the hand's mean at {si(aim, 'rad/s')} or {'less' if side == 'below' else 'more'}"
+               f"{why}), or with less wobble")
+    else:
+        act = f"the window {si_span(lo, hi, 'rad/s')} leaves this hand no room beside it: launch with less wobble"
+    return (f"at {si(mass, 'kg')} the hand's spins cross the explosive resonance at {si(r, 'rad/s')}, where a "
+            f"launch tolerates less tilt: {act}"), warned[0]
 
 
 def _widest(model, lo: float, hi: float, design, request: mc.Request, pool) -> tuple[dict, list[dict]]:
-    """The widest linear spin window over the band's masses, with its launch odds on the design's
-    fresh draws (in `pool`), and the window of every mass."""
+    """The widest linear spin window over the band's masses, with its launch odds on the first
+    min(n, SEARCH_N) of the design's fresh draws, paired with the advice's (launch_design.paired_side;
+    in `pool`), and the window of every mass."""
     limits = spin_limits(model, np.linspace(lo, hi, LIMIT_POINTS))
     widths = [(r["spin_interval"][1] - r["spin_interval"][0]) if r["spin_interval"] else -np.inf
               for r in limits]
     widest = dict(limits[int(np.argmax(widths))])
-    fresh = mc.Request(dict(design.inputs), design.n, design.seed + ld.FRESH, design.success_time,
+    m = ld.search_n(design.n)
+    fresh = mc.Request(dict(design.inputs), m, design.seed + ld.FRESH, design.success_time,
                        design.t_end, request.integrator, request.tol, request.workers, request.scheduler)
-    widest["launch_odds"] = ld.odds_dict(ld.odds_at(model.ref, ["top.mass"], [widest["mass"]], fresh, pool))
+    side = ld.odds_at(model.ref, ["top.mass"], [widest["mass"]], fresh, pool)
+    widest["launch_odds"] = ld.paired_side({**design.launch_odds, **design.paired}, side)
     return widest, limits

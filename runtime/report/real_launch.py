@@ -101,6 +101,19 @@ def _input_text(name: str, spec: str, u: Units) -> str:
     return f"{name}: {show(d.a)}"
 
 
+def resonance_text(model, odds) -> str:
+    """Where the report's launches (the scene's top, its [launch] spin) cross an explosive resonance,
+    the sentence saying which side of it to launch on (runtime/design/trim.py resonance_advice),
+    as a paragraph; "" where none is crossed or no launch could run."""
+    from levitron.runtime.design.trim import resonance_advice
+    from levitron.runtime.scan.spreads import parse_dist
+    if odds.reason:
+        return ""
+    advice = resonance_advice(model, model.param("m"), parse_dist("spin", odds["inputs"]["spin"]),
+                              odds["success_time"])
+    return "" if advice is None else f"<p>{html.escape(advice[0][0].upper() + advice[0][1:])}.</p>"
+
+
 def _noise(effect: dict) -> str:
     """", within the noise of N points" where an input's effect is no larger than chance's."""
     if effect["effect"] > effect["noise"]:
@@ -147,6 +160,7 @@ def section(model, run: dict, u: Units, tmp: Path, png) -> tuple[str, dict]:
     facts["stops_hovering"] = dict(zip(("below", "above"), hover_temperatures(model)))
     facts["summary"] = maker_summary(model, odds, windows[1]["mass"], tuple(facts["stops_hovering"].values()), u)
     m = model.param("m")
+    odds.plot(tmp / "odds.png")
     out = ["<h2>The real launch: in air</h2>", _table(rows),
            f"<p class=\"answer\">Launch odds: {sig(100 * odds['probability'], 3)} % of {odds['n']} launches by "
            f"hand float at least {html.escape(u.time(odds['success_time']))} (95 % interval "
@@ -154,7 +168,8 @@ def section(model, run: dict, u: Units, tmp: Path, png) -> tuple[str, dict]:
            f"<p class=\"note\">The launch spread used (seed {odds['seed']}): {html.escape('; '.join(spread))}. "
            "`levitron launch` runs more launches and takes other spreads.</p>",
            f"<p>What matters most: {html.escape('; '.join(ranked))}.</p>" if ranked else "",
-           png(Path(odds.plot(tmp / "odds.png"))),
+           resonance_text(model, odds),
+           png(tmp / "odds.png"),
            "<h3>The masses that hover, and the temperature</h3>",
            _table([(f"{sig(w['temperature'], 3)} degC" + (" (the scene's)" if i == 1 else ""),
                     f"mass {span(*w['mass'], u.mass)}, heights {u.length_span(*w['z'])}"

@@ -10,6 +10,8 @@ runtime/design/fit.py (Gauss-Newton, exact Jacobians); --fit-height: runtime/des
 """
 from __future__ import annotations
 
+import argparse
+
 from levitron.runtime.design.constraints import Constraint
 from levitron.runtime.errors import UserError
 from levitron.runtime.physics.level_only import refuse_tilted
@@ -44,15 +46,16 @@ def add_arguments(parser) -> None:
                              "(repeatable; default 0.1 mm of a length, 0.1 g of a mass, 1 %% of a magnet's "
                              "strength, 0.2 %% of any other key): the design's sharpness, the objective at "
                              "+- it")
-    parser.add_argument("--grid", type=int, default=20, metavar="N",
-                        help="points a key of the verification grid (>= 20)")
+    parser.add_argument("--grid", type=int, default=None, metavar="N",
+                        help="points a key of the verification grid (>= 20, default 20; spin-range, "
+                             "spin-ratio and mass-window: the launch-odds design has its own grid and zoom)")
     parser.add_argument("--write-scene", metavar="FILE", default=None,
                         help="write the optimised scene to FILE (.toml)")
     parser.add_argument("--fit", metavar="DATA.csv", default=None,
                         help="fit the --vary keys to measurements (CSV: quantity,value,sigma[,overrides])")
     parser.add_argument("--fit-height", type=float, default=None, metavar="Z",
                         help="the equilibrium height to fit (m)")
-    parser.add_argument("--param", default="mu", metavar="KEY",
+    parser.add_argument("--param", default=None, metavar="KEY",
                         help="with --fit-height: the scene key to solve for, as --vary takes it "
                              "(e.g. plate.murho, top.moment, plate.remanence, top.mass; default: "
                              "the top's moment mu, which fits the product mu x strength)")
@@ -75,6 +78,7 @@ def run(args) -> dict:
             raise UserError("--write-scene goes with --maximize")
         from levitron.runtime.design.scene_write import check_target
         check_target(args.write_scene)
+    refuse_ignored(args)
     varies = [Vary.parse(v) for v in args.vary]
     tolerance = parse_tolerance(args.tolerance)
     if tolerance and args.maximize is None:
@@ -85,7 +89,7 @@ def run(args) -> dict:
             raise UserError("--fit-height takes --param, not --vary or --constrain")
         model = model_of(args)
         refuse_tilted(model, "optimize fits and designs")
-        out = fit_equilibrium_height(model, args.fit_height, args.param).as_json()     # its HeightFit
+        out = fit_equilibrium_height(model, args.fit_height, args.param or "mu").as_json()     # its HeightFit
     elif args.fit is not None:
         from levitron.runtime.design.fit import fit
         from levitron.runtime.design.measurements import read_rows
@@ -106,12 +110,16 @@ def run(args) -> dict:
         if args.write_scene:
             out["written"] = res.write_scene(args.write_scene)
     else:
-        from levitron.runtime.design.optimize import optimize
+        from levitron.runtime.design import launch_design
+        from levitron.runtime.design.optimize import GRID_MIN, optimize
         model = model_of(args)
         refuse_tilted(model, "optimize fits and designs")
-        res = optimize(model, varies, args.maximize, constraints, args.grid, tolerance)
+        if (given := launch_flags_given(args)) and not launch_design.worth_the_launches(model):
+            raise UserError(f"{', '.join(given)}: a design counts its launches only in air or with a [launch] "
+                            f"table, and this scene has neither: drop {'it' if len(given) == 1 else 'them'}, "
+                            "or use --maximize launch-odds")
+        res = optimize(model, varies, args.maximize, constraints, args.grid or GRID_MIN, tolerance)
         out = res.as_json()      # the answer (runtime/design/design_answer.py), then what the face adds
-        from levitron.runtime.design import launch_design
         if launch_design.worth_the_launches(model):
             scene = scene_of(args)
             u = Units.of_scene(scene)
@@ -128,6 +136,35 @@ def run(args) -> dict:
             out["written"] = res.write_scene(args.write_scene)
     out["scene"] = model.scene.name
     return out
+
+
+def launch_flags_given(args) -> list[str]:
+    """The launch flags (launch.add_launch_arguments) given a value other than their default."""
+    flags = argparse.ArgumentParser(add_help=False)
+    launch.add_launch_arguments(flags)
+    return [a.option_strings[0] for a in flags._actions
+            if getattr(args, a.dest, a.default) != a.default]
+
+
+def refuse_ignored(args) -> None:
+    """A flag the chosen mode would ignore is refused in one line, not dropped silently."""
+    mode = ("--fit-height" if args.fit_height is not None else "--fit" if args.fit is not None
+            else f"--maximize {args.maximize}")
+    if args.grid is not None and args.maximize == "launch-odds":
+        raise UserError(f"--grid {args.grid}: --maximize launch-odds searches its own grid and zooms in "
+                        "around the best point (docs/contract.md optimize): drop --grid")
+    if args.grid is not None and args.maximize is None:
+        raise UserError(f"--grid {args.grid} goes with --maximize spin-range, spin-ratio or mass-window "
+                        f"(their verification grid); {mode} has none: drop --grid")
+    if args.param is not None and args.fit_height is None:
+        raise UserError(f"--param {args.param} goes with --fit-height Z (the key it solves for); {mode} "
+                        "takes --vary KEY=LO:HI: drop --param")
+    if args.constrain and args.fit is not None:
+        raise UserError("--fit takes no --constrain (the fit is least squares over the --vary box): drop it")
+    given = launch_flags_given(args)
+    if given and args.maximize is None:
+        raise UserError(f"{', '.join(given)}: launch flags go with --maximize (the launch odds); "
+                        f"{mode} runs no launch: drop {'it' if len(given) == 1 else 'them'}")
 
 
 def human(r: dict, scene=None) -> str:

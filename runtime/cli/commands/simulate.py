@@ -10,7 +10,7 @@ from levitron.scene.plates.symmetry import symmetry
 from levitron.runtime.simulate.start import linear_context
 from levitron.runtime.ui.human import Units, duration, lines, restate, sig
 from levitron.runtime.integrate.methods import DEFAULT, FULL_MODEL_METHODS, lookup
-from levitron.runtime.integrate.verdict import stopped_early
+from levitron.runtime.integrate.verdict import UP, stopped_early
 from levitron.runtime.ui.plotting import check_plot_path
 from levitron.runtime.simulate.run import simulate
 from levitron.runtime.simulate.rotations import DEFAULT_AZIMUTH
@@ -74,7 +74,10 @@ def run(args) -> dict:
                    integrator=args.integrator, tol=args.tol, box=args.box, part=args.part, h=args.step,
                    n_out=args.n_out, azimuth=args.tilt_azimuth)
     r = sim.as_json()
-    r["plot"] = sim.plot(args.plot) if args.plot else None
+    r["plot"] = None
+    if args.plot:
+        sim.plot(args.plot)                     # the Figure; the answer names the file written
+        r["plot"] = str(check_plot_path(args.plot))
     if args.save is not None:
         r["saved"] = sim.save(args.save, flag="--save")
     if animate is not None:
@@ -109,6 +112,9 @@ def flight_line(r: dict, u: Units) -> str:
     elif stopped_early(r["status"]):     # no verdict: neither "still floating" nor a fall
         head = (f"no verdict: the run stopped early ({r['status']}) after {u.time(r['t_survived'])} "
                 f"of {u.time(r['t_end'])}, spin then {u.rate(fl['spin_final'])}")
+    elif past_its_window(r):             # up at the end, but its spin left the window (verdict.py past_window)
+        head = (f"no verdict: up after {u.time(r['t_survived'])} (the whole run), but its spin "
+                f"{u.rate(fl['spin_final'])} is past the stable window")
     else:
         head = (f"still floating after {u.time(r['t_survived'])} (the whole run), spin now "
                 f"{u.rate(fl['spin_final'])}")
@@ -146,11 +152,20 @@ def _not_conserved(name: str, scene) -> str:
     return "" if "L_z" in sym.conserved else f" (not conserved by a plate of {sym.name} symmetry)"
 
 
+def past_its_window(r: dict) -> bool:
+    """A run that reached t_end with its spin below the window (runtime/integrate/verdict.py
+    past_window): no verdict, not "untested" (a launch on the invariant set, which tests nothing)."""
+    on_invariant_set = r.get("part") == "reduced" or (r["tilt"] == 0 and r["offset"] == 0)
+    return r["levitating"] is None and r["status"] == UP and not on_invariant_set
+
+
 def human(r: dict, scene=None) -> str:
     """Answer first: does it stay up, for how long; then the launch, the excursions, the invariants."""
     u = Units.of_scene(scene) if scene is not None else Units(si=True)
     if r["levitating"] is None:
-        up = f"{'no verdict' if stopped_early(r['status']) else 'untested'}: {r['untested']}"
+        word = ("no verdict" if stopped_early(r["status"]) else "no verdict (past its stable window)"
+                if past_its_window(r) else "untested")
+        up = f"{word}: {r['untested']}"
     else:
         up = "yes" if r["levitating"] else f"no ({r['status']}: {r['message']})"
     dev = r.get("conserved_max_deviation") or {}
