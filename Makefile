@@ -2,7 +2,7 @@
 PY ?= .venv/bin/python
 export PYTHONHASHSEED := 0
 
-.PHONY: setup demo derive test test-slow lint bench golden clean-cache fuzz
+.PHONY: setup demo derive test test-slow lint bench golden clean-cache fuzz docs
 
 # (re)install whenever pyproject.toml changes: a new dependency or package reaches an old .venv too
 .venv/.installed: pyproject.toml
@@ -51,6 +51,15 @@ fuzz: setup
 bench: setup
 	PYTHONWARNINGS=ignore .venv/bin/pip install --quiet -e '.[bench]'
 	$(PY) -m levitron.runtime.bench.kinds
+
+# The documentation site (mkdocs.yml) from docs/ into site/: `mkdocs build --strict`, so a broken internal link
+# or an API name mkdocstrings cannot find fails it; the tools are pyproject's extra `docs`. Open site/index.html.
+docs: .venv/.docs-installed
+	NO_MKDOCS_2_WARNING=1 $(PY) -m mkdocs build --strict --site-dir site
+
+.venv/.docs-installed: .venv/.installed
+	PYTHONWARNINGS=ignore .venv/bin/pip install --quiet -e '.[test,docs]'
+	touch $@
 
 clean-cache:
 	rm -rf $${LEVITRON_CACHE:-$$HOME/.cache/levitron}
