@@ -1,4 +1,4 @@
-"""Design by the launch odds: the scene keys at which a launch by hand floats most often (issue 26).
+"""Design by the launch odds: the scene keys at which a launch by hand floats most often.
 
 The widest linear spin window (spin-range, thesis 3.3) sits next to a band edge, where a small
 spread in mass or strength puts the top outside the band: advice computed on the ideal top fails
@@ -9,18 +9,29 @@ runtime/scan/launch_odds.py, estimated as `levitron launch` estimates it:
    the defaults) is resolved once, at the scene as written: the defaults that scale with the
    scene (the spin about the middle of its interval, offsets with z_s) and the success time are
    pinned there, because the hand that launches does not change with the washer. Mass and
-   strength enter as relative deviations, so a varied top.mass keeps its spread.
+   strength enter as relative deviations, so a varied top.mass keeps its spread. Pinning is the
+   Monte Carlo's plan (launch_odds.prepare): no launch runs for it.
 2. **Common random numbers.** Every design point runs the same seed, hence the same draws: the
    odds of two designs differ by the design, not by the sampling noise, and odds(x) is a
    step function with small steps (one launch in n) that a grid can search. The search runs the
    first min(n, SEARCH_N) launches of the seed at each point (`search_n`): paired, neighbours
-   differ in a few launches in a hundred, which a few hundred launches decide.
+   differ in a few launches in a hundred, which a few hundred launches decide. The search judges
+   them at its search time (`searching`): SEARCH_HORIZON of the success time, but at least
+   SEARCH_PERIODS periods of the slowest motion. A launch falls when the hand's disturbance
+   leaves the basin, within the first slow periods (thesis_air, 1000 launches: 221 of its 234
+   falls within 5 s, its slow period 3.6 s; 10 after the search time of 18.75 s, against a
+   success time of 75 s). The late falls, 1 % of the launches, come mostly where the top is
+   weakly unstable (near a band's edge, where a plateau's edge may then sit one bisection step
+   out); so the search ranks its points as the full runs would at about a quarter of their cost
+   (test_paired_odds: the same advice as at the full horizon), and the answer itself is judged
+   at the success time (step 4).
 3. **Grid, then zoom.** GRID[k] points a key over the --vary box (from its middle outwards, so
    that a good point is the first to compare with), then the same number over the
-   two grid cells around the best point, ZOOMS times. Where several points share the best odds
-   (a plateau: a spread small against the band gives 100 % over a range), the answer is the
-   middle of the plateau, the design farthest from both cliffs; for one key each edge of the
-   plateau is first bisected EDGE_STEPS times on the same draws.
+   two grid cells around the best point, ZOOMS times. Where several points are level with the
+   best, launch by launch (a plateau: a spread small against the band gives 100 % over a range;
+   a broad optimum whose points differ by single launches), the answer is the middle of the
+   plateau, the design farthest from both cliffs; for one key each edge of the plateau is first
+   bisected EDGE_STEPS times on the same draws.
    Each point is compared launch by launch with the best so far and stopped once it is clearly
    worse; a point within a float step of one already run is not run again
    (runtime/design/paired_odds.py).
@@ -28,11 +39,14 @@ runtime/scan/launch_odds.py, estimated as `levitron launch` estimates it:
    are estimated again with a fresh seed (seed + 1): the search picked the best of many noisy
    values, so its own estimate is biased upwards; the fresh one is not, and carries its 95 %
    Wilson interval.
-5. **Say how sharp it is.** The odds on the same fresh draws at +- a maker's tolerance of each
-   key, and for two or three keys the ridge they share (runtime/design/sharpness.py).
+5. **Say how sharp it is.** The odds at +- a maker's tolerance of each key, on the first
+   min(n, SEARCH_N) of the answer's fresh draws, paired with the answer (`paired_side`); for two
+   or three keys the ridge they share (runtime/design/sharpness.py).
 
-The cost is at most (GRID[k] (1 + ZOOMS) + 3 + 2 k) Monte Carlos of n launches, less the launches the
-paired comparison saves (make bench: kinds launch-design and advice). With local workers every
+The cost is two Monte Carlos of n launches at the success time (the answer and the start) and at
+most GRID[k]^k (1 + ZOOMS) + 1 + 2 k of min(n, SEARCH_N) launches (the search at its search time,
+the sharpness at the success time), less the launches the paired comparison saves (make bench:
+kinds launch-design and advice). With local workers every
 Monte Carlo of the design runs in one kept pool: the workers start once for the whole command.
 """
 from __future__ import annotations
@@ -41,7 +55,7 @@ import contextlib
 import itertools
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -54,12 +68,15 @@ from levitron.runtime.words import si
 from levitron.runtime.model.scenes import SceneRef
 from levitron.runtime.scan import launch_odds as mc
 from levitron.runtime.scan import spreads
+from levitron.runtime.scan.launch_summary import Z95
 from levitron.runtime.ui import progress
 
 GRID = {1: 7, 2: 5, 3: 3}       # points a key of each grid, by the number of keys
+SEARCH_HORIZON = 0.25           # the search judges its launches at this fraction of the success time,
+SEARCH_PERIODS = 5              # but over at least this many of the slowest motion's periods
 SEARCH_N = 500                  # the search compares points on the first this many launches of the seed
 ZOOMS = 2
-EDGE_STEPS = 5                  # bisections of each edge of a one-key plateau
+EDGE_STEPS = 4                  # bisections of each edge of a one-key plateau
 FRESH = 1                       # the deciding Monte Carlo's seed: the search's seed + FRESH
 HALF = 0.5                      # other objectives warn below this fraction of the launch-odds optimum
 
@@ -76,6 +93,7 @@ class Pinned:
     request: mc.Request
     start: dict                     # the Monte Carlo where it was pinned, search seed
     at: dict | None = None          # where it was pinned: None (the scene as written) or keys -> values
+    search_time: float | None = None    # when the search judges its launches (None: the success time)
 
     @classmethod
     def at_start(cls, model, request: mc.Request, varies: Sequence[Vary], pool=None) -> Pinned:
@@ -90,23 +108,18 @@ class Pinned:
                  *_axes(varies, [(v.lo, v.hi) for v in varies], GRID[len(varies)])]
         first = None
         for x in tries:
-            try:
-                probe = request.with_n(search_n(request.n))      # pins the spread: no odds needed
-                if x is None:
-                    start = probe.run(model, quiet=True, pool=pool)
-                else:
-                    from levitron.runtime.scan.runners import model_for
-                    start = probe.run(model_for(*variant(model.ref, keys, x)), quiet=True, pool=pool)
-            except UserError as exc:
+            try:            # the spread is pinned by the Monte Carlo's plan: no launch need run
+                at = model if x is None else _model_at(model.ref, keys, x)
+                prep = mc.prepare(at, request.given, request.n, request.seed, request.success_time,
+                                  request.t_end, request.integrator, request.tol, request.workers,
+                                  request.scheduler)
+            except UserError as exc:            # among them: the top cannot hover there
                 first = first or exc
                 continue
-            if start.get("reason"):          # the top cannot hover there: no launch spread to pin
-                first = first or UserError(start["reason"])
-                continue
-            pinned = mc.Request(dict(start["inputs"]), request.n, request.seed, start["success_time"],
-                                start["t_end"], request.integrator, request.tol, request.workers,
-                                request.scheduler)
-            return cls(pinned, start, None if x is None else dict(zip(keys, x)))
+            inputs = {name: spreads.spec_text(name, d) for name, d in prep.plan.dists}
+            pinned = replace(request, given=inputs, success_time=prep.success_time, t_end=prep.plan.t_end)
+            start = {"defaulted": sorted(set(inputs) - set(request.given))}
+            return cls(pinned, start, None if x is None else dict(zip(keys, x)), _search_time(at, prep))
         raise UserError(f"{first} (and at every point of the «vary» box's grid): move or widen the box")
 
 
@@ -117,19 +130,41 @@ def search_n(n: int) -> int:
     return min(int(n), SEARCH_N)
 
 
+def _search_time(model, prep: mc.Prepared) -> float:
+    """When the search judges its launches (module docstring, step 2): SEARCH_HORIZON of the success
+    time, but never less than SEARCH_PERIODS of the slowest motion at the launches' mean spin, and
+    never more than the success time."""
+    from levitron.runtime.simulate.start import slow_period
+    spin = dict(prep.plan.dists)["spin"].a
+    slow = slow_period(model, model.param("m"), prep.z_s, float(spin))
+    return min(prep.success_time, max(SEARCH_HORIZON * prep.success_time, SEARCH_PERIODS * slow))
+
+
+def searching(pinned: Pinned, n: int, horizon: bool = True) -> mc.Request:
+    """The request of the search's points (module docstring, step 2): the first n launches of the
+    pinned request, judged at its search time (horizon False: at the success time)."""
+    request = pinned.request
+    t = pinned.search_time if horizon and pinned.search_time else request.success_time
+    return replace(request, n=int(n), success_time=t, t_end=min(t, request.t_end))
+
+
 def key_text(key: str, value: float) -> str:
     """A varied key's value in a warning: the top's mass a quantity (runtime/words.py), shown in
     the scene's units (the plain view's SI in g)."""
     return si(value, "kg") if key == "top.mass" else f"{value:.6g}"
 
 
+def _model_at(ref: SceneRef, keys: Sequence[str], x):
+    from levitron.runtime.scan.runners import model_for
+    return model_for(*variant(ref, keys, x))
+
+
 def odds_at(ref: SceneRef, keys: Sequence[str], x, request: mc.Request, pool=None) -> dict:
     """The Monte Carlo of `request` at the scene keys x (its local workers in `pool`, a
     runners.KeptPool, where given); a design where the top cannot hover (or the run is refused)
     floats never: probability 0 with the reason."""
-    from levitron.runtime.scan.runners import model_for
     try:
-        return request.run(model_for(*variant(ref, keys, x)), quiet=True, pool=pool)
+        return request.run(_model_at(ref, keys, x), quiet=True, pool=pool)
     except UserError as exc:
         return {"probability": 0.0, "probability_ci95": [0.0, 0.0], "n": request.n, "seed": request.seed,
                 "successes": 0, "reason": str(exc)}
@@ -146,16 +181,12 @@ def _middle_out(points: Sequence[tuple[float, ...]], box) -> list[tuple[float, .
     return sorted(points, key=lambda x: sum(((v - m) / w) ** 2 for v, m, w in zip(x, mid, width)))
 
 
-def _plateau(evaluated: dict) -> bool:
-    top = max(evaluated.values())
-    return sum(v >= top for v in evaluated.values()) > 1
-
-
-def plateau_middle(points: Sequence[tuple[tuple[float, ...], float]]) -> tuple[float, ...]:
-    """The middle of the points that share the best value (module docstring, step 3): for one key
-    the middle of their range, for more the best point nearest their mean."""
+def plateau_middle(points: Sequence[tuple[tuple[float, ...], float]], level=None) -> tuple[float, ...]:
+    """The middle of the best points (module docstring, step 3): for one key the middle of their
+    range, for more the best point nearest their mean. level(x): whether x is among the best (the
+    paired test, PairedOdds.level); default: the points that share the best value."""
     best = max(v for _, v in points)
-    top = [np.array(x) for x, v in points if v >= best]
+    top = [np.array(x) for x, v in points if (level(x) if level else v >= best)]
     if len(top[0]) == 1:
         return (0.5 * float(min(top)[0] + max(top)[0]),)
     mean = np.mean(top, axis=0)
@@ -176,7 +207,7 @@ def kept_pool(stack: contextlib.ExitStack, request: mc.Request, n_tasks: int):
 
 def maximize_launch_odds(model, varies: Sequence[Vary], request: mc.Request, pinned: Pinned | None = None,
                          where: str = "the «vary» box", pool=None, early: bool = True,
-                         tolerance: dict | None = None) -> LaunchDesign:
+                         tolerance: dict | None = None, horizon: bool = True) -> LaunchDesign:
     """The design of the module docstring over the --vary box (`where`: what its messages call it).
     With local workers every Monte Carlo of the design runs in one kept pool (runners.KeptPool:
     the workers start once, not once an evaluation): `pool` where the caller keeps one, else
@@ -186,26 +217,26 @@ def maximize_launch_odds(model, varies: Sequence[Vary], request: mc.Request, pin
     sharpness.tolerances(model.scene, {v.key: v.lo for v in varies}, tolerance)     # checked before the search
     with contextlib.ExitStack() as stack:
         pool = pool or kept_pool(stack, request, request.n)
-        return _maximize(model, varies, request, pinned, where, pool, early, tolerance)
+        return _maximize(model, varies, request, pinned, where, pool, early, tolerance, horizon)
 
 
 def _maximize(model, varies: Sequence[Vary], request: mc.Request, pinned: Pinned | None, where: str,
-              pool, early: bool, tolerance: dict | None = None) -> LaunchDesign:
+              pool, early: bool, tolerance: dict | None = None, horizon: bool = True) -> LaunchDesign:
     t0 = time.perf_counter()
     if not 1 <= len(varies) <= 3:
         raise UserError("«vary»: give one to three keys for «maximize» launch-odds")
     keys = [v.key for v in varies]
     n_axis = GRID[len(varies)]
-    most = n_axis ** len(varies) * (ZOOMS + 1) + (2 * EDGE_STEPS if len(varies) == 1 else 0) + 4 + 2 * len(varies)
+    searched = n_axis ** len(varies) * (ZOOMS + 1) + (2 * EDGE_STEPS if len(varies) == 1 else 0) + 1
+    most = searched + 2 + 2 * len(varies)       # and the answer, the start, the sharpness's sides
     m = search_n(request.n)
     with progress.task(f"launch-odds design over {', '.join(keys)}: launches (at most {most} evaluations)",
-                       total=(most - 4 - 2 * len(varies)) * m + (4 + 2 * len(varies)) * request.n,
+                       total=(searched + 2 * len(varies)) * m + 2 * request.n,
                        log_every=10.0) as tick:
         pinned = pinned or Pinned.at_start(model, request, varies, pool)
-        tick(m)
         req = pinned.request
         box = [(v.lo, v.hi) for v in varies]
-        odds = PairedOdds(model.ref, keys, req.with_n(m), box, pool, tick, early)
+        odds = PairedOdds(model.ref, keys, searching(pinned, m, horizon), box, pool, tick, early)
         return _search(model, varies, keys, pinned, req, box, odds, where, t0, tolerance)
 
 
@@ -226,26 +257,26 @@ def _search(model, varies, keys, pinned: Pinned, req: mc.Request, box, odds: Pai
             x = tuple(float(v) for v in x)
             if x not in evaluated:
                 run(x)
-        best = plateau_middle(list(evaluated.items()))
-        if len(varies) == 1 and _plateau(evaluated):
+        best = plateau_middle(list(evaluated.items()), odds.level)
+        if len(varies) == 1 and sum(map(odds.level, evaluated)) > 1:
             break                       # 1 key, a plateau: its edges are bisected below
         cells = [(hi - lo) / (n_axis - 1) for lo, hi in box]
         box = [(max(v.lo, b - c), min(v.hi, b + c)) for v, b, c in zip(varies, best, cells)]
 
-    if len(varies) == 1 and _plateau(evaluated):
+    if len(varies) == 1 and sum(map(odds.level, evaluated)) > 1:
         for _ in range(EDGE_STEPS):     # bisect each edge of the plateau on the same draws
-            top = max(evaluated.values())
             xs = sorted(evaluated)
-            inside = [x for x in xs if evaluated[x] >= top]
+            inside = [x for x in xs if odds.level(x)]
             for edge, step in ((inside[0], -1), (inside[-1], 1)):
                 k = xs.index(edge) + step
                 if 0 <= k < len(xs):
                     mid = (0.5 * (edge[0] + xs[k][0]),)
                     if mid not in evaluated:
                         run(mid)
-        best = plateau_middle(list(evaluated.items()))
+        best = plateau_middle(list(evaluated.items()), odds.level)
     if best not in evaluated:            # a plateau's middle between grid points: run it too
-        if run(best) < max(evaluated.values()):
+        run(best)
+        if not odds.level(best):
             best = max(evaluated, key=evaluated.get)
     if max(evaluated.values()) <= 0:
         reasons = sorted({row["reason"] for row in rows if "reason" in row})
@@ -270,20 +301,47 @@ def _search(model, varies, keys, pinned: Pinned, req: mc.Request, box, odds: Pai
         where = ", ".join(f"{k} = {key_text(k, v)}" for k, v in pinned.at.items())
         warnings.append(f"the scene as written cannot be launched ({first.get('reason', 'no hover')}); "
                         f"the launch spread's defaults are taken at {where}")
-    def fresh_odds(x):              # the sharpness's evaluations: the optimum's fresh draws, kept pool
-        odds.tick(req.n)
-        return odds_at(model.ref, keys, x, fresh, odds.pool)["probability"]
+    def fresh_odds(x):              # the sharpness's sides, paired with the answer on its fresh draws
+        odds.tick(search_n(req.n))
+        side = odds_at(model.ref, keys, x, fresh.with_n(search_n(req.n)), odds.pool)
+        return paired_side(final, side)["probability"]
     sharp = sharpness.sharpness(fresh_odds, model, varies, dict(zip(keys, best)), final["probability"],
                                 tolerance, launch=True)
     return LaunchDesign(dict(zip(keys, best)), dict(zip(keys, map(float, start_x))), odds_dict(final),
                         odds_dict(first), evaluated[best], rows, dict(req.given), req.success_time,
                         req.t_end, req.seed, req.n, time.perf_counter() - t0, warnings,
-                        list(pinned.start.get("defaulted", [])), model.scene, dict(odds.counts), sharp)
+                        list(pinned.start.get("defaulted", [])), model.scene, dict(odds.counts), sharp,
+                        {"probability_ci95": final["probability_ci95"], "verdicts": final.get("verdicts", ())})
+
+
+def paired_side(answer: dict, side: dict) -> dict:
+    """A neighbour's odds from its first m launches on the answer's fresh draws (module docstring,
+    step 5): the answer's odds plus the paired difference (b - c) / m over those m launches (b float
+    at the neighbour only, c at the answer only). Unbiased, and far less noisy than m launches
+    alone: the two differ in the launches the step between them decides. Its 95 % interval joins
+    the answer's Wilson interval and the difference's normal one in quadrature. answer: a Monte
+    Carlo's answer (probability, probability_ci95, verdicts); side: the neighbour's (or a refusal
+    with its reason: probability 0)."""
+    m = side["n"]
+    if side.get("reason"):
+        return {"probability": 0.0, "probability_ci95": [0.0, 0.0], "n": m, "seed": side["seed"],
+                "reason": side["reason"]}
+    here = np.array([bool(v) for v in side["verdicts"][:m]])
+    there = np.array([bool(v) for v in answer["verdicts"][:m]])
+    b, c = int(np.sum(here & ~there)), int(np.sum(~here & there))
+    d = (b - c) / m
+    sd = np.sqrt(max(0.0, (b + c) / m - d * d) / m)
+    p = float(min(1.0, max(0.0, answer["probability"] + d)))
+    lo, hi = answer["probability_ci95"]
+    down = float(np.hypot(answer["probability"] - lo, Z95 * sd))
+    up = float(np.hypot(hi - answer["probability"], Z95 * sd))
+    return {"probability": p, "probability_ci95": [max(0.0, p - down), min(1.0, p + up)], "n": m,
+            "seed": side["seed"], "paired_with": "the answer's first launches"}
 
 
 def what_it_costs(model, varies: Sequence[Vary], request: mc.Request, optimum: dict[str, float], objective: str,
                   unit_text) -> dict:
-    """Another objective's optimum in launches (issue 26): its odds and the start's (fresh seed),
+    """Another objective's optimum in launches: its odds and the start's (fresh seed),
     the launch-odds optimum's, and a warning where the optimum floats less than HALF as often.
     unit_text(key, value) -> the key's value in the scene's units, for the warning."""
     keys = [v.key for v in varies]

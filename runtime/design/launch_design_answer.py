@@ -52,6 +52,7 @@ class LaunchDesign:
     scene: object = field(default=None, compare=False)
     work: dict = field(default_factory=dict, compare=False)   # runtime/design/paired_odds.py's counts
     sharpness: dict | None = None       # the odds at +- a tolerance of each key, the ridge (sharpness.py)
+    paired: dict = field(default_factory=dict, compare=False)   # the optimum's fresh verdicts (not in the JSON)
 
     @property
     def probability(self) -> float:

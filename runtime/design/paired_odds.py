@@ -23,6 +23,12 @@ the incumbent when it floats more often. The false-stop rate of one look at Z_ST
 
 Points closer than RESOLUTION of the box's width in every key are one point (a grid and its zoom
 can land one float step apart): the second is not run again.
+
+The best points are a set, not one point: a point that ran every batch is level with the
+incumbent (`level`) when the incumbent floats in at most Z_LEVEL sqrt(b + c) (and fewer than
+MIN_DISCORDANT) more of their paired launches than it does. Neighbours on a broad optimum differ
+by single launches, which no answer should follow; the design takes the middle of the level set,
+the point farthest from the cliffs (launch_design.py step 3).
 """
 from __future__ import annotations
 
@@ -39,6 +45,7 @@ from levitron.runtime.scan.launch_answer import LaunchOdds
 BATCHES = 4
 Z_STOP = 3.0
 MIN_DISCORDANT = 4
+Z_LEVEL = 2.0
 RESOLUTION = 1e-9
 
 
@@ -63,6 +70,7 @@ class PairedOdds:
         self.best: np.ndarray | None = None       # the incumbent's verdicts, launch by launch
         self.best_k = -1
         self.seen: dict[tuple, dict] = {}
+        self.verdicts: dict[tuple, np.ndarray] = {}     # every fully run point's, launch by launch
         self.counts = {"evaluations": 0, "stopped_early": 0, "duplicates": 0, "launches_run": 0,
                        "launches_full": 0, "launches_per_point": int(request.n)}
 
@@ -74,11 +82,20 @@ class PairedOdds:
         if k in self.seen:
             self.counts["duplicates"] += 1
             return self.seen[k]
-        out = self._run(tuple(float(v) for v in x))
+        out = self._run(tuple(float(v) for v in x), k)
         self.seen[k] = out
         return out
 
-    def _run(self, x: tuple) -> dict:
+    def level(self, x) -> bool:
+        """Whether the point x (already run) is level with the incumbent (module docstring)."""
+        here = self.verdicts.get(self.key(x))
+        if here is None or self.best is None:
+            return False
+        b = int(np.sum(here & ~self.best))
+        c = int(np.sum(~here & self.best))
+        return c - b < MIN_DISCORDANT or c - b <= Z_LEVEL * math.sqrt(b + c)
+
+    def _run(self, x: tuple, k: tuple) -> dict:
         from levitron.runtime.scan.runners import model_for
         r = self.request
         n = r.n
@@ -109,7 +126,8 @@ class PairedOdds:
                 return self._stopped(floats, int(b), n)
         odds = LaunchOdds.of(mc.summarize(prep.plan, results, prep.success_time, prep.interval, prep.z_s,
                                              prep.tau, prep.given, prep.warnings), model)
-        out = {k: odds[k] for k in ("probability", "probability_ci95", "n", "seed", "successes")}
+        out = {name: odds[name] for name in ("probability", "probability_ci95", "n", "seed", "successes")}
+        self.verdicts[k] = floats
         if self.best is None or odds["successes"] > self.best_k:
             self.best, self.best_k = floats, odds["successes"]
         return out

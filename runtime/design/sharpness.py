@@ -13,8 +13,9 @@ thesis 3.3.13-3.3.19) out from under the launch spread. So, after every design:
 2. **Two evaluations a key** (`probe`): the objective at x - tol e_k and x + tol e_k, the others
    at the optimum; the sensitivity is the central difference (f+ - f-) / (2 tol) (near an
    interior optimum small: the loss, f0 - min(f-, f+), is what the verdict reads). For the launch
-   odds both are Monte Carlos on the design's fresh draws (the request already pinned, the same
-   seed as the optimum's odds, in the design's kept pool): 2 per key, the only cost that counts.
+   odds both are Monte Carlos on the first min(n, SEARCH_N) of the design's fresh draws, paired
+   with the optimum's (launch_design.paired_side: the request already pinned, in the design's
+   kept pool): 2 per key.
 3. **The verdict** (`knife_edge`): a knife edge where either side loses more than LAUNCH_LOSS
    (half) of the optimum's launch odds, or more than OBJECTIVE_LOSS (10 %) of another objective;
    a side where the top cannot hover (no objective) is a knife edge too.
@@ -48,8 +49,8 @@ DERIVATIVE_STEP = 0.01         # the ridge's slopes: central differences over +-
 PARALLEL_DEG = 10.0            # two keys' effects on the hover state this parallel: one ridge
 HOVER = ("z_s", "sigma_lo", "sigma_hi")
 METHOD = ("the objective at the optimum +- a tolerance of each key, the others held (2 evaluations a key; "
-          "launch odds on the optimum's fresh draws); ridge: the keys' relative effects on z_s, sigma_lo and "
-          "sigma_hi (runtime/design/sharpness.py)")
+          "launch odds paired with the optimum on its fresh draws); ridge: the keys' relative effects on z_s, "
+          "sigma_lo and sigma_hi (runtime/design/sharpness.py)")
 
 
 def key_unit(scene, key: str) -> str:

@@ -15,7 +15,7 @@ scene declares it, derive/friction.py) from a launch drawn from distributions:
                   ("normal:1,0.005") or relative ("rel:0.5%")
     temperature   the magnets' temperature (degC), through the scene's temperature coefficients
 
-and the apparatus' imperfections (APPARATUS; issue 27), each sample setting a runtime parameter of
+and the apparatus' imperfections (APPARATUS), each sample setting a runtime parameter of
 a model that has the term (a scene without it is refused with the key that adds it):
 
     base_tilt          the base's tilt from level (rad; runtime parameter base_tilt, plate.tilt)

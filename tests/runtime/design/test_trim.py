@@ -97,7 +97,8 @@ def test_a_dimensionless_scene_trims_in_its_own_units_and_the_api_agrees(tmp_pat
     from levitron.runtime.design.trim_answer import Trim
     assert type(api) is Trim and lev.Trim is Trim
     a = api.as_json()
-    assert set(r) - set(a) == {"scene", "out", "provenance"}
+    assert set(r) - set(a) == {"scene", "out", "provenance", "success"}
+    assert r["success"] is api.success is True
     for d in (a, r):
         d["design"].pop("wall_s")
     # each in its face's words (runtime/words.py): the API's sentences name the Study method where
