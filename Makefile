@@ -4,13 +4,14 @@ export PYTHONHASHSEED := 0
 
 .PHONY: setup demo derive test test-slow lint bench golden clean-cache fuzz docs
 
-# (re)install whenever pyproject.toml changes: a new dependency or package reaches an old .venv too
-.venv/.installed: pyproject.toml
+# (re)install whenever pyproject.toml or constraints.txt changes: a new dependency or package reaches an old
+# .venv too; -c constraints.txt: the exact versions CI tests (pyproject.toml has the package's ranges)
+.venv/.installed: pyproject.toml constraints.txt
 	test -x .venv/bin/python || python3 -m venv .venv
 	.venv/bin/pip install --quiet --upgrade pip
 	# PYTHONWARNINGS: setuptools warns that generated/<scene>/ and the C templates, data folders of the
 	# mapped packages (pyproject.toml), could be namespace packages; they are data, on purpose
-	PYTHONWARNINGS=ignore .venv/bin/pip install --quiet -e '.[test]'
+	PYTHONWARNINGS=ignore .venv/bin/pip install --quiet -c constraints.txt -e '.[test]'
 	touch $@
 
 setup: .venv/.installed
@@ -49,7 +50,7 @@ fuzz: setup
 # --kind KIND`): work-precision against heyoka (the optional extra `bench`) and the other backends,
 # maps, design, launches; reports in reports/.
 bench: setup
-	PYTHONWARNINGS=ignore .venv/bin/pip install --quiet -e '.[bench]'
+	PYTHONWARNINGS=ignore .venv/bin/pip install --quiet -c constraints.txt -e '.[bench]'
 	$(PY) -m levitron.runtime.bench.kinds
 
 # The documentation site (mkdocs.yml) from docs/ into site/: `mkdocs build --strict`, so a broken internal link
@@ -58,8 +59,9 @@ docs: .venv/.docs-installed
 	NO_MKDOCS_2_WARNING=1 $(PY) -m mkdocs build --strict --site-dir site
 
 .venv/.docs-installed: .venv/.installed
-	PYTHONWARNINGS=ignore .venv/bin/pip install --quiet -e '.[test,docs]'
+	PYTHONWARNINGS=ignore .venv/bin/pip install --quiet -c constraints.txt -e '.[test,docs]'
 	touch $@
 
+# the cache folder of runtime/model/cbuild.py resolve_cache_env on Linux (platformdirs honours XDG_CACHE_HOME)
 clean-cache:
-	rm -rf $${LEVITRON_CACHE:-$$HOME/.cache/levitron}
+	rm -rf "$${LEVITRON_CACHE:-$${XDG_CACHE_HOME:-$$HOME/.cache}/levitron}"

@@ -1,7 +1,14 @@
 """Compile C sources into a shared library, cached by content hash.
 
-The cache key is the SHA-256 of the compiler's identity, the flags and the bytes of every source
-file, so an edited model or integrator is rebuilt and an unchanged one is loaded at once. The
+The cache key is the SHA-256 of the compiler's identity, the flags, the CPU the code targets and the
+bytes of every source file, so an edited model or integrator is rebuilt and an unchanged one is
+loaded at once. The CPU is what `-march=native` resolves to on this machine (its architecture and
+the compiler's ISA macros under the flags, probed once per process: runtime/model/cpu_target.py),
+not the flag string, so a cache folder shared by machines of different CPUs (a cluster's home
+folder) never hands one a library with instructions it lacks. LEVITRON_CFLAGS_PORTABLE=1 builds
+for the architecture's baseline instead (`-march=x86-64-v2` on x86-64): one library for every CPU,
+the answers equal to rounding, slower. The cache folder is $LEVITRON_CACHE, else the platform's user cache
+folder (platformdirs: $XDG_CACHE_HOME/levitron, else ~/.cache/levitron on Linux). The
 library is written to a temporary name and renamed into place, so an interrupted or failed build
 never leaves a half-written file in the cache. Beside each library lies its size and sha256
 (`lev_<key>.so.sha256`), checked before the library is returned (so before any dlopen, which can
@@ -15,27 +22,29 @@ compiled once for all models, not once per model; the library is the same, byte 
 one `cc ... -o lib.so a.c b.c` (gcc compiles each translation unit on its own either way).
 Concurrent builds of one library or object (scan workers, test workers) are safe: each writes a
 temporary file and renames it into place, and the compiler's output is the same every time; a
-missing object is built by one process while the others wait (a lock on obj/).
+missing object is built by one process while the others wait (a lock on obj/: flock where fcntl
+exists, a lock file elsewhere, runtime/model/folder_lock.py).
 """
 from __future__ import annotations
 
-import fcntl
 import hashlib
 import os
 import shutil
 import subprocess
 import sys
 import tempfile
-from contextlib import contextmanager
 from functools import cache
 from pathlib import Path
 
 from levitron.runtime.errors import UserError
+from levitron.runtime.model.cpu_target import cpu_target, target_flags
+from levitron.runtime.model.folder_lock import locked
 from levitron.runtime.model.processes import die_with_parent
 
 # no errno from sqrt: the lane variants of model.c vectorise; no contraction of a * b + c into an
 # fma but where the C says so (LEV_FMA in model.c, LEV_MADD in integrators.c), so a function and its
-# lane variant round alike (derive/emit/c/printer.py); -march=native: fma() is one instruction
+# lane variant round alike (derive/emit/c/printer.py); -march=native: fma() is one instruction (the
+# cache key holds the CPU it resolves to; LEVITRON_CFLAGS_PORTABLE=1 swaps it for the baseline: cpu_target.py)
 DEFAULT_FLAGS = ("-O3", "-std=c99", "-fno-math-errno", "-ffp-contract=off", "-fPIC", "-shared",
                  "-march=native", "-Wall", "-Wextra")
 STRICT_FLAGS = DEFAULT_FLAGS + ("-Werror",)       # the hand-written runtime/csrc alone
@@ -61,12 +70,15 @@ _SWEPT: set[Path] = set()
 
 
 def resolve_cache_env() -> Path:
-    """$LEVITRON_CACHE (else ~/.cache/levitron) as an absolute path, resolved once per value from
-    the working directory of its first use, and written back to the environment, so that the
-    derive subprocess (which runs in the repository) and scan workers use the same folder."""
+    """$LEVITRON_CACHE as an absolute path, resolved once per value from the working directory of
+    its first use, and written back to the environment, so that the derive subprocess (which runs in
+    the repository) and scan workers use the same folder. Unset or empty: the platform's user cache
+    folder (platformdirs: $XDG_CACHE_HOME/levitron, else ~/.cache/levitron on Linux;
+    ~/Library/Caches/levitron on macOS; %LOCALAPPDATA%/levitron/Cache on Windows)."""
     root = os.environ.get("LEVITRON_CACHE")
     if not root:
-        return Path.home() / ".cache" / "levitron"
+        import platformdirs
+        return Path(platformdirs.user_cache_dir("levitron", appauthor=False))
     if root not in _RESOLVED:
         _RESOLVED[root] = Path(os.path.abspath(os.path.expanduser(root)))
     path = _RESOLVED[root]
@@ -76,7 +88,7 @@ def resolve_cache_env() -> Path:
 
 
 def cache_dir() -> Path:
-    """Where compiled libraries and derived models live: $LEVITRON_CACHE, else ~/.cache/levitron
+    """Where compiled libraries and derived models live: $LEVITRON_CACHE, else the user cache folder
     (resolve_cache_env). Made if missing; CacheError when that is impossible (a file in the way, no
     permission). The first use in a process sweeps what killed runs left (runtime/model/cache_sweep.py)."""
     path = resolve_cache_env()
@@ -111,13 +123,16 @@ def _compiler_identity(cc: str) -> str:
 
 def source_hash(sources: list[Path], flags: tuple[str, ...],
                 include_dirs: tuple[Path | str, ...] = ()) -> str:
-    """The cache key: compiler, flags, the bytes of every source and of every header in the include
-    folders or beside the sources (`*.h`, which takes in the fragments named .c.h: an edited header
-    or fragment rebuilds too). Contents, not locations: the same model in another folder reuses the
-    library."""
+    """The cache key: compiler, flags (as target_flags gives them), the CPU they target (cpu_target),
+    the bytes of every source and of every header in the include folders or beside the sources (`*.h`,
+    which takes in the fragments named .c.h: an edited header or fragment rebuilds too). Contents, not
+    locations: the same model in another folder reuses the library."""
+    flags = target_flags(tuple(flags))
+    cc = compiler()
     h = hashlib.sha256()
-    h.update(_compiler_identity(compiler()).encode())
+    h.update(_compiler_identity(cc).encode())
     h.update("\0".join(flags).encode())
+    h.update(b"\0" + cpu_target(cc, flags).encode())
     dirs = [*include_dirs, *(Path(s).parent for s in sources)]
     folders = dict.fromkeys(Path(d).resolve() for d in dirs)
     headers = [hdr for d in folders for hdr in sorted(d.glob("*.h"))]
@@ -166,7 +181,8 @@ def compile_shared(sources: list[Path | str], flags: tuple[str, ...] = DEFAULT_F
     cache cannot be written.
     """
     sources = [Path(s) for s in sources]
-    key = source_hash(sources, tuple(flags), include_dirs)
+    flags = target_flags(tuple(flags))
+    key = source_hash(sources, flags, include_dirs)
     all_flags = tuple(flags) + tuple(f"-I{d}" for d in include_dirs)
     cache = cache_dir()
     target = cache / f"lev_{key}.so"
@@ -207,6 +223,7 @@ def compile_object(source: Path | str, flags: tuple[str, ...] = DEFAULT_FLAGS,
     One process builds a missing object while the others wait for it (a lock on obj/)."""
     source = Path(source)
     cc = compiler()
+    flags = target_flags(tuple(flags))
     all_flags = tuple(flags) + tuple(f"-I{d}" for d in include_dirs)
     cmd = [cc, *all_flags, "-E", "-P", str(source)]
     pre = subprocess.run(cmd, capture_output=True, check=False)
@@ -216,6 +233,7 @@ def compile_object(source: Path | str, flags: tuple[str, ...] = DEFAULT_FLAGS,
     h = hashlib.sha256()
     h.update(_compiler_identity(cc).encode())
     h.update("\0".join(flags).encode() + b"\0")
+    h.update(cpu_target(cc, flags).encode() + b"\0")
     h.update(pre.stdout)
     folder = cache_dir() / "obj"
     try:
@@ -233,25 +251,6 @@ def compile_object(source: Path | str, flags: tuple[str, ...] = DEFAULT_FLAGS,
                   f"{_stamp_path(target).name}): rebuilding it", file=sys.stderr)
         _build(target, [cc, *all_flags, "-c"], [str(source)])
     return target
-
-
-@contextmanager
-def locked(folder: Path):
-    """An exclusive lock on `folder` (between processes) (flock on the folder itself: no lock file to leave behind);
-    none where the file system has no flock (the atomic rename keeps a double build safe)."""
-    try:
-        fd = os.open(folder, os.O_RDONLY)
-    except OSError:
-        yield
-        return
-    try:
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX)
-        except OSError:
-            pass
-        yield
-    finally:
-        os.close(fd)                           # closing releases the lock
 
 
 def _build(target: Path, before: list[str], after: list[str]) -> None:
