@@ -17,4 +17,5 @@ COMMANDS = (
     "trim",
     "compare",
     "report",
+    "schema",
 )
