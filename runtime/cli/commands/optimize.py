@@ -31,7 +31,9 @@ EXAMPLE = ("levitron optimize thesis_stable --maximize spin-range --vary top.mas
 def add_arguments(parser) -> None:
     parser.add_argument("--maximize", metavar="OBJECTIVE", default=None,
                         help="launch-odds (the probability that a launch by hand floats, as `levitron "
-                             "launch` gives it: its flags below), spin-range (sigma_hi - sigma_lo, rad/s), "
+                             "launch` gives it: its flags below), yield (the kits of a production run that "
+                             "float after their owners trim them: --kit, --washers, --kits), spin-range "
+                             "(sigma_hi - sigma_lo, rad/s), "
                              "spin-ratio (sigma_hi/sigma_lo) or mass-window ((m_hi - m_lo)/m_hi of the "
                              "stable band)")
     parser.add_argument("--minimize", metavar="OBJECTIVE", default=None,
@@ -59,6 +61,15 @@ def add_arguments(parser) -> None:
                         help="with --fit-height: the scene key to solve for, as --vary takes it "
                              "(e.g. plate.murho, top.moment, plate.remanence, top.mass; default: "
                              "the top's moment mu, which fits the product mu x strength)")
+    run = parser.add_argument_group("a production run (--maximize yield)")
+    run.add_argument("--kit", action="append", default=[], metavar="INPUT=SPREAD",
+                     help="a kit's manufacturing spread, relative: strength=rel:normal:0,0.02 (the magnets, "
+                          "default 2 %%) or mass=rel:normal:0,0.003 (the top, default 0.3 %%) (repeatable)")
+    run.add_argument("--washers", default=None, metavar="M1,M2,...",
+                     help="the washers in each box, masses in kg or with a unit (e.g. '0.2 g,0.4 g,0.8 g'): "
+                          "each owner puts on the subset with which the top floats most often")
+    run.add_argument("--kits", type=int, default=None, metavar="N",
+                     help="kits of the production run, one launch each (default 300)")
     launch.add_launch_arguments(parser.add_argument_group(
         "launch odds (--maximize launch-odds, and the odds the other objectives report in air)"))
 
@@ -97,6 +108,12 @@ def run(args) -> dict:
         model = model_of(args)
         refuse_tilted(model, "optimize fits and designs")
         out = fit(model, rows, varies).as_json()     # the answer: runtime/design/fit_answer.py's Fit
+    elif args.maximize == "yield":
+        res = _yield(args, varies, constraints)
+        model = res.model
+        out = res.answer.as_json()      # the answer (runtime/design/yield_answer.py)
+        if args.write_scene:
+            out["written"] = res.answer.write_scene(args.write_scene)
     elif args.maximize == "launch-odds":
         from levitron.runtime.design.launch_design import maximize_launch_odds
         if constraints:
@@ -150,9 +167,15 @@ def refuse_ignored(args) -> None:
     """A flag the chosen mode would ignore is refused in one line, not dropped silently."""
     mode = ("--fit-height" if args.fit_height is not None else "--fit" if args.fit is not None
             else f"--maximize {args.maximize}")
-    if args.grid is not None and args.maximize == "launch-odds":
-        raise UserError(f"--grid {args.grid}: --maximize launch-odds searches its own grid and zooms in "
+    if args.grid is not None and args.maximize in ("launch-odds", "yield"):
+        raise UserError(f"--grid {args.grid}: --maximize {args.maximize} searches its own grid and zooms in "
                         "around the best point (docs/contract.md optimize): drop --grid")
+    run = [f for f, v in (("--kit", args.kit), ("--washers", args.washers), ("--kits", args.kits)) if v]
+    if run and args.maximize != "yield":
+        raise UserError(f"{', '.join(run)}: a production run goes with --maximize yield; {mode} has none: "
+                        f"drop {'it' if len(run) == 1 else 'them'}")
+    if args.tolerance and args.maximize == "yield":
+        raise UserError("--tolerance: --maximize yield says no sharpness yet: drop --tolerance")
     if args.grid is not None and args.maximize is None:
         raise UserError(f"--grid {args.grid} goes with --maximize spin-range, spin-ratio or mass-window "
                         f"(their verification grid); {mode} has none: drop --grid")
@@ -182,6 +205,9 @@ def human(r: dict, scene=None) -> str:
             f"solver: {r['solver_status']}, residual {u.value(r['residual_N'], 'N', 2)} "
             f"({r['objective']})",
             u.note)
+    if r.get("objective_name") == "yield":
+        from levitron.runtime.design.yield_answer import yield_lines
+        return lines(*yield_lines(r, u))
     if r.get("objective_name") == "launch-odds":
         return lines(*launch_odds_lines(r, u, scene), *sharpness_lines(r.get("sharpness"), u, scene),
                      *warning_lines(r, scene), u.note)
@@ -234,6 +260,44 @@ def change_text(key: str, start: float, to: float, u: Units) -> str:
         d = to - start
         return f"take {u.mass(-d)} off" if d < 0 else f"add {u.mass(d)}"
     return f"set {key} from {sig(start, 6)} to {sig(to, 6)}"
+
+
+class _Yield:
+    def __init__(self, model, answer):
+        self.model, self.answer = model, answer
+
+
+def _yield(args, varies, constraints) -> _Yield:
+    """--maximize yield: the production run from the flags, the hand from the launch flags."""
+    from levitron.runtime.design.production import KITS, Production
+    from levitron.runtime.design.yield_design import maximize_yield
+    if constraints:
+        raise UserError("--maximize yield takes no --constrain: a kit that cannot hover already counts as a "
+                        "failure")
+    kit = {}
+    for item in args.kit:
+        name, sep, spec = item.partition("=")
+        if not sep:
+            raise UserError(f"--kit {item}: write INPUT=SPREAD, e.g. --kit strength=rel:normal:0,0.02")
+        kit[name.strip()] = spec.strip()
+    washers = [_mass(w) for w in (args.washers or "").split(",") if w.strip()]
+    scene = scene_of(args)
+    request = launch.launch_request(args, scene)
+    prod = Production.of(kit, washers, KITS if args.kits is None else args.kits, request.seed)
+    model = model_of(args)
+    refuse_tilted(model, "optimize fits and designs")
+    return _Yield(model, maximize_yield(model, varies, request, prod))
+
+
+def _mass(text: str) -> float:
+    """A washer's mass: a number (kg) or a quantity with a unit (scene/quantity.py)."""
+    from levitron.scene import quantity
+    text = text.strip()
+    try:
+        return quantity.si_value(text, "kg", "--washers") if quantity.has_unit(text) else float(text)
+    except ValueError:
+        raise UserError(f"--washers {text!r} is not a mass: give numbers (SI) or masses with a unit, e.g. "
+                        "--washers '0.2 g,0.5 g'") from None
 
 
 def launch_odds_lines(r: dict, u: Units, scene=None) -> list[str]:

@@ -1,0 +1,222 @@
+"""The yield of a production run: the chance that a kit off the line, trimmed by its owner with
+the washers in the box, floats a launch by hand.
+
+A maker cannot buy magnets without a spread (ferrite grades: about +-2.5 % in remanence), so a kit
+is not the scene as written: its magnets' strength and its top's mass are drawn from the
+manufacturing spread (`Production.kit`: relative spreads of "strength", the product of the top's
+moment and the plate's strength, thesis 2.2.1, and of "mass"). Each kit ships with the same washers;
+its owner puts on the subset of them with which the top floats most often, and launches by the
+scene's hand (the spread of `levitron launch`, pinned as a design pins it). The yield is the
+probability that such a launch floats at least the success time: over kits and launches, one launch
+a kit, so its 95 % interval is the Wilson interval of independent draws.
+
+The owner's choice (`owner_choice`). The hover condition m g = -mu Phi'(z) (thesis 3.3.1) depends
+on the mass and the strength through m / mu only, so a kit of strength factor s and top mass M sits
+where the scene's magnets hold a top of mass M / s: its "equivalent mass". The odds of the scene's
+magnets against the top's mass (`owner_curve`: CURVE_POINTS masses across the stable band, CURVE_N
+launches each on common draws, judged at the design's search time, runtime/design/launch_design.py)
+then rank the washer totals of each kit: the owner takes the total whose equivalent mass has the
+best odds (ties: the one nearest the curve's best, the middle of its plateau). This is an owner who
+knows the curve, as one who tries each washer set with many launches learns it; the spin window
+moves with s as well (the torque scales with mu, the inertia does not), which the kits' own
+launches, run with their own strength, count, and the curve does not.
+
+The decision (`production_yield`): every kit's one launch at its trimmed mass and its strength,
+run in full to the success time on fresh draws. Beside it the same kits and launches as shipped (no
+washer): what the washers buy, launch by launch. The cost is CURVE_POINTS x CURVE_N launches at the
+search time and 2 x kits at the success time.
+"""
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from levitron.runtime.errors import UserError
+from levitron.runtime.scan import launch_odds as mc
+from levitron.runtime.scan.launch_summary import wilson
+from levitron.runtime.scan.spreads import Dist, parse_input
+from levitron.runtime.words import si
+
+KITS = 300                 # kits of a production run, one launch each
+CURVE_POINTS = 9           # masses of the owner's curve across the stable band
+CURVE_N = 150              # launches at each, on common draws
+MAX_WASHERS = 8            # washers in the box (2^8 subsets)
+KIT_SPREAD = {"strength": "rel:normal:0,0.02", "mass": "rel:normal:0,0.003"}
+STREAMS = {"curve": 1, "kits": 2, "hand": 3}      # the random streams after the seed
+
+
+class Each:
+    """A launch input given launch by launch (the values, in order): what a kit's trim sets."""
+    kind = "each"
+    a = b = 0.0
+    spread = True
+
+    def __init__(self, values: Sequence[float]):
+        self.values = np.asarray(values, float)
+
+    def sample(self, rng, n: int) -> np.ndarray:
+        return self.values[:n]
+
+
+@dataclass(frozen=True)
+class Production:
+    """A production run: the kits' manufacturing spread (relative: {"strength": Dist, "mass": Dist}),
+    the washers in each box (masses, each put on at most once), how many kits, the seed."""
+    kit: Mapping[str, Dist]
+    washers: tuple[float, ...] = ()
+    kits: int = KITS
+    seed: int = 0
+    specs: Mapping[str, str] = field(default_factory=dict)       # the spreads as given
+
+    @classmethod
+    def of(cls, kit: Mapping[str, str] | None = None, washers: Sequence[float] = (), kits: int = KITS,
+           seed: int = 0) -> Production:
+        """Checked: kit {"strength"|"mass": relative spread} over KIT_SPREAD's defaults, washers
+        positive masses (at most MAX_WASHERS), kits a whole number >= 10."""
+        specs = {**KIT_SPREAD, **dict(kit or {})}
+        unknown = sorted(set(specs) - set(KIT_SPREAD))
+        if unknown:
+            raise UserError(f"«kit» {unknown[0]}: a kit's spread is of strength or mass, e.g. «kit» "
+                            "strength=rel:normal:0,0.02")
+        dists = {k: parse_input(k, v) for k, v in specs.items()}
+        for k in dists:
+            if not str(specs[k]).strip().lower().startswith("rel:"):
+                raise UserError(f"«kit» {k}={specs[k]}: a kit's spread is relative, e.g. rel:normal:0,0.02")
+        ws = []
+        for w in washers:
+            try:
+                v = float(w)
+            except (TypeError, ValueError):
+                raise UserError(f"«washers» {w!r} is not a mass: give masses, e.g. «washers» 0.0002,0.0005") \
+                    from None
+            if not (math.isfinite(v) and v > 0):
+                raise UserError(f"«washers» {w!r}: a washer's mass must be a positive number")
+            ws.append(v)
+        if len(ws) > MAX_WASHERS:
+            raise UserError(f"«washers»: {len(ws)} washers; give at most {MAX_WASHERS}")
+        if isinstance(kits, bool) or not isinstance(kits, (int, np.integer)) or not 10 <= kits <= mc.MAX_N:
+            raise UserError(f"«kits» {kits!r}: give a whole number of kits from 10 to {mc.MAX_N}")
+        return cls(dists, tuple(ws), int(kits), int(seed), specs)
+
+    def totals(self) -> np.ndarray:
+        """Every mass the washers can add (each at most once), 0 included, sorted, distinct."""
+        sums = {round(sum(c), 15) for r in range(len(self.washers) + 1)
+                for c in itertools.combinations(self.washers, r)}
+        return np.array(sorted(sums))
+
+    def with_seed(self, seed: int) -> Production:
+        return replace(self, seed=int(seed))
+
+    def with_kits(self, kits: int) -> Production:
+        return replace(self, kits=int(kits))
+
+
+def _rng(seed: int, stream: str) -> np.random.Generator:
+    return np.random.Generator(np.random.PCG64(np.random.SeedSequence([int(seed), STREAMS[stream]])))
+
+
+def _hand(plan: mc.Plan, n: int, rng) -> dict[str, np.ndarray]:
+    """n draws of the pinned hand's every input (mass and strength: relative deviations)."""
+    return {name: np.asarray(d.sample(rng, n), float) for name, d in plan.dists}
+
+
+def _verdicts(model, plan: mc.Plan, draws: Mapping[str, np.ndarray], success_time: float, pool) -> np.ndarray:
+    """The launches `draws` (every input launch by launch) run to plan.t_end: floats or not."""
+    n = len(next(iter(draws.values())))
+    each = replace(plan, dists=tuple((k, Each(draws[k])) for k, _ in plan.dists), n=n)
+    prep = mc.Prepared(each, success_time, None, math.nan, None, {}, (), plan_workers(n), None)
+    pts = sorted((p for r in mc.execute(prep, model, range(n), quiet=True, pool=pool) for p in r["points"]),
+                 key=lambda p: p["i"])
+    return np.array([p["t"] >= success_time * (1 - 1e-12) for p in pts])
+
+
+def plan_workers(n: int) -> int:
+    from levitron.runtime.scan import runners
+    from levitron.runtime.scan.workers import auto_workers
+    return min(auto_workers(n), runners.usable_cores())
+
+
+def owner_curve(model, plan: mc.Plan, search_time: float, seed: int, pool=None) -> dict:
+    """The scene's odds against the top's mass (module docstring): CURVE_POINTS masses inside the
+    stable band, CURVE_N launches each on the same draws, judged at search_time. {"mass", "odds",
+    "best"} (kg); None where no mass hovers."""
+    from levitron.runtime.physics import equilibrium as eqm
+    band = eqm.equilibria_of(model, bands=True).stable_band
+    if band is None:
+        return None
+    lo, hi = band.mass
+    masses = lo + (hi - lo) * (np.arange(CURVE_POINTS) + 0.5) / CURVE_POINTS
+    hand = _hand(plan, CURVE_N, _rng(seed, "curve"))
+    m0 = model.param("m")
+    draws = {k: np.tile(v, CURVE_POINTS) for k, v in hand.items()}
+    draws["mass"] = np.repeat(masses / m0, CURVE_N) * (1 + draws["mass"]) - 1
+    ok = _verdicts(model, replace(plan, t_end=search_time), draws, search_time, pool)
+    odds = ok.reshape(CURVE_POINTS, CURVE_N).mean(axis=1)
+    top = masses[odds >= odds.max()]
+    return {"mass": masses.tolist(), "odds": odds.tolist(), "best": 0.5 * float(top.min() + top.max()),
+            "band": [float(lo), float(hi)]}
+
+
+def owner_choice(curve: dict, mass: np.ndarray, strength: np.ndarray, totals: np.ndarray) -> np.ndarray:
+    """Each kit's washer total (module docstring): the one whose equivalent mass (mass + w) / strength
+    has the best odds on the curve (0 outside the band), ties to the curve's best."""
+    m, f = np.asarray(curve["mass"]), np.asarray(curve["odds"])
+    lo, hi = curve["band"]
+    eq = (mass[:, None] + totals[None, :]) / strength[:, None]
+    score = np.where((eq >= lo) & (eq <= hi), np.interp(eq, m, f), 0.0)
+    near = -np.abs(eq - curve["best"])
+    order = np.lexsort((near, score), axis=1)[:, -1]         # best score, then nearest the best
+    return totals[order]
+
+
+def production_yield(model, plan: mc.Plan, success_time: float, search_time: float, prod: Production,
+                     pool=None, as_shipped: bool = True) -> dict:
+    """The yield of the module docstring at the loaded model (a design point): {"yield": the answer
+    block (probability, probability_ci95, kits, seed, successes), "as_shipped" (the same kits and
+    launches with no washer; as_shipped False: not run), "untrimmable" (the fraction of kits no
+    washer total puts in the band's odds), "washers_used" {total: kits}, "curve"}; where no mass
+    hovers over the model, yield 0 with the reason."""
+    curve = owner_curve(model, plan, search_time, prod.seed, pool)
+    n = prod.kits
+    if curve is None or max(curve["odds"]) <= 0:
+        reason = ("no mass hovers over this design (no stable band)" if curve is None else
+                  "no launch of the owner's curve floats: no washer can help")
+        zero = {"probability": 0.0, "probability_ci95": [0.0, wilson(0, n)[1]], "kits": n, "seed": prod.seed,
+                "successes": 0}
+        return {"yield": zero, "as_shipped": zero if as_shipped else None, "untrimmable": 1.0,
+                "washers_used": {}, "curve": curve, "reason": reason}
+    rng = _rng(prod.seed, "kits")
+    kit = {k: 1 + np.asarray(prod.kit[k].sample(rng, n), float) for k in ("strength", "mass")}
+    m0 = model.param("m")
+    mass = m0 * kit["mass"]
+    totals = prod.totals()
+    chosen = owner_choice(curve, mass, kit["strength"], totals)
+    f, lo, hi = np.asarray(curve["odds"]), *curve["band"]
+    best_eq = (mass[:, None] + totals[None, :]) / kit["strength"][:, None]
+    reach = ((best_eq >= lo) & (best_eq <= hi) & (np.interp(best_eq, curve["mass"], f) > 0)).any(axis=1)
+    hand = _hand(plan, n, _rng(prod.seed, "hand"))
+
+    def run(added):
+        draws = dict(hand)
+        draws["mass"] = (mass + added) / m0 * (1 + hand["mass"]) - 1
+        draws["strength"] = kit["strength"] * (1 + hand["strength"]) - 1
+        return _verdicts(model, plan, draws, success_time, pool)
+
+    def block(ok):
+        k = int(ok.sum())
+        return {"probability": k / n, "probability_ci95": list(wilson(k, n)), "kits": n, "seed": prod.seed,
+                "successes": k}
+    ok = run(chosen)
+    used = {float(w): int(np.sum(chosen == w)) for w in totals}
+    return {"yield": block(ok), "as_shipped": block(run(np.zeros(n))) if as_shipped else None,
+            "untrimmable": float(1 - reach.mean()), "washers_used": used, "curve": curve}
+
+
+def washer_text(used: Mapping[float, int], mass=lambda w: si(w, "kg")) -> str:
+    """How the kits were trimmed: the totals their owners chose (mass(w) its words), most used first."""
+    parts = [f"{mass(w) if w else 'none'}: {k}" for w, k in sorted(used.items(), key=lambda t: -t[1]) if k]
+    return ", ".join(parts)

@@ -1,0 +1,77 @@
+"""The yield of a production run (runtime/design/production.py): a run whose kits all float after
+trim, one no washer can help, the owner's choice, and the checks of a production run."""
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from levitron.runtime.design import production as pr
+from levitron.runtime.errors import UserError
+from levitron.runtime.scan import launch_odds as mc
+
+# a hand so steady that a launch floats exactly where linear theory holds the top at 2000 rad/s
+# (thesis_stable: from about 50.8 g to the heaviest mass the plate holds, about 52.49 g)
+STEADY = {"spin": "2000.0", "tilt": "0.002", "tilt_azimuth": "0", "offset": "0", "velocity": "0",
+          "mass": "rel:0", "strength": "rel:0"}
+# magnets within +-1 %; washers of 0.4, 0.8 and 1.6 g add 0 to 2.8 g in steps of 0.4 g
+KIT = {"strength": "rel:uniform:-0.01,0.01", "mass": "rel:0"}
+WASHERS = (0.0004, 0.0008, 0.0016)
+
+
+def _run(derived_model, mass: float, washers=WASHERS, kits: int = 24) -> dict:
+    """The production run of a 50.5 g-pinned hand at a top of `mass` (a design point)."""
+    pinned = derived_model("thesis_stable", "top.mass=0.0515")
+    prep = mc.prepare(pinned, STEADY, kits, 0, t_end=3.0)
+    here = derived_model("thesis_stable", f"top.mass={mass!r}")
+    plan = replace(prep.plan, scene=here.ref[0], overrides=tuple(here.ref[1]))
+    prod = pr.Production.of(KIT, washers, kits)
+    return pr.production_yield(here, plan, prep.success_time, prep.success_time, prod)
+
+
+def test_every_kit_floats_when_the_washers_reach_the_band_whatever_its_magnets(derived_model):
+    """A 50.0 g top (below the masses that hover at the hand's spin) with magnets +-1 %: a kit of
+    strength s hovers at equivalent mass (50 g + w) / s, and some washer total w puts every kit's
+    inside [50.9, 52.3] g: every kit floats after trim, none as shipped."""
+    r = _run(derived_model, 0.0500)
+    assert r["yield"]["probability"] == 1.0 and r["yield"]["successes"] == 24
+    assert r["as_shipped"]["probability"] == 0.0
+    assert r["untrimmable"] == 0.0 and r["washers_used"][0.0] == 0
+
+
+def test_no_washer_helps_a_top_too_heavy_for_every_kit(derived_model):
+    """A 53.5 g top is heavier than any kit's magnets hold (52.49 g x 1.01 at most), and washers only
+    add: no kit floats, with or without them, and every kit is untrimmable."""
+    r = _run(derived_model, 0.0535)
+    assert r["yield"]["probability"] == r["as_shipped"]["probability"] == 0.0
+    assert r["untrimmable"] == 1.0
+
+
+def test_the_owner_takes_the_washers_whose_equivalent_mass_floats_best():
+    """Equivalent mass (m + w) / s on the curve; ties go to the one nearest the curve's best."""
+    curve = {"mass": [1.0, 2.0, 3.0], "odds": [0.0, 1.0, 1.0], "band": [0.5, 3.5], "best": 2.8}
+    totals = np.array([0.0, 1.0, 2.0])
+    got = pr.owner_choice(curve, np.array([0.5, 1.0, 0.5]), np.array([1.0, 1.0, 0.5]), totals)
+    # kit 1: 0.5 + w in {0.5, 1.5, 2.5}, odds {0, 0.5, 1}: w = 2; kit 2: {1, 2, 3}, odds {0, 1, 1},
+    # the tie to 3 (nearest 2.8): w = 2; kit 3 (s = 0.5): {1, 3, 5}, 5 outside the band: w = 1
+    assert got.tolist() == [2.0, 2.0, 1.0]
+
+
+def test_the_washers_add_each_subset_once():
+    prod = pr.Production.of({}, (0.1, 0.2, 0.2))
+    assert prod.totals().tolist() == pytest.approx([0.0, 0.1, 0.2, 0.3, 0.4, 0.5])
+
+
+@pytest.mark.parametrize("kit, washers, kits, words", [
+    ({"spin": "rel:1%"}, (), 300, "strength or mass"),
+    ({"strength": "normal:1,0.02"}, (), 300, "relative"),
+    ({}, (-0.001,), 300, "positive"),
+    ({}, ("heavy",), 300, "not a mass"),
+    ({}, (0.001,) * 9, 300, "at most 8"),
+    ({}, (), 3, "from 10"),
+])
+def test_a_production_run_is_checked_in_one_line(kit, washers, kits, words):
+    with pytest.raises(UserError) as err:
+        pr.Production.of(kit, washers, kits)
+    assert words in str(err.value) and "\n" not in str(err.value)
