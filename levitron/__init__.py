@@ -19,6 +19,7 @@ scene reader's own (levitron.scene.checks), raised by `load_scene`-level helpers
 from __future__ import annotations
 
 from pathlib import Path as _Path
+from typing import TYPE_CHECKING
 
 # A source checkout keeps scene/, derive/ and runtime/ at its top level, beside this folder; packaging
 # puts them inside it (pyproject.toml, [tool.setuptools.package-dir]). Either way they are
@@ -43,12 +44,29 @@ def _version() -> str:
 __version__ = _version()
 
 # the public names, loaded on first use: `import levitron` (and `python -m levitron.derive`, the
-# command line's start) costs no numpy, casadi or scipy
-__getattr__, __dir__, __all__ = _lazy_surface(__name__, {
+# command line's start) costs no numpy, casadi or scipy; type checkers and IDEs read the imports
+# below instead (the same names from the same modules: tests/house/test_types.py keeps them so)
+_EXPORTS = {
     "Design": "results", "DesignResult": "results", "Equilibria": "results", "Equilibrium": "results",
     "Fit": "results", "FitResult": "results", "HeightFit": "results", "LaunchDesign": "results",
     "LaunchOdds": "results", "Propagator": "runtime.integrate.propagator",
     "Scan": "results", "ScanResult": "results",
     "SceneError": "scene.checks", "Simulation": "results", "Simulations": "results",
     "Stability": "results", "Study": "study", "Trim": "results", "UserError": "runtime.errors",
-    "load": "study", "plate_from_magpylib": "from_magpylib"})
+    "load": "study", "plate_from_magpylib": "from_magpylib"}
+
+if TYPE_CHECKING:
+    from levitron.from_magpylib import plate_from_magpylib
+    from levitron.results import (Design, DesignResult, Equilibria, Equilibrium, Fit, FitResult, HeightFit,
+                                  LaunchDesign, LaunchOdds, Scan, ScanResult, Simulation, Simulations, Stability,
+                                  Trim)
+    from levitron.runtime.errors import UserError
+    from levitron.runtime.integrate.propagator import Propagator
+    from levitron.scene.checks import SceneError
+    from levitron.study import Study, load
+else:
+    __getattr__, __dir__, _ = _lazy_surface(__name__, _EXPORTS)
+
+__all__ = ["Design", "DesignResult", "Equilibria", "Equilibrium", "Fit", "FitResult", "HeightFit", "LaunchDesign",
+           "LaunchOdds", "Propagator", "Scan", "ScanResult", "SceneError", "Simulation", "Simulations", "Stability",
+           "Study", "Trim", "UserError", "load", "plate_from_magpylib"]

@@ -118,21 +118,33 @@ def choice(name, what: str, valid: Iterable[str]) -> str:
     return name
 
 
-def bind(fn, args, kwargs, what: str) -> None:
-    """Check a call's arguments against `fn`'s signature: an unknown keyword or a wrong number of
-    arguments is a one-line UserError ("load: unknown argument 'overides': did you mean
-    'overrides'? ..."), not Python's TypeError."""
+def bind(fn, args, kwargs, what: str, unknown=None) -> None:
+    """Check a call's arguments against `fn`'s signature: an unknown keyword, a missing argument or
+    a wrong number of arguments is a one-line UserError ("Study.keys: argument 'colour' is unknown:
+    use one of ...", "Study.simulate: the argument spin is missing: ..."), not Python's TypeError.
+    unknown(name): the method's own refusal of a keyword it does not take (raises UserError); a
+    function with **kwargs takes any keyword."""
     import inspect
     sig = inspect.signature(fn)
-    try:
-        sig.bind(*args, **kwargs)
-    except TypeError as exc:
-        names = [n for n, p in sig.parameters.items() if p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD)
-                 and n != "self"]
+    params = sig.parameters
+    names = [n for n, p in params.items() if p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD) and n != "self"]
+    if not any(p.kind is p.VAR_KEYWORD for p in params.values()):
         for k in kwargs:
-            if k not in sig.parameters:
+            if k not in params or params[k].kind is inspect.Parameter.POSITIONAL_ONLY:
+                if unknown is not None:
+                    unknown(k)          # raises in the method's words
+                if not names:
+                    raise UserError(f"{what}: argument {k!r} is unknown: {what}() takes no argument")
                 choice(k, f"{what}: argument", names)
+    try:
+        bound = sig.bind_partial(*args, **kwargs)
+    except TypeError as exc:
         raise UserError(f"{what}: {exc}; its arguments are {', '.join(names)}") from None
+    required = [n for n in names if params[n].default is params[n].empty]
+    missing = [n for n in required if n not in bound.arguments]
+    if missing:
+        raise UserError(f"{what}: the argument {' and '.join(missing)} {'is' if len(missing) == 1 else 'are'} "
+                        f"missing: call {what}({', '.join(required)}, ...); its arguments are {', '.join(names)}")
 
 
 class Named(dict):

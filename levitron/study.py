@@ -1,15 +1,13 @@
 """`Study`: one scene with its model, and every question the toolchain answers about it."""
 from __future__ import annotations
 
-import functools
-import inspect
 from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
+import numpy.typing as npt
 
-from levitron.scene.checks import SceneError
-from levitron.scene.overrides import override_text
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.physics import stability_casadi as sc
 from levitron.runtime.model.scenes import load_scene
@@ -21,36 +19,20 @@ from levitron.runtime.design.fit import fit as _fit
 from levitron.runtime.model.load import NEEDS_OF_PART, Model, load_model
 from levitron.runtime.design.scene_keys import Vary, key_value, pvector, with_values
 from levitron.runtime.ui.human import Units
-from levitron.runtime.words import render, speak
 
 from . import arguments as arg
 from .results import (Design, Equilibria, Fit, HeightFit, LaunchDesign, LaunchOdds, Scan, Simulation, Simulations,
                       Stability, Trim)
+from .study_options import (MANY_OPTIONS, SIMULATE_ALIASES, SIMULATE_OPTIONS, Quantity, checked_calls, given,
+                            override_texts)
+from .study_options import in_scene_units as _in_scene_units
 
-# Study.simulate's options: runtime.simulate.run.simulate's keywords, and the command line's names
-SIMULATE_OPTIONS = ("tilt", "offset", "t_end", "integrator", "tol", "box", "plot", "part", "h",
-                    "n_out", "azimuth", "save")
-SIMULATE_ALIASES = {"tilt_azimuth": "azimuth", "step": "h"}     # --tilt-azimuth, --step
-# Study.simulate_many's: runtime.scan.batch.simulate_many's keywords and `values` (scene keys)
-MANY_OPTIONS = ("tilt", "offset", "azimuth", "t_end", "integrator", "tol", "box", "h", "part", "values")
-
-
-def override_texts(overrides: Mapping[str, object] | None) -> list[str]:
-    """The --set texts of {scene key: value}, written by a TOML writer (scene.overrides.override_text):
-    a quote or a newline in a value stays inside it, and the command line's reader reads them.
-    Numbers may be NumPy scalars (`for m in np.linspace(...)` works)."""
-    if overrides is None:
-        return []
-    if not isinstance(overrides, Mapping):
-        raise UserError(f"overrides must be a mapping of scene key -> value, e.g. {{'top.mass': 0.05}}; "
-                        f"got {type(overrides).__name__}")
-    try:
-        return [override_text(k, arg.plain(v)) for k, v in overrides.items()]
-    except SceneError as exc:
-        raise UserError(str(exc)) from None
+if TYPE_CHECKING:
+    from levitron.runtime.integrate.propagator import Propagator
+    from levitron.runtime.physics.modes import Modes
 
 
-def load(scene: str | Path, overrides: Mapping[str, float | str] | None = None, **unknown) -> Study:
+def load(scene: str | Path, overrides: Mapping[str, float | str] | None = None, **unknown: object) -> Study:
     """A scene by name (scenes/) or path, with overrides by scene key, e.g. {"top.mass": 0.05}
     (numbers may be NumPy scalars); derives its model when needed. Errors: levitron.UserError
     (one line, as on the CLI; a misspelt argument too)."""
@@ -62,33 +44,13 @@ def load(scene: str | Path, overrides: Mapping[str, float | str] | None = None, 
     return Study(load_model(load_scene(scene, sets)))
 
 
-
-def _in_scene_units(method):
-    """A Study method that speaks the API's words and the scene's units: the settings its answer's
-    sentences and its UserError name are worded as keyword arguments (runtime/words.py, "api"),
-    their quantities shown in the scene's units (as the command's JSON shows them). The UserError
-    keeps the setting, value, unit and hint it carried."""
-    @functools.wraps(method)
-    def wrapper(self, *args, **kwargs):
-        arg.units_allowed(self.units.si, (*args, *kwargs.values()))     # "30 Hz": SI scenes only
-        try:
-            return speak(method(self, *args, **kwargs), "api", self.units)
-        except UserError as exc:
-            text = exc.words("api", self.units)
-            if text == str(exc):
-                raise
-            raise UserError(text, param=exc.param, value=exc.value, unit=exc.unit,
-                            hint=exc.hint and render(exc.hint, "api", self.units)) from None
-    return wrapper
-
-
 class Study:
     """A scene and its generated model. `model` is runtime.model.load.Model (parameter vector p in the
     order model.param_names); users name numbers by scene keys (`value`, `p_of`)."""
 
     def __init__(self, model: Model):
         self.model, self.scene, self.overrides = model, model.scene, list(model.scene.overrides)
-        self._cs = None
+        self._cs: sc.CasadiStability | None = None
 
     def __repr__(self) -> str:
         over = f", overrides={self.overrides}" if self.overrides else ""
@@ -112,12 +74,12 @@ class Study:
         arg.choice(key, "scene key", self.keys())
         return key_value(self.scene.data, key)
 
-    def p_of(self, values: Mapping[str, float] | None = None) -> np.ndarray:
+    def p_of(self, values: Mapping[str, float] | None = None) -> npt.NDArray[np.float64]:
         """The parameter vector p with the given scene keys changed (re-resolved and validated)."""
         return pvector(self.model.param_names, with_values(self.scene, dict(values or {})))
 
     # ---- CasADi
-    def functions(self) -> dict:
+    def functions(self) -> dict[str, Any]:
         """casadi.Functions: the generated ones ((in, p) -> out: onaxis, reduced_rhs, full_jac, ...)
         and the stability ones of runtime/physics/stability_casadi.py with named inputs and outputs:
         z_s(z_guess, p) -> (z_s, stiffness), z_c(z_guess, p) -> (z_c, max_mass),
@@ -174,7 +136,7 @@ class Study:
         return Equilibria.of(self.model)
 
     @_in_scene_units
-    def stability(self, height: float | None = None, *, level_tolerance: bool = False) -> Stability:
+    def stability(self, height: Quantity | None = None, *, level_tolerance: bool = False) -> Stability:
         """The spin interval at the hover height, by the exact route (thesis 3.3.9-3.3.16):
         runtime/physics/stability_answer.py's answer, the one `levitron stability` prints. height
         (m): instead the top that hovers there, of mass m(z) = -mu Phi_2(z)/g (`mass`). Over a
@@ -185,7 +147,7 @@ class Study:
         return Stability.of(self.model, height=h, level_tolerance=bool(level_tolerance))
 
     @_in_scene_units
-    def modes(self, spin: float, height: float | None = None):
+    def modes(self, spin: Quantity, height: Quantity | None = None) -> Modes:
         """The linear modes at `spin` (rad/s), those `levitron stability --spin` prints: name, frequency,
         sense and energy (Krein) sign of each (runtime/physics/modes.py's Modes; height (m) as
         `stability` takes it). The resonances among them: `stability().resonances`."""
@@ -193,12 +155,34 @@ class Study:
         return Modes.at(self.model, arg.number(spin, "spin"), None if height is None else arg.number(height, "height"))
 
     @_in_scene_units
-    def simulate(self, spin: float, **options) -> Simulation:
-        """One trajectory (runtime.simulate.run.simulate; options: tilt (rad, default 0.005: a launch
-        with tilt 0 and offset 0 tests nothing and gives levitating None), offset (m), t_end (s;
-        in air the run ends when the top falls: details["flight"]), integrator, tol, box (m),
-        plot (path), part, h or step (s), n_out, azimuth or tilt_azimuth (rad), as the command
-        line's flags)."""
+    def simulate(self, spin: Quantity, *, tilt: Quantity | None = None, offset: Quantity | None = None,
+                 t_end: Quantity | None = None, integrator: str | None = None, tol: Quantity | None = None,
+                 box: Quantity | None = None, plot: str | Path | None = None, part: str | None = None,
+                 h: Quantity | None = None, step: Quantity | None = None, n_out: int | None = None,
+                 azimuth: Quantity | None = None, tilt_azimuth: Quantity | None = None,
+                 save: str | Path | None = None) -> Simulation:
+        """One trajectory (runtime.simulate.run.simulate), with the command line's options; each
+        left at None takes the command's default.
+
+        Args:
+            spin: the spin rate (rad/s).
+            tilt: the initial tilt of the axis (rad; default 0.005: a launch with tilt 0 and offset 0
+                tests nothing and gives levitating None).
+            offset: the initial horizontal offset (m).
+            t_end: the run length (s; in air the run ends when the top falls: details["flight"]).
+            integrator: a method of runtime/integrate/methods.py or "auto".
+            tol: the integrator's tolerance.
+            box: the half-width of the box the top must stay in (m; default z_s / 2).
+            plot: a path to draw the run into (Simulation.plot).
+            part: "full" or "reduced" (the model's part to run).
+            h: the fixed step (s) of a fixed-step integrator; step: the same (the command's name).
+            n_out: how many samples the answer keeps.
+            azimuth: the direction of the tilt (rad); tilt_azimuth: the same (the command's name).
+            save: a .csv, .npz or .parquet path to write the trajectory to (Simulation.save).
+        """
+        options: dict[str, Any] = given(tilt=tilt, offset=offset, t_end=t_end, integrator=integrator, tol=tol,
+                                        box=box, plot=plot, part=part, h=h, step=step, n_out=n_out,
+                                        azimuth=azimuth, tilt_azimuth=tilt_azimuth, save=save)
         from levitron.runtime.simulate import trajectory_file
         from levitron.runtime.simulate.run import simulate
         options = arg.options(options, SIMULATE_OPTIONS, SIMULATE_ALIASES, "simulate option",
@@ -214,7 +198,12 @@ class Study:
         return sim
 
     @_in_scene_units
-    def simulate_many(self, spin, **options) -> Simulations:
+    def simulate_many(self, spin: npt.ArrayLike, *, tilt: npt.ArrayLike | None = None,
+                      offset: npt.ArrayLike | None = None, azimuth: npt.ArrayLike | None = None,
+                      tilt_azimuth: npt.ArrayLike | None = None, t_end: Quantity | None = None,
+                      integrator: str | None = None, tol: Quantity | None = None, box: Quantity | None = None,
+                      h: Quantity | None = None, step: Quantity | None = None, part: str | None = None,
+                      values: Mapping[str, npt.ArrayLike] | None = None) -> Simulations:
         """Many launches in one call (runtime/scan/batch.py: one call of the C chunk driver, the
         lane variant of the rhs where it verifies), each the run `simulate` makes with the same
         options, bit for bit: spin (rad/s), tilt (rad), offset (m), azimuth or tilt_azimuth (rad)
@@ -223,11 +212,15 @@ class Study:
         height); t_end (s), integrator (a C one), tol, box (m), h or step (s), part: one for all,
         as simulate's. A launch whose top cannot hover (a mass too heavy for the plate) is one
         result among the others: status "no_hover_height", `reason` saying why, not run."""
+        options: dict[str, Any] = given(tilt=tilt, offset=offset, azimuth=azimuth, tilt_azimuth=tilt_azimuth,
+                                        t_end=t_end, integrator=integrator, tol=tol, box=box, h=h, step=step,
+                                        part=part, values=values)
         from levitron.runtime.scan.batch import launch_columns, simulate_many
         options = arg.options(options, MANY_OPTIONS, SIMULATE_ALIASES, "simulate_many option",
                               ("t_end", "tol", "box", "h"))
         values = arg.launch_values(options.pop("values", None) or {}, {"spin": spin, **options})
         p = None
+        cols: dict[str, Any] = {}
         if values:
             keys = list(values)
             for key in keys:
@@ -236,7 +229,7 @@ class Study:
             launch = {k: spin if k == "spin" else options[k] for k in ("spin", "tilt", "offset", "azimuth")
                       if k == "spin" or options.get(k) is not None}
             cols = launch_columns({**launch, **{k: values[k] for k in keys}})
-            rows: dict = {}
+            rows: dict[tuple[Any, ...], Any] = {}
             p = np.array([rows.setdefault(key, self.p_of(dict(zip(keys, key))))
                           for key in zip(*(cols[k].tolist() for k in keys))])
         out = simulate_many(self.model, spin, p=p, **options)
@@ -250,32 +243,39 @@ class Study:
 
     @_in_scene_units
     def launch(self, n: int | None = None, seed: int | None = None,
-               inputs: Mapping[str, object] | None = None, **options) -> LaunchOdds:
+               inputs: Mapping[str, object] | None = None, *, success_time: Quantity | None = None,
+               t_end: Quantity | None = None, integrator: str | None = None, tol: Quantity | None = None,
+               workers: int | None = None, scheduler: str | None = None) -> LaunchOdds:
         """Launch odds by Monte Carlo (runtime/scan/launch_odds.py): inputs maps spin, tilt, tilt_azimuth,
         offset, velocity, mass, strength, temperature to "normal:MEAN,SD", "uniform:LO,HI" or a
         number (default: the scene's [launch] table, else the scene-scaled defaults); n, seed and
         the options success_time (s), t_end (s) default to the table's too, as on the command line
         (else 1000 launches, seed 0); options also integrator, tol, workers, scheduler. The same
         seed gives the same verdicts serially, with processes and on dask. The result's `launches`
-        holds every launch as arrays (its inputs as run, verdict, flight time)."""
+        holds every launch as arrays (its inputs as run, verdict, flight time). Each option left
+        at None takes the command's default."""
         from levitron.runtime.scan.launch_odds import Request
-        request = Request.of(self.scene.data.get("launch", {}), inputs, n=n, seed=seed, **options)
+        request = Request.of(self.scene.data.get("launch", {}), inputs, n=n, seed=seed, success_time=success_time,
+                             t_end=t_end, integrator=integrator, tol=tol, workers=workers, scheduler=scheduler)
         return request.run(self.model, quiet=True)
 
     @_in_scene_units
     def trim(self, n: int | None = None, seed: int | None = None,
-             inputs: Mapping[str, object] | None = None, **options) -> Trim:
+             inputs: Mapping[str, object] | None = None, *, success_time: Quantity | None = None,
+             t_end: Quantity | None = None, integrator: str | None = None, tol: Quantity | None = None,
+             workers: int | None = None, scheduler: str | None = None) -> Trim:
         """The mass to set so that most launches by hand float (runtime/design/trim.py): the
         launch-odds design over top.mass in the stable band, the launches taken as Study.launch
         takes them (n, seed, inputs, success_time, t_end, integrator, tol, workers, scheduler)."""
         from levitron.runtime.design.trim import trim
         from levitron.runtime.scan.launch_odds import Request
-        request = Request.of(self.scene.data.get("launch", {}), inputs, n=n, seed=seed, **options)
+        request = Request.of(self.scene.data.get("launch", {}), inputs, n=n, seed=seed, success_time=success_time,
+                             t_end=t_end, integrator=integrator, tol=tol, workers=workers, scheduler=scheduler)
         return trim(self.model, request)
 
     @_in_scene_units
-    def propagator(self, part: str = "reduced", integrator: str = "auto", tol: float = 1e-9,
-                   spin: float = 0.0, box: bool | float = False):
+    def propagator(self, part: str = "reduced", integrator: str = "auto", tol: Quantity = 1e-9,
+                   spin: Quantity = 0.0, box: bool | Quantity = False) -> Propagator:
         """A run prepared once and repeated cheaply (runtime/integrate/propagator.py):
         ``prop(x0, t_end)`` is the state at t_end (s) of the run from x0 (the part's states in
         order, ``prop.states``), about 1 us of Python around the C integration; or in place,
@@ -291,12 +291,16 @@ class Study:
         pt = self.model.part(part)
         z_s = eqm.hover_height(self.model, self.model.p)
         scale = state_scales(pt, z_s, arg.number(spin, "spin"), self.model.pvals())
-        box = bool(box) if isinstance(box, (bool, np.bool_)) else arg.number(box, "box")
-        bx = None if box is False else default_box(pt, z_s, None if box is True else box)
+        half = bool(box) if isinstance(box, (bool, np.bool_)) else arg.number(box, "box")
+        bx = None if half is False else default_box(pt, z_s, None if half is True else half)
         return Propagator(pt, integrator, arg.number(tol, "tol"), scale=scale, box=bx)
 
     @_in_scene_units
-    def scan(self, spins: Sequence[float], axis: str, values: Sequence[float], **options) -> Scan:
+    def scan(self, spins: npt.ArrayLike, axis: str, values: npt.ArrayLike, *, t_end: Quantity | None = None,
+             integrator: str | None = None, tol: Quantity | None = None, workers: int | None = None,
+             scheduler: str | None = None, base_tilt: Quantity | None = None, h: Quantity | None = None,
+             quiet: bool | None = None, engine: str | None = None,
+             scheduler_timeout: Quantity | None = None) -> Scan:
         """A stability map: runtime/scan/scan_answer.py's Scan (the answer `levitron scan` prints;
         its actions plot(path) and save(path)) over spins (rad/s) and one second axis:
 
@@ -306,20 +310,20 @@ class Study:
           z0 = z_s (1 + h), with -0.5 < h < 0.5 (not metres: 0.046 means z0 = 1.046 z_s;
           scenes may be dimensionless); values outside are refused.
 
-        options: t_end (s), integrator, tol, workers, base_tilt (rad), ... (runtime.scan.stability_map.scan)."""
+        options (None: the command's default): t_end (s), integrator, tol, workers, scheduler,
+        base_tilt (rad), h (s), quiet, engine, scheduler_timeout (s) (runtime.scan.stability_map.scan)."""
         from levitron.runtime.scan.stability_map import scan
         from levitron.runtime.scan.grid import AXES, check_axis
         arg.choice(axis, "scan axis", AXES)
-        valid = [n for n in inspect.signature(scan).parameters
-                 if n not in ("model", "spins", "axis", "others")]
-        for name in options:
-            arg.choice(name, "scan option", valid)
-        spins, values = self._grid(spins, "spins"), self._grid(values, axis)
-        check_axis(axis, np.sort(values))
-        return scan(self.model, spins, axis, values, **options)
+        options: dict[str, Any] = given(t_end=t_end, integrator=integrator, tol=tol, workers=workers,
+                                        scheduler=scheduler, base_tilt=base_tilt, h=h, quiet=quiet, engine=engine,
+                                        scheduler_timeout=scheduler_timeout)
+        grid, others = self._grid(spins, "spins"), self._grid(values, axis)
+        check_axis(axis, np.sort(others))
+        return scan(self.model, grid, axis, others, **options)
 
     @staticmethod
-    def _grid(values, what: str) -> np.ndarray:
+    def _grid(values: object, what: str) -> npt.NDArray[np.float64]:
         """A 1-D array of finite numbers (a list, a tuple, a NumPy array; one number is a grid of one)."""
         if isinstance(values, str):
             raise arg.UserError(f"{what} must be numbers (a list or an array), not the string {values!r}")
@@ -336,29 +340,37 @@ class Study:
     def optimize(self, maximize: str, vary: Mapping[str, tuple[float, float]],
                  constrain: Sequence[str] = (), grid: int = 20, *, n: int | None = None,
                  seed: int | None = None, inputs: Mapping[str, object] | None = None,
-                 tolerance: Mapping[str, float] | None = None, **launch_options) -> Design | LaunchDesign:
+                 tolerance: Mapping[str, float] | None = None, success_time: Quantity | None = None,
+                 t_end: Quantity | None = None, integrator: str | None = None, tol: Quantity | None = None,
+                 workers: int | None = None, scheduler: str | None = None) -> Design | LaunchDesign:
         """Maximise spin-range, spin-ratio or mass-window over scene keys in boxes {key: (lo, hi)},
         with constraints such as "stiffness>=1" (runtime/design/optimize.py; IPOPT, verified): a
         Design. Or maximise "launch-odds", the odds that a launch by hand floats
         (runtime/design/launch_design.py, the design `levitron optimize --maximize launch-odds`
         runs): a LaunchDesign; its launches are taken as Study.launch takes them (n, seed, inputs,
         success_time, t_end, integrator, tol, workers, scheduler), and it takes no constraint. Either
-        says how sharp it is at +- tolerance {key: value} (runtime/design/sharpness.py: `sharpness`)."""
-        constrain = arg.names(constrain, "constrain")
+        says how sharp it is at +- tolerance {key: value} (runtime/design/sharpness.py: `sharpness`).
+        Each launch option left at None takes the command's default."""
+        launch_options = given(success_time=success_time, t_end=t_end, integrator=integrator, tol=tol,
+                               workers=workers, scheduler=scheduler)
+        names = arg.names(constrain, "constrain")
         varies = arg.varies(vary)
         if maximize == "launch-odds":
             from levitron.runtime.design.launch_design import maximize_launch_odds
             from levitron.runtime.scan.launch_odds import Request
-            if constrain:
+            if names:
                 raise UserError("maximize='launch-odds' takes no constrain: the odds already count a "
                                 "top that cannot hover or falls as a failure")
             request = Request.of(self.scene.data.get("launch", {}), inputs, n=n, seed=seed, **launch_options)
-            return maximize_launch_odds(self.model, varies, request, tolerance=tolerance)
-        given = [k for k, v in (("n", n), ("seed", seed), ("inputs", inputs)) if v is not None]
-        if given or launch_options:
-            raise UserError(f"{', '.join([*given, *launch_options])}: launch options go with "
+            from levitron.runtime.design.design_notes import with_resonance_advice
+            return with_resonance_advice(self.model, maximize_launch_odds(
+                self.model, varies, request, tolerance=cast("dict[str, float] | None", tolerance)))
+        passed = [k for k, v in (("n", n), ("seed", seed), ("inputs", inputs)) if v is not None]
+        if passed or launch_options:
+            raise UserError(f"{', '.join([*passed, *launch_options])}: launch options go with "
                             "maximize='launch-odds' only")
-        return _optimize(self.model, varies, maximize, [Constraint.parse(c) for c in constrain], grid, tolerance)
+        return _optimize(self.model, varies, maximize, [Constraint.parse(c) for c in names], grid,
+                         cast("dict[str, float] | None", tolerance))
 
     @_in_scene_units
     def fit_height(self, z_star: float, param: str = "mu") -> HeightFit:
@@ -377,20 +389,4 @@ class Study:
         return _fit(self.model, rows, arg.varies(vary))
 
 
-def _checked_calls(cls):
-    """Every public method of `cls` checks its call against its signature first (arguments.bind):
-    a misspelt keyword or a wrong count of arguments is a one-line UserError, not a TypeError."""
-    def checked(method):
-        @functools.wraps(method)
-        def wrapper(self, *args, **kwargs):
-            arg.bind(method, (self, *args), kwargs, f"{cls.__name__}.{method.__name__}")
-            return method(self, *args, **kwargs)
-        return wrapper
-    for name, fn in list(vars(cls).items()):
-        if inspect.isfunction(fn) and not name.startswith("_"):
-            setattr(cls, name, checked(fn))
-    return cls
-
-
-_checked_calls(Study)
-
+checked_calls(Study)
