@@ -26,6 +26,7 @@ import sys
 
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.methods import lookup, refuse_step
+from levitron.runtime.ui.validate import run_length, tolerance
 from levitron.runtime.words import si
 
 MAX_STEPS_CAP = 10**7      # absolute cap on the steps of one run, whatever the options ...
@@ -87,9 +88,7 @@ def check_options(method: str, t_end: float, tol: float | None = None, h: float 
     2 pi / |spin|")."""
     entry = lookup(method)
     cap = step_cap(method)
-    if not _positive(t_end):
-        raise UserError(f"run length t_end={t_end} must be a positive finite time; pass e.g. «t_end=1»",
-                        param="t_end", value=t_end, unit="s")
+    run_length(t_end)           # the one check of a run length, whichever face asked (runtime/ui/validate.py)
     if time_scale is not None and not _positive(time_scale):
         raise UserError(f"{what} is {time_scale}: no time scale to bound the run by")
     if isinstance(n_out, bool) or int(n_out) != n_out or not 1 <= n_out <= MAX_N_OUT:
@@ -120,28 +119,29 @@ def check_options(method: str, t_end: float, tol: float | None = None, h: float 
         if n > cap:
             raise UserError(f"t_end={_s(t_end)} at step h={_s(h)} takes {n:.3g} steps, above the budget "
                             f"cap of {cap:.0e} for {method}; pass t_end <= {_s(cap * h)} or a "
-                            "larger step", param="t_end", value=t_end, unit="s")
+                            "larger step", param="t_end", value=t_end, unit="s",
+                            hint=f"pass t_end <= {_s(cap * h)} or a larger step")
         return
     refuse_step(method, h)
-    if tol is None or not math.isfinite(tol) or tol <= 0:
-        raise UserError(f"tolerance tol={tol} must be positive and finite; pass e.g. «tol=1e-8»",
-                        param="tol", value=tol)
+    tolerance(tol)
     if tol > TOL_MAX:
         raise UserError(f"tolerance tol={tol:g} is too loose to trust a verdict; pass tol <= {TOL_MAX:g}",
-                        param="tol", value=tol)
+                        param="tol", value=tol, hint=f"pass tol <= {TOL_MAX:g}")
     if tol < TOL_MIN:
         raise UserError(f"tolerance tol={tol:g} is below double precision; pass tol >= {TOL_MIN:g}",
-                        param="tol", value=tol)
+                        param="tol", value=tol, hint=f"pass tol >= {TOL_MIN:g}")
     if time_scale is None:
         return
     resolvable = RESOLUTION_ULPS * sys.float_info.epsilon * t_end * STEPS_PER_PERIOD
     if time_scale < resolvable:
         raise UserError(f"{what} ({_s(time_scale)}) is below what the time variable resolves over "
                         f"t_end={_s(t_end)} (at least {_s(resolvable)}); pass a shorter «t_end» or a "
-                        "slower spin", param="t_end", value=t_end, unit="s")
+                        "slower spin", param="t_end", value=t_end, unit="s",
+                        hint="pass a shorter «t_end» or a slower spin")
     need = STEPS_PER_PERIOD * t_end / time_scale
     if need > cap:
         raise UserError(f"t_end={_s(t_end)} spans {t_end / time_scale:.3g} times {what} "
                         f"({_s(time_scale)}): about {need:.3g} steps, above the budget cap of "
                         f"{cap:.0e} for {method}; pass t_end <= {_s(cap * time_scale / STEPS_PER_PERIOD)}",
-                        param="t_end", value=t_end, unit="s")
+                        param="t_end", value=t_end, unit="s",
+                        hint=f"pass t_end <= {_s(cap * time_scale / STEPS_PER_PERIOD)}")

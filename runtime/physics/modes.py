@@ -42,7 +42,6 @@ colliding pair leaves the axis: both are listed, with their growth rate and krei
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -51,7 +50,7 @@ from levitron.runtime.errors import UserError
 from levitron.runtime.physics.eigen_route import EPS, balancing, transverse_matrix
 from levitron.runtime.physics.friction import without_friction
 from levitron.runtime.ui.human import Units, sig
-from levitron.runtime.words import si_unit
+from levitron.runtime.ui.validate import spin_rate
 
 _SI = Units(si=True)
 STATES = ("x", "y", "z", "phi", "vartheta", "p_x", "p_y", "p_z", "p_phi", "p_vartheta")
@@ -245,13 +244,7 @@ class Modes:
 
     @classmethod
     def of(cls, model, spin: float, z_s: float, window=None, p=None, hessian: str = "casadi") -> Modes:
-        try:
-            spin = float(spin)
-        except (TypeError, ValueError):
-            spin = math.nan
-        if not (math.isfinite(spin) and spin > 0):
-            raise UserError(f"«spin» must be a positive number in {si_unit('rad/s')}, not {spin!r}", param="spin",
-                            value=spin, unit="rad/s")
+        spin = spin_rate(spin)      # the one check of a positive spin (runtime/ui/validate.py)
         ls = LinearSystem(model, z_s, p, hessian)
         modes = ls.modes(float(spin))
         J = ls.jacobian(float(spin))
@@ -265,6 +258,7 @@ class Modes:
         """The modes of the model's top (with `height`: the top that hovers there, as
         runtime/physics/stability.py `stability_of` takes it) at its hover height."""
         from levitron.runtime.physics.stability import stability_of
+        spin = spin_rate(spin)      # refused before the analysis
         res = stability_of(model, height=height, eigen=False)
         if not res.z_s:
             raise UserError(f"no linear modes: the top has no stable hover height ({res.reason})")

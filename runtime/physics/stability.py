@@ -20,6 +20,7 @@ from levitron.scene.plates.symmetry import symmetry
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.errors import UserError
 from levitron.runtime.physics.friction import without_friction
+from levitron.runtime.ui.validate import height as valid_height
 from levitron.runtime.words import si
 from levitron.runtime.physics.eigen_route import (
     full_equilibrium_state,
@@ -155,6 +156,7 @@ def stability_of(model, mass: float | None = None, p: np.ndarray | None = None,
     height) and eigen are not used. With the moment off the axis (top.moment_tilt != 0) the steady
     motion is periodic: route "Floquet" (runtime/physics/floquet_stability.py). A UserError for a
     plate whose symmetry does not carry the analysis (`onaxis_refusal`)."""
+    height = None if height is None else valid_height(height)      # the one check of a height
     if "base_tilt" in model.param_names:
         if height is not None:
             raise UserError("«height» analyses a top on the axis of a level base: over a tilted base "

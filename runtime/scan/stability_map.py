@@ -76,7 +76,8 @@ from levitron.runtime.scan.runners import (
     usable_cores,
 )
 from levitron.runtime.ui.human import Units
-from levitron.runtime.ui.validate import axis_values, count, real
+from levitron.runtime.ui import validate
+from levitron.runtime.ui.validate import axis_values, real
 from levitron.runtime.scan.workers import auto_workers, dask_errors_as_ours
 
 BASE_TILT = 0.01       # rad, the seed tilt of mass and height scans
@@ -121,6 +122,8 @@ def scan(model, spins: np.ndarray, axis: str, others: np.ndarray, t_end: float |
     workers None: every usable core (runtime/scan/workers.py), serial with a scheduler."""
     spins, others, workers, t_end, base_tilt = _checked(axis, spins, others, workers, scheduler,
                                                         t_end, engine, base_tilt)
+    if scheduler_timeout is not None:       # the wait for a dask scheduler: up to an hour
+        scheduler_timeout = real(scheduler_timeout, "«scheduler_timeout»", positive=True, max_abs=3600, unit="s")
     t_wall = time.perf_counter()
     lin, hover, scene_lin, status_pre = _hover_and_linear(model, axis, others)
     tilted = tilted_sites(model, axis, others, hover, status_pre)
@@ -161,14 +164,14 @@ def _checked(axis: str, spins, others, workers, scheduler, t_end, engine: str, b
     check_axis(axis, others)
     if workers is None:
         workers = 1 if scheduler is not None else auto_workers(spins.size * others.size, MIN_POINTS)
-    workers = count(workers, "«workers»")
+    workers = validate.workers(workers)
     if spins.size * others.size > MAX_POINTS:
         raise UserError(f"{spins.size * others.size} grid points is too many (at most {MAX_POINTS}); "
                         "use fewer points per axis")
     if scheduler is not None and workers != 1:
         raise UserError("pass either «workers» N (local processes) or «scheduler» ADDRESS (dask), not both")
     if t_end is not None:
-        t_end = real(t_end, "«t_end»", positive=True, unit="s", what="run length")
+        t_end = validate.run_length(t_end)
     if engine not in ENGINES:
         raise UserError(f"unknown engine {engine!r}; choose one of: {', '.join(ENGINES)}")
     base_tilt = real(base_tilt, "«base_tilt»", max_abs=math.pi, unit="rad")

@@ -39,7 +39,7 @@ import numpy as np
 
 from levitron.runtime.physics.equilibrium import hover_height
 from levitron.runtime.errors import UserError
-from levitron.runtime.ui.validate import count, real
+from levitron.runtime.ui.validate import count, real, run_length, tolerance
 from levitron.runtime.integrate.budget import MAX_N_OUT
 from levitron.runtime.integrate.run import Box, Result, integrate
 from levitron.runtime.integrate.methods import AUTO, DEFAULT, Choice, auto_note, default_step, resolve
@@ -91,9 +91,9 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
     tilt = None if tilt is None else real(tilt, "«tilt»", max_abs=math.pi, unit="rad")
     offset = real(offset, "«offset»", unit="m")
     azimuth = real(azimuth, "«tilt_azimuth»", unit="rad")
-    t_end = None if t_end is None else real(t_end, "«t_end» (run length)", unit="s")  # its range: check_options
+    t_end = None if t_end is None else run_length(t_end)
     n_out = count(n_out, "«n_out»", high=MAX_N_OUT)
-    tol = None if tol is None else real(tol, "«tol» (tolerance)")
+    tol = None if tol is None else tolerance(tol)
     box = None if box is None else real(box, "«box»", positive=True, unit="m")
     h = None if h is None else real(h, "«step»", positive=True, unit="s")
     if part == "full" and "full" not in model.parts and "reduced" in model.parts:

@@ -63,8 +63,6 @@ def add_launch_arguments(parser) -> None:
 
 def launch_request(args, scene) -> mc.Request:
     """The launch Monte Carlo the flags ask for, over the scene's [launch] table."""
-    if args.workers is not None and args.workers < 1:
-        raise UserError(f"--workers {args.workers} must be at least 1 (1 = serial)")
     if args.scheduler is not None and args.workers not in (None, 1):
         raise UserError("pass either --workers N (local processes) or --scheduler ADDRESS (dask), not both")
     given = {k: getattr(args, f"dist_{k}") for k in li.ALL_INPUTS if getattr(args, f"dist_{k}") is not None}
