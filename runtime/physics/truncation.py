@@ -5,7 +5,9 @@ phi(r, z) = sum_j (-1)^j r^(2j) / (4^j (j!)^2) Phi_(2j)(z) (thesis eqs. 2.2.4-2.
 eq. 2.2.7), cut at the scene's `field.order` (derive/field.py). An answer that depends on the field
 off the axis (how far the base may tilt: the top then hovers off the axis) moves with that cut:
 thesis_stable's largest base tilt is 0.00165 rad at order 2 and 0.00143 rad at order 6, where
-higher orders agree with it to 1e-3.
+higher orders agree with it to 1e-3. The answers of a top off the axis (its equilibrium over a tilted
+base and the spin window there) are checked alike (runtime/physics/off_axis_truncation.py); a launch's
+field at its farthest reach off the axis against the exact field's (runtime/scan/launch_inputs.py).
 
 The method, `by_order(model, answer, ...)`: the answer at the model's own order N, then at N + 2
 (the same scene and overrides with «set=field.order=N+2», derived once into the cache and then
@@ -42,9 +44,9 @@ class Truncation:
     though it should have been); unchecked: why no higher order was tried (None if one was)."""
 
     what: str
-    unit: str
+    unit: str | tuple[str, ...]
     orders: tuple[int, ...]
-    values: tuple[float | None, ...]
+    values: tuple    # a number (or a tuple of numbers) or None at each order
     relative_differences: tuple[float | None, ...]
     order_used: int
     warning: str | None = None
@@ -68,19 +70,24 @@ class Truncation:
         return self.warning or self.note
 
     def as_json(self) -> dict:
-        return {"orders": list(self.orders), "values": list(self.values),
+        return {"orders": list(self.orders),
+                "values": [list(v) if isinstance(v, tuple) else v for v in self.values],
                 "relative_difference": list(self.relative_differences), "order_used": self.order_used,
                 "rtol": self.rtol, "max_order": self.max_order, "warning": self.warning, "note": self.note,
                 "unchecked": self.unchecked}
 
 
-def relative_difference(lower: float | None, higher: float | None) -> float | None:
+def relative_difference(lower, higher) -> float | None:
     """|lower - higher| / |higher| (0 where both are None or equal; None where only one is None
-    or higher is 0 and lower not: no relative size)."""
+    or higher is 0 and lower not: no relative size). An answer of several numbers (a tuple): the
+    largest of its numbers' (None where one of them is None)."""
     if lower is None and higher is None:
         return 0.0
     if lower is None or higher is None:
         return None
+    if isinstance(lower, tuple):
+        each = [relative_difference(a, b) for a, b in zip(lower, higher, strict=True)]
+        return None if None in each else max(each, default=0.0)
     if lower == higher:
         return 0.0
     return abs(lower - higher) / abs(higher) if higher != 0 else None
@@ -110,7 +117,10 @@ def loader(model) -> Callable[[int], object]:
     return load
 
 
-def _shown(v: float | None, unit: str) -> str:
+def _shown(v, unit) -> str:
+    """A number (or a tuple of them, with a tuple of units) in a sentence."""
+    if isinstance(v, tuple):
+        return "(" + ", ".join(_shown(x, u) for x, u in zip(v, unit, strict=True)) + ")"
     return "none" if v is None else si(v, unit)
 
 
@@ -118,11 +128,12 @@ def _percent(d: float | None) -> str:
     return "an answer at one order and none at the other" if d is None else f"{d * 100:.2g} %"
 
 
-def by_order(model, answer: Callable[[object], float | None], what: str, unit: str, *,
+def by_order(model, answer: Callable[[object], object], what: str, unit, *,
              load: Callable[[int], object] | None = None, stage: Callable[[int], None] | None = None,
              rtol: float = RTOL, max_order: int = MAX_ORDER) -> Truncation:
     """`answer(model)` at the model's field order and higher ones (module docstring). what: the
-    answer's name in a sentence; unit: its SI unit; load(order) -> the model at that order
+    answer's name in a sentence; unit: its SI unit (an answer of several numbers: a tuple of them
+    and a tuple of their units, judged by the largest relative difference); load(order) -> the model at that order
     (default `loader(model)`); stage(order), if given, is called as the answer at an order begins."""
     n0 = int(model.manifest.field_order)
     if stage is not None:

@@ -3,13 +3,16 @@ its azimuth, offset, velocity, mass, strength, temperature) and the apparatus's 
 an `Apparatus` entry that sets a runtime parameter of the model (a base that is not level, a magnet
 off its axis), with the unit of each input's JSON numbers. Another imperfection with a runtime
 parameter is one entry of APPARATUS. Beside them what an input means for the top: the magnets'
-strength at a temperature (`temperature_factor`) and whether a spin can float the success time at
-all (`reach_warnings`).
+strength at a temperature (`temperature_factor`), whether a spin can float the success time at
+all (`reach_warnings`) and whether the model's field holds as far off the axis as the launches
+take the top (`field_order_warnings`).
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+
+import numpy as np
 
 from levitron.scene.keys import KEY_BOUNDS, LAUNCH_KEYS, Bound
 from levitron.runtime.errors import UserError
@@ -163,3 +166,92 @@ def resonance_warnings(model, res, spin: Dist, tau, success_time: float) -> list
     return [f"the hand's spins, {si(lo, 'rad/s')} to {si(hi, 'rad/s')}, {how} the explosive resonance at "
             f"{si(r.spin, 'rad/s')} ({r.relation}), where a launch tolerates less tilt "
             f"(`«levitron=stability» «tilt_tolerance»`): launch away from it or with less wobble"]
+
+
+FIELD_SDS = 3.0       # a normal spread reaches this many sd from its mean
+
+
+def _far(d: Dist | None) -> float:
+    """How far from 0 a spread reaches: its far end (a normal one's FIELD_SDS sd from the mean)."""
+    if d is None:
+        return 0.0
+    if d.kind == "normal":
+        return abs(d.a) + FIELD_SDS * d.b
+    return max(abs(d.a), abs(d.b)) if d.kind == "uniform" else abs(d.a)
+
+
+def field_reach(model, dists: dict, z_s: float) -> float:
+    """How far off the axis (m) the launches take the top, a sum of reaches: the offset's far end
+    (normal: 3 sd), the tilt's (the launch's plus the magnet's on its axis) 2 theta |Phi_1/Phi_2|,
+    where the field's own tilt B_r/B_z = r Phi_2 / (2 Phi_1) is theta (thesis eq. 2.2.6: a top whose
+    axis follows the field sits there), and the base's tilt m g beta / k_r, with k_r = |mu|
+    (Phi_2^2/4 - Phi_1 Phi_3/2) / |Phi_1| the sideways stiffness of |mu| |B| on the axis (the
+    linear shift of runtime/physics/tilted_equilibrium.py). The velocity's reach is left out."""
+    from levitron.runtime.physics import equilibrium as eqm
+    P = model.pvals()
+    _, f1, f2, f3 = (float(v) for v in eqm.model_onaxis(model, model.p)(z_s)[:4])
+    tilt = _far(dists.get("tilt")) + _far(dists.get("moment_tilt"))
+    k_r = abs(P["mu"]) * (0.25 * f2 * f2 - 0.5 * f1 * f3) / abs(f1)
+    base = P["m"] * P["g"] * math.sin(min(_far(dists.get("base_tilt")), 1.0)) / k_r if k_r > 0 else 0.0
+    return _far(dists.get("offset")) + (2 * tilt * abs(f1 / f2) if f2 else 0.0) + base
+
+
+def field_differences(field, reference, r: float, z: float, azimuths: int = 8) -> dict[str, float]:
+    """The largest relative differences, over `azimuths` points at radius r and height z, between
+    two fields (points (N, 3) -> B (N, 3)): of B, of its gradient (the 3x3 dB_i/dx_j, Frobenius
+    norm) and of the sideways pull d|B|/dr (the force on a top whose magnet follows the field,
+    -|mu| grad |B|, across the axis: what holds it there), by central differences of 1e-4 z."""
+    h = 1e-4 * z
+    out = {"field": 0.0, "gradient": 0.0, "pull": 0.0}
+    for a in np.arange(azimuths) * 2 * math.pi / azimuths:
+        e_r = np.array([math.cos(a), math.sin(a), 0.0])
+        c = r * e_r + [0.0, 0.0, z]
+        pts = np.array([c] + [c + s * h * e for e in (*np.eye(3), e_r) for s in (1, -1)])
+        got = [np.asarray(f(pts), float).reshape(len(pts), 3) for f in (field, reference)]
+        grads = [np.array([(B[1 + 2 * i] - B[2 + 2 * i]) / (2 * h) for i in range(3)]) for B in got]
+        pulls = [(np.linalg.norm(B[7]) - np.linalg.norm(B[8])) / (2 * h) for B in got]
+        for key, (x, y) in {"field": (got[0][0], got[1][0]), "gradient": grads, "pull": pulls}.items():
+            size = float(np.linalg.norm(y))
+            if size > 0:
+                out[key] = max(out[key], float(np.linalg.norm(np.subtract(x, y))) / size)
+    return out
+
+
+def field_order_warnings(model, dists: dict, z_s: float) -> list[str]:
+    """A one-line warning where the launches take the top so far off the axis (`field_reach`) that the
+    model's field there, the expansion about the axis cut at its field.order (thesis eqs. 2.2.4-2.2.7),
+    differs from the exact field (runtime/physics/plates, where the plate kind has a closed form; else
+    from the next even order's model, derived once into the cache: 8-20 s the first time) by more
+    than 1 % in the field, its gradient or its sideways pull (`field_differences`): the odds lean on
+    it; the warning names the «set» that raises the order. [] where the model's field is exact (a
+    plain rectangle) or agrees. A check of the field, not of the odds: milliseconds with a closed form."""
+    from levitron.runtime.physics.plates import plate_field
+    from levitron.runtime.physics.truncation import RTOL, SCENE_MAX_ORDER, expanded, loader
+    from levitron.runtime.words import si
+    scene, n = model.scene, int(model.manifest.field_order)
+    if not expanded(scene.data["plate"]):
+        return []
+    r = field_reach(model, dists, z_s)
+    if not r > 0:
+        return []
+    exact = plate_field(scene.data["plate"], scene.params, np.array([[r, 0.0, z_s]]))
+    if exact is not None and np.all(np.isfinite(exact)):
+        against, reference = "the exact field", (lambda pts: plate_field(scene.data["plate"], scene.params, pts))
+    else:
+        if n + 2 > SCENE_MAX_ORDER:
+            return []
+        try:
+            higher = loader(model)(n + 2)
+        except UserError:
+            return []
+        against, reference = f"order {n + 2}'s", (lambda pts: np.array([higher.field(q) for q in pts]))
+    d = field_differences(lambda pts: np.array([model.field(q) for q in pts]), reference, r, z_s)
+    if max(d.values()) <= RTOL:
+        return []
+    fix = (f"derive a higher order: the scene key field.order = {n + 2}" if n + 2 <= SCENE_MAX_ORDER else
+           f"no scene takes an order above {SCENE_MAX_ORDER}: launch closer to the axis")
+    return [f"the launches reach {si(r, 'm', '.3g')} off the axis (3 sd of the offset, the tilts' and the "
+            f"base's reach), where the model's field (the expansion about the axis cut at order {n}, thesis "
+            f"eq. 2.2.6) differs from {against} by {d['field'] * 100:.2g} %, its gradient by "
+            f"{d['gradient'] * 100:.2g} % and its sideways pull d|B|/dr by {d['pull'] * 100:.2g} %: the odds "
+            f"lean on it; {fix}"]

@@ -55,7 +55,6 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from levitron.runtime.errors import UserError
-from levitron.runtime.words import setting
 from levitron.runtime.physics.friction import has_friction
 from levitron.runtime.integrate.verdict import stopped_early
 from levitron.runtime.integrate.methods import DEFAULT, refuse_on_full_model, resolve
@@ -65,7 +64,7 @@ from levitron.runtime.scan.launch_inputs import (ALL_INPUTS, INPUTS, apparatus_o
                                                   refuse_apparatus, resonance_warnings, temperature_factor)
 from levitron.runtime.scan.spreads import Dist, parse_input, spec_text
 from levitron.runtime.scan.workers import auto_workers, dask_errors_as_ours
-from levitron.runtime.ui.validate import count, real, spread_range, temperature
+from levitron.runtime.ui.validate import count, launch_settings, real, spread_range, temperature
 
 MAX_N = 10**6
 # a launch's tolerance: its odds well inside their Wilson interval (runtime/bench/verdict_tolerance.py)
@@ -209,6 +208,7 @@ class Request:
         for key in ("n", "seed", "success_time", "t_end"):
             if key not in chosen and key in settings:
                 chosen[key] = settings[key]
+        launch_settings(chosen, MAX_N)      # before any model: a design's refusal as it is
         return cls(inputs, **chosen)
 
     def with_seed(self, seed: int) -> Request:
@@ -266,13 +266,11 @@ def prepare(model, given: Mapping[str, object], n: int = 1000,
             integrator: str = DEFAULT, tol: float = LAUNCH_TOL, workers: int | None = None,
             scheduler: str | None = None) -> Prepared:
     """monte_carlo's checks, defaults and plan (one-line UserErrors), without running a launch."""
-    from levitron.runtime.scan import runners
+    from levitron.runtime.scan import launch_inputs as li, runners
     from levitron.runtime.physics.equilibrium import hover_height
     from levitron.runtime.physics.stability import stability_of
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= MAX_N:
-        raise UserError(f"{setting('n', repr(n))} must be a whole number of launches from 1 to {MAX_N}")
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise UserError(f"{setting('seed', repr(seed))} must be a whole number >= 0")
+    from levitron.runtime.ui.validate import launch_count, random_seed, run_length, tolerance
+    n, seed = launch_count(n, MAX_N), random_seed(seed)
     if "full" not in model.parts:
         raise UserError("launch runs the full model: this scene's model.needs has no \"full\"; add it")
     unknown = sorted(set(given) - set(ALL_INPUTS))
@@ -304,8 +302,8 @@ def prepare(model, given: Mapping[str, object], n: int = 1000,
     # the given times by their own names, before one is derived from the other
     success_time = None if success_time is None else real(success_time, "«success_time»",
                                                           positive=True, unit="s", what="time")
-    t_end = None if t_end is None else real(t_end, "«t_end»", positive=True, unit="s", what="time")
-    tol = real(tol, "«tol»", positive=True, what="tolerance")
+    t_end = None if t_end is None else run_length(t_end)
+    tol = tolerance(tol)
     workers = auto_workers(n) if workers is None else count(workers, "«workers»", low=1)
     if scheduler is not None and not isinstance(scheduler, str):
         raise UserError(f"«scheduler» {scheduler!r}: give the scheduler's address as text, e.g. "
@@ -327,7 +325,7 @@ def prepare(model, given: Mapping[str, object], n: int = 1000,
         raise UserError(f"«success_time={success_time:g}» is longer than «t_end={t_end:g}»: no run "
                         "could succeed; make «t_end» at least the success time")
     warnings = reach_warnings(model, dists["spin"], interval, tau, success_time, "spin" not in given) \
-        + resonance_warnings(model, lin, dists["spin"], tau, success_time)
+        + resonance_warnings(model, lin, dists["spin"], tau, success_time) + li.field_order_warnings(model, dists, z_s)
     choice = resolve(integrator, tol, None)
     method = choice.name
     refuse_on_full_model(method, "launch")

@@ -16,7 +16,7 @@ from levitron.runtime.physics.stability_answer import Stability
 from levitron.runtime.scan.tilt_tolerance import plain_lines
 from levitron.runtime.errors import UserError
 from levitron.runtime.ui.plotting import check_plot_path
-from levitron.runtime.ui.validate import real
+from levitron.runtime.ui.validate import spin_rate
 from levitron.runtime.cli.commands.common import model_of
 
 NAME = "stability"
@@ -58,12 +58,11 @@ def run(args) -> dict:
                             "--level-tolerance) or the tolerated launch tilt against the spin (add "
                             "--tilt-tolerance): give one of them")
     model = model_of(args)
-    if args.height is not None:
-        real(args.height, "--height", positive=True, unit="m (above the plate, z > 0)")
     spin = getattr(args, "spin", None)
-    if spin is not None:
-        real(spin, "--spin", positive=True, unit="rad/s")
+    if spin is not None:            # the modes' own check, before the analysis (--height: stability_of's)
+        spin_rate(spin)
     answer = Stability.of(model, height=args.height, level_tolerance=level)
+    answer = _checked(model, answer)
     out = answer.as_json()
     if spin is not None:
         out["modes"] = _modes(model, answer, spin)
@@ -83,12 +82,29 @@ def run(args) -> dict:
     return out
 
 
+def _checked(model, answer: Stability) -> Stability:
+    """Over a tilted base or with the magnet tilted: the answer at the field order where it stops
+    moving, with its `truncation` in `equilibrium` (runtime/physics/off_axis_truncation.py)."""
+    from dataclasses import replace
+
+    from levitron.runtime.physics.off_axis_truncation import checked
+    return replace(answer, result=checked(model, answer.result))
+
+
 def _modes(model, answer, spin: float) -> dict:
-    """runtime/physics/modes.py's Modes at `spin` for the top analysed (its mass), as JSON."""
+    """runtime/physics/modes.py's Modes at `spin` for the top analysed (its mass), as JSON; with the
+    magnet tilted over a level axisymmetric base the turning frame's (runtime/physics/rotating_modes.py),
+    elsewhere off the axis {"spin", "given": False, "reason"}: the one line why none are given."""
     from levitron.runtime.physics.modes import Modes
+    from levitron.runtime.physics import rotating_modes as rm
     if not answer.z_s:
         raise UserError("--spin: the top has no stable hover height, so no linear modes")
     p = model.with_params({"m": answer.mass}) if answer.mass else model.p
+    if rm.off_axis(model, p):
+        why = rm.refusal(model, p)
+        if why is not None:
+            return {"spin": spin, "given": False, "reason": why}
+        return rm.turning_modes(model, spin, p).as_json()
     return Modes.of(model, spin, answer.z_s, answer.spin_interval, p).as_json()
 
 
@@ -96,7 +112,12 @@ _SENSE = {1: "with the spin", -1: "against the spin", 0: "vertical"}
 
 
 def _mode_lines(md: dict, u: Units) -> list[str]:
-    """"modes at 1000 rad/s (...):" then one line a mode."""
+    """"modes at 1000 rad/s (...):" then one line a mode (the turning frame's, or why none)."""
+    if md.get("given") is False:
+        return [restate(md["reason"], u)]
+    if md.get("frame") == "turning":
+        from levitron.runtime.physics.rotating_modes import lines as turning_lines
+        return turning_lines(md, u)
     out = [f"modes at {u.rate(md['spin'])}" + ("" if md["stable"] else " (not all stable)") + ":"]
     for m in md["modes"]:
         energy = {1: "energy +", -1: "energy - (Krein)"}.get(m["krein"]) or \
@@ -208,10 +229,11 @@ def _approximations(ap: dict, u: Units) -> str:
 
 
 def _notes(r: dict) -> list[str]:
-    """The answer's notes, the level tolerance's truncation warnings (runtime/physics/truncation.py:
-    the base's and the magnet's) as "warning: " lines."""
+    """The answer's notes, the truncation warnings (runtime/physics/truncation.py: the level
+    tolerance's, the base's and the magnet's, and the equilibrium's off the axis) as "warning: " lines."""
     t = r.get("level_tolerance") or {}
-    blocks = (t.get("truncation"), (t.get("moment_tolerance") or {}).get("truncation"))
+    blocks = (t.get("truncation"), (t.get("moment_tolerance") or {}).get("truncation"),
+              (r.get("equilibrium") or {}).get("truncation"))
     warn = {b["warning"] for b in blocks if b and b.get("warning")}
     return [f"warning: {n}" if n in warn else n for n in r.get("notes") or []]
 

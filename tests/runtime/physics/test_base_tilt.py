@@ -199,14 +199,15 @@ def test_stability_json_and_plain_view(capsys):
     assert main(["stability", "thesis_stable", "--set", "plate.tilt=0.001", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     e = out["equilibrium"]
+    assert e["truncation"]["orders"] == [2, 4, 6] and e["truncation"]["order_used"] == 6
     assert len(e["position"]) == 3 and abs(np.linalg.norm(e["axis"]) - 1) < 1e-15
     assert out["routes"]["discriminant"] is None and out["stiffness"] is None
     assert main(["stability", "thesis_stable", "--set", "plate.tilt=0.001"]) == 0
     text = capsys.readouterr().out
-    assert "the top hovers 2.2 mm off the centre, downhill, 0.13 mm higher" in text
+    assert "the top hovers 2.3 mm off the centre, downhill, 0.13 mm higher" in text  # order 6 (truncation)
     assert main(["stability", "thesis_stable", "--set", "plate.tilt=0.001",
                  "--set", "plate.tilt_azimuth=3.14159"]) == 0
-    assert "2.2 mm off the centre, downhill, 0.13 mm higher" in capsys.readouterr().out
+    assert "2.3 mm off the centre, downhill, 0.13 mm higher" in capsys.readouterr().out
 
 
 def deviation(model, eq, sigma: float, t_end: float) -> float:

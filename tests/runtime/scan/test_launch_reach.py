@@ -26,22 +26,25 @@ def test_the_default_spin_that_cannot_reach_the_default_success_time_is_said(cap
     tau = r["spin_decay_time"]
     assert r["success_time"] == pytest.approx(tau / 2, rel=1e-15)
     t_cross = tau * math.log(math.sqrt(lo * hi) / lo)            # the hand formula, at the default spin
-    assert t_cross < r["success_time"] and len(r["warnings"]) == 1
-    w = r["warnings"][0]
+    # the reach warning, beside the field expansion's (order 2 off the axis: test_launch_field_order)
+    reach = [w for w in r["warnings"] if "off the axis" not in w]
+    assert t_cross < r["success_time"] and len(reach) == 1
+    w = reach[0]
     assert w.startswith("the default spin ") and "\n" not in w
     shown = float(re.search(r"floats only about ([\d.]+) s", w).group(1))
     assert shown == pytest.approx(t_cross, rel=1e-3)         # u.time's 4 digits
     assert r["probability"] == 0.0 and max(r["flight_time"]["values"]) < r["success_time"]
     assert main(NARROW) == 0
     out = capsys.readouterr().out.splitlines()
-    assert out[1].startswith("warning: the default spin ") and "--success-time" in out[1]
+    assert any(x.startswith("warning: the default spin ") and "--success-time" in x for x in out[1:3])
 
 
 def test_a_reachable_success_time_gives_no_warning(capsys, derived_model):
     """thesis_air as written: interval 459.6-2740 rad/s, the default spin's flight
     tau/2 ln(hi/lo) = 134 s exceeds tau/2 = 75 s; a given spin of 600 rad/s does not (40 s)."""
     assert main(["launch", "thesis_air", "--n", "2", "--t-end", "1", "--json"]) == 0
-    assert json.loads(capsys.readouterr().out)["warnings"] == []
+    warnings = json.loads(capsys.readouterr().out)["warnings"]
+    assert [w for w in warnings if "off the axis" not in w] == []       # none of reach (the field's aside)
     model = derived_model("thesis_air")
     iv, tau = (459.6, 2740.0), 150.0
     assert li.reach_warnings(model, mc.Dist("normal", math.sqrt(iv[0] * iv[1]), 100.0), iv, tau, 75.0, True) == []
