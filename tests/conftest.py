@@ -43,6 +43,13 @@ def study():
 
 
 @pytest.fixture(scope="module")
+def toy():
+    """levitron_toy's model, as the API loads it (its resonances: the trim's and design's advice)."""
+    import levitron
+    return levitron.load("levitron_toy").model
+
+
+@pytest.fixture(scope="module")
 def level(derived_model):
     """thesis_stable on a level base: the reference of the tilted-base and tilted-moment tests."""
     return derived_model("thesis_stable")

@@ -7,8 +7,13 @@
 - `barely_moves_note`: where the optimum improves on the scene as written by less than
   BARELY (relative) although the keys span their whole box, the keys barely move the objective:
   the design is not worth building for it.
+- `with_resonance_advice`: a launch-odds design whose launches at the optimum cross an explosive
+  resonance says on which side of it to launch (runtime/design/trim.py resonance_advice, as trim
+  does), in place of the launches' own warning of it.
 """
 from __future__ import annotations
+
+import dataclasses
 
 from levitron.runtime.words import si, si_span
 
@@ -36,3 +41,20 @@ def barely_moves_note(objective: str, value: float, scene_value: float | None) -
         return None
     return (f"the optimum improves {objective} by only {100 * gain:.2g} % over the scene as written: "
             "these keys barely move it; vary others")
+
+
+def with_resonance_advice(model, design):
+    """The LaunchDesign `design` of `model` with, where the hand's spins at its optimum (the scene's
+    keys set to it) cross an explosive resonance, the sentence saying which side of it to launch on
+    first among its warnings, in place of the launches' own warning of that resonance."""
+    from levitron.runtime.design.paired_odds import variant
+    from levitron.runtime.design.trim import resonance_advice
+    from levitron.runtime.scan import launch_odds as mc
+    from levitron.runtime.scan.runners import model_for
+    keys = list(design.optimum)
+    at = model_for(*variant(model.ref, keys, [design.optimum[k] for k in keys]))
+    advice = resonance_advice(at, at.param("m"), mc.parse_input("spin", design.inputs["spin"]),
+                              design.success_time)
+    if advice is None:
+        return design
+    return dataclasses.replace(design, warnings=[advice[0], *(w for w in design.warnings if w != advice[1])])

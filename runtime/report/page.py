@@ -148,8 +148,7 @@ def build(model, provenance: dict | None = None) -> tuple[str, dict]:
                             f"({u.time(T)}); levitating at "
                             f"{sig(100 * facts['map']['fraction_levitating'], 3)}% of the points. "
                             "A sketch: `levitron scan` draws a finer, longer one.", "note"))
-            m.plot(tmp / "map.png")
-            parts.append(_png(tmp / "map.png"))
+            parts.append(_window_figure(model, res, m, u, tmp, facts))
             stage(3)
             # in air the whole flight, to the fall (simulate's default run length); else 3 slow periods
             sim = simulate(model, spin=spin, tilt=LAUNCH_TILT, t_end=None if air else LAUNCH_PERIODS * T,
@@ -196,6 +195,27 @@ def build(model, provenance: dict | None = None) -> tuple[str, dict]:
     if provenance is not None:
         facts["provenance"] = provenance
     return render(page, "cli", u), facts    # the page tells its reader commands to type, in its units
+
+
+def _window_figure(model, res, scan, u: Units, tmp: Path, facts: dict) -> str:
+    """The map, and below it on the same spins the tilt each spin tolerates with the resonances
+    marked (runtime/report/tolerance.py, cached by its inputs; the level, aligned top only): the
+    figure and its note; facts["tilt_tolerance"] the curve (SI)."""
+    from levitron.runtime.physics.stability_answer import resonances_of
+    from levitron.runtime.report import tolerance
+    if res.equilibrium is not None or res.floquet is not None:        # off the axis: the map alone
+        facts["tilt_tolerance"] = None
+        scan.plot(tmp / "map.png")
+        return _png(tmp / "map.png")
+    rs = [r.as_json() for r in resonances_of(model, res) or ()]
+    curve, cached = tolerance.curve(model, res.spin_interval, res.z_s, rs)
+    facts["tilt_tolerance"] = {**curve.as_json(), "cached": cached, "resonances": rs}
+    tolerance.figure(scan, curve, tmp / "window.png", u)
+    return _png(tmp / "window.png") + _p(
+        f"Below the map: the largest launch tilt that floats {u.time(curve.t_end)} (the spin held), "
+        f"{curve.spins.size} spins inside the window, a bisection each; the lines mark the resonances among "
+        "the linear modes (red: explosive). `«levitron=stability» «tilt_tolerance»` draws the finer curve.",
+        "note")
 
 
 def _cite_first(body: str) -> str:

@@ -15,11 +15,6 @@ from levitron.runtime.scan.spreads import parse_dist
 from levitron.runtime.words import render
 
 
-@pytest.fixture(scope="module")
-def toy():
-    return lev.load("levitron_toy").model
-
-
 def _advice(model, spin: str, success_time: float = 1.0) -> str | None:
     said = resonance_advice(model, model.param("m"), parse_dist("spin", spin), success_time)
     return None if said is None else render(said[0], "cli")
