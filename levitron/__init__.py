@@ -53,13 +53,14 @@ _EXPORTS = {
     "Scan": "results", "ScanResult": "results",
     "SceneError": "scene.checks", "Simulation": "results", "Simulations": "results",
     "Stability": "results", "Study": "study", "Trim": "results", "UserError": "runtime.errors",
+    "YieldDesign": "results",
     "load": "study", "plate_from_magpylib": "from_magpylib"}
 
 if TYPE_CHECKING:
     from levitron.from_magpylib import plate_from_magpylib
     from levitron.results import (Design, DesignResult, Equilibria, Equilibrium, Fit, FitResult, HeightFit,
                                   LaunchDesign, LaunchOdds, Scan, ScanResult, Simulation, Simulations, Stability,
-                                  Trim)
+                                  Trim, YieldDesign)
     from levitron.runtime.errors import UserError
     from levitron.runtime.integrate.propagator import Propagator
     from levitron.scene.checks import SceneError
@@ -69,4 +70,4 @@ else:
 
 __all__ = ["Design", "DesignResult", "Equilibria", "Equilibrium", "Fit", "FitResult", "HeightFit", "LaunchDesign",
            "LaunchOdds", "Propagator", "Scan", "ScanResult", "SceneError", "Simulation", "Simulations", "Stability",
-           "Study", "Trim", "UserError", "load", "plate_from_magpylib"]
+           "Study", "Trim", "UserError", "YieldDesign", "load", "plate_from_magpylib"]

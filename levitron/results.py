@@ -23,6 +23,7 @@ from levitron.runtime.design.fit_answer import Fit, FitResult
 from levitron.runtime.design.fit_height import HeightFit
 from levitron.runtime.design.launch_design_answer import LaunchDesign
 from levitron.runtime.design.trim_answer import Trim
+from levitron.runtime.design.yield_answer import YieldDesign
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.verdict import NO_HOVER
 from levitron.runtime.physics.equilibria import Equilibria
@@ -37,7 +38,7 @@ _SI = Units(si=True)
 
 
 __all__ = ["Design", "DesignResult", "Equilibria", "Equilibrium", "Fit", "FitResult", "HeightFit", "LaunchDesign",
-           "LaunchOdds", "Scan", "ScanResult", "Simulation", "Simulations", "Stability", "Trim"]
+           "LaunchOdds", "Scan", "ScanResult", "Simulation", "Simulations", "Stability", "Trim", "YieldDesign"]
 
 
 @dataclass(frozen=True, repr=False)

@@ -22,14 +22,16 @@ from levitron.runtime.ui.human import Units
 
 from . import arguments as arg
 from .results import (Design, Equilibria, Fit, HeightFit, LaunchDesign, LaunchOdds, Scan, Simulation, Simulations,
-                      Stability, Trim)
+                      Stability, Trim, YieldDesign)
 from .study_options import (MANY_OPTIONS, SIMULATE_ALIASES, SIMULATE_OPTIONS, Quantity, checked_calls, given,
                             override_texts)
 from .study_options import in_scene_units as _in_scene_units
+_Designs = Design | LaunchDesign | YieldDesign       # what Study.optimize answers
 
 if TYPE_CHECKING:
     from levitron.runtime.integrate.propagator import Propagator
     from levitron.runtime.physics.modes import Modes
+    from levitron.runtime.physics.rotating_modes import TurningModes
 
 
 def load(scene: str | Path, overrides: Mapping[str, float | str] | None = None, **unknown: object) -> Study:
@@ -147,12 +149,12 @@ class Study:
         return Stability.of(self.model, height=h, level_tolerance=bool(level_tolerance))
 
     @_in_scene_units
-    def modes(self, spin: Quantity, height: Quantity | None = None) -> Modes:
+    def modes(self, spin: Quantity, height: Quantity | None = None) -> Modes | TurningModes:
         """The linear modes at `spin` (rad/s), those `levitron stability --spin` prints: name, frequency,
         sense and energy (Krein) sign of each (runtime/physics/modes.py's Modes; height (m) as
-        `stability` takes it). The resonances among them: `stability().resonances`."""
-        from levitron.runtime.physics.modes import Modes
-        return Modes.at(self.model, arg.number(spin, "spin"), None if height is None else arg.number(height, "height"))
+        `stability` takes it). The resonances: `stability().resonances`. A tilted magnet: rotating_modes.py."""
+        from levitron.runtime.physics.rotating_modes import modes_at
+        return modes_at(self.model, arg.number(spin, "spin"), None if height is None else arg.number(height, "height"))
 
     @_in_scene_units
     def simulate(self, spin: Quantity, *, tilt: Quantity | None = None, offset: Quantity | None = None,
@@ -342,35 +344,41 @@ class Study:
                  seed: int | None = None, inputs: Mapping[str, object] | None = None,
                  tolerance: Mapping[str, float] | None = None, success_time: Quantity | None = None,
                  t_end: Quantity | None = None, integrator: str | None = None, tol: Quantity | None = None,
-                 workers: int | None = None, scheduler: str | None = None) -> Design | LaunchDesign:
+                 workers: int | None = None, scheduler: str | None = None, kit: Mapping[str, str] | None = None,
+                 washers: Sequence[float] | None = None, kits: int | None = None) -> _Designs:
         """Maximise spin-range, spin-ratio or mass-window over scene keys in boxes {key: (lo, hi)},
         with constraints such as "stiffness>=1" (runtime/design/optimize.py; IPOPT, verified): a
         Design. Or maximise "launch-odds", the odds that a launch by hand floats
-        (runtime/design/launch_design.py, the design `levitron optimize --maximize launch-odds`
-        runs): a LaunchDesign; its launches are taken as Study.launch takes them (n, seed, inputs,
-        success_time, t_end, integrator, tol, workers, scheduler), and it takes no constraint. Either
-        says how sharp it is at +- tolerance {key: value} (runtime/design/sharpness.py: `sharpness`).
-        Each launch option left at None takes the command's default."""
+        (runtime/design/launch_design.py): a LaunchDesign; or "yield", the kits of a production run
+        (kit {"strength"|"mass": relative spread}, washers (kg), kits) that float after their owners
+        trim them (runtime/design/yield_design.py): a YieldDesign. Both take their launches as
+        Study.launch does (n, seed, inputs, success_time, t_end, integrator, tol, workers, scheduler;
+        None: the command's default) and no constraint. Each says how sharp it is (`sharpness`)."""
         launch_options = given(success_time=success_time, t_end=t_end, integrator=integrator, tol=tol,
                                workers=workers, scheduler=scheduler)
         names = arg.names(constrain, "constrain")
         varies = arg.varies(vary)
-        if maximize == "launch-odds":
+        tols = cast("dict[str, float] | None", tolerance)
+        if maximize in ("launch-odds", "yield"):
             from levitron.runtime.design.launch_design import maximize_launch_odds
             from levitron.runtime.scan.launch_odds import Request
             if names:
-                raise UserError("maximize='launch-odds' takes no constrain: the odds already count a "
-                                "top that cannot hover or falls as a failure")
+                raise UserError(f"maximize={maximize!r} takes no constrain: a top that cannot hover or falls "
+                                "already counts as a failure")
             request = Request.of(self.scene.data.get("launch", {}), inputs, n=n, seed=seed, **launch_options)
+            if maximize == "yield":
+                from levitron.runtime.design.production import KITS, Production
+                from levitron.runtime.design.yield_design import maximize_yield
+                prod = Production.of(kit, washers or (), KITS if kits is None else kits, request.seed)
+                return maximize_yield(self.model, varies, request, prod, tolerance=tols)
             from levitron.runtime.design.design_notes import with_resonance_advice
-            return with_resonance_advice(self.model, maximize_launch_odds(
-                self.model, varies, request, tolerance=cast("dict[str, float] | None", tolerance)))
-        passed = [k for k, v in (("n", n), ("seed", seed), ("inputs", inputs)) if v is not None]
+            return with_resonance_advice(self.model, maximize_launch_odds(self.model, varies, request, tolerance=tols))
+        passed = [k for k, v in (("n", n), ("seed", seed), ("inputs", inputs), ("kit", kit), ("washers", washers),
+                                 ("kits", kits)) if v is not None]
         if passed or launch_options:
             raise UserError(f"{', '.join([*passed, *launch_options])}: launch options go with "
-                            "maximize='launch-odds' only")
-        return _optimize(self.model, varies, maximize, [Constraint.parse(c) for c in names], grid,
-                         cast("dict[str, float] | None", tolerance))
+                            "maximize='launch-odds' or 'yield' only")
+        return _optimize(self.model, varies, maximize, [Constraint.parse(c) for c in names], grid, tols)
 
     @_in_scene_units
     def fit_height(self, z_star: float, param: str = "mu") -> HeightFit:

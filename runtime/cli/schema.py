@@ -192,13 +192,8 @@ def text(command: str) -> str:
 
 def write_all(folder: Path) -> list[Path]:
     """Every command's schema into folder/COMMAND.json (the folder made if needed); returns the files."""
-    folder.mkdir(parents=True, exist_ok=True)
-    written = []
-    for command in commands():
-        path = folder / f"{command}.json"
-        path.write_text(text(command), encoding="utf-8")
-        written.append(path)
-    return written
+    from levitron.runtime.ui.atomic import write_text
+    return [write_text(folder / f"{command}.json", text(command), "schema") for command in commands()]
 
 
 def default_folder() -> Path:

@@ -96,7 +96,7 @@ VARIANTS = {
         ("a design by the yield of a production run", ("levitron.runtime.design.yield_answer:YieldDesign",), {
             "yield": "object", "start_yield": "object", "as_shipped": "object", "start_as_shipped": "object",
             "untrimmable": "number", "washers_used": ["object"], "owner_curve": "object?", "production": "object",
-            "search": "object", "inputs": "object", **_DESIGN_FACE}),
+            "search": "object", "inputs": "object", "sharpness": "object?", **_DESIGN_FACE}),
         ("a fit (--fit)", ("levitron.runtime.design.fit_answer:Fit",), {
             "covariance": "array?", "correlation": "array?", **_DESIGN_FACE}),
         ("a height fit (--fit-height)", ("levitron.runtime.design.fit_height:HeightFit",), {

@@ -19,6 +19,10 @@ hand:
    at the scene's own mass (the hand's seed: exactly what `levitron launch SCENE` gives with the
    hand as flags) and at its best mass: the trim's launch-odds design over top.mass in the band
    (runtime/design/trim.py; its odds on the fresh seed, seed + 1, as every design decides).
+3. **The yield of a production run** of each scene as written under the same hand and the same
+   production run (runtime/design/production.py: the kits' spread, the washers in the box, the
+   kits; the defaults where not given): the kits that float a launch after their owners trim them,
+   and the same kits as shipped.
 
 Every Monte Carlo of the comparison runs in one kept pool of workers (launch_design.kept_pool).
 """
@@ -88,9 +92,12 @@ def shared_hand(first, request: mc.Request, flags: Sequence[str] = ()) -> tuple[
                   "success_time": hand.success_time, "t_end": hand.t_end, "first_scene": first.scene.name}
 
 
-def compare(models: Sequence, request: mc.Request, flags: Sequence[str] = ()) -> Comparison:
+def compare(models: Sequence, request: mc.Request, flags: Sequence[str] = (), production=None) -> Comparison:
     """The comparison of the module docstring for loaded models (two or more): `request` the launch
-    request over the first scene's [launch] table, `flags` the inputs the caller gave."""
+    request over the first scene's [launch] table, `flags` the inputs the caller gave, `production`
+    the production run of every scene's yield (None: production.Production.of()'s defaults)."""
+    from levitron.runtime.design.production import Production
+    production = production or Production.of(seed=request.seed)
     if len(models) < 2:
         raise UserError("compare needs two scenes or more (e.g. thesis_air and levitron_toy): give another")
     kinds = {m.scene.name: Units.of_scene(m.scene).si for m in models}
@@ -100,8 +107,23 @@ def compare(models: Sequence, request: mc.Request, flags: Sequence[str] = ()) ->
     hand, block = shared_hand(models[0], request, flags)
     with contextlib.ExitStack() as stack:
         pool = ld.kept_pool(stack, hand, hand.n)
-        rows = [_row(m, hand, pool) for m in models]
+        rows = [{**_row(m, hand, pool), **_yield(m, hand, production, pool)} for m in models]
+    block["production"] = {"kit": dict(production.specs), "washers": list(production.washers),
+                           "kits": production.kits, "seed": production.seed}
     return Comparison(rows, block, next(iter(kinds.values())))
+
+
+def _yield(model, hand: mc.Request, production, pool) -> dict:
+    """The scene's yield under the hand (module docstring, step 3): {"yield", "yield_as_shipped"}
+    (None with `yield_reason` where the scene cannot be launched)."""
+    from levitron.runtime.design.production import production_yield
+    try:
+        prep = mc.prepare(model, hand.given, production.kits, hand.seed, hand.success_time, hand.t_end,
+                          hand.integrator, hand.tol, hand.workers, hand.scheduler)
+    except UserError as exc:
+        return {"yield": None, "yield_as_shipped": None, "yield_reason": str(exc)}
+    got = production_yield(model, prep.plan, prep.success_time, ld._search_time(model, prep), production, pool)
+    return {"yield": got["yield"], "yield_as_shipped": got["as_shipped"]}
 
 
 def _row(model, hand: mc.Request, pool) -> dict:
@@ -158,7 +180,7 @@ def comparison_lines(r: dict, spread: str = "") -> list[str]:
     def odds(block):
         return "-" if block is None else f"{sig(100 * block['probability'], 3)} %"
     head = ("scene", "hovers at", "stable band", "masses that hover", "spin window", "weight window",
-            "odds as is", "best mass: odds")
+            "odds as is", "best mass: odds", "yield (shipped)")
     table = [head]
     for row in r["rows"]:
         ww = row["weight_window"]
@@ -170,8 +192,14 @@ def comparison_lines(r: dict, spread: str = "") -> list[str]:
             f"{u.mass(-ww[0])} off, {u.mass(ww[1])} on" if ww else "-",
             odds(row["launch_odds"]),
             f"{u.mass(row['best_mass'])}: {odds(row['best_launch_odds'])}" if row["best_mass"] is not None
-            else "none floats" if row.get("best_reason") else "-"))
+            else "none floats" if row.get("best_reason") else "-",
+            f"{odds(row.get('yield'))} ({odds(row.get('yield_as_shipped'))})" if row.get("yield") else "-"))
     widths = [max(len(t[i]) for t in table) for i in range(len(head))]
     out = ["  ".join(c.ljust(w) for c, w in zip(t, widths)).rstrip() for t in table]
     notes = [f"{row['scene']}: {row['reason']}" for row in r["rows"] if row.get("reason")]
-    return [hand, *out, *notes, r.get("message", ""), u.note]
+    p = h.get("production")
+    run = "" if not p else (f"the yield: {p['kits']} kits, magnets and tops spread as "
+                            + ", ".join(f"{k} {v}" for k, v in p["kit"].items())
+                            + (f", trimmed with washers of {', '.join(u.mass(w) for w in p['washers'])}" if p["washers"]
+                               else ", no washers in the box (the yield is as shipped)"))
+    return [hand, *out, *notes, run, r.get("message", ""), u.note]

@@ -178,8 +178,9 @@ def production_yield(model, plan: mc.Plan, success_time: float, search_time: flo
     """The yield of the module docstring at the loaded model (a design point): {"yield": the answer
     block (probability, probability_ci95, kits, seed, successes), "as_shipped" (the same kits and
     launches with no washer; as_shipped False: not run), "untrimmable" (the fraction of kits no
-    washer total puts in the band's odds), "washers_used" {total: kits}, "curve"}; where no mass
-    hovers over the model, yield 0 with the reason."""
+    washer total puts in the band's odds), "washers_used" {total: kits}, "curve", "verdicts" (each
+    kit's launch, in order: the pairing of two designs)}; where no mass hovers over the model,
+    yield 0 with the reason."""
     curve = owner_curve(model, plan, search_time, prod.seed, pool)
     n = prod.kits
     if curve is None or max(curve["odds"]) <= 0:
@@ -188,7 +189,7 @@ def production_yield(model, plan: mc.Plan, success_time: float, search_time: flo
         zero = {"probability": 0.0, "probability_ci95": [0.0, wilson(0, n)[1]], "kits": n, "seed": prod.seed,
                 "successes": 0}
         return {"yield": zero, "as_shipped": zero if as_shipped else None, "untrimmable": 1.0,
-                "washers_used": {}, "curve": curve, "reason": reason}
+                "washers_used": {}, "curve": curve, "reason": reason, "verdicts": [False] * n}
     rng = _rng(prod.seed, "kits")
     kit = {k: 1 + np.asarray(prod.kit[k].sample(rng, n), float) for k in ("strength", "mass")}
     m0 = model.param("m")
@@ -213,7 +214,8 @@ def production_yield(model, plan: mc.Plan, success_time: float, search_time: flo
     ok = run(chosen)
     used = {float(w): int(np.sum(chosen == w)) for w in totals}
     return {"yield": block(ok), "as_shipped": block(run(np.zeros(n))) if as_shipped else None,
-            "untrimmable": float(1 - reach.mean()), "washers_used": used, "curve": curve}
+            "untrimmable": float(1 - reach.mean()), "washers_used": used, "curve": curve,
+            "verdicts": ok.tolist()}
 
 
 def washer_text(used: Mapping[float, int], mass=lambda w: si(w, "kg")) -> str:

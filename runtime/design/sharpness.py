@@ -227,10 +227,10 @@ def sharpness_lines(block: dict | None, u: Units, scene=None, name: str = "launc
     """The plain view: one line a key ("a knife edge: ..." where it is one), one a ridge."""
     if not block:
         return []
-    launch = name == "launch-odds"
+    launch = name in ("launch-odds", "yield")      # probabilities, in %
     scale, end = (100, " %") if launch else (1, f" {u.unit(unit)}".rstrip() if u.unit(unit) else "")
     show = lambda v: "none" if v is None else sig(scale * v, 3 if launch else 4)   # noqa: E731
-    what = "the odds" if launch else name
+    what = "the odds" if name == "launch-odds" else name
     out = []
     for key, r in block["keys"].items():
         lo, hi = sorted([r["at_minus"], r["at_plus"]], key=lambda v: -math.inf if v is None else v)

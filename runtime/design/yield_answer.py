@@ -6,6 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from levitron.runtime.design.production import Production, washer_text
+from levitron.runtime.design.sharpness import sharpness_lines
 from levitron.runtime.ui.human import Units
 
 
@@ -14,7 +15,7 @@ def percent(block: dict) -> str:
     return f"{100 * block['probability']:.3g} % (95 %: {100 * lo:.3g}-{100 * hi:.3g} %)"
 
 
-def yield_lines(r: dict, u: Units) -> list[str]:
+def yield_lines(r: dict, u: Units, scene=None) -> list[str]:
     """The plain view of a yield design's JSON: the design, the yield with the owners' washers and
     as shipped, at the design and as written, the washers chosen, the warnings."""
     keys = ", ".join(f"{k} = {u.mass(v) if k == 'top.mass' else f'{v:.6g}'}" for k, v in r["optimum"].items())
@@ -25,6 +26,7 @@ def yield_lines(r: dict, u: Units) -> list[str]:
             f"as shipped, no washer: {percent(r['as_shipped'])} at the design, {percent(r['start_as_shipped'])} "
             "as written",
             f"washers the owners put on (kits): {washer_text(used, u.mass)}",
+            *sharpness_lines(r.get("sharpness"), u, scene, "yield"),
             *(f"warning: {w}" for w in r["warnings"])]
 
 
@@ -47,6 +49,7 @@ class YieldDesign:
     wall_s: float
     warnings: list[str] = field(default_factory=list)
     scene: object = field(default=None, compare=False)
+    sharpness: dict | None = None       # the yield at +- a tolerance of each key, the ridge (sharpness.py)
 
     @property
     def probability(self) -> float:
@@ -68,7 +71,7 @@ class YieldDesign:
 
     def lines(self, u: Units) -> list[str]:
         """The plain view (yield_lines of as_json: the one wording of every face)."""
-        return yield_lines(self.as_json(), u)
+        return yield_lines(self.as_json(), u, self.scene)
 
     def as_json(self) -> dict:
         """docs/contract.md's `optimize --maximize yield` object (SI)."""
@@ -87,6 +90,7 @@ class YieldDesign:
                            "evaluations": len(self.evaluations), "best_search_yield": self.search_yield,
                            "points": self.evaluations},
                 "inputs": self.inputs, "success_time": self.success_time, "warnings": self.warnings,
+                "sharpness": self.sharpness,
                 "solver_status": "grid search", "wall_s": self.wall_s}
 
     def write_scene(self, path) -> str:

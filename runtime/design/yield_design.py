@@ -13,9 +13,13 @@ owners with the washers in the box, float a launch by hand (runtime/design/produ
 3. **Decide on fresh kits.** The yield at the answer and at the scene as written again, on the
    next seed's kits and launches, with their Wilson intervals, and the same kits as shipped (no
    washer) beside them: the search's own best is biased upwards, the fresh one is not.
+4. **Say how sharp it is.** The yield at +- a maker's tolerance of each key on the answer's fresh
+   kits, paired with the answer (launch_design.paired_side), and for two or three keys the ridge
+   (runtime/design/sharpness.py).
 
 The cost: (GRID[k]^k + ZOOM_GRID^k) evaluations of CURVE_POINTS x CURVE_N launches at the search
-time and min(kits, SEARCH_KITS) at the success time, then two of kits x 2 (make bench, kind advice).
+time and min(kits, SEARCH_KITS) at the success time, then 2 + 2 k of kits (the answer and the start
+also as shipped).
 """
 from __future__ import annotations
 
@@ -28,6 +32,7 @@ from dataclasses import replace
 import numpy as np
 
 from levitron.runtime.design import launch_design as ld
+from levitron.runtime.design import sharpness
 from levitron.runtime.design.production import Production, production_yield
 from levitron.runtime.design.scene_keys import Vary, key_value
 from levitron.runtime.design.yield_answer import YieldDesign
@@ -46,17 +51,19 @@ def _points(box, n: int) -> list[tuple[float, ...]]:
 
 
 def maximize_yield(model, varies: Sequence[Vary], request: mc.Request, prod: Production,
-                   pool=None) -> YieldDesign:
+                   pool=None, tolerance: dict | None = None) -> YieldDesign:
     """The design of the module docstring over the --vary box. With local workers every
-    evaluation runs in one kept pool (launch_design.kept_pool)."""
+    evaluation runs in one kept pool (launch_design.kept_pool). tolerance {key: value}: the
+    makers' tolerances of its sharpness (runtime/design/sharpness.py; default per key there)."""
     if not 1 <= len(varies) <= 3:
         raise UserError("«vary»: give one to three keys for «maximize» yield")
+    sharpness.tolerances(model.scene, {v.key: v.lo for v in varies}, tolerance)     # checked before the search
     with contextlib.ExitStack() as stack:
         pool = pool or ld.kept_pool(stack, request, prod.kits)
-        return _maximize(model, varies, request, prod, pool)
+        return _maximize(model, varies, request, prod, pool, tolerance)
 
 
-def _maximize(model, varies, request, prod: Production, pool) -> YieldDesign:
+def _maximize(model, varies, request, prod: Production, pool, tolerance=None) -> YieldDesign:
     t0 = time.perf_counter()
     keys = [v.key for v in varies]
     pinned = ld.Pinned.at_start(model, request, varies)
@@ -74,7 +81,7 @@ def _maximize(model, varies, request, prod: Production, pool) -> YieldDesign:
         plan = replace(prep.plan, scene=here.ref[0], overrides=tuple(here.ref[1]))
         return production_yield(here, plan, prep.success_time, pinned.search_time or prep.success_time, p,
                                 pool, as_shipped)
-    with progress.task(f"yield design over {', '.join(keys)}: evaluations", total=n_grid + n_zoom + 2,
+    with progress.task(f"yield design over {', '.join(keys)}: evaluations", total=n_grid + n_zoom + 2 + 2 * len(keys),
                        log_every=10.0) as tick:
         for grid in (_points(box, GRID[len(keys)]), None):
             if grid is None:
@@ -96,6 +103,15 @@ def _maximize(model, varies, request, prod: Production, pool) -> YieldDesign:
         tick()
         first = run(start_x, fresh, True)
         tick()
+
+        def side(x):            # the sharpness's sides, paired with the answer on its fresh kits
+            tick()
+            got = run(x, fresh)
+            return ld.paired_side({**final["yield"], "verdicts": final["verdicts"]},
+                                  {**got["yield"], "n": got["yield"]["kits"], "verdicts": got["verdicts"],
+                                   **({"reason": got["reason"]} if got.get("reason") else {})})["probability"]
+        sharp = sharpness.sharpness(side, model, varies, dict(zip(keys, best)), final["yield"]["probability"],
+                                    tolerance, launch=True)
     rows = [{**dict(zip(keys, x)), "yield": r["yield"]["probability"], **({"reason": r["reason"]}
             if r.get("reason") else {})} for x, r in evaluated.items()]
     warnings = []
@@ -110,7 +126,8 @@ def _maximize(model, varies, request, prod: Production, pool) -> YieldDesign:
                         "every washer on): move top.mass, or give other «washers»")
     return YieldDesign(dict(zip(keys, best)), dict(zip(keys, start_x)), final, first, prod,
                        dict(pinned.request.given), pinned.request.success_time, rows,
-                       evaluated[best]["yield"]["probability"], time.perf_counter() - t0, warnings, model.scene)
+                       evaluated[best]["yield"]["probability"], time.perf_counter() - t0, warnings, model.scene,
+                       sharp)
 
 
 def _best(evaluated: dict) -> tuple[float, ...]:

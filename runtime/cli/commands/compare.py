@@ -4,11 +4,13 @@ from __future__ import annotations
 
 from levitron.runtime.cli.commands import launch
 from levitron.runtime.cli.commands.common import load
+from levitron.runtime.cli.commands.production_args import add_production_arguments, production_of
 from levitron.runtime.scan.launch_inputs import ALL_INPUTS
 
 NAME = "compare"
-HELP = ("bases compared under one hand: hover height, stable band, spin and weight windows and the launch "
-        "odds (at each scene's mass and at its best mass), every scene launched by the same spread")
+HELP = ("bases compared under one hand: hover height, stable band, spin and weight windows, the launch "
+        "odds (at each scene's mass and at its best mass) and the yield of a production run, every scene "
+        "launched by the same spread")
 MULTI_SCENE = True
 EXAMPLE = "levitron compare thesis_air levitron_toy --n 100 --t-end 10"
 
@@ -16,6 +18,7 @@ EXAMPLE = "levitron compare thesis_air levitron_toy --n 100 --t-end 10"
 def add_arguments(parser) -> None:
     launch.add_launch_arguments(parser.add_argument_group(
         "the one launch spread (default: the first scene's, as `levitron launch` resolves it)"))
+    add_production_arguments(parser.add_argument_group("the production run of every scene's yield"))
 
 
 def run(args) -> dict:
@@ -27,7 +30,8 @@ def run(args) -> dict:
     scenes = [load(n, args.set) for n in args.scenes]       # validate all before running any
     request = launch.launch_request(args, scenes[0])
     flags = [k for k in ALL_INPUTS if getattr(args, f"dist_{k}") is not None]
-    return compare([load_model(s) for s in scenes], request, flags).as_json()
+    prod = production_of(args, request.seed)
+    return compare([load_model(s) for s in scenes], request, flags, prod).as_json()
 
 
 def human(r: dict, scene=None) -> str:

@@ -19,7 +19,8 @@ from levitron.runtime.ui.human import Units, lines, restate, sig
 from levitron.runtime.design.fit_height import fit_equilibrium_height
 from levitron.runtime.design.scene_keys import Vary
 from levitron.runtime.design.sharpness import parse_tolerance, sharpness_lines
-from levitron.runtime.cli.commands import launch
+from levitron.runtime.cli.commands import launch, production_args
+from levitron.runtime.cli.commands.production_args import add_production_arguments
 from levitron.runtime.cli.commands.common import model_of, scene_of
 
 NAME = "optimize"
@@ -61,15 +62,7 @@ def add_arguments(parser) -> None:
                         help="with --fit-height: the scene key to solve for, as --vary takes it "
                              "(e.g. plate.murho, top.moment, plate.remanence, top.mass; default: "
                              "the top's moment mu, which fits the product mu x strength)")
-    run = parser.add_argument_group("a production run (--maximize yield)")
-    run.add_argument("--kit", action="append", default=[], metavar="INPUT=SPREAD",
-                     help="a kit's manufacturing spread, relative: strength=rel:normal:0,0.02 (the magnets, "
-                          "default 2 %%) or mass=rel:normal:0,0.003 (the top, default 0.3 %%) (repeatable)")
-    run.add_argument("--washers", default=None, metavar="M1,M2,...",
-                     help="the washers in each box, masses in kg or with a unit (e.g. '0.2 g,0.4 g,0.8 g'): "
-                          "each owner puts on the subset with which the top floats most often")
-    run.add_argument("--kits", type=int, default=None, metavar="N",
-                     help="kits of the production run, one launch each (default 300)")
+    add_production_arguments(parser.add_argument_group("a production run (--maximize yield)"))
     launch.add_launch_arguments(parser.add_argument_group(
         "launch odds (--maximize launch-odds, and the odds the other objectives report in air)"))
 
@@ -115,6 +108,7 @@ def run(args) -> dict:
         if args.write_scene:
             out["written"] = res.answer.write_scene(args.write_scene)
     elif args.maximize == "launch-odds":
+        from levitron.runtime.design.design_notes import with_resonance_advice
         from levitron.runtime.design.launch_design import maximize_launch_odds
         if constraints:
             raise UserError("--maximize launch-odds takes no --constrain: the odds already count a top "
@@ -123,6 +117,7 @@ def run(args) -> dict:
         request = launch.launch_request(args, scene)
         model = model_of(args)
         res = maximize_launch_odds(model, varies, request, tolerance=tolerance)
+        res = with_resonance_advice(model, res)      # which side of a resonance crossed (design_notes.py)
         out = res.as_json()      # the answer (runtime/design/launch_design_answer.py)
         if args.write_scene:
             out["written"] = res.write_scene(args.write_scene)
@@ -170,12 +165,10 @@ def refuse_ignored(args) -> None:
     if args.grid is not None and args.maximize in ("launch-odds", "yield"):
         raise UserError(f"--grid {args.grid}: --maximize {args.maximize} searches its own grid and zooms in "
                         "around the best point (docs/contract.md optimize): drop --grid")
-    run = [f for f, v in (("--kit", args.kit), ("--washers", args.washers), ("--kits", args.kits)) if v]
+    run = production_args.given(args)
     if run and args.maximize != "yield":
         raise UserError(f"{', '.join(run)}: a production run goes with --maximize yield; {mode} has none: "
                         f"drop {'it' if len(run) == 1 else 'them'}")
-    if args.tolerance and args.maximize == "yield":
-        raise UserError("--tolerance: --maximize yield says no sharpness yet: drop --tolerance")
     if args.grid is not None and args.maximize is None:
         raise UserError(f"--grid {args.grid} goes with --maximize spin-range, spin-ratio or mass-window "
                         f"(their verification grid); {mode} has none: drop --grid")
@@ -207,7 +200,7 @@ def human(r: dict, scene=None) -> str:
             u.note)
     if r.get("objective_name") == "yield":
         from levitron.runtime.design.yield_answer import yield_lines
-        return lines(*yield_lines(r, u))
+        return lines(*yield_lines(r, u, scene))
     if r.get("objective_name") == "launch-odds":
         return lines(*launch_odds_lines(r, u, scene), *sharpness_lines(r.get("sharpness"), u, scene),
                      *warning_lines(r, scene), u.note)
@@ -269,35 +262,16 @@ class _Yield:
 
 def _yield(args, varies, constraints) -> _Yield:
     """--maximize yield: the production run from the flags, the hand from the launch flags."""
-    from levitron.runtime.design.production import KITS, Production
     from levitron.runtime.design.yield_design import maximize_yield
     if constraints:
         raise UserError("--maximize yield takes no --constrain: a kit that cannot hover already counts as a "
                         "failure")
-    kit = {}
-    for item in args.kit:
-        name, sep, spec = item.partition("=")
-        if not sep:
-            raise UserError(f"--kit {item}: write INPUT=SPREAD, e.g. --kit strength=rel:normal:0,0.02")
-        kit[name.strip()] = spec.strip()
-    washers = [_mass(w) for w in (args.washers or "").split(",") if w.strip()]
     scene = scene_of(args)
     request = launch.launch_request(args, scene)
-    prod = Production.of(kit, washers, KITS if args.kits is None else args.kits, request.seed)
+    prod = production_args.production_of(args, request.seed)
     model = model_of(args)
     refuse_tilted(model, "optimize fits and designs")
-    return _Yield(model, maximize_yield(model, varies, request, prod))
-
-
-def _mass(text: str) -> float:
-    """A washer's mass: a number (kg) or a quantity with a unit (scene/quantity.py)."""
-    from levitron.scene import quantity
-    text = text.strip()
-    try:
-        return quantity.si_value(text, "kg", "--washers") if quantity.has_unit(text) else float(text)
-    except ValueError:
-        raise UserError(f"--washers {text!r} is not a mass: give numbers (SI) or masses with a unit, e.g. "
-                        "--washers '0.2 g,0.5 g'") from None
+    return _Yield(model, maximize_yield(model, varies, request, prod, tolerance=parse_tolerance(args.tolerance)))
 
 
 def launch_odds_lines(r: dict, u: Units, scene=None) -> list[str]:
