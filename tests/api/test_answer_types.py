@@ -332,7 +332,7 @@ def test_the_launch_odds_design_is_one_answer_for_the_api_and_the_command_line(t
         'name = "cli"', 'name = "api"')
     assert (tmp_path / "api.toml").read_text().startswith("# levitron optimize thesis_air --maximize launch-odds:")
     assert f"{100 * api.probability:.3g} %" in api.message and "LaunchDesign(launch-odds=" in repr(api)
-    with pytest.raises(lev.UserError, match="launch options go with maximize='launch-odds' only"):
+    with pytest.raises(lev.UserError, match="launch options go with maximize='launch-odds' or 'yield' only"):
         lev.load("thesis_air").optimize("spin-range", {"top.mass": (0.0505, 0.0520)}, n=40)
 
 
