@@ -6,6 +6,7 @@ process with `--json` (no progress drawn), timed whole:
     trim           levitron trim SCENE
     design-mass    levitron optimize SCENE --maximize launch-odds --vary top.mass=LO:HI (the band)
     design-plate   the same over two of the plate's numbers (PLATE_SPAN around the scene's values)
+    yield-plate    optimize SCENE --maximize yield over the same box, 300 kits, WASHERS
     tolerance      levitron stability SCENE --set top.moment_tilt=MOMENT_TILT --level-tolerance
     launch         levitron launch SCENE (1000 launches)
 
@@ -34,7 +35,9 @@ from pathlib import Path
 from levitron.runtime.ui.atomic import open_text, write_text
 from levitron.runtime.ui.plotting import canvas, in_style, save_figure
 
-GOALS = {"trim": 20.0, "design-mass": 15.0, "design-plate": 60.0, "tolerance": 10.0, "launch": 5.0}
+GOALS = {"trim": 20.0, "design-mass": 15.0, "design-plate": 60.0, "yield-plate": 120.0, "tolerance": 10.0,
+         "launch": 5.0}
+WASHERS = (0.004, 0.008, 0.016)   # the yield design's washers, fractions of the top's mass (0.2, 0.4, 0.8 g of 51.5 g)
 MOMENT_TILT = 0.05
 PLATE_SPAN = 0.01            # the plate keys' box: the scene's value +- this fraction
 QUICK_EXTRA = ["--n", "8", "--t-end", "1"]
@@ -72,6 +75,9 @@ def cases(model, quick: bool) -> dict[str, list[str]]:
             a, b = sorted((v * (1 - PLATE_SPAN), v * (1 + PLATE_SPAN)))
             box += ["--vary", f"{key}={a:.8g}:{b:.8g}"]
         out["design-plate"] = ["optimize", name, *sets, "--maximize", "launch-odds", *box, *extra]
+        washers = ",".join(f"{f * model.param('m'):.3g}" for f in WASHERS)
+        out["yield-plate"] = ["optimize", name, *sets, "--maximize", "yield", *box, "--washers", washers,
+                              *(["--kits", "10"] if quick else []), *extra]
     if not quick:
         out["tolerance"] = ["stability", name, *sets, "--set", f"top.moment_tilt={MOMENT_TILT}",
                             "--level-tolerance"]
@@ -84,6 +90,8 @@ def headline(case: str, answer: dict) -> str:
     if case == "tolerance":
         tol = answer.get("level_tolerance") or {}
         return f"max_moment_tilt {tol.get('max_moment_tilt')}, max_base_tilt {tol.get('max_base_tilt')}"
+    if case.startswith("yield"):
+        return f"optimum {answer.get('optimum')}, yield {(answer.get('yield') or {}).get('probability')}"
     design = answer.get("design", answer)
     odds = design.get("launch_odds", answer.get("launch_odds"))
     if case == "launch":

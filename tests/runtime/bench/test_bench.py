@@ -304,3 +304,18 @@ def test_the_api_benchs_legend_clears_its_axis_label(tmp_path, monkeypatch, part
     legend, label = ax.get_legend() or fig.legends[0], ax.xaxis.label
     lb, xb = legend.get_window_extent(r), label.get_window_extent(r)
     assert lb.y1 <= xb.y0 and lb.y0 >= fig.bbox.y0, (lb, xb)
+
+
+def test_the_advice_bench_runs_in_its_quick_mode(tmp_path):
+    """runtime/bench/advice.py: every case a person waits for (trim, the launch-odds designs, the
+    yield design, the launch) runs as its command in a fresh process, with few launches, and the
+    report has a row a case with its CPU time and exit 0."""
+    from levitron.runtime.bench import advice
+    from levitron.runtime.model.scenes import load_scene
+    from levitron.runtime.model.load import load_model
+    model = load_model(load_scene("thesis_air", []))
+    report = advice.bench(model, tmp_path, quick=True)
+    cases = {row["case"]: row for row in report["rows"]}
+    assert set(cases) == {"trim", "design-mass", "design-plate", "yield-plate", "launch"}
+    assert all(row["exit"] == 0 and row["cpu_s"] > 0 for row in cases.values())
+    assert (tmp_path / "advice.json").exists() and (tmp_path / "advice.png").exists()
