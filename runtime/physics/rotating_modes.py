@@ -22,10 +22,11 @@ turning frame. Each is reported with
   horizontal position, v the axis' tilt, as modes.py weighs them), with its sense relative to the
   spin; else None ("mixed").
 
-Over a tilted base (gravity off the plate's axis), a plate without axial symmetry or a magnet off
-the centre no rotation about the vertical is a symmetry: the tilted magnet's steady motion is a
-periodic orbit (runtime/physics/floquet.py, by shooting) and its modes are not given; `refusal`
-says so in one line. No sympy here.
+Over a tilted base with the magnet aligned the top's steady motion is an equilibrium off the axis,
+whose modes runtime/physics/tilted_modes.py gives (turning_modes hands it on). With the magnet tilted
+over a tilted base, a plate without axial symmetry or a magnet off the centre no rotation about the
+vertical is a symmetry: the tilted magnet's steady motion is a periodic orbit (runtime/physics/
+floquet.py, by shooting) and its modes are not given; `refusal` says so in one line. No sympy here.
 """
 from __future__ import annotations
 
@@ -63,10 +64,8 @@ def refusal(model, p: np.ndarray) -> str | None:
         why = f"the magnet is {si(P['moment_offset'], 'm')} off the centre"
     if why is None:
         return None
-    if P.get("moment_tilt", 0.0) == 0:      # a tilted base, the magnet aligned: an equilibrium, but no names
-        return (f"no linear modes: {why}, so the modes have no sense of turning to be named by (the spin "
-                "interval comes from the eigenvalues at the equilibrium off the axis); named modes there would "
-                "need the Floquet route, and are not given")
+    if P.get("moment_tilt", 0.0) == 0 and P.get("moment_offset", 0.0) == 0:
+        return None             # a tilted base, the magnet aligned: the equilibrium's (tilted_modes.py)
     return (f"no linear modes: {why}, so the tilted magnet's steady motion is a periodic orbit, a fixed point "
             "in no frame turning about the vertical; its modes need the Floquet route (by shooting) and are "
             "not given")
@@ -176,9 +175,10 @@ def modes_at(model, spin, height=None):
     return turning_modes(model, spin_rate(spin))
 
 
-def turning_modes(model, spin: float, p: np.ndarray | None = None) -> TurningModes:
-    """The modes (module docstring) of the model's top at parameters p (the scene's by default),
-    its moment tilted, over a level axisymmetric base; a UserError with `refusal`'s line elsewhere."""
+def turning_modes(model, spin: float, p: np.ndarray | None = None):
+    """The modes (module docstring) of the model's top at parameters p (the scene's by default):
+    its moment tilted over a level axisymmetric base, TurningModes; its base tilted, the magnet
+    aligned, runtime/physics/tilted_modes.py's Modes; a UserError with `refusal`'s line elsewhere."""
     from levitron.runtime.physics import rotating_equilibrium as req
     from levitron.runtime.physics.modes import BOUNCE, Modes
     from levitron.runtime.physics.periodic_orbit import NoOrbit
@@ -189,6 +189,10 @@ def turning_modes(model, spin: float, p: np.ndarray | None = None) -> TurningMod
     if why is not None:
         raise UserError(why)
     sigma = spin_rate(spin)
+    P = model.pvals(p)
+    if P.get("moment_tilt", 0.0) == 0 and P.get("base_tilt", 0.0) != 0:    # an equilibrium off the axis
+        from levitron.runtime.physics.tilted_modes import tilted_base_modes
+        return tilted_base_modes(model, sigma, p)
     b = model.pvals(p)["moment_tilt"]
     aligned = model.with_params({"moment_tilt": 0.0}, p)
     res0 = tilted_analysis(model, aligned)
