@@ -27,8 +27,11 @@ import math
 import numpy as np
 
 from levitron.runtime.errors import UserError
+from levitron.scene.plates.compound import MAX_PARTS
 
-MAX_SOURCES = 200       # the parts of one compound plate: each is derived and evaluated on its own
+# the parts of one compound plate, the derivation budget of scene/plates/compound.py: each source is a
+# part derived and evaluated on its own
+MAX_SOURCES = MAX_PARTS
 
 
 def _finite(values, who: str, what: str, size: int | None = None) -> np.ndarray:
@@ -127,7 +130,8 @@ def plate_from_magpylib(collection) -> dict:
         raise UserError("the collection has no sources: add magnets or loops to it")
     if len(sources) > MAX_SOURCES:
         raise UserError(f"the collection has {len(sources)} sources, more than the {MAX_SOURCES} one "
-                        "plate takes: merge rings of one radius, or model fewer magnets")
+                        "plate takes (the derivation budget: each source is a part derived on its own): "
+                        "merge rings of one radius, or model fewer magnets")
     parts, tops = [], []
     for i, src in enumerate(sources):
         part, top = _part(src, i, magpy)

@@ -1,10 +1,12 @@
 """The input hash of a generated model: what the generated files depend on (pure Python).
 
-The hash covers the scene's structure (plate kind, formulas, field, model; numbers that become
+The hash covers the scene's physical structure (plate kind, formulas, field, model; numbers that become
 runtime parameters are left out, so `--set top.mass=...` needs no new derivation, but every
 structural decision a plate kind declares, e.g. the ring magnet's "hollow: r_in > 0", is in:
 scene/plates/), the source of all of derive/ (code and templates) and the versions of sympy and casadi.
 The runtime computes the same hash without importing sympy, to tell whether generated/<scene>/ is current.
+Not the scene's name: the model is found by its physics, whatever the scene is called (the name only
+labels the generated files' banner and manifest).
 """
 from __future__ import annotations
 
@@ -61,7 +63,9 @@ def _strip_numbers(node):
 def structure(data: dict) -> dict:
     """The part of a validated scene that changes generated code: numbers become runtime
     parameters, except the plate's structural decisions (their values are in `decisions`) and,
-    with an accuracy target (field.tolerance), every number (the chosen order depends on them)."""
+    with an accuracy target (field.tolerance), every number (the chosen order depends on them).
+    The physics only: the scene's name, description, units and [reference] are left out, so a
+    renamed copy of a scene has its model's hash and uses its model (runtime/model/locate.py)."""
     d = copy.deepcopy(data)
     d.get("plate", {}).pop(TEMPERATURE_KEY.name, None)    # a runtime factor on mu (scene/load.py)
     for table in [d.get("plate", {}), *(d.get("plate", {}).get("parts") or [])]:
@@ -70,7 +74,7 @@ def structure(data: dict) -> dict:
     tilted = any([d.get("plate", {}).pop(k, None) is not None for k in TILT_KEYS_NAMES])
     keep_numbers = "order" not in d.get("field", {})
     plate = d.get("plate")
-    out = {"name": d.get("name"), "field": d.get("field"), "model": d.get("model"),
+    out = {"field": d.get("field"), "model": d.get("model"),
            "plate": plate if keep_numbers else _strip_numbers(plate),
            "decisions": plates.decisions(plate)}
     if any(k in d.get("top", {}) for k in FRICTION_KEYS):   # air friction: the full model's form

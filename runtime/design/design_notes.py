@@ -10,6 +10,12 @@
 - `with_resonance_advice`: a launch-odds design whose launches at the optimum cross an explosive
   resonance says on which side of it to launch (runtime/design/trim.py resonance_advice, as trim
   does), in place of the launches' own warning of it.
+- `below_noise_note`: a launch-odds design whose keys move the odds by less than the odds' own noise
+  says that any value of its box does as well: the best and the worst search points differ by less
+  than the half-width of the answer's 95 % Wilson interval, or every point ran all its launches and
+  differs from the best in fewer than MIN_DISCORDANT of them (the paired test's level, paired_odds.py).
+- `with_launch_notes`: both of the above, what `optimize --maximize launch-odds` and
+  `Study.optimize("launch-odds", ...)` add to the search's LaunchDesign.
 """
 from __future__ import annotations
 
@@ -58,3 +64,34 @@ def with_resonance_advice(model, design):
     if advice is None:
         return design
     return dataclasses.replace(design, warnings=[advice[0], *(w for w in design.warnings if w != advice[1])])
+
+
+def below_noise_note(design) -> str | None:
+    """One line where the LaunchDesign's keys move the odds less than their noise (module docstring):
+    the search points' odds (design.evaluations, on the same draws) span less than the half-width of
+    the answer's Wilson interval, or no point is told apart from the best by the paired test."""
+    from levitron.runtime.design.paired_odds import MIN_DISCORDANT
+    rows = [r for r in design.evaluations if r.get("probability") is not None]
+    if len(rows) < 2:
+        return None
+    odds = [float(r["probability"]) for r in rows]
+    spread = max(odds) - min(odds)
+    lo, hi = design.launch_odds["probability_ci95"]
+    per_point = int((design.work or {}).get("launches_per_point") or design.n)
+    full = not any(r.get("stopped_early") or r.get("reason") for r in rows)
+    if not (spread < 0.5 * (hi - lo) or (full and round(spread * per_point) < MIN_DISCORDANT)):
+        return None
+    keys = list(design.optimum)
+    what = f"the key {keys[0]} moves" if len(keys) == 1 else f"the keys {', '.join(keys)} move"
+    return (f"{what} the odds less than their noise ({design.n} launches): any value in the box "
+            "does as well")
+
+
+def with_launch_notes(model, design):
+    """The LaunchDesign `design` of `model` with its notes: the resonance advice
+    (`with_resonance_advice`), then the keys' noise (`below_noise_note`) last among its warnings."""
+    design = with_resonance_advice(model, design)
+    note = below_noise_note(design)
+    if note is None:
+        return design
+    return dataclasses.replace(design, warnings=[*design.warnings, note])

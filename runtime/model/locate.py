@@ -3,6 +3,10 @@
 derived into it in a subprocess (`python -m levitron.derive`, the only route to sympy) when missing,
 stale or damaged, and installed by one rename (a killed run leaves no half-written folder). What is
 found is verified before use (runtime/model/manifest.py); runtime/model/load.py loads it. No sympy here.
+
+A model is found by its content: the input hash covers the scene's physics, not its name or its
+description, so a renamed copy of a scene (or another scene of the same structure) uses the model
+already derived for it, in generated/<other>/ or in the cache's derived/<other>-<hash>/.
 """
 from __future__ import annotations
 
@@ -65,7 +69,9 @@ def locate(scene: Scene, force: bool = False) -> Located:
     """The scene's verified model folder: generated/<name>/ when it is current for the scene (a scene
     of scenes/, also with --set overrides of numbers, which are runtime parameters), else a folder
     in the cache keyed by the input hash, derived first (python -m levitron.derive, in a subprocess: the
-    runtime does not import sympy) when missing, damaged (derived again, once) or `force`d.
+    runtime does not import sympy) when missing, damaged (derived again, once) or `force`d. Before
+    deriving, a model of the same input hash under another name is used (`_same_content`): the hash
+    covers the physics, not the scene's name.
 
     The runtime never writes into generated/ (only `make derive` does): a damaged current
     generated/<name> is an ArtefactError naming the file."""
@@ -86,8 +92,40 @@ def locate(scene: Scene, force: bool = False) -> Located:
         except ArtefactError as exc:
             if os.path.lexists(out):
                 note = f"the cached model is damaged ({str(exc).split('; ')[0]}): deriving it again"
+        same = _same_content(ihash, out)     # the same physics derived under another name
+        if same is not None:
+            return same
     _derive_into(scene, out, ihash, note)
     return Located(out, read_manifest(out, fix, ihash), fix, True)
+
+
+def _same_content(ihash: str, own: Path) -> Located | None:
+    """An intact model of the same input hash derived under another name: a folder of generated/
+    (in name order), else one of the cache's derived/ (<name>-<hash>); None when there is none. A
+    damaged one is passed over (the scene's own cache folder is derived instead)."""
+    def intact(folder: Path, fix: str) -> Located | None:
+        if folder == own or _manifest_hash(folder) != ihash:
+            return None
+        try:
+            return Located(folder, read_manifest(folder, fix, ihash), fix, False)
+        except ArtefactError:
+            return None
+    try:
+        shipped = sorted(p for p in GENERATED.iterdir() if not p.name.startswith("."))
+    except OSError:
+        shipped = []
+    for folder in shipped:
+        if (found := intact(folder, make_derive_fix(folder.name))) is not None:
+            return found
+    try:
+        cached = sorted(own.parent.glob(f"*-{ihash[:16]}"))
+    except OSError:
+        cached = []
+    for folder in cached:
+        if not folder.name.startswith(".") and (found := intact(
+                folder, f"delete {folder} (or run `make clean-cache`) and try again")) is not None:
+            return found
+    return None
 
 
 def _derive_into(scene: Scene, out: Path, ihash: str, note: str | None = None) -> None:

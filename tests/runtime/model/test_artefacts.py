@@ -289,11 +289,14 @@ def _one_line_error(res, *words):
 
 
 def _out_of_tree_scene(folder: Path, name: str) -> Path:
+    """A copy of scenes/reduced_only.toml under another name and with another field order: a model
+    is found by its physics, not its name (runtime/model/locate.py), so a renamed copy alone would
+    use generated/reduced_only; the order sends it to the cache."""
     folder.mkdir(parents=True, exist_ok=True)
     text = (ROOT / "scenes" / f"{SCENE}.toml").read_text()
-    assert f'\nname = "{SCENE}"\n' in text
+    assert f'\nname = "{SCENE}"\n' in text and text.count("\norder = 2") == 1
     path = folder / f"{name}.toml"
-    path.write_text(text.replace(f'\nname = "{SCENE}"\n', f'\nname = "{name}"\n'))
+    path.write_text(text.replace(f'\nname = "{SCENE}"\n', f'\nname = "{name}"\n').replace("\norder = 2", "\norder = 4"))
     return path
 
 
