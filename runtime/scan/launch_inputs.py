@@ -124,6 +124,25 @@ def centre(d: Dist) -> float:
     return 0.5 * (d.a + d.b) if d.kind == "uniform" else d.a
 
 
+def check_decay_horizon(model, z_s: float, spin: Dist, tau, defaulted: bool) -> None:
+    """No verdict without the physics to support it: where the success time is the default tau / 2
+    (in air) and shorter than one period of the slowest motion at the spin's centre (runtime/
+    simulate/start.py slow_period), no launch can show in it whether the top floats (a spin decay
+    time far below the motion's time scale), so the Monte Carlo is refused in one line rather than
+    counting every launch a success."""
+    if tau is None or not defaulted or not spin.a > 0:
+        return
+    from levitron.runtime.simulate.start import slow_period
+    from levitron.runtime.words import si
+    slow = slow_period(model, model.param("m"), z_s, float(spin.a))
+    if 0.5 * tau < slow:
+        shown = si(slow, "s", ".3g")
+        raise UserError(f"the spin decay time {si(tau, 's')} gives a default success time of {si(0.5 * tau, 's')}, "
+                        f"shorter than one period of the top's slowest motion ({shown}): no launch can show in it "
+                        f"whether the top floats; give «success_time» (at least {shown}) or check the "
+                        "scene's spin_decay_time", param="success_time", value=0.5 * tau, unit="s")
+
+
 def reach_warnings(model, spin: Dist, interval, tau, success_time: float, defaulted: bool) -> list[str]:
     """In air: a one-line warning when a launch at the spin's centre cannot float the success time
     at all by the adiabatic prediction, tau ln(omega_0 / sigma_lo) < success_time (runtime/physics/

@@ -310,6 +310,7 @@ def prepare(model, given: Mapping[str, object], n: int = 1000,
                         "tcp://127.0.0.1:8786")
     air = has_friction(model) and model.pvals()["k_spin"] > 0
     tau = 1 / model.pvals()["k_spin"] if air else None
+    li.check_decay_horizon(model, z_s, dists["spin"], tau, success_time is None and t_end is None)
     if success_time is None:
         success_time = t_end if t_end is not None else (0.5 * tau if air else None)
     if success_time is None:          # no friction: a map's run length (runtime/scan/stability_map.py)
