@@ -7,14 +7,19 @@ docs/contract.md (runtime/physics/bands.py) and, beside it, never instead, Berry
 """
 from __future__ import annotations
 
+import math
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.physics.bands import Band
 from levitron.runtime.physics.equilibrium_report import Equilibrium, Singularity, hover_reasons
-from levitron.runtime.ui.human import Units, quantity
+from levitron.runtime.ui.answer_view import html_table, text_repr
+from levitron.runtime.ui.human import Units
+from levitron.runtime.ui.plain_text import NOTHING_SAID, said
 from levitron.runtime.ui.reference import stated
+from levitron.runtime.words import render
 
 ADIABATIC_NOTE = ("Berry-Simon: |B| has a minimum on the axis (sign(Phi_1) Phi_3 > 0 and "
                   "Phi_2^2 > 2 Phi_1 Phi_3); an approximation for fast spin, reported beside "
@@ -35,7 +40,9 @@ class Equilibria:
     U'' = mu Phi_3 in N/m); z_c (m, zero of Phi_3) and max_mass (kg, m(z_c)), None if the field
     holds no top; stable_band (the widest; all in stable_bands): heights (m) and masses (kg) where
     some spin stabilises a top hovering there (docs/contract.md), None if there is none;
-    reasons: why this top cannot levitate and what would help (empty where it can)."""
+    reasons: why this top cannot levitate and what would help (empty where it can). Its words:
+    `lines(units)` (runtime/physics/equilibria_view.py), which the command line prints and
+    message, repr and the notebook reuse."""
 
     scene: str
     mass: float
@@ -53,6 +60,7 @@ class Equilibria:
     wall_s: float
     note: str | None = None
     units: Units = field(default=_SI, compare=False)   # how repr and message show numbers
+    said: Mapping = field(default_factory=lambda: NOTHING_SAID, compare=False)   # the reasons as written (markers)
 
     @classmethod
     def of(cls, model) -> Equilibria:
@@ -62,12 +70,29 @@ class Equilibria:
         rep = eqm.equilibria_of(model, bands=True)
         wall = time.perf_counter() - t0
         u = Units.of_scene(model.scene)
+        reasons = hover_reasons(rep, m)
         return cls(model.scene.name, m, [replace(e, units=u) for e in rep.equilibria], list(rep.singularities),
                    rep.z_c, rep.max_mass,
-                   rep.stable_band, list(rep.stable_bands), rep.adiabatic_band, hover_reasons(rep, m),
+                   rep.stable_band, list(rep.stable_bands), rep.adiabatic_band, reasons,
                    eqm.scale_of(model), list(eqm.span_of(model) or ()) or None,
                    {"z_stable": stated(model.scene, "z_stable")}, wall,
-                   TILTED_NOTE if "base_tilt" in model.param_names else None, u)
+                   TILTED_NOTE if "base_tilt" in model.param_names else None, u, said(reasons=reasons))
+
+    @classmethod
+    def from_json(cls, r: dict, units: Units = _SI) -> Equilibria:
+        """The answer again from its as_json() (the command line's plain view reads it so)."""
+        def band(b):
+            return None if b is None else Band(tuple(b["z"]), tuple(b["mass"]),
+                                               tuple(b.get("at_search_end") or (False, False)))
+        eqs = [Equilibrium(e["z"], e["vertically_stable"], e["stiffness"], e.get("marginal", False), units)
+               for e in r["equilibria"]]
+        sing = [Singularity(s["z"], math.inf if s.get("z_end") is None else s["z_end"], s["kind"])
+                for s in r.get("singularities") or []]
+        return cls(r.get("scene", ""), r["mass"], eqs, sing, r.get("z_c"), r.get("max_mass"),
+                   band(r.get("stable_band")), [band(b) for b in r.get("stable_bands") or []],
+                   band(r.get("adiabatic_band")), [r["reason"]] if r.get("reason") else [],
+                   r.get("length_scale", 1.0), r.get("z_range"), r.get("reference") or {}, r.get("wall_s", 0.0),
+                   r.get("note"), units)
 
     @property
     def reason(self) -> str | None:
@@ -87,25 +112,32 @@ class Equilibria:
         """A vertically stable hover height exists."""
         return any(e.vertically_stable for e in self.equilibria)
 
+    # ---- its words, one function for every face (runtime/physics/equilibria_view.py)
+    def lines(self, units: Units | None = None) -> list[str]:
+        """The plain view in `units` (default the scene's): what `levitron equilibrium` prints."""
+        from levitron.runtime.physics import equilibria_view
+        return equilibria_view.lines(self, units or self.units)
+
+    def summary(self, units: Units | None = None) -> str:
+        """The answer in one sentence: the equilibria, the band, and why not where the top cannot."""
+        from levitron.runtime.physics import equilibria_view as view
+        from levitron.runtime.ui.plain_text import shown
+        u = units or self.units
+        why = view.reason(self)
+        return "; ".join([view.roots(self, u), view.band_line(self, u)] + ([f"reason: {shown(why, u)}"] if why else []))
+
     @property
     def message(self) -> str:
-        stable = [e.z for e in self.equilibria if e.vertically_stable]
-        u = self.units
-        head = (f"hovers vertically stable at z = {quantity(u, stable[0], 'm')}" if stable
-                else "no vertically stable hover height")
-        band = ("no stable band" if self.stable_band_z is None else
-                f"stable band z {self.stable_band_z[0]:.6g}-{quantity(u, self.stable_band_z[1], 'm')}, mass "
-                f"{self.stable_band_mass[0]:.6g}-{quantity(u, self.stable_band_mass[1], 'kg')}")
-        return f"{head}; {band}"
+        return render(self.summary(), "api", self.units)
 
     def __repr__(self) -> str:
+        from levitron.runtime.physics import equilibria_view as view
         u = self.units
-        zs = ", ".join(f"{quantity(u, e.z, 'm')} ({'stable' if e.vertically_stable else 'unstable'})"
-                       for e in self.equilibria) or "none"
-        band = "None" if self.stable_band_z is None else \
-            f"z {self.stable_band_z[0]:.6g}-{quantity(u, self.stable_band_z[1], 'm')}"
-        zc = "None" if self.z_c is None else quantity(u, self.z_c, "m")
-        return f"Equilibria([{zs}], z_c={zc}, stable_band={band}, success={self.success})"
+        return render(text_repr("Equilibria", [view.roots(self, u), view.band_line(self, u).split("   (")[0],
+                                               f"success={self.success}"]), "api", u)
+
+    def _repr_html_(self) -> str:
+        return render(html_table("Equilibria", self.lines()), "api", self.units)
 
     def as_json(self) -> dict:
         """docs/contract.md's `equilibrium --json` (SI)."""

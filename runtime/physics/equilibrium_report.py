@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from levitron.runtime.ui.human import Units, quantity
+from levitron.runtime.ui.human import Units
 from levitron.runtime.words import si, si_span
 
 
@@ -24,11 +24,19 @@ class Equilibrium:
     marginal: bool = False   # a double root (the mass is the plate's maximum): U'' = 0
     units: Units = field(default=Units(si=True), compare=False)   # how repr shows numbers
 
-    def __repr__(self) -> str:
+    def lines(self, units: Units | None = None) -> list[str]:
+        """Its plain view in `units` (default its own): the height, its kind, the stiffness."""
+        u = units or self.units
         kind = "marginal" if self.marginal else "stable" if self.vertically_stable else "unstable"
-        u = self.units
-        return (f"Equilibrium(z={quantity(u, self.z, 'm')}, vertically {kind}, "
-                f"stiffness={quantity(u, self.stiffness, 'N/m', '.4g')})")
+        return [f"z: {u.length(self.z)}", f"vertically {kind}", f"stiffness: {u.value(self.stiffness, 'N/m')}"]
+
+    def __repr__(self) -> str:
+        from levitron.runtime.ui.answer_view import text_repr
+        return text_repr("Equilibrium", self.lines())
+
+    def _repr_html_(self) -> str:
+        from levitron.runtime.ui.answer_view import html_table
+        return html_table("Equilibrium", self.lines())
 
     def as_dict(self) -> dict:
         return {"z": self.z, "vertically_stable": self.vertically_stable,

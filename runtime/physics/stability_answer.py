@@ -13,30 +13,49 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
 
 from levitron.runtime.errors import UserError
 from levitron.runtime.physics.friction import without_friction
 from levitron.runtime.physics.stability import stability_of
 from levitron.runtime.physics.stability_result import StabilityResult
-from levitron.runtime.ui.human import Units, quantity, restate, sig
+from levitron.runtime.ui.answer_view import html_table, text_repr
+from levitron.runtime.ui.human import Units
+from levitron.runtime.ui.plain_text import NOTHING_SAID, said
+from levitron.runtime.words import render
 
 _SI = Units(si=True)
 
 
 @dataclass(frozen=True, repr=False)
 class Stability:
-    """Linear stability at the hover height: `result` the routes' intervals (StabilityResult; its
-    z_s (m), spin_interval (rad/s, None if no spin stabilises: `reason` says why), routes_agree
-    (None without a full model), mass (kg: the top analysed; with a height, the one that hovers
-    there), equilibrium (over a tilted base: position, axis, offset, ...) are this answer's too);
-    stiffness: mu Phi_3(z_s) (N/m, thesis 3.3.3; None over a tilted base); level_tolerance: the
-    largest base tilt and moment tilt that keep a stable interval (asked for, else None);
-    resonances: the low-order resonances among the linear modes inside the spin interval
-    (runtime/physics/resonances.py, docs/resonances.md; strongest first), None where not
-    computed (no interval, or the steady motion is off the axis)."""
+    """Linear stability at the hover height (one type: the routes' record, StabilityResult of
+    runtime/physics/stability_result.py, is copied into it field by field): z_s (m), spin_interval
+    (rad/s, None if no spin stabilises: `reason` says why), the routes' intervals (discriminant,
+    eigenvalues: None where not run), approximations (thesis 3.3.22/3.3.23), routes_agree (None
+    without a full model), timings, mass (kg: the top analysed; with a height, the one that hovers
+    there), notes, equilibrium (over a tilted base: position, axis, offset, ...), floquet (the
+    magnet tilted); stiffness: mu Phi_3(z_s) (N/m, thesis 3.3.3; None over a tilted base);
+    level_tolerance: the largest base tilt and moment tilt that keep a stable interval (asked for,
+    else None); resonances: the low-order resonances among the linear modes inside the spin
+    interval (runtime/physics/resonances.py, docs/resonances.md; strongest first), None where not
+    computed (no interval, or the steady motion is off the axis). Its words: `lines(units)`
+    (runtime/physics/stability_view.py), which the command line prints and message, repr, the
+    notebook and the report reuse."""
 
-    result: StabilityResult
+    z_s: float | None
+    spin_interval: tuple[float, float] | None
+    discriminant: list
+    eigenvalues: list | None
+    approximations: dict
+    reason: str | None
+    routes_agree: bool | None
+    timings: dict
+    mass: float | None
+    notes: list
+    equilibrium: dict | None
+    floquet: dict | None
     scene: str
     scene_mass: float
     height_given: bool
@@ -47,6 +66,7 @@ class Stability:
     units: Units = field(default=_SI, compare=False)
     _model: object = field(default=None, compare=False)      # for plot(): at the tolerance's field order
     resonances: tuple | None = None
+    said: Mapping = field(default_factory=lambda: NOTHING_SAID, compare=False)   # reason and notes as written (markers)
 
     @classmethod
     def of(cls, model, height: float | None = None, level_tolerance: bool = False) -> Stability:
@@ -66,61 +86,66 @@ class Stability:
         # stiffness>=K of `optimize` speaks of; it does not depend on the mass
         k = (model.param("mu") * float(model.onaxis(res.z_s)[3])
              if res.z_s and res.equilibrium is None else None)
-        return cls(res, model.scene.name, model.param("m"), height is not None, eigen, k, tol, wall,
-                   Units.of_scene(model.scene), drawn, reso)
+        return cls(**_recorded(res), scene=model.scene.name, scene_mass=model.param("m"),
+                   height_given=height is not None, eigen_source=eigen, stiffness=k, level_tolerance=tol,
+                   wall_s=wall, units=Units.of_scene(model.scene), _model=drawn, resonances=reso)
 
-    # ---- what the result says, as the API has always named it
-    @property
-    def z_s(self) -> float | None:
-        return self.result.z_s
+    @classmethod
+    def from_json(cls, r: dict, units: Units = _SI) -> Stability:
+        """The answer again from its as_json() (the command line's plain view reads it so)."""
+        iv, ivs = r.get("spin_interval"), r.get("all_intervals") or {}
+        return cls(r.get("z_s"), None if iv is None else tuple(iv), ivs.get("discriminant") or [],
+                   ivs.get("eigenvalues"), r.get("approximations") or {}, r.get("reason"),
+                   r.get("routes_agree"), r.get("timings_s") or {}, r.get("mass"), list(r.get("notes") or []),
+                   r.get("equilibrium"), r.get("floquet"), r.get("scene", ""), r.get("scene_mass"),
+                   bool(r.get("height_given")), r.get("eigen_source", ""), r.get("stiffness"),
+                   r.get("level_tolerance"), r.get("wall_s", 0.0), units, None, r.get("resonances"))
 
-    @property
-    def spin_interval(self) -> tuple[float, float] | None:
-        iv = self.result.spin_interval
-        return None if iv is None else tuple(iv)
+    def record(self) -> StabilityResult:
+        """The routes' record of this answer (what runtime/physics/off_axis_truncation.py checks)."""
+        return StabilityResult(self.z_s, self.spin_interval, self.discriminant, self.eigenvalues,
+                               self.approximations, self.reason, self.routes_agree, self.timings, self.mass,
+                               list(self.notes), self.equilibrium, self.floquet)
 
-    @property
-    def reason(self) -> str | None:
-        return self.result.reason
-
-    @property
-    def routes_agree(self) -> bool | None:
-        return self.result.routes_agree
-
-    @property
-    def mass(self) -> float | None:
-        return self.result.mass
-
-    @property
-    def equilibrium(self) -> dict | None:
-        return self.result.equilibrium
+    def with_record(self, res: StabilityResult) -> Stability:
+        """This answer with the routes' record `res` (checked at another field order)."""
+        return replace(self, **_recorded(res))
 
     @property
     def success(self) -> bool:
         """A spin interval of linear stability exists."""
         return self.spin_interval is not None
 
+    # ---- its words, one function for every face (runtime/physics/stability_view.py)
+    def lines(self, units: Units | None = None, more=()) -> list[str]:
+        """The plain view in `units` (default the scene's): what `levitron stability` prints."""
+        from levitron.runtime.physics import stability_view
+        return stability_view.lines(self, units or self.units, more)
+
+    def summary(self, units: Units | None = None) -> str:
+        """The answer in one sentence (the message's, the report's): the interval and where, or why none."""
+        from levitron.runtime.physics import stability_view
+        return stability_view.summary(self, units or self.units)
+
     @property
     def message(self) -> str:
-        if self.spin_interval is None:
-            return f"no stable spin interval: {restate(self.reason, self.units) or 'no stable hover height'}"
-        lo, hi = self.spin_interval
-        u = self.units
-        return f"stable for spin {lo:.6g}-{quantity(u, hi, 'rad/s')} at z_s = {quantity(u, self.z_s, 'm')}" + \
-            (f" ({self.reason})" if self.reason else "")
+        return render(self.summary(), "api", self.units)
 
     def __repr__(self) -> str:
-        u = self.units
-        iv = "None" if self.spin_interval is None else \
-            f"{sig(self.spin_interval[0], 6)}-{sig(self.spin_interval[1], 6)} {u.unit('rad/s')}"
-        z = "None" if self.z_s is None else quantity(u, self.z_s, "m")
-        k = "None" if self.stiffness is None else quantity(u, self.stiffness, "N/m", ".4g")
-        return f"Stability(spin_interval={iv}, z_s={z}, stiffness={k}, success={self.success})"
+        from levitron.runtime.physics import stability_view as view
+        return render(text_repr("Stability", [view.head(self, self.units), view.where(self, self.units),
+                                              f"success={self.success}"]), "api", self.units)
+
+    def _repr_html_(self) -> str:
+        figure = None
+        if self.level_tolerance is not None and self._model is not None:
+            figure = self.plot()
+        return render(html_table("Stability", self.lines(), figure), "api", self.units)
 
     def as_json(self) -> dict:
         """docs/contract.md's `stability` object (SI)."""
-        out = {"scene": self.scene, "mass": self.result.mass, "scene_mass": self.scene_mass,
-               "height_given": self.height_given, **self.result.as_dict(), "eigen_source": self.eigen_source}
+        out = {"scene": self.scene, "mass": self.mass, "scene_mass": self.scene_mass,
+               "height_given": self.height_given, **self.record().as_dict(), "eigen_source": self.eigen_source}
         if self.level_tolerance is not None:
             out["level_tolerance"] = self.level_tolerance
         out["wall_s"] = self.wall_s
@@ -142,6 +167,16 @@ class Stability:
         from levitron.runtime.physics.tilt_plot import draw
         model = self._model
         return draw(model, without_friction(model, model.p), self.level_tolerance, path, ax=ax)
+
+
+def _recorded(res: StabilityResult) -> dict:
+    """The routes' record as the answer's fields, its sentences kept as written (`said`)."""
+    iv = res.spin_interval
+    return {"z_s": res.z_s, "spin_interval": None if iv is None else tuple(iv), "discriminant": res.discriminant,
+            "eigenvalues": res.eigenvalues, "approximations": res.approximations, "reason": res.reason,
+            "routes_agree": res.routes_agree, "timings": res.timings, "mass": res.mass, "notes": res.notes,
+            "equilibrium": res.equilibrium, "floquet": res.floquet,
+            "said": said(reason=res.reason, notes=list(res.notes))}
 
 
 def resonances_of(model, res: StabilityResult) -> tuple | None:

@@ -28,7 +28,8 @@ import numpy as np
 from levitron.runtime.errors import UserError
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.ui import progress
-from levitron.runtime.ui.human import Units, restate, sig, span
+from levitron.runtime.ui.human import Units, sig, span
+from levitron.runtime.ui.plain_text import shown
 from levitron.runtime.ui.plotting import band, canvas, in_style, save_figure
 from levitron.runtime.physics.ray_algebra import l_cubic
 
@@ -210,7 +211,7 @@ def figure_3_4(model, path: Path, orbits: int = 7) -> Path:
         raise NotDrawn("the scene has no reduced model (add \"reduced\" to model.needs)")
     if not stable:
         raise NotDrawn("no vertically stable equilibrium, no closed orbit: "
-                       + restate(rep.no_hover_reason(m) or "", u))
+                       + shown(rep.no_hover_reason(m), u))
     fig, ax = canvas(figsize=(6.4, 5.6))
     zs = stable[0].z
     below = [e.z for e in rep.equilibria if e.z < zs and not e.vertically_stable]
@@ -318,10 +319,10 @@ def figure_3_8(model, path: Path, quick: bool = False) -> Path:
         res = stability_of(model)
         iv, z_s = res.spin_interval, res.z_s
     except UserError as exc:           # no hover height at all: nothing to launch from
-        raise NotDrawn(f"{u.top(m)} cannot hover: {restate(str(exc), u)}") from None
+        raise NotDrawn(f"{u.top(m)} cannot hover: {shown(str(exc), u)}") from None
     if z_s is None:
         raise NotDrawn(f"{u.top(m)} has no vertically stable height to launch from: "
-                       + restate(res.reason or "", u))
+                       + shown(res.reason, u))
     title = f"{model.scene.name}, {u.top(m)}: launches over spin and tilt (thesis fig. 3.8)"
     z_ref, m_ref = z_s, m
     if iv is None:

@@ -26,9 +26,10 @@ from levitron.runtime.physics.equilibria import Equilibria
 from levitron.runtime.report.html_parts import p as _p, png as _png, table as _table
 from levitron.runtime.ui import progress, reference
 from levitron.runtime.ui.atomic import sweep
-from levitron.runtime.ui.human import SI_SYMBOLS, Units, restate, sig, span
+from levitron.runtime.ui.human import SI_SYMBOLS, Units, sig, span
+from levitron.runtime.ui.plain_text import shown
 from levitron.runtime.words import render
-from levitron.runtime.physics.stability import stability_of
+from levitron.runtime.physics.stability_answer import Stability
 
 MAP_SPINS, MAP_TILTS = 8, 6
 LAUNCH_TILT = 0.01            # rad
@@ -90,7 +91,7 @@ def build(model, provenance: dict | None = None) -> tuple[str, dict]:
         eq_json = rep.as_json()
         band = rep.stable_band
         facts["equilibria"], facts["stable_band"] = eq_json["equilibria"], eq_json["stable_band"]
-        res = stability_of(model)
+        res = Stability.of(model)          # the answer `levitron stability` prints, its words its own
         iv = res.spin_interval
         facts["spin_interval"] = list(iv) if iv else None
         facts["z_s"] = res.z_s
@@ -100,7 +101,7 @@ def build(model, provenance: dict | None = None) -> tuple[str, dict]:
             answer = (f"{u.top(P['m']).capitalize()} hovers at {u.length(facts['z_s'])} and is stable "
                       f"for spin rates {u.rate_span(*iv)}.")
         else:      # what a person can change first (the CLI's `reason`), the technical why below
-            why = "; ".join(restate(h, u) for h in hints) or restate(res.reason or "", u)
+            why = "; ".join(shown(h, u) for h in hints) or shown(res.reason, u)
             answer = f"No: {u.top(P['m'])} cannot levitate over this plate: {why}."
         parts.append(_p(answer, "answer"))
         if res.equilibrium is not None:             # plate.tilt: say which parts answer for which base
@@ -126,8 +127,7 @@ def build(model, provenance: dict | None = None) -> tuple[str, dict]:
         parts.append(_png(figure_3_5(model, tmp / "equilibrium.png")))
         stage(1)
         parts.append("<h2>Spin interval (linear stability, thesis 3.3)</h2>")
-        parts.append(_p(f"spin interval: {u.rate_span(*iv)} at z_s = {u.length(facts['z_s'])}" if iv
-                        else f"no stable spin interval: {restate(res.reason, u)}"))
+        parts.append(_p(res.summary(u)))
         full = "full" in model.parts      # the map and the launch run the 12-D model
         if iv and not full:
             facts["map"] = facts["launch"] = None
@@ -201,13 +201,12 @@ def _window_figure(model, res, scan, u: Units, tmp: Path, facts: dict) -> str:
     """The map, and below it on the same spins the tilt each spin tolerates with the resonances
     marked (runtime/report/tolerance.py, cached by its inputs; the level, aligned top only): the
     figure and its note; facts["tilt_tolerance"] the curve (SI)."""
-    from levitron.runtime.physics.stability_answer import resonances_of
     from levitron.runtime.report import tolerance
     if res.equilibrium is not None or res.floquet is not None:        # off the axis: the map alone
         facts["tilt_tolerance"] = None
         scan.plot(tmp / "map.png")
         return _png(tmp / "map.png")
-    rs = [r.as_json() for r in resonances_of(model, res) or ()]
+    rs = [r.as_json() for r in res.resonances or ()]      # the answer's (Stability.of)
     curve, cached = tolerance.curve(model, res.spin_interval, res.z_s, rs)
     facts["tilt_tolerance"] = {**curve.as_json(), "cached": cached, "resonances": rs}
     tolerance.figure(scan, curve, tmp / "window.png", u)

@@ -216,38 +216,6 @@ def apart(lo, hi, digits: int = 4) -> str:
     return f"{sig(lo, d)}-{sig(hi, d)}"
 
 
-_NUM = r"(-?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)"
-
-
-def restate(text, units: Units) -> str:
-    """A reason sentence of the JSON (SI: "z = 0.157391 m", "[0.0995, 0.110] m", "0.0503 kg",
-    "z_s = 0.157391") with its lengths and masses in the human units (bare numbers in a
-    dimensionless scene, whose JSON sentences still say m and kg)."""
-    import re
-    from levitron.runtime.words import in_units
-    if not text:
-        return ""
-    text = re.sub(rf"\[{_NUM}, {_NUM}\] m\b",
-                  lambda m: units.length_span(float(m.group(1)), float(m.group(2))), in_units(str(text)))
-    text = re.sub(rf"\[{_NUM}, {_NUM}\] kg\b",
-                  lambda m: span(float(m.group(1)), float(m.group(2)), units.mass), text)
-    text = re.sub(rf"{_NUM} m\b(?!/)", lambda m: units.length(float(m.group(1))), text)
-    text = re.sub(rf"{_NUM} kg\b", lambda m: units.mass(float(m.group(1))), text)
-    text = re.sub(rf"\b(z_s|z) = {_NUM}(?![\d.eE])(?! ?(?:m|kg|cm|mm|um|g)\b)",
-                  lambda m: f"{m.group(1)} = {units.length(float(m.group(2)))}", text)
-    if not units.si:        # every other SI unit after a number: dropped, or the scene's rate/time
-        text = re.sub(rf"{_NUM} ({_SI_UNITS})(?![\w^/])",
-                      lambda m: units.value(float(m.group(1)), m.group(2), 6), text)
-        # a unit named as a word ("a positive number in m", "a length (m)"): the scene's name for it
-        text = re.sub(rf"\b(in|number) (m|kg|{_SI_UNITS})(?![\w^/])",
-                      lambda m: f"{m.group(1)} {units.named(m.group(2))}", text)
-        text = re.sub(rf"\((m|kg|{_SI_UNITS})\)", lambda m: f"({units.named(m.group(1))})", text)
-    return text
-
-
-_SI_UNITS = r"A m\^2|kg m\^2|m/s\^2|m/s|A/m|T m|J m|N/m|rad/s|mT|T|Hz|rpm|N|s|A"
-
-
 def lines(*items) -> str:
     """The non-empty items, one a line."""
     return "\n".join(str(i) for i in items if i)

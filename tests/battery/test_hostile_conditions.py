@@ -168,6 +168,9 @@ NOT_ON_A_TEMPORARY = {
     ("runtime/cli/commands/simulate.py", "args.save"): "Simulation.save: trajectory_file.write_columns",
     ("runtime/cli/commands/scan.py", "args.save"): "Scan.save: trajectory_file.write_columns",
     ("runtime/cli/commands/launch.py", "args.save"): "LaunchOdds.save: trajectory_file.write_columns",
+    # a notebook table's figure, drawn into memory (io.StringIO / io.BytesIO), never a file
+    ("runtime/ui/answer_view.py", "buf"): "an in-memory SVG for _repr_html_",
+    ("runtime/ui/answer_view.py", "raw"): "an in-memory PNG for _repr_html_",
 }
 
 

@@ -258,6 +258,6 @@ def test_stability_at_a_vertically_unstable_height_says_so(capsys):
 
 
 def test_an_unbounded_interval_reads_above():
-    from levitron.runtime.cli.commands.stability import _interval
+    from levitron.runtime.physics.stability_view import interval
     from levitron.runtime.ui.human import Units
-    assert _interval([1.2e26, None], Units(si=True)).startswith("above 1.2e26 rad/s")
+    assert interval([1.2e26, None], Units(si=True)).startswith("above 1.2e26 rad/s")

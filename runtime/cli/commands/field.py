@@ -15,7 +15,8 @@ import numpy as np
 from levitron.runtime.errors import UserError
 from levitron.runtime.words import si, si_unit
 from levitron.runtime.ui.validate import number_text
-from levitron.runtime.ui.human import Units, lines, restate, sig
+from levitron.runtime.ui.human import Units, lines, sig
+from levitron.runtime.ui.plain_text import shown
 from levitron.runtime.physics.plates import plate_field
 from levitron.runtime.cli.commands.common import model_of
 
@@ -101,4 +102,4 @@ def human(r: dict, scene=None) -> str:
             row += f" ({p['note']})"
         rows.append(row)
     return lines(*rows, f"exact: {r['exact']}" if r.get("exact") else "",
-                 *[f"note: {restate(n, u)}" for n in r.get("notes") or []], u.note)
+                 *[f"note: {shown(n, u)}" for n in r.get("notes") or []], u.note)

@@ -8,7 +8,8 @@ from levitron.scene.plates.symmetry import symmetry
 from levitron.scene.constants import MU0
 
 from levitron.runtime.physics.friction import decay_times, friction_rates, has_friction
-from levitron.runtime.ui.human import Units, lines, restate, sig
+from levitron.runtime.ui.human import Units, lines, sig
+from levitron.runtime.ui.plain_text import shown
 from levitron.runtime.cli.commands.common import model_of
 
 NAME = "info"
@@ -102,7 +103,7 @@ def human(r: dict, scene=None) -> str:
         _air(r.get("decay_times"), u),
         f"operations per call: {ops}",
         _taylor(r.get("taylor")),
-        *[f"note: {restate(n, u)}" for n in r.get("notes") or []],
+        *[f"note: {shown(n, u)}" for n in r.get("notes") or []],
         # an axisymmetric plate's symmetry goes without saying (the thesis's case)
         f"symmetry: {r['symmetry']['summary']}" if r.get("symmetry", {}).get("name", "axial") != "axial" else "",
         f"generated: {r['generated']} (input hash {r['input_hash'][:12]})",

@@ -34,9 +34,11 @@ def test_on_the_axis_nothing_is_tried_and_the_answer_says_why(derived_model):
 
 
 def test_the_plain_view_shows_the_equilibriums_truncation_warning_as_a_warning():
-    from levitron.runtime.cli.commands.stability import _notes
+    from levitron.runtime.physics.stability_answer import Stability
+    from levitron.runtime.physics.stability_view import note_lines
+    from levitron.runtime.ui.human import Units
     r = {"notes": ["other", "it moves"], "equilibrium": {"truncation": {"warning": "it moves"}}}
-    assert _notes(r) == ["other", "warning: it moves"]
+    assert note_lines(Stability.from_json(r), r["notes"], Units(si=True)) == ["other", "warning: it moves"]
 
 
 def test_a_tilted_bases_equilibrium_at_order_2_is_raised(derived_model):

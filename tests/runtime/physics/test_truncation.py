@@ -107,10 +107,12 @@ def test_each_order_is_announced_as_a_stage_before_its_answer():
 
 
 def test_the_plain_view_shows_the_truncation_warning_as_a_warning():
-    from levitron.runtime.cli.commands.stability import _notes
+    from levitron.runtime.physics.stability_answer import Stability
+    from levitron.runtime.physics.stability_view import note_lines
+    from levitron.runtime.ui.human import Units
     r = {"notes": ["other", "it moves"], "level_tolerance": {"truncation": {"warning": "it moves"}}}
-    assert _notes(r) == ["other", "warning: it moves"]
-    assert _notes({"notes": ["x"]}) == ["x"]
+    assert note_lines(Stability.from_json(r), r["notes"], Units(si=True)) == ["other", "warning: it moves"]
+    assert note_lines(Stability.from_json({}), ["x"], Units(si=True)) == ["x"]
 
 
 # ---- on the real model (each order is derived once into the cache: slow tier)
@@ -137,7 +139,7 @@ def test_thesis_stables_level_tolerance_is_raised_from_order_2_to_the_exact_fiel
     m = tol["moment_tolerance"]["truncation"]
     assert m["orders"] == [2, 4] and m["order_used"] == 2 and m["note"] is None and m["warning"] is None
     assert tol["max_moment_tilt"] == m["values"][0] and 0.2 < tol["max_moment_tilt"] < 0.3
-    assert answer.result.notes[-1] == t["note"]
+    assert answer.notes[-1] == t["note"]
     text = render(human(answer.as_json(), model.scene), "cli")
     assert "the expansion about the axis (thesis eq. 2.2.6) cut at order 2 moves it by 15 %" in text
     assert "level to 0.0822 deg (0.001434 rad)" in text

@@ -10,7 +10,8 @@ import pytest
 from levitron.runtime.cli import main as cli
 
 from levitron.runtime.ui import progress
-from levitron.runtime.ui.human import Units, restate, sig
+from levitron.runtime.ui.human import Units, sig
+from levitron.runtime.ui.plain_text import shown
 
 # a number as printed: not part of a word, a path or a hash
 NUMBER = re.compile(r"(?<![\w/.])(\d+(?:\.\d+)?)(?:e[-+]?\d+)?(?![\w/]|\.\d)")
@@ -81,9 +82,9 @@ def test_units_rule():
     assert si.rate(1000) == "1000 rad/s (159 Hz, 9550 rpm)"
     assert (dim.length(0.1574), dim.mass(0.0515)) == ("0.1574", "0.0515")   # no cm or g
     assert "Hz" not in dim.rate(1000)
-    assert restate("at z_s = 0.157391 the top, band [0.0994772, 0.110198] m", si) == \
+    assert shown("at z_s = ‹0.157391|m› the top, band ‹[0.0994772, 0.110198]|m›", si) == \
         "at z_s = 15.74 cm the top, band 9.948-11.02 cm"
-    assert restate("hovers at z = 0.3344 m, band [0.09948, 0.1102] m, mass in [0.494, 0.5149] kg", dim) == \
+    assert shown("hovers at z = ‹0.3344|m›, band ‹[0.09948, 0.1102]|m›, mass in ‹[0.494, 0.5149]|kg›", dim) == \
         "hovers at z = 0.3344, band 0.09948-0.1102, mass in 0.494-0.5149"
     assert [sig(v) for v in (26163.68, 0.0762, 1.5141e-10, 0)] == ["26160", "0.0762", "1.514e-10", "0"]
 

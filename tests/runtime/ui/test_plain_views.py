@@ -126,13 +126,14 @@ def test_launch_inputs_in_the_scene_units():
 def test_a_range_of_lengths_in_one_unit():
     """A height range takes the unit of its larger end, as a single height does: a millimetre top's
     band reads '1-1.319 mm' beside its '1.242 mm' hover height, not '0.1-0.1319 cm'."""
-    from levitron.runtime.ui.human import Units, restate
+    from levitron.runtime.ui.human import Units
+    from levitron.runtime.ui.plain_text import shown
     si = Units(si=True)
     assert si.length_span(0.0994827, 0.110185) == "9.948-11.02 cm"
     assert si.length_span(0.001, 0.0013186) == "1-1.319 mm"
     assert si.length_span(0.35, 1.2) == "0.35-1.2 m"
     assert Units(si=False).length_span(0.001, 0.0013186) == "0.001-0.001319"
-    assert restate("outside the band [0.001, 0.0013186] m", si) == "outside the band 1-1.319 mm"
+    assert shown("outside the band ‹[0.001, 0.0013186]|m›", si) == "outside the band 1-1.319 mm"
 
 
 @pytest.mark.parametrize("scene, shown", [
@@ -155,8 +156,9 @@ def test_launch_shows_a_temperature_that_matters():
 
 
 def test_a_dimensionless_restatement_drops_every_si_unit_the_views_know():
-    """restate's units are SI_SYMBOLS' (the plate units A/m and T m included): a runtime sentence
-    about a dimensionless scene keeps none of them."""
-    from levitron.runtime.ui.human import Units, restate
+    """A quantity's unit is one of SI_SYMBOLS (the plate units A/m and T m included): a runtime
+    sentence about a dimensionless scene, rendered by runtime/ui/plain_text.py, keeps none of them."""
+    from levitron.runtime.ui.human import Units
+    from levitron.runtime.ui.plain_text import shown
     dl = Units(si=False)
-    assert restate("M = 310352 A/m and rho = 0.0026 T m at 0.5 m/s", dl) == "M = 310352 and rho = 0.0026 at 0.5"
+    assert shown("M = ‹310352|A/m› and rho = ‹0.0026|T m› at ‹0.5|m/s›", dl) == "M = 310352 and rho = 0.0026 at 0.5"
