@@ -14,6 +14,7 @@ whether every sample has its verdict (a run that ended normally, or a top that c
 """
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -32,7 +33,10 @@ from levitron.runtime.physics.stability_answer import Stability
 from levitron.runtime.scan.launch_answer import LaunchOdds
 from levitron.runtime.scan.scan_answer import Scan, ScanResult
 from levitron.runtime.simulate.simulation import NORMAL_ENDS, Simulation
-from levitron.runtime.ui.human import Units, quantity, restate
+from levitron.runtime.ui.answer_view import html_table, text_repr
+from levitron.runtime.ui.human import Units
+from levitron.runtime.ui.plain_text import NOTHING_SAID, said
+from levitron.runtime.words import render
 
 _SI = Units(si=True)
 
@@ -69,6 +73,13 @@ class Simulations:
     details: dict = field(default_factory=dict)
     units: Units = field(default=_SI, repr=False, compare=False)   # how repr and message show numbers
     reason: np.ndarray | None = None
+    said: Mapping = field(default_factory=lambda: NOTHING_SAID, compare=False)   # reason as written (markers)
+
+    def __post_init__(self):
+        # the reasons as the runtime wrote them (quantity markers), kept when the API words the
+        # fields for its face (dataclasses.replace passes `said` on): its views render them
+        if not self.said and self.reason is not None:
+            object.__setattr__(self, "said", said(reason=list(self.reason)))
 
     # a launch's verdict: its run ended normally, or its top cannot hover (not run: no solver's failure)
     VERDICTS = NORMAL_ENDS + (NO_HOVER,)
@@ -89,35 +100,55 @@ class Simulations:
         top left the box), or its top cannot hover."""
         return bool(np.all(np.isin(self.status, self.VERDICTS)))
 
+    # ---- its words, one function for every face (runtime/simulate/simulations_view.py)
+    def lines(self, units: Units | None = None) -> list[str]:
+        """The plain view in `units` (default the scene's): the verdicts, the times survived."""
+        from levitron.runtime.simulate import simulations_view
+        return simulations_view.lines(self, units or self.units)
+
     @property
     def message(self) -> str:
-        n = len(self)
-        bad = np.flatnonzero(~np.isin(self.status, self.VERDICTS))
-        if bad.size:
-            kinds = ", ".join(sorted(set(self.status[bad].tolist())))
-            return (f"{bad.size} of {n} runs did not end normally ({kinds}; the first: launch "
-                    f"{int(bad[0])})")
-        lev = int(np.sum(self.levitating & ~self.untested))
-        no = np.flatnonzero(self.status == NO_HOVER)
-        ran = n - no.size
-        text = (f"{ran} runs ended normally; {lev} stayed up for the whole "
-                f"{quantity(self.units, self.details.get('t_end'), 's')}") if ran else "no launch ran"
-        if np.any(self.untested):
-            text += f"; {int(np.sum(self.untested))} launched on the invariant set test nothing"
-        if no.size:
-            why = self.reason[no[0]] if self.reason is not None else None
-            text += (f"; {no.size} cannot hover (the first, launch {int(no[0])}: "
-                     f"{restate(why, self.units) if why else 'no stable hover height'})")
-        return text
+        from levitron.runtime.simulate import simulations_view
+        return render(simulations_view.summary(self, self.units), "api", self.units)
 
     def __repr__(self) -> str:
-        n = len(self)
+        from levitron.runtime.simulate import simulations_view
+        n, u = len(self), self.units
         lev = int(np.sum(self.levitating & ~self.untested))
-        ts = self.t_survived
         no = int(np.sum(self.status == NO_HOVER))
-        t_end = self.details.get("t_end")
-        return (f"Simulations(n={n}, levitating={lev} of {n - int(np.sum(self.untested))} tested, "
-                f"t_survived={np.min(ts):.6g}-{np.max(ts):.6g} of "
-                f"{quantity(self.units, float('nan') if t_end is None else t_end, 's')}, "
-                + (f"cannot hover={no}, " if no else "")
-                + f"lanes={self.details.get('lanes')}, success={self.success})")
+        return render(text_repr("Simulations", [
+            f"n={n}, levitating={lev} of {n - int(np.sum(self.untested))} tested"
+            + (f", cannot hover={no}" if no else ""), simulations_view.survived(self, u),
+            f"lanes={self.details.get('lanes')}, success={self.success}"]), "api", u)
+
+    def _repr_html_(self) -> str:
+        return render(html_table("Simulations", self.lines()), "api", self.units)
+
+    # ---- as a table (runtime/ui/frames.py)
+    def columns(self) -> tuple[dict[str, np.ndarray], dict[str, str]]:
+        """(columns, units) of `to_pandas`, one entry a launch: the inputs (spin rad/s, tilt rad,
+        offset m, azimuth rad, a varied scene key in its unit), levitating, untested, status,
+        t_survived (s), rhs_evals, steps, z_s (m), reason ("" where the top can hover) and the final
+        state as final_<state>; SI (the scene's units in a dimensionless scene)."""
+        from levitron.runtime.ui import frames
+        si = {"spin": "rad/s", "tilt": "rad", "offset": "m", "azimuth": "rad"}
+        n = len(self)
+        cols = {k: np.broadcast_to(np.asarray(v), (n,)) for k, v in self.inputs.items()}
+        units = {k: si.get(k) or frames.key_unit(k) for k in cols}
+        reason = ["" if r is None else str(r) for r in (self.reason if self.reason is not None else [None] * n)]
+        cols.update(levitating=self.levitating, untested=self.untested, status=self.status,
+                    t_survived=self.t_survived, rhs_evals=self.rhs_evals, steps=self.steps, z_s=self.z_s,
+                    reason=np.array(reason, dtype=str))
+        units.update(levitating="1", untested="1", status="text", t_survived="s", rhs_evals="1", steps="1",
+                     z_s="m", reason="text")
+        for j, s in enumerate(self.states):
+            cols[f"final_{s}"] = self.final_states[:, j]
+            units[f"final_{s}"] = frames.state_unit(s)
+        return cols, frames.shown_units(units, self.units)
+
+    def to_pandas(self):
+        """The launches as a pandas DataFrame, one row a launch (`columns()`), the units in
+        `df.attrs["units"]` (needs pandas)."""
+        from levitron.runtime.ui import frames
+        cols, units = self.columns()
+        return frames.frame(cols, units, "Simulations.to_pandas()")

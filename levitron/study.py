@@ -371,8 +371,8 @@ class Study:
                 from levitron.runtime.design.yield_design import maximize_yield
                 prod = Production.of(kit, washers or (), KITS if kits is None else kits, request.seed)
                 return maximize_yield(self.model, varies, request, prod, tolerance=tols)
-            from levitron.runtime.design.design_notes import with_resonance_advice
-            return with_resonance_advice(self.model, maximize_launch_odds(self.model, varies, request, tolerance=tols))
+            from levitron.runtime.design.design_notes import with_launch_notes
+            return with_launch_notes(self.model, maximize_launch_odds(self.model, varies, request, tolerance=tols))
         passed = [k for k, v in (("n", n), ("seed", seed), ("inputs", inputs), ("kit", kit), ("washers", washers),
                                  ("kits", kits)) if v is not None]
         if passed or launch_options:

@@ -39,12 +39,14 @@ from levitron.runtime.errors import UserError
 from levitron.runtime.scan import launch_odds as mc
 from levitron.runtime.scan import spreads
 from levitron.runtime.scan.launch_inputs import INPUTS
+from levitron.runtime.ui.answer_lines import worded
+from levitron.runtime.ui.answer_view import html_table, text_repr
 from levitron.runtime.ui.human import Units, sig
 
 HAND = tuple(k for k in INPUTS if k != "temperature")     # the hand's inputs; the temperature is the scene's
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Comparison:
     """Scenes under one launch spread (docs/contract.md `compare`): `rows`, one a scene (SI: z_s,
     band_z, band_mass, mass, spin_interval, weight_window [kg off, kg on], launch_odds at the
@@ -62,6 +64,18 @@ class Comparison:
         if odds <= 0:
             return "no scene floats under this hand, at any mass: a steadier hand, or another spin"
         return f"{best['scene']} floats most often under one hand: {100 * odds:.3g} % at its best mass"
+
+    def lines(self, units: Units | None = None, face: str | None = "api") -> list[str]:
+        """The plain view (comparison_view of as_json: the one wording of every face), in the
+        scenes' units (`units`: their quantities' only), worded for `face` (None: markers kept)."""
+        u = units or Units(si=self.si)
+        return worded(comparison_view(self.as_json()), u, face)
+
+    def __repr__(self) -> str:
+        return text_repr("Comparison", [self.message])   # short: the answer
+
+    def _repr_html_(self) -> str:
+        return html_table("Comparison", self.lines())
 
     def as_json(self) -> dict:
         """docs/contract.md's `compare --json` (SI)."""
@@ -203,3 +217,10 @@ def comparison_lines(r: dict, spread: str = "") -> list[str]:
                             + (f", trimmed with washers of {', '.join(u.mass(w) for w in p['washers'])}" if p["washers"]
                                else ", no washers in the box (the yield is as shipped)"))
     return [hand, *out, *notes, run, r.get("message", ""), u.note]
+
+
+def comparison_view(r: dict) -> list[str]:
+    """The plain view of a comparison's JSON, its hand's inputs in words (comparison_lines)."""
+    from levitron.runtime.scan.launch_answer import launch_input
+    u = Units(si=r.get("units", "SI") == "SI")
+    return comparison_lines(r, "; ".join(launch_input(k, v, u) for k, v in r["hand"]["inputs"].items()))

@@ -25,6 +25,7 @@ from levitron.runtime.errors import UserError
 from levitron.runtime.design.fit_answer import Fit, FitResult  # noqa: F401 (FitResult: its old name)
 from levitron.runtime.design.scene_keys import KeyMap, Vary, key_value, with_values
 from levitron.runtime.ui import progress
+from levitron.runtime.ui.human import Units
 from levitron.runtime.design.measurements import Row, check_rows
 
 RANK_RTOL = 1e-8
@@ -292,7 +293,8 @@ def fit(model, rows: Sequence[Row], varies: Sequence[Vary]) -> Fit:
                     "sigma": row.sigma, "normalized": float(res),
                     "overrides": dict(row.overrides)} for row, m, res in zip(rows, vals, r)],
         chi2=cost, dof=len(rows) - len(keys), iterations=it, solver_status=status, start=start,
-        covariance=cov_log * np.outer(x, x), warnings=warnings, scene=model.scene.name)
+        covariance=cov_log * np.outer(x, x), warnings=warnings, scene=model.scene.name,
+        units=Units.of_scene(model.scene))
 
 
 def poor_fit(chi2: float, dof: int, normalized) -> str | None:

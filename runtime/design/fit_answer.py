@@ -4,12 +4,30 @@
 """
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from levitron.runtime.design.launch_design_answer import warning_lines
+from levitron.runtime.ui.answer_lines import as_written, keep_said, worded
+from levitron.runtime.ui.answer_view import html_table, text_repr
+from levitron.runtime.ui.human import Units, sig
+from levitron.runtime.ui.plain_text import NOTHING_SAID
 
-@dataclass
+
+def fit_lines(r: dict, u: Units) -> list[str]:
+    """The plain view of a fit's JSON: the fitted keys with their standard errors, chi2 and the
+    largest residual, the solver, the warnings."""
+    fitted = ", ".join(f"{k} = {sig(v['value'], 6)} +- {sig(v['stderr'], 2)}" for k, v in r["parameters"].items())
+    worst = max((abs(x.get("normalized", 0.0)) for x in r.get("residuals") or []), default=None)
+    return [f"fit: {fitted}",
+            f"chi2 {sig(r['objective'], 4)} with {r['dof']} degrees of freedom"
+            + (f"; largest residual {sig(worst, 3)} sigma" if worst is not None else ""),
+            f"solver: {r['solver_status']}, {r['iterations']} iterations", *warning_lines(r), u.note]
+
+
+@dataclass(repr=False)
 class Fit:
     """A least-squares fit (docs/contract.md `optimize`, fits).
 
@@ -30,6 +48,11 @@ class Fit:
     covariance: np.ndarray | None = None
     warnings: list[str] = field(default_factory=list)
     scene: str = ""
+    units: Units = field(default=Units(si=True), repr=False, compare=False)   # the scene's: how lines show numbers
+    said: Mapping = field(default_factory=lambda: NOTHING_SAID, repr=False, compare=False)  # warnings as written
+
+    def __post_init__(self) -> None:
+        keep_said(self, warnings=self.warnings)
 
     @property
     def keys(self) -> list[str]:
@@ -48,20 +71,32 @@ class Fit:
         return self.solver_status == "converged"
 
     @property
-    def message(self) -> str:
+    def status_message(self) -> str:
+        """scipy-style, the JSON's `message`: how Gauss-Newton ended, chi2, then every warning."""
         return "; ".join([f"Gauss-Newton {self.solver_status} in {self.iterations} iterations: chi2 "
                           f"{self.chi2:.4g} with {self.dof} degrees of freedom", *self.warnings])
 
+    def lines(self, units: Units | None = None, face: str | None = "api") -> list[str]:
+        """The plain view (fit_lines of as_json: the one wording of every face), in `units` (a
+        fit's keys are the scene's own numbers; default SI), worded for `face` (None: markers kept)."""
+        u = units or self.units
+        return worded(fit_lines(as_written(self.as_json(), self.said, self.units), u), u, face)
+
+    @property
+    def message(self) -> str:
+        return "; ".join(self.lines())
+
     def __repr__(self) -> str:
-        keys = ", ".join(f"{k}={v['value']:.6g}+-{v['stderr']:.2g}" for k, v in self.parameters.items())
-        return (f"Fit({keys}, chi2={self.chi2:.4g}, dof={self.dof}, success={self.success}, "
-                f"warnings={len(self.warnings)})")
+        return text_repr("Fit", [self.lines()[0], f"success={self.success}"])   # short: the answer first
+
+    def _repr_html_(self) -> str:
+        return html_table("Fit", self.lines())
 
     def as_json(self) -> dict:
         """docs/contract.md's `optimize --fit --json` (SI)."""
         cov, cor = self.covariance, self.correlation
         return {"objective": self.chi2, "objective_name": "chi2",
-                "success": self.success, "message": self.message, "warnings": self.warnings,
+                "success": self.success, "message": self.status_message, "warnings": self.warnings,
                 "keys": self.keys,
                 "covariance": None if cov is None else cov.tolist(),
                 "correlation": None if cor is None else cor.tolist(),

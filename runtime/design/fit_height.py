@@ -20,7 +20,9 @@ from levitron.scene import plates
 
 from levitron.runtime.physics import equilibrium as eqm
 from levitron.runtime.errors import UserError
-from levitron.runtime.ui.human import Units, quantity
+from levitron.runtime.ui.answer_lines import worded
+from levitron.runtime.ui.answer_view import html_table, text_repr
+from levitron.runtime.ui.human import Units, sig
 from levitron.runtime.words import setting, si_unit
 
 # parameters that must be positive
@@ -128,6 +130,19 @@ def fit_equilibrium_height(model, z_star: float, param: str = "mu") -> HeightFit
                      murho, Units.of_scene(model.scene))
 
 
+def height_fit_lines(r: dict, u: Units) -> list[str]:
+    """The plain view of a height fit's JSON: the fitted value and the equilibrium it puts at z*,
+    every equilibrium then, the rootfinder's residual."""
+    fit = ", ".join(f"{k} = {sig(v, 6)}" for k, v in r["optimum"].items())
+    roots = ", ".join(f"{u.length(e['z'])} ({'vertically stable' if e['vertically_stable'] else 'unstable'})"
+                      for e in r.get("equilibria") or [])
+    stable = "vertically stable" if r.get("z_star_vertically_stable") else "vertically unstable"
+    return [f"fit: {fit} puts an equilibrium at {u.length(r['z_star'])} ({stable})",
+            f"equilibria then: {roots}" if roots else "",
+            f"solver: {r['solver_status']}, residual {u.value(r['residual_N'], 'N', 2)} ({r['objective']})",
+            u.note]
+
+
 @dataclass(frozen=True, repr=False)
 class HeightFit:
     """The answer of `optimize --fit-height Z` and Study.fit_height(): the value of one parameter
@@ -151,14 +166,21 @@ class HeightFit:
         """scipy-style: the rootfinder converged and z* is an equilibrium (a failure raises instead)."""
         return True
 
+    def lines(self, units: Units | None = None, face: str | None = "api") -> list[str]:
+        """The plain view (height_fit_lines of as_json: the one wording of every face), in `units`
+        (default the scene's), worded for `face` (None: the markers kept)."""
+        u = units or self.units
+        return worded(height_fit_lines(self.as_json(), u), u, face)
+
     @property
     def message(self) -> str:
-        stable = "vertically stable" if self.z_star_vertically_stable else "not vertically stable"
-        return (f"{self.param} = {self.value:.6g} puts the top at z* = {quantity(self.units, self.z_star, 'm')} "
-                f"({stable})")
+        return "; ".join(self.lines())
 
     def __repr__(self) -> str:
-        return f"HeightFit({self.param}={self.value:.6g}, z_star={quantity(self.units, self.z_star, 'm')})"
+        return text_repr("HeightFit", [self.lines()[0], f"success={self.success}"])   # short: the answer first
+
+    def _repr_html_(self) -> str:
+        return html_table("Height fit", self.lines())
 
     def as_json(self) -> dict:
         """docs/contract.md's `optimize --fit-height` object (SI)."""

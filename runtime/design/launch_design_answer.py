@@ -6,9 +6,14 @@ the scene as written then judged on fresh draws, with their 95 % Wilson interval
 """
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
-from levitron.runtime.ui.human import Units
+from levitron.runtime.design.sharpness import sharpness_lines
+from levitron.runtime.ui.answer_lines import as_written, keep_said, worded
+from levitron.runtime.ui.answer_view import html_table, text_repr
+from levitron.runtime.ui.human import Units, sig
+from levitron.runtime.ui.plain_text import NOTHING_SAID
 
 
 def knife_edges(block: dict | None) -> list[str]:
@@ -21,6 +26,51 @@ def knife_edges(block: dict | None) -> list[str]:
             out.append(f"a knife edge: {k} at +- its tolerance takes the objective from {block['objective']:.3g} "
                        f"to {sides[0]} and {sides[1]}")
     return out
+
+
+def odds_text(block: dict) -> str:
+    """Launch odds with their 95 % Wilson interval: "61.5 % (54.6-68 %)"."""
+    lo, hi = block["probability_ci95"]
+    if hi == 0:                         # odds_at: a design whose top cannot hover floats never
+        return "0 % (it cannot hover)"
+    return f"{sig(100 * block['probability'], 3)} % ({sig(100 * lo, 3)}-{sig(100 * hi, 3)} %)"
+
+
+def change_text(key: str, start: float, to: float, u: Units) -> str:
+    """"take 1.2 g off" / "add 0.3 g" for the top's mass; "set KEY from A to B" for any key."""
+    if key == "top.mass":
+        d = to - start
+        return f"take {u.mass(-d)} off" if d < 0 else f"add {u.mass(d)}"
+    return f"set {key} from {sig(start, 6)} to {sig(to, 6)}"
+
+
+def warning_lines(r: dict) -> list[str]:
+    """Every warning of an answer's JSON, one a line (its quantities' markers shown by the face)."""
+    return [f"warning: {w}" for w in r.get("warnings") or []]
+
+
+def launch_odds_lines(r: dict, u: Units, scene=None) -> list[str]:
+    """The launch-odds design in plain view: the advice and what it does to the odds."""
+    from levitron.runtime.scan.launch_answer import launches_line
+    a, b = r["start_launch_odds"], r["launch_odds"]
+    advice = "; ".join(change_text(k, r["start"][k], v, u) for k, v in r["optimum"].items())
+    search = r["search"]
+    return [f"{advice}: odds {sig(100 * a['probability'], 3)} % -> {sig(100 * b['probability'], 3)} %",
+            "optimum: " + ", ".join(f"{k} = {u.mass(v) if k == 'top.mass' else sig(v, 6)}"
+                                    for k, v in r["optimum"].items())
+            + f": {odds_text(b)} of {b['n']} launches float at least {u.time(r['success_time'])} (seed {b['seed']})",
+            f"as written: {odds_text(a)} (the same seed)",
+            launches_line(r, u, scene),
+            f"searched: {search['evaluations']} designs of {search['n']} launches each on common random "
+            f"numbers (seed {search['seed']}), the best at {sig(100 * search['best_search_odds'], 3)} % (biased "
+            f"upwards: the best of {search['evaluations']}); decided on the fresh seed {b['seed']}"]
+
+
+def launch_design_lines(r: dict, u: Units, scene=None) -> list[str]:
+    """The plain view of a launch-odds design's JSON: the advice, the odds, the launches, the
+    search; the design's sharpness; the warnings."""
+    return [*launch_odds_lines(r, u, scene), *sharpness_lines(r.get("sharpness"), u, scene),
+            *warning_lines(r), u.note]
 
 
 @dataclass(frozen=True, repr=False)
@@ -53,6 +103,10 @@ class LaunchDesign:
     work: dict = field(default_factory=dict, compare=False)   # runtime/design/paired_odds.py's counts
     sharpness: dict | None = None       # the odds at +- a tolerance of each key, the ridge (sharpness.py)
     paired: dict = field(default_factory=dict, compare=False)   # the optimum's fresh verdicts (not in the JSON)
+    said: Mapping = field(default_factory=lambda: NOTHING_SAID, repr=False, compare=False)  # warnings as written
+
+    def __post_init__(self) -> None:
+        keep_said(self, warnings=self.warnings)
 
     @property
     def probability(self) -> float:
@@ -64,18 +118,21 @@ class LaunchDesign:
         """scipy-style: the search ran to its answer (a design no launch floats raises instead)."""
         return True
 
+    def lines(self, units: Units | None = None, face: str | None = "api") -> list[str]:
+        """The plain view (launch_design_lines of as_json: the one wording of every face), in
+        `units` (default the scene's), worded for `face` (None: the markers kept)."""
+        u = units or self.units
+        return worded(launch_design_lines(as_written(self.as_json(), self.said, self.units), u, self.scene), u, face)
+
     @property
     def message(self) -> str:
-        """scipy-style: the odds at the optimum and at the start, then every warning."""
-        lo, hi = self.launch_odds["probability_ci95"]
-        return "; ".join([f"launch odds {100 * self.probability:.3g} % (95 %: {100 * lo:.3g}-{100 * hi:.3g} %) "
-                          f"at the optimum, {100 * self.start_launch_odds['probability']:.3g} % as written",
-                          *knife_edges(self.sharpness), *self.warnings])
+        return "; ".join(self.lines())
 
     def __repr__(self) -> str:
-        keys = ", ".join(f"{k}={v:.6g}" for k, v in self.optimum.items())
-        return (f"LaunchDesign(launch-odds={self.probability:.3g} at {keys}, n={self.n}, "
-                f"warnings={len(self.warnings)})")
+        return text_repr("LaunchDesign", [self.lines()[0], f"success={self.success}"])   # short: the answer first
+
+    def _repr_html_(self) -> str:
+        return html_table("Launch-odds design", self.lines())
 
     def as_json(self) -> dict:
         """docs/contract.md's `optimize --maximize launch-odds` object (SI)."""

@@ -5,12 +5,40 @@ Computed by runtime/design/trim.py: the launch-odds design over top.mass in the 
 """
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
-from levitron.runtime.design.launch_design_answer import LaunchDesign
-from levitron.runtime.ui.human import Units, sig
+from levitron.runtime.design.launch_design_answer import LaunchDesign, change_text, odds_text, warning_lines
+from levitron.runtime.ui.answer_lines import as_written, keep_said, worded
+from levitron.runtime.ui.answer_view import html_table, text_repr
+from levitron.runtime.ui.human import Units
+from levitron.runtime.ui.plain_text import NOTHING_SAID
 
 _SI = Units(si=True)
+
+
+def trim_lines(r: dict, u: Units, scene=None) -> list[str]:
+    """The plain view of a trim's JSON, answer first: the change and what it does to the odds; then
+    the band and the widest window; the launches; the plot (`out` where given); the warnings."""
+    from levitron.runtime.scan.launch_answer import launches_line
+    a, b, w = r["start_launch_odds"], r["launch_odds"], r["widest_window"]
+    lo, hi = r["band_mass"]
+    iv = w["spin_interval"]
+    change = f"{change_text('top.mass', r['mass'], r['advice'], u)} (to {u.mass(r['advice'])})"
+    first = (f"{change}: launch odds {odds_text(a)} -> {odds_text(b)} of {b['n']} launches floating at least "
+             f"{u.time(r['success_time'])}")
+    if r.get("no_change"):
+        first = (f"no change: the best mass ({change}) floats {odds_text(b)}, inside the interval of the "
+                 f"mass as written, {odds_text(a)}, of {b['n']} launches floating at least "
+                 f"{u.time(r['success_time'])}")
+    return [
+        first,
+        f"the masses that hover: {u.mass(lo)} to {u.mass(hi)}; as written {u.mass(r['mass'])}",
+        f"the widest spin window ({u.rate_span(*iv)}) is at {u.mass(w['mass'])}: odds there "
+        f"{odds_text(w['launch_odds'])}" if iv else "",
+        launches_line(r["design"], u, scene),
+        f"plot: {r['out']}" if r.get("out") else "",
+        *warning_lines(r), u.note]
 
 
 @dataclass(frozen=True, repr=False)
@@ -27,6 +55,10 @@ class Trim:
     widest: dict = field(repr=False, default_factory=dict)
     warnings: list = field(default_factory=list)
     units: Units = field(default=_SI, repr=False, compare=False)
+    said: Mapping = field(default_factory=lambda: NOTHING_SAID, repr=False, compare=False)  # warnings as written
+
+    def __post_init__(self) -> None:
+        keep_said(self, warnings=self.warnings)
 
     @property
     def advice(self) -> float:
@@ -82,15 +114,19 @@ class Trim:
                 "spin_limits": self.limits, "inputs": d.inputs, "success_time": d.success_time,
                 "t_end": d.t_end, "design": d.as_json(), "warnings": [*self.warnings, *d.warnings]}
 
+    def lines(self, units: Units | None = None, face: str | None = "api") -> list[str]:
+        """The plain view (trim_lines of as_json: the one wording of every face), in `units`
+        (default the scene's), worded for `face` (None: the markers kept)."""
+        u = units or self.units
+        written = {"warnings": (*self.said.get("warnings", ()), *self.design.said.get("warnings", ()))}
+        return worded(trim_lines(as_written(self.as_json(), written, self.units), u, self.design.scene), u, face)
+
     @property
     def message(self) -> str:
-        d, u = self.change, self.units
-        how = f"take {u.mass(-d)} off" if d < 0 else f"add {u.mass(d)}"
-        if self.no_change:
-            how = f"no change (the best mass, {how}, floats within the interval of the mass as written)"
-        return (f"{how}: launch odds {sig(100 * self.start_probability, 3)}% -> {sig(100 * self.probability, 3)}%"
-                f" (the widest spin window, at {u.mass(self.widest_window_mass)}: "
-                f"{sig(100 * self.widest_window_probability, 3)}%)")
+        return "; ".join(self.lines())
 
     def __repr__(self) -> str:
-        return f"Trim({self.message})"
+        return text_repr("Trim", [self.lines()[0], f"success={self.success}"])   # short: the answer first
+
+    def _repr_html_(self) -> str:
+        return html_table("Trim", self.lines())

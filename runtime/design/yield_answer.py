@@ -3,11 +3,15 @@ trim them?": `YieldDesign` (`optimize --maximize yield --json` is its as_json();
 runtime/design/yield_design.py on runtime/design/production.py's yield)."""
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from levitron.runtime.design.production import Production, washer_text
 from levitron.runtime.design.sharpness import sharpness_lines
+from levitron.runtime.ui.answer_lines import as_written, keep_said, worded
+from levitron.runtime.ui.answer_view import html_table, text_repr
 from levitron.runtime.ui.human import Units
+from levitron.runtime.ui.plain_text import NOTHING_SAID
 
 
 def percent(block: dict) -> str:
@@ -50,6 +54,10 @@ class YieldDesign:
     warnings: list[str] = field(default_factory=list)
     scene: object = field(default=None, compare=False)
     sharpness: dict | None = None       # the yield at +- a tolerance of each key, the ridge (sharpness.py)
+    said: Mapping = field(default_factory=lambda: NOTHING_SAID, repr=False, compare=False)  # warnings as written
+
+    def __post_init__(self) -> None:
+        keep_said(self, warnings=self.warnings)
 
     @property
     def probability(self) -> float:
@@ -63,15 +71,19 @@ class YieldDesign:
 
     @property
     def message(self) -> str:
-        return "; ".join(self.lines(self.units))
+        return "; ".join(self.lines())
 
     def __repr__(self) -> str:
-        keys = ", ".join(f"{k}={v:.6g}" for k, v in self.optimum.items())
-        return f"YieldDesign(yield={self.probability:.3g} at {keys}, kits={self.production.kits})"
+        return text_repr("YieldDesign", [self.lines()[0], f"success={self.success}"])   # short: the answer first
 
-    def lines(self, u: Units) -> list[str]:
-        """The plain view (yield_lines of as_json: the one wording of every face)."""
-        return yield_lines(self.as_json(), u, self.scene)
+    def _repr_html_(self) -> str:
+        return html_table("Yield design", self.lines())
+
+    def lines(self, units: Units | None = None, face: str | None = "api") -> list[str]:
+        """The plain view (yield_lines of as_json: the one wording of every face), in `units`
+        (default the scene's), worded for `face` (None: the markers kept)."""
+        u = units or self.units
+        return worded(yield_lines(as_written(self.as_json(), self.said, self.units), u, self.scene), u, face)
 
     def as_json(self) -> dict:
         """docs/contract.md's `optimize --maximize yield` object (SI)."""

@@ -67,13 +67,16 @@ def hover_temperatures(model, step: float = 1.0, reach: float = 40.0) -> tuple[f
     return out[0], out[1]
 
 
-def maker_summary(model, odds: dict, band_mass, temps, u: Units) -> str:
+def sentence(line: str, end: str = ".") -> str:
+    """A line of an answer's plain view as a sentence of the page: capitalised, closed by `end`."""
+    return line[:1].upper() + line[1:] + end
+
+
+def maker_summary(model, odds, band_mass, temps, u: Units) -> str:
     """What a maker decides on, first: the odds with their interval, the margins in mass to both
     edges of the masses that hover, and the temperatures at which the top stops hovering."""
     m = model.param("m")
-    lo, hi = odds["probability_ci95"]
-    parts = [f"Launch odds {sig(100 * odds['probability'], 3)} % ({sig(100 * lo, 3)}-{sig(100 * hi, 3)} %) "
-             f"of {odds['n']} launches by hand"]
+    parts = [sentence(odds.lines(u, face=None)[0], "")]      # the answer's own headline (launch_answer.py)
     if band_mass is not None and band_mass[0] <= m <= band_mass[1]:
         parts.append(f"the top may lose {u.mass(m - band_mass[0])} or gain {u.mass(band_mass[1] - m)} and "
                      "still hover")
@@ -87,18 +90,15 @@ def maker_summary(model, odds: dict, band_mass, temps, u: Units) -> str:
     return "; ".join(parts) + "."
 
 
-def _input_text(name: str, spec: str, u: Units) -> str:
-    from levitron.runtime.scan import launch_odds as mc
-    from levitron.runtime.scan import launch_inputs as li
-    si_unit = li.INPUT_UNITS[name]
-    show = {"m": u.length, "1": lambda v: f"{sig(100 * v, 3)} %",
-            "degC": lambda v: f"{sig(v)} degC"}.get(si_unit, lambda v: u.value(v, si_unit))
-    d = mc.parse_input(name, spec)      # the JSON's inputs: mass and strength spelt relative (rel:)
-    if d.kind == "normal":
-        return f"{name}: {show(d.a)}, sd {show(d.b)} (normal)"
-    if d.kind == "uniform":
-        return f"{name}: {show(d.a)} to {show(d.b)} (uniform)"
-    return f"{name}: {show(d.a)}"
+def odds_paragraph(odds, u: Units) -> str:
+    """The report's answer on the launch odds (a LaunchOdds), in the answer's own words
+    (runtime/scan/launch_answer.py launch_lines: the command line's plain view), its markers left
+    for the page to word."""
+    head, *rest = odds.lines(u, face=None)
+    return "".join([f"<p class=\"answer\">{html.escape(sentence(head, ''))}: launches by hand, the "
+                    "interval the score interval of Wilson 1927.</p>",
+                    *(f"<p class=\"note\">{html.escape(sentence(line))}</p>" for line in rest),
+                    "<p class=\"note\">`«levitron=launch»` runs more launches and takes other spreads.</p>"])
 
 
 def resonance_text(model, odds) -> str:
@@ -114,18 +114,10 @@ def resonance_text(model, odds) -> str:
     return "" if advice is None else f"<p>{html.escape(advice[0][0].upper() + advice[0][1:])}.</p>"
 
 
-def _noise(effect: dict) -> str:
-    """", within the noise of N points" where an input's effect is no larger than chance's."""
-    if effect["effect"] > effect["noise"]:
-        return ""
-    return f", within the noise of {sig(100 * effect['noise'], 2)} points"
-
-
 def section(model, run: dict, u: Units, tmp: Path, png) -> tuple[str, dict]:
     """The section's HTML and its facts (SI). run: the report's flight (simulate's answer)."""
     from levitron.runtime.integrate.verdict import stopped_early
     from levitron.runtime.scan import launch_odds as mc
-    from levitron.runtime.scan import spreads
     fl = run["flight"]
     facts = {"flight_time": fl["flight_time"] if fl["fell"] else None, "t_cross": fl["t_cross"],
              "fall_spin": fl["fall_spin"] if fl["fell"] else None}
@@ -146,15 +138,10 @@ def section(model, run: dict, u: Units, tmp: Path, png) -> tuple[str, dict]:
                      f"{u.rate(fl['spin_interval'][0])})" if fl["spin_interval"] else u.rate(fl["fall_spin"])))
     given, table = mc.table_settings(model.scene.data.get("launch", {}))
     odds = mc.monte_carlo(model, given, n=ODDS_N, seed=0, quiet=True)
-    lo, hi = odds["probability_ci95"]
     facts["odds"] = {k: odds[k] for k in ("probability", "probability_ci95", "n", "seed", "success_time",
                                           "t_end", "inputs")}
     facts["odds"]["ranking"] = [{"input": e["input"], "effect": e["effect"], "noise": e["noise"]}
                                 for e in odds["ranking"]]
-    spread = [_input_text(k, v, u) for k, v in odds["inputs"].items()
-              if k != "temperature" or spreads.parse_dist(k, v).kind != "fixed"]
-    ranked = [f"{e['input']} (the success rate over its quintiles varies by {sig(100 * e['effect'], 2)} "
-              f"points{_noise(e)})" for e in odds["ranking"][:3]]
     windows = mass_windows(model)
     facts["mass_windows"] = windows
     facts["stops_hovering"] = dict(zip(("below", "above"), hover_temperatures(model)))
@@ -162,12 +149,7 @@ def section(model, run: dict, u: Units, tmp: Path, png) -> tuple[str, dict]:
     m = model.param("m")
     odds.plot(tmp / "odds.png")
     out = ["<h2>The real launch: in air</h2>", _table(rows),
-           f"<p class=\"answer\">Launch odds: {sig(100 * odds['probability'], 3)} % of {odds['n']} launches by "
-           f"hand float at least {html.escape(u.time(odds['success_time']))} (95 % interval "
-           f"{sig(100 * lo, 3)}-{sig(100 * hi, 3)} %, the score interval of Wilson 1927).</p>",
-           f"<p class=\"note\">The launch spread used (seed {odds['seed']}): {html.escape('; '.join(spread))}. "
-           "`levitron launch` runs more launches and takes other spreads.</p>",
-           f"<p>What matters most: {html.escape('; '.join(ranked))}.</p>" if ranked else "",
+           odds_paragraph(odds, u),
            resonance_text(model, odds),
            png(tmp / "odds.png"),
            "<h3>The masses that hover, and the temperature</h3>",

@@ -2,6 +2,8 @@
 every face (`scan --json` is its `as_json()`, `Study.scan` returns it, the report and the figures
 read it; docs/contract.md `scan`, thesis fig. 3.8 after Gans et al.). Drawing the map and saving its
 points are actions on it: `plot(path, title)`, `save(path)`. runtime/scan/stability_map.py computes it.
+Its words are its own: `scan_lines` (of its JSON) is the plain view `levitron scan` prints, its
+`lines(units)`, `message`, repr and a notebook's table (`_repr_html_`, with the map).
 """
 from __future__ import annotations
 
@@ -10,11 +12,98 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from levitron.runtime.integrate.verdict import NO_HOVER, stopped_early
+from levitron.runtime.integrate.verdict import NO_HOVER
+from levitron.runtime.integrate.verdict import stopped_early as _early
 from levitron.runtime.scan.grid import UNITS
-from levitron.runtime.ui.human import Units
+from levitron.runtime.ui.answer_lines import worded
+from levitron.runtime.ui.answer_view import html_table, text_repr
+from levitron.runtime.ui.human import Units, duration, sig
 
 _SI = Units(si=True)
+
+
+def _axis_value(axis: str, v: float, u: Units) -> str:
+    if axis == "tilt":
+        return u.angle(v)
+    if axis == "mass":
+        return u.mass(v)
+    return f"{sig(v, 3)} z_s"
+
+
+def runs(flags) -> list[tuple[int, int]]:
+    """The maximal runs of consecutive True entries, as (first, last) index pairs."""
+    out, start = [], None
+    for i, f in enumerate(list(flags) + [False]):
+        if f and start is None:
+            start = i
+        elif not f and start is not None:
+            out.append((start, i - 1))
+            start = None
+    return out
+
+
+def _stays_up(spins, up, u: Units) -> str:
+    """"stays up for spin 671.4-2557 rad/s (...)": every run of levitating spins as it is, several
+    where the map has gaps ("200-400 rad/s (...) and 900 rad/s (...)")."""
+    parts = [u.rate(spins[a]) if a == b else u.rate_span(spins[a], spins[b]) for a, b in runs(up)]
+    return "stays up for spin " + " and ".join(parts)
+
+
+def stopped_early(status) -> list[str]:
+    """The statuses of the runs that stopped early: no verdict (runtime/integrate/verdict.py)."""
+    return [s for s in status if _early(s)]
+
+
+def _row(axis: str, v, spins, up, status, u: Units) -> str:
+    """One row of the summary: where it stays up, "cannot hover" where no run was made (no
+    equilibrium at that mass or height), "falls at every spin" where every run fell, and the runs
+    that stopped early (step budget, ...) apart: no verdict, never "falls"."""
+    skipped = sum(s == NO_HOVER for s in status)
+    if skipped == len(spins):
+        return f"  {axis} {_axis_value(axis, v, u)}: cannot hover (no equilibrium: not simulated)"
+    stopped = stopped_early(status)
+    ran = len(spins) - skipped
+    why = ", ".join(sorted(set(stopped)))
+    head = f"  {axis} {_axis_value(axis, v, u)}: "
+    if len(stopped) == ran:
+        return head + f"no verdict at any spin: {ran} of {ran} runs stopped early ({why})"
+    where = (_stays_up(spins, up, u) if any(up) else
+             "falls at every spin" + (" that gave a verdict" if stopped else ""))
+    tail = f"; no verdict: {len(stopped)} of {ran} runs stopped early ({why})" if stopped else ""
+    return head + f"{where} ({sum(up)} of {ran - len(stopped)}){tail}"
+
+
+def _tilted_line(eq: dict | None, u: Units) -> str:
+    """Over a tilted base: where the runs start (runtime/scan/stability_map.py tilted_sites)."""
+    if not eq:
+        return ""
+    where = (f"the top's equilibrium there, {u.length(eq['offset'])} off the axis" if eq.get("position")
+             else "each top's equilibrium there")
+    return f"base tilted by {u.angle(eq['tilt'])}: every run starts at {where}"
+
+
+def scan_lines(r: dict, u: Units) -> list[str]:
+    """Answer first: where it levitates (the runs of spins per row, "cannot hover" apart from
+    "falls"), then the linear interval beside."""
+    axis = r["axes"][1]
+    spins = r["grid"]["spin"]
+    status = r.get("status") or [["" for _ in r["grid"][axis]] for _ in spins]
+    rows = [_row(axis, v, spins, [bool(r["levitating"][i][j]) for i in range(len(spins))],
+                 [status[i][j] for i in range(len(spins))], u)
+            for j, v in enumerate(r["grid"][axis])]
+    iv = r.get("spin_interval")
+    n_stopped = len(stopped_early([s for row in status for s in row]))
+    return [
+        f"levitating at {sig(100 * r['fraction_levitating'], 3)}% of {r['points']} points "
+        f"(spin x {axis}, {u.time(r['t_end'])} each)"
+        + (f"; {n_stopped} runs stopped early without a verdict (JSON status)" if n_stopped else ""),
+        *rows,
+        f"linear spin interval: {u.rate_span(*iv)}" if iv else "linear spin interval: none",
+        _tilted_line(r.get("equilibrium"), u),
+        f"{duration(r['wall_s'])} of wall time, {r['runner']['kind']} runner",
+        u.note,
+        f"map: {r['out']}" if r.get("out") else "",
+        f"points: {r['saved']}" if r.get("saved") else ""]
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -55,7 +144,7 @@ class Scan:
         """The points by outcome: levitating, fell (a verdict, not up), no_verdict (the run stopped
         early: step budget, ...) and cannot_hover (no equilibrium: not run); they sum to points."""
         flat = [st for row in self.status for st in row]
-        no_verdict = sum(stopped_early(st) for st in flat)
+        no_verdict = sum(_early(st) for st in flat)
         cannot = sum(st == NO_HOVER for st in flat)
         up = int(self.levitating.sum())
         return {"levitating": up, "fell": self.points - up - no_verdict - cannot,
@@ -65,19 +154,23 @@ class Scan:
     def success(self) -> bool:
         """scipy-style: every point that could be run ended normally (reached t_end or left the
         box); points without a hover height were not run and do not count."""
-        return not any(stopped_early(st) for row in self.status for st in row)
+        return not any(_early(st) for row in self.status for st in row)
+
+    def lines(self, units: Units | None = None, face: str | None = "api") -> list[str]:
+        """The plain view (scan_lines of as_json: the one wording of every face), in `units`
+        (default the scene's), worded for `face` (None: the markers kept)."""
+        u = units or self.units
+        return worded(scan_lines(self.as_json(), u), u, face)
 
     @property
     def message(self) -> str:
-        bad = sorted({st for row in self.status for st in row if stopped_early(st)})
-        return (f"levitating at {100 * float(self.levitating.mean()):.3g}% of {self.levitating.size} "
-                f"points (spin x {self.axis}, t_end {self.t_end:.4g} {self.units.named('s')} each)"
-                + (f"; runs ended by {', '.join(bad)}" if bad else ""))
+        return "; ".join(line.strip() for line in self.lines())
 
     def __repr__(self) -> str:
-        return (f"Scan(spin {self.spins.size} x {self.axis} {self.others.size}, levitating "
-                f"{int(self.levitating.sum())} of {self.levitating.size}, "
-                f"t_end={self.t_end:.4g} {self.units.named('s')}, success={self.success})")
+        return text_repr("Scan", [self.lines()[0], f"success={self.success}"])   # short: the answer first
+
+    def _repr_html_(self) -> str:
+        return html_table("Stability map", self.lines(), self.plot())
 
     def agreement(self) -> float | None:
         """Fraction of grid points where 'levitating' equals 'spin inside the linear interval'."""
@@ -136,9 +229,10 @@ class Scan:
 
     def save(self, path, flag: str = "Scan.save") -> str:
         """Write the map's points (`table()`) to a .csv, .npz or .parquet file
-        (runtime/simulate/trajectory_file.py; a temporary renamed into place)."""
+        (runtime/simulate/trajectory_file.py; a temporary renamed into place), with the columns'
+        units (`column_units()`)."""
         from levitron.runtime.simulate import trajectory_file
-        return str(trajectory_file.write_columns(path, self.table(), flag))
+        return str(trajectory_file.write_columns(path, self.table(), flag, self.column_units()))
 
     def plot(self, path=None, title: str | None = None, ax=None):
         """Draw the map (runtime/scan/plot.py, thesis fig. 3.8) into `ax` (an Axes) or a figure of
@@ -149,6 +243,37 @@ class Scan:
         if title is None:
             title = f"{self.scene}: levitating vs spin and {self.axis}"
         return draw(self, path, title, self.units, ax=ax)
+
+
+    # ---- as tables (runtime/ui/frames.py)
+    def column_units(self) -> dict[str, str]:
+        """{column of `table()`: unit}: spin rad/s, the other axis (runtime/scan/grid.py UNITS: tilt
+        rad, mass kg, height a fraction of z_s), levitating "1", t_survived s, status "text" (SI;
+        the scene's units in a dimensionless scene), as the saved files name them."""
+        from levitron.runtime.ui import frames
+        return frames.shown_units({"spin": UNITS["spin"], self.axis: UNITS[self.axis], "levitating": "1",
+                                   "t_survived": "s", "status": "text"}, self.units)
+
+    def to_pandas(self):
+        """The map in long format, one row a point (`table()`: spin, the other axis, levitating,
+        t_survived, status), the units in `df.attrs["units"]` (needs pandas)."""
+        from levitron.runtime.ui import frames
+        return frames.frame(self.table(), self.column_units(), "Scan.to_pandas()", scene=self.scene,
+                            axis=self.axis)
+
+    def to_xarray(self):
+        """The map as an xarray Dataset over the dimensions "spin" and the other axis ("tilt",
+        "mass" or "height"), their coordinates the grid's values; variables levitating,
+        t_survived and status of shape (spins, others); every variable and coordinate has
+        `attrs["units"]` (needs xarray)."""
+        from levitron.runtime.ui import frames
+        u, dims = self.column_units(), ("spin", self.axis)
+        status = np.array(self.status, dtype=str).reshape(self.levitating.shape)
+        return frames.dataset({"spin": (self.spins, u["spin"]), self.axis: (self.others, u[self.axis])},
+                              {"levitating": (dims, self.levitating, u["levitating"]),
+                               "t_survived": (dims, self.t_survived, u["t_survived"]),
+                               "status": (dims, status, u["status"])},
+                              "Scan.to_xarray()", scene=self.scene, t_end=self.t_end)
 
 
 ScanResult = Scan      # its former name, kept for scripts that import it

@@ -6,12 +6,16 @@
 from __future__ import annotations
 
 import functools
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from levitron.runtime.integrate.verdict import DOWN, UP
-from levitron.runtime.ui.human import Units, quantity
+from levitron.runtime.ui.answer_view import html_table, text_repr
+from levitron.runtime.ui.human import Units
+from levitron.runtime.ui.plain_text import NOTHING_SAID, said
+from levitron.runtime.words import render
 
 NORMAL_ENDS = (UP, DOWN)    # the runs with a verdict (runtime/integrate/verdict.py): the run itself succeeded
 _SI = Units(si=True)
@@ -26,7 +30,8 @@ class Simulation:
     final_state (the model's states, SI); details: every key of `simulate --json` (in air also
     "flight": flight time, fall spin, the adiabatic t_cross); trajectory: the samples as data,
     {column: array}: t (s), the states (SI), energy (J), L_z, L_n (kg m^2/s), tilt (rad) and the
-    spin omega_3 = L_n / C (rad/s)."""
+    spin omega_3 = L_n / C (rad/s). Its words: `lines(units)` (runtime/simulate/simulation_view.py),
+    which the command line prints and message, repr and the notebook reuse."""
 
     levitating: bool | None
     t_survived: float
@@ -41,6 +46,7 @@ class Simulation:
     scene: str = ""
     model: object = field(default=None, compare=False)     # what the drawing of the set-up reads
     p: object = field(default=None, compare=False)
+    said: Mapping = field(default_factory=lambda: NOTHING_SAID, compare=False)    # its sentences as written
 
     @classmethod
     def of(cls, out: dict, trajectory: dict, model, p) -> Simulation:
@@ -48,7 +54,14 @@ class Simulation:
         return cls(out["levitating"], float(out["t_survived"]), float(out["max_excursion"]),
                    float(out["energy_drift"]), int(out["rhs_evals"]), float(out["wall_s"]),
                    dict(out["final_state"]), out, trajectory, Units.of_scene(model.scene), model.scene.name,
-                   model, p)
+                   model, p, said(**{k: out[k] for k in ("note", "message", "untested") if out.get(k)}))
+
+    @classmethod
+    def from_json(cls, r: dict, units: Units = _SI) -> Simulation:
+        """The answer again from its as_json() (the command line's plain view reads it so; its
+        trajectory is not in the JSON)."""
+        return cls(r["levitating"], r["t_survived"], r["max_excursion"], r["energy_drift"], r["rhs_evals"],
+                   r.get("wall_s", 0.0), dict(r.get("final_state") or {}), r, {}, units, r.get("scene", ""))
 
     def as_json(self) -> dict:
         """docs/contract.md's `simulate --json` (SI)."""
@@ -69,11 +82,12 @@ class Simulation:
 
     # ---- actions
     def save(self, path, flag: str = "Simulation.save") -> str:
-        """Write the trajectory to a .csv, .npz or .parquet file (runtime/simulate/trajectory_file.py)."""
+        """Write the trajectory to a .csv, .npz or .parquet file (runtime/simulate/trajectory_file.py),
+        its columns' units with it (`column_units()`)."""
         from levitron.runtime.simulate import trajectory_file
         names = list(self.trajectory)
         return str(trajectory_file.write(path, names, np.column_stack([self.trajectory[n] for n in names]),
-                                        flag))
+                                        flag, self.column_units()))
 
     def plot(self, path=None, ax=None, fig=None):
         """Draw height, radial offset and tilt against time (three panels); for a flight in air the
@@ -101,6 +115,29 @@ class Simulation:
         from levitron.runtime.simulate import animation
         return str(animation.write(path, self.animation(), title))
 
+    # ---- as tables (runtime/ui/frames.py)
+    def column_units(self) -> dict[str, str]:
+        """{column of `trajectory`: unit}: t in s, the states (m, rad, kg m/s, kg m^2/s), energy in J,
+        L_z and L_n in kg m^2/s, tilt in rad, spin in rad/s (SI; the scene's units in a
+        dimensionless scene), as the saved files name them."""
+        from levitron.runtime.ui import frames
+        return frames.shown_units({n: frames.trajectory_unit(n) for n in self.trajectory}, self.units)
+
+    def to_pandas(self):
+        """The trajectory as a pandas DataFrame, one row a sample: the columns of `trajectory` (t,
+        the states, energy, L_z, L_n, tilt, spin), their units in `df.attrs["units"]` (needs pandas)."""
+        from levitron.runtime.ui import frames
+        return frames.frame(self.trajectory, self.column_units(), "Simulation.to_pandas()", scene=self.scene)
+
+    def to_xarray(self):
+        """The trajectory as an xarray Dataset over the dimension "t" (its coordinate, s): one
+        variable a column, each with `attrs["units"]` (needs xarray)."""
+        from levitron.runtime.ui import frames
+        u = self.column_units()
+        data = {n: (("t",), v, u[n]) for n, v in self.trajectory.items() if n != "t"}
+        return frames.dataset({"t": (self.trajectory.get("t", []), u.get("t", "s"))}, data,
+                              "Simulation.to_xarray()", scene=self.scene, status=self.status)
+
     # ---- as the API shows it
     @property
     def status(self) -> str:
@@ -111,23 +148,39 @@ class Simulation:
         """The run ended normally: reached t_end, or stopped when the top left the box."""
         return self.status in NORMAL_ENDS
 
+    # ---- its words, one function for every face (runtime/simulate/simulation_view.py)
+    def _said(self) -> dict:
+        """The run's keys, its sentences as written where the API worded them for its face."""
+        from levitron.runtime.ui.plain_text import kept
+        return {**self.details, **{k: kept(self.details.get(k), w, self.units) for k, w in self.said.items()}}
+
+    def lines(self, units: Units | None = None, scene=None) -> list[str]:
+        """The plain view in `units` (default the scene's): what `levitron simulate` prints (scene:
+        for the plate's symmetry, default the model's)."""
+        from levitron.runtime.simulate import simulation_view
+        if scene is None and self.model is not None:
+            scene = self.model.scene
+        return simulation_view.lines(self._said(), units or self.units, scene)
+
+    def summary(self, units: Units | None = None) -> str:
+        """The answer in one sentence: does the top stay up, for how long."""
+        from levitron.runtime.simulate import simulation_view
+        return simulation_view.summary(self._said(), units or self.units)
+
     @property
     def message(self) -> str:
-        return str(self.details.get("message") or self.status)
+        return render(self.summary(), "api", self.units)
 
     def _repr_html_(self) -> str:
-        """In a notebook: the run animated (runtime/simulate/animation.py: the top over its base to
-        scale, its trace, spin and height against time; inline, offline), under its repr."""
-        import html
-
+        """In a notebook: a table of its plain view, and the run animated (runtime/simulate/animation.py:
+        the top over its base to scale, its trace, spin and height against time; inline, offline)."""
         from levitron.runtime.simulate import animation
-        head = f"<pre>{html.escape(repr(self))}</pre>"
+        head = render(html_table("Simulation", self.lines()), "api", self.units)
         if not self.trajectory or self.model is None or self.details.get("coordinates") is None:
             return head
         return head + animation.fragment(self.animation(), self.message)
 
     def __repr__(self) -> str:
-        u = self.units
-        return (f"Simulation(levitating={self.levitating}, t_survived={self.t_survived:.6g} of "
-                f"{quantity(u, self.details.get('t_end', float('nan')), 's')}, "
-                f"energy_drift={self.energy_drift:.2g}, status={self.status!r}, success={self.success})")
+        return render(text_repr("Simulation", [self.summary(), f"energy_drift={self.energy_drift:.2g}",
+                                               f"status={self.status!r}", f"success={self.success}"]),
+                      "api", self.units)

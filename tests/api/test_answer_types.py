@@ -63,7 +63,7 @@ def test_equilibria_satisfy_the_equilibrium_condition_by_hand(study):
 def test_a_dimensionless_scene_repr_has_no_si_unit():
     eq = lev.load(SCENE, {"units": "dimensionless"}).equilibria()
     text = repr(eq) + repr(eq.equilibria[0]) + eq.message
-    assert "0.106467 (stable)" in text
+    assert "0.1065 (vertically stable)" in text and "z: 0.09351" in text
     assert not re.search(r"\d ?(m|kg|N/m)\b", text), text
 
 
@@ -331,7 +331,8 @@ def test_the_launch_odds_design_is_one_answer_for_the_api_and_the_command_line(t
     assert (tmp_path / "api.toml").read_text() == (tmp_path / "cli.toml").read_text().replace(
         'name = "cli"', 'name = "api"')
     assert (tmp_path / "api.toml").read_text().startswith("# levitron optimize thesis_air --maximize launch-odds:")
-    assert f"{100 * api.probability:.3g} %" in api.message and "LaunchDesign(launch-odds=" in repr(api)
+    assert f"{100 * api.probability:.3g} %" in api.message
+    assert repr(api).startswith("LaunchDesign(") and "success=True" in repr(api)
     with pytest.raises(lev.UserError, match="launch options go with maximize='launch-odds' or 'yield' only"):
         lev.load("thesis_air").optimize("spin-range", {"top.mass": (0.0505, 0.0520)}, n=40)
 
@@ -347,5 +348,6 @@ def test_the_height_fit_is_one_answer_for_the_api_and_the_command_line(capsys):
           skip=("wall_s", "provenance", "scene", "stats"))
     assert fit.param == "mu" and fit["optimum"]["mu"] == fit.value      # answer["key"]: its JSON's
     assert any(abs(e["z"] - 0.0762) <= 1e-8 for e in fit.equilibria) and abs(fit.residual_N) < 1e-10
-    assert fit.message.startswith(f"mu = {fit.value:.6g} puts the top at z* = 0.0762 m")
-    assert repr(fit) == f"HeightFit(mu={fit.value:.6g}, z_star=0.0762 m)"
+    assert fit.message.startswith(f"fit: mu = {fit.value:.6g}, murho = ")
+    assert "puts an equilibrium at 7.62 cm (vertically unstable)" in fit.message
+    assert repr(fit) == f"HeightFit({fit.message.split('; ')[0]}; success=True)"

@@ -90,11 +90,13 @@ def test_every_result_has_repr_success_and_message(study, tmp_path):
         assert isinstance(res.message, str) and res.message, name
     assert results["stability"].success and "rad/s" in repr(results["stability"])
     n = int(results["scan"].levitating.sum())
-    assert results["scan"].success and f"levitating {n} of 2, t_end=0.2 s" in repr(results["scan"])
+    assert results["scan"].success and f"levitating at {50 * n:.3g}% of 2 points (spin x tilt, 200 ms each)" \
+        in repr(results["scan"])
     design = results["design"]
     # no warning, but the optimum sits where sigma_lo switches branch: 0.1 g lighter halves the window
-    # (runtime/design/sharpness.py), and the message says so
-    assert design.message.startswith(f"{design.solver_status}: spin-range 2386.99 rad/s; a knife edge: top.mass")
+    # (runtime/design/sharpness.py), and the message (its plain view) and the JSON's status say so
+    assert design.status_message.startswith(f"{design.solver_status}: spin-range 2386.99 rad/s; a knife edge: top.mass")
+    assert design.message.startswith("optimum: top.mass = ") and "knife edge" in design.message
     assert lev.load("thesis").stability().success is False        # the 28.4 g top: no interval
     assert "no stable spin interval" in lev.load("thesis").stability().message
 

@@ -93,3 +93,35 @@ def test_the_wheel_carries_its_licence_version_and_types(fresh_venv):
                          cwd=venv, env=env, capture_output=True, text=True, check=True).stdout.strip()
     version = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["version"]
     assert got == version
+
+
+def test_the_installed_command_lists_its_scenes_and_a_kinds_keys(fresh_venv):
+    """A wheel's user, outside the repository, meets the shipped scenes (`levitron scenes`: the
+    checkout's scenes/, from the installed copy's own folder) and a plate kind's keys with their
+    units (`levitron keys annulus`): exit 0, in the human view and in JSON."""
+    from levitron.scene.plates import KINDS
+    venv, _, tmp = fresh_venv
+    env = dict(os.environ, PYTHONPATH=sysconfig.get_paths()["purelib"], LEVITRON_CACHE=str(tmp / "cache"))
+    work = tmp / "a_users_folder"
+    work.mkdir()
+
+    def levitron(*argv) -> str:
+        res = subprocess.run([str(venv / "bin" / "levitron"), *argv], cwd=work, env=env, capture_output=True,
+                             text=True, check=False, timeout=120)
+        assert res.returncode == 0, f"levitron {' '.join(argv)}: {res.stderr[-2000:]}"
+        return res.stdout
+
+    shipped = sorted(p.stem for p in (ROOT / "scenes").glob("*.toml"))
+    listed = json.loads(levitron("scenes", "--json"))
+    assert sorted(s["name"] for s in listed["scenes"]) == shipped
+    assert all(s["file"].startswith(str(venv)) for s in listed["scenes"]), listed["folder"]
+    text = levitron("scenes")
+    assert all(name in text.split() for name in shipped)
+
+    keys = json.loads(levitron("keys", "annulus", "--json"))
+    units = {k["name"]: k["unit"] for k in keys["keys"]}
+    assert keys["kind"] == "annulus" and units == {k.name: k.unit for k in KINDS["annulus"].keys}
+    assert units["radius"] == "m" and units["murho"] == "J m"
+    text = levitron("keys", "annulus")
+    assert all(f"{name}  " in text and unit in text for name, unit in units.items())
+    assert list(work.iterdir()) == []

@@ -35,9 +35,9 @@ def run(args) -> dict:
 
 
 def human(r: dict, scene=None) -> str:
-    """The hand first, then one row a scene."""
-    from levitron.runtime.design.compare import comparison_lines
+    """The hand first, then one row a scene (runtime/design/compare.py comparison_view, the answer's
+    own words)."""
+    from levitron.runtime.design.compare import comparison_view
+    from levitron.runtime.ui.answer_lines import worded
     from levitron.runtime.ui.human import Units, lines
-    u = Units(si=r.get("units", "SI") == "SI")
-    spread = "; ".join(launch.launch_input(k, v, u) for k, v in r["hand"]["inputs"].items())
-    return lines(*comparison_lines(r, spread))
+    return lines(*worded(comparison_view(r), Units(si=r.get("units", "SI") == "SI"), None))

@@ -6,10 +6,12 @@ from __future__ import annotations
 from levitron.runtime.scan import launch_odds as mc
 from levitron.runtime.scan import launch_inputs as li
 from levitron.runtime.scan import launch_summary as ls
-from levitron.runtime.scan import spreads
+from levitron.runtime.scan.launch_answer import (  # noqa: F401  (launch_input, launches_line: the other commands')
+    launch_input, launch_lines, launches_line, temperature_matters as _temperature_matters)
 from levitron.runtime.simulate import trajectory_file
 from levitron.runtime.errors import UserError
-from levitron.runtime.ui.human import Units, lines, sig
+from levitron.runtime.ui.answer_lines import worded
+from levitron.runtime.ui.human import Units, lines
 from levitron.runtime.ui.plotting import check_plot_path
 from levitron.runtime.cli.commands.common import model_of, scene_of
 
@@ -111,68 +113,8 @@ def run(args) -> dict:
     return out
 
 
-def launch_input(name: str, spec: str, u: Units) -> str:
-    """One input's distribution (the JSON's spec, SI) in the scene's units: "spin 1122 rad/s, sd
-    112.2 rad/s (normal)", "tilt 0-0.02 rad (uniform)", "mass +0 %, sd 0.2 % (normal)" (a relative
-    spread, rel:...), "temperature 20 degC"; a dimensionless scene's lengths and speeds bare."""
-    si_unit = li.INPUT_UNITS[name]
-    show = {"m": u.length, "1": lambda v: f"{sig(100 * v, 3)} %",
-            "degC": lambda v: f"{sig(v)} degC"}.get(si_unit, lambda v: u.value(v, si_unit))
-    d = mc.parse_input(name, spec)
-    if d.kind == "normal":
-        mean = show(d.a) if si_unit != "1" else ("+" if d.a >= 0 else "") + show(d.a)
-        return f"{name} {mean}, sd {show(d.b)} (normal)"
-    if d.kind == "uniform":
-        return f"{name} {show(d.a)} to {show(d.b)} (uniform)"
-    return f"{name} {show(d.a)}"
-
-
-def launches_line(r: dict, u: Units, scene=None) -> str:
-    """The launches the odds are of, in one line, the defaults marked as such."""
-    shown = [k for k in r["inputs"] if k != "temperature" or _temperature_matters(r["inputs"][k], scene)]
-    given = [launch_input(k, r["inputs"][k], u) for k in shown if k not in r.get("defaulted", ())]
-    default = [launch_input(k, r["inputs"][k], u) for k in shown if k in r.get("defaulted", ())]
-    return "launches: " + "; ".join(filter(None, (
-        ", ".join(given),
-        f"{', '.join(default)} (defaults: set them with --spin, --tilt, ... or a [launch] table)" if default else "")))
-
-
-def _temperature_matters(spec: str, scene) -> bool:
-    """Whether the launches' temperature says anything: it is spread, or the scene's magnets have a
-    temperature coefficient (without one, and fixed, it changes nothing: not shown, which also
-    keeps degC out of a dimensionless scene that does not model temperature)."""
-    if spreads.parse_dist("temperature", spec).spread or scene is None:
-        return True
-    data = scene.data
-    return any(float(data.get(t, {}).get("temperature_coefficient", 0.0)) != 0.0 for t in ("plate", "top"))
-
-
 def human(r: dict, scene=None) -> str:
-    """Answer first: the odds with their interval; the flight times; what matters most."""
+    """Answer first: the odds with their interval; the flight times; what matters most
+    (runtime/scan/launch_answer.py launch_lines, the answer's own words)."""
     u = Units.of_scene(scene) if scene is not None else Units(si=True)
-    if r.get("reason"):
-        return lines(f"launch odds: 0% of {r['n']} launches float: the top cannot hover, so no launch was run",
-                     f"reason: {r['reason']}", u.note)
-    lo, hi = r["probability_ci95"]
-    ft = r["flight_time"]
-    rank = [f"{e['input']} ({sig(100 * e['effect'], 3)} points of success rate across its quintiles"
-            f"{'' if e['effect'] > e['noise'] else ', within the noise of this sample'})"
-            for e in r["ranking"][:3]]
-    outcomes = ", ".join(f"{k} {v}" for k, v in r["outcomes"].items())
-    cens = f"; {ft['censored']} still up at the end of the run" if ft["censored"] else ""
-    at = lambda t: (">= " if t >= r["t_end"] * (1 - 1e-12) else "") + u.time(t)  # noqa: E731 (censored)
-    return lines(
-        f"launch odds: {sig(100 * r['probability'], 3)}% of {r['n'] - r['no_verdict']} launches float at least "
-        f"{u.time(r['success_time'])} (95% Wilson interval {sig(100 * lo, 3)}-{sig(100 * hi, 3)}%)",
-        f"{r['no_verdict']} of {r['n']} runs stopped early without a verdict: not counted" if r["no_verdict"] else "",
-        *[f"warning: {w}" for w in r.get("warnings", [])],
-        f"flight time: median {at(ft['median'])}, quartiles {at(ft['q1'])} - {at(ft['q3'])}"
-        f" (runs of {u.time(r['t_end'])}{cens})",
-        f"matters most: {'; '.join(rank)}" if rank else "no input has a spread",
-        f"outcomes: {outcomes}",
-        launches_line(r, u, scene),
-        f"seed {r['seed']}, {r['integrator']} at tol {sig(r['tol'], 2)}",
-        f"launches saved: {r['saved']['path']} ({r['saved']['rows']} rows: inputs, verdict, flight time)"
-        if r.get("saved") else "",
-        u.note,
-        f"histogram: {r['out']}" if r.get("out") else "")
+    return lines(*worded(launch_lines(r, u, scene), u, None))

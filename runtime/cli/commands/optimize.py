@@ -15,10 +15,11 @@ import argparse
 from levitron.runtime.design.constraints import Constraint
 from levitron.runtime.errors import UserError
 from levitron.runtime.physics.level_only import refuse_tilted
-from levitron.runtime.ui.human import Units, lines, restate, sig
+from levitron.runtime.ui.answer_lines import worded
+from levitron.runtime.ui.human import Units, lines, sig
 from levitron.runtime.design.fit_height import fit_equilibrium_height
 from levitron.runtime.design.scene_keys import Vary
-from levitron.runtime.design.sharpness import parse_tolerance, sharpness_lines
+from levitron.runtime.design.sharpness import parse_tolerance
 from levitron.runtime.cli.commands import launch, production_args
 from levitron.runtime.cli.commands.production_args import add_production_arguments
 from levitron.runtime.cli.commands.common import model_of, scene_of
@@ -108,7 +109,7 @@ def run(args) -> dict:
         if args.write_scene:
             out["written"] = res.answer.write_scene(args.write_scene)
     elif args.maximize == "launch-odds":
-        from levitron.runtime.design.design_notes import with_resonance_advice
+        from levitron.runtime.design.design_notes import with_launch_notes
         from levitron.runtime.design.launch_design import maximize_launch_odds
         if constraints:
             raise UserError("--maximize launch-odds takes no --constrain: the odds already count a top "
@@ -117,7 +118,7 @@ def run(args) -> dict:
         request = launch.launch_request(args, scene)
         model = model_of(args)
         res = maximize_launch_odds(model, varies, request, tolerance=tolerance)
-        res = with_resonance_advice(model, res)      # which side of a resonance crossed (design_notes.py)
+        res = with_launch_notes(model, res)      # a resonance's side, keys below noise (design_notes.py)
         out = res.as_json()      # the answer (runtime/design/launch_design_answer.py)
         if args.write_scene:
             out["written"] = res.write_scene(args.write_scene)
@@ -185,74 +186,25 @@ def refuse_ignored(args) -> None:
 
 def human(r: dict, scene=None) -> str:
     """Answer first: the optimum (design), the fitted keys with their standard errors (fit), or
-    the fitted parameter (--fit-height); then how it was verified."""
+    the fitted parameter (--fit-height); then how it was verified. Each in its answer's own words
+    (the `*_lines` beside each answer type: runtime/design/)."""
+    from levitron.runtime.design.design_answer import design_lines
+    from levitron.runtime.design.fit_answer import fit_lines
+    from levitron.runtime.design.fit_height import height_fit_lines
+    from levitron.runtime.design.launch_design_answer import launch_design_lines
+    from levitron.runtime.design.yield_answer import yield_lines
     u = Units.of_scene(scene) if scene is not None else Units(si=True)
     if "z_star" in r:
-        fit = ", ".join(f"{k} = {sig(v, 6)}" for k, v in r["optimum"].items())
-        roots = ", ".join(f"{u.length(e['z'])} ({'vertically stable' if e['vertically_stable'] else 'unstable'})"
-                          for e in r.get("equilibria") or [])
-        stable = "vertically stable" if r.get("z_star_vertically_stable") else "vertically unstable"
-        return lines(
-            f"fit: {fit} puts an equilibrium at {u.length(r['z_star'])} ({stable})",
-            f"equilibria then: {roots}" if roots else "",
-            f"solver: {r['solver_status']}, residual {u.value(r['residual_N'], 'N', 2)} "
-            f"({r['objective']})",
-            u.note)
-    if r.get("objective_name") == "yield":
-        from levitron.runtime.design.yield_answer import yield_lines
-        return lines(*yield_lines(r, u, scene))
-    if r.get("objective_name") == "launch-odds":
-        return lines(*launch_odds_lines(r, u, scene), *sharpness_lines(r.get("sharpness"), u, scene),
-                     *warning_lines(r, scene), u.note)
-    status = f"solver: {r['solver_status']}, {r['iterations']} iterations"
-    if "parameters" in r:
-        fitted = ", ".join(f"{k} = {sig(v['value'], 6)} +- {sig(v['stderr'], 2)}"
-                           for k, v in r["parameters"].items())
-        worst = max((abs(x.get("normalized", 0.0)) for x in r.get("residuals") or []), default=None)
-        return lines(f"fit: {fitted}",
-                     f"chi2 {sig(r['objective'], 4)} with {r['dof']} degrees of freedom"
-                     + (f"; largest residual {sig(worst, 3)} sigma" if worst is not None else ""),
-                     status, *warning_lines(r, scene), u.note)
-    best = ", ".join(f"{k} = {sig(v, 6)}" for k, v in r["optimum"].items())
-    iv, band = r.get("spin_interval"), r.get("band")
-    ver = r["verification"]
-    unit = u.unit(r.get("objective_unit") or "1")      # a ratio: no unit to show
-    return lines(
-        f"optimum: {best}: {r['objective_name']} {sig(r['objective'], 6)} {unit}".rstrip(),
-        f"stable band {u.length(band['z'][0])} to {u.length(band['z'][1])}, tops of "
-        f"{u.mass(band['mass'][0])} to {u.mass(band['mass'][1])}" if band else "",
-        (f"{'the scene top' + chr(39) + 's ' if band else ''}spin interval {u.rate_span(*iv)} "
-         f"at z_s = {u.length(r['z_s'])}") if iv
-        else "the scene's top has no stable spin interval there" if band else "",
-        f"the scene itself: {r['objective_name']} {sig(r['scene_objective'], 6)} {unit}".rstrip()
-        if r.get("scene_objective") is not None else "",
-        f"verified: float route at the optimum, best of {ver['grid_points']} grid points "
-        f"{sig(ver['grid_best'], 6) if ver.get('grid_best') is not None else 'none feasible'} {unit}".rstrip(),
-        status, *sharpness_lines(r.get("sharpness"), u, scene, r["objective_name"], r.get("objective_unit") or "1"),
-        *cost_lines(r, u), *warning_lines(r, scene),
-        f"scene written: {r['written']} (check it: levitron stability {r['written']})"
-        if r.get("written") else "", u.note)
-
-
-def warning_lines(r: dict, scene=None) -> list[str]:
-    """Every warning of the result in plain view, one a line."""
-    u = Units.of_scene(scene) if scene is not None else Units(si=True)
-    return [f"warning: {restate(w, u)}" for w in r.get("warnings") or []]
-
-
-def odds_text(block: dict) -> str:
-    lo, hi = block["probability_ci95"]
-    if hi == 0:                         # odds_at: a design whose top cannot hover floats never
-        return "0 % (it cannot hover)"
-    return f"{sig(100 * block['probability'], 3)} % ({sig(100 * lo, 3)}-{sig(100 * hi, 3)} %)"
-
-
-def change_text(key: str, start: float, to: float, u: Units) -> str:
-    """"take 1.2 g off" / "add 0.3 g" for the top's mass; "set KEY from A to B" for any key."""
-    if key == "top.mass":
-        d = to - start
-        return f"take {u.mass(-d)} off" if d < 0 else f"add {u.mass(d)}"
-    return f"set {key} from {sig(start, 6)} to {sig(to, 6)}"
+        view = height_fit_lines(r, u)
+    elif r.get("objective_name") == "yield":
+        view = yield_lines(r, u, scene)
+    elif r.get("objective_name") == "launch-odds":
+        view = launch_design_lines(r, u, scene)
+    elif "parameters" in r:
+        view = fit_lines(r, u)
+    else:
+        view = design_lines(r, u, scene)
+    return lines(*worded(view, u, None))
 
 
 class _Yield:
@@ -272,30 +224,3 @@ def _yield(args, varies, constraints) -> _Yield:
     model = model_of(args)
     refuse_tilted(model, "optimize fits and designs")
     return _Yield(model, maximize_yield(model, varies, request, prod, tolerance=parse_tolerance(args.tolerance)))
-
-
-def launch_odds_lines(r: dict, u: Units, scene=None) -> list[str]:
-    """The launch-odds design in plain view: the advice and what it does to the odds."""
-    a, b = r["start_launch_odds"], r["launch_odds"]
-    advice = "; ".join(change_text(k, r["start"][k], v, u) for k, v in r["optimum"].items())
-    search = r["search"]
-    return [f"{advice}: odds {sig(100 * a['probability'], 3)} % -> {sig(100 * b['probability'], 3)} %",
-            "optimum: " + ", ".join(f"{k} = {u.mass(v) if k == 'top.mass' else sig(v, 6)}"
-                                    for k, v in r["optimum"].items())
-            + f": {odds_text(b)} of {b['n']} launches float at least {u.time(r['success_time'])} (seed {b['seed']})",
-            f"as written: {odds_text(a)} (the same seed)",
-            launch.launches_line(r, u, scene),
-            f"searched: {search['evaluations']} designs of {search['n']} launches each on common random "
-            f"numbers (seed {search['seed']}), the best at {sig(100 * search['best_search_odds'], 3)} % (biased "
-            f"upwards: the best of {search['evaluations']}); decided on the fresh seed {b['seed']}"]
-
-
-def cost_lines(r: dict, u: Units) -> list[str]:
-    """What another objective's optimum costs in launches (scenes in air or with a [launch] table)."""
-    if "launch_odds" not in r:
-        return []
-    best = r["launch_odds_optimum"]
-    where = ", ".join(f"{k} = {u.mass(v) if k == 'top.mass' else sig(v, 6)}" for k, v in best["optimum"].items())
-    return [f"launch odds at this optimum: {odds_text(r['launch_odds'])}; "
-            f"as written {odds_text(r['start_launch_odds'])}; "
-            f"the launch-odds optimum ({where}) {odds_text(best['launch_odds'])}"]

@@ -7,14 +7,14 @@ import re
 
 from levitron.runtime.scan import stability_map as sc
 from levitron.runtime.errors import UserError
-from levitron.runtime.ui.human import Units, duration, lines, sig
-from levitron.runtime.integrate import verdict
+from levitron.runtime.ui.answer_lines import worded
+from levitron.runtime.ui.human import Units, lines
 from levitron.runtime.integrate.methods import DEFAULT, FULL_MODEL_METHODS, lookup
-from levitron.runtime.integrate.verdict import NO_HOVER
 from levitron.runtime.simulate import trajectory_file
 from levitron.runtime.ui.plotting import check_plot_path
 from levitron.runtime.scan.grid import check_axis, check_grid_size, parse_range, pick_axis
 from levitron.runtime.scan.runners import CONNECT_TIMEOUT_S
+from levitron.runtime.scan.scan_answer import runs, scan_lines, stopped_early  # noqa: F401  (runs, stopped_early: scripts')
 from levitron.runtime.cli.commands.common import model_of
 
 NAME = "scan"
@@ -100,86 +100,9 @@ def run(args) -> dict:
     return out
 
 
-def _axis_value(axis: str, v: float, u: Units) -> str:
-    if axis == "tilt":
-        return u.angle(v)
-    if axis == "mass":
-        return u.mass(v)
-    return f"{sig(v, 3)} z_s"
-
-
-def runs(flags) -> list[tuple[int, int]]:
-    """The maximal runs of consecutive True entries, as (first, last) index pairs."""
-    out, start = [], None
-    for i, f in enumerate(list(flags) + [False]):
-        if f and start is None:
-            start = i
-        elif not f and start is not None:
-            out.append((start, i - 1))
-            start = None
-    return out
-
-
-def _stays_up(spins, up, u: Units) -> str:
-    """"stays up for spin 671.4-2557 rad/s (...)": every run of levitating spins as it is, several
-    where the map has gaps ("200-400 rad/s (...) and 900 rad/s (...)")."""
-    parts = [u.rate(spins[a]) if a == b else u.rate_span(spins[a], spins[b]) for a, b in runs(up)]
-    return "stays up for spin " + " and ".join(parts)
-
-
-def stopped_early(status) -> list[str]:
-    """The statuses of the runs that stopped early: no verdict (runtime/integrate/verdict.py)."""
-    return [s for s in status if verdict.stopped_early(s)]
-
-
-def _row(axis: str, v, spins, up, status, u: Units) -> str:
-    """One row of the summary: where it stays up, "cannot hover" where no run was made (no
-    equilibrium at that mass or height), "falls at every spin" where every run fell, and the runs
-    that stopped early (step budget, ...) apart: no verdict, never "falls"."""
-    skipped = sum(s == NO_HOVER for s in status)
-    if skipped == len(spins):
-        return f"  {axis} {_axis_value(axis, v, u)}: cannot hover (no equilibrium: not simulated)"
-    stopped = stopped_early(status)
-    ran = len(spins) - skipped
-    why = ", ".join(sorted(set(stopped)))
-    head = f"  {axis} {_axis_value(axis, v, u)}: "
-    if len(stopped) == ran:
-        return head + f"no verdict at any spin: {ran} of {ran} runs stopped early ({why})"
-    where = (_stays_up(spins, up, u) if any(up) else
-             "falls at every spin" + (" that gave a verdict" if stopped else ""))
-    tail = f"; no verdict: {len(stopped)} of {ran} runs stopped early ({why})" if stopped else ""
-    return head + f"{where} ({sum(up)} of {ran - len(stopped)}){tail}"
-
-
-def _tilted_line(eq: dict | None, u: Units) -> str:
-    """Over a tilted base: where the runs start (runtime/scan/stability_map.py tilted_sites)."""
-    if not eq:
-        return ""
-    where = (f"the top's equilibrium there, {u.length(eq['offset'])} off the axis" if eq.get("position")
-             else "each top's equilibrium there")
-    return f"base tilted by {u.angle(eq['tilt'])}: every run starts at {where}"
-
-
 def human(r: dict, scene=None) -> str:
     """Answer first: where it levitates (the runs of spins per row, "cannot hover" apart from
-    "falls"), then the linear interval beside."""
+    "falls"), then the linear interval beside (runtime/scan/scan_answer.py scan_lines, the answer's
+    own words)."""
     u = Units.of_scene(scene) if scene is not None else Units(si=True)
-    axis = r["axes"][1]
-    spins = r["grid"]["spin"]
-    status = r.get("status") or [["" for _ in r["grid"][axis]] for _ in spins]
-    rows = [_row(axis, v, spins, [bool(r["levitating"][i][j]) for i in range(len(spins))],
-                 [status[i][j] for i in range(len(spins))], u)
-            for j, v in enumerate(r["grid"][axis])]
-    iv = r.get("spin_interval")
-    n_stopped = len(stopped_early([s for row in status for s in row]))
-    return lines(
-        f"levitating at {sig(100 * r['fraction_levitating'], 3)}% of {r['points']} points "
-        f"(spin x {axis}, {u.time(r['t_end'])} each)"
-        + (f"; {n_stopped} runs stopped early without a verdict (JSON status)" if n_stopped else ""),
-        *rows,
-        f"linear spin interval: {u.rate_span(*iv)}" if iv else "linear spin interval: none",
-        _tilted_line(r.get("equilibrium"), u),
-        f"{duration(r['wall_s'])} of wall time, {r['runner']['kind']} runner",
-        u.note,
-        f"map: {r['out']}" if r.get("out") else "",
-        f"points: {r['saved']}" if r.get("saved") else "")
+    return lines(*worded(scan_lines(r, u), u, None))

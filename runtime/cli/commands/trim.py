@@ -5,7 +5,8 @@ from __future__ import annotations
 
 from levitron.runtime.cli.commands import launch
 from levitron.runtime.cli.commands.common import model_of, scene_of
-from levitron.runtime.cli.commands.optimize import change_text, odds_text, warning_lines
+from levitron.runtime.design.trim_answer import trim_lines
+from levitron.runtime.ui.answer_lines import worded
 from levitron.runtime.ui.human import Units, lines
 from levitron.runtime.ui.plotting import check_plot_path
 
@@ -38,23 +39,7 @@ def run(args) -> dict:
 
 
 def human(r: dict, scene=None) -> str:
-    """Answer first: the change and what it does to the odds; then the band and the widest window."""
+    """Answer first: the change and what it does to the odds; then the band and the widest window
+    (runtime/design/trim_answer.py trim_lines, the answer's own words)."""
     u = Units.of_scene(scene) if scene is not None else Units(si=True)
-    a, b, w = r["start_launch_odds"], r["launch_odds"], r["widest_window"]
-    lo, hi = r["band_mass"]
-    iv = w["spin_interval"]
-    change = f"{change_text('top.mass', r['mass'], r['advice'], u)} (to {u.mass(r['advice'])})"
-    first = (f"{change}: launch odds {odds_text(a)} -> {odds_text(b)} of {b['n']} launches floating at least "
-             f"{u.time(r['success_time'])}")
-    if r.get("no_change"):
-        first = (f"no change: the best mass ({change}) floats {odds_text(b)}, inside the interval of the "
-                 f"mass as written, {odds_text(a)}, of {b['n']} launches floating at least "
-                 f"{u.time(r['success_time'])}")
-    return lines(
-        first,
-        f"the masses that hover: {u.mass(lo)} to {u.mass(hi)}; as written {u.mass(r['mass'])}",
-        f"the widest spin window ({u.rate_span(*iv)}) is at {u.mass(w['mass'])}: odds there "
-        f"{odds_text(w['launch_odds'])}" if iv else "",
-        launch.launches_line(r["design"], u, scene),
-        f"plot: {r['out']}" if r.get("out") else "",
-        *warning_lines(r, scene), u.note)
+    return lines(*worded(trim_lines(r, u, scene), u, None))

@@ -172,10 +172,10 @@ def test_a_change_whose_odds_lie_inside_the_interval_as_written_is_no_change():
     the 95 % interval of the odds as written read "no change" (the best mass kept as data)."""
     from levitron.runtime.cli.commands.trim import human
     inside = _trim_with((0.524, 0.586), 0.545)
-    assert inside.no_change and inside.message.startswith("no change (the best mass, add 0.02 g")
+    assert inside.no_change and inside.message.startswith("no change: the best mass (add 0.02 g")
     r = inside.as_json()
     assert r["no_change"] is True and r["advice"] == 0.05102
     assert human({**r, "out": None}).splitlines()[0].startswith("no change: the best mass (add 0.02 g")
     outside = _trim_with((0.20, 0.26), 0.545)
-    assert not outside.no_change and outside.message.startswith("add 0.02 g: launch odds")
+    assert not outside.no_change and outside.message.startswith("add 0.02 g (to 51.02 g): launch odds")
     assert human({**outside.as_json(), "out": None}).startswith("add 0.02 g")

@@ -275,11 +275,12 @@ def test_api_launch_matches_the_command():
                        t_end=2.0, quiet=True)
     assert odds.probability == r["probability"] and list(odds.probability_ci95) == r["probability_ci95"]
     assert odds.details["verdicts"] == r["verdicts"]
-    assert odds.success and odds.message.startswith(f"{100 * r['probability']:.3g}% of 6 launches float at least 2 s")
-    assert repr(odds).startswith(f"LaunchOdds(probability={r['probability']:.3g} [") and "success=True" in repr(odds)
+    head = f"launch odds: {100 * r['probability']:.3g}% of 6 launches float at least 2 s"
+    assert odds.success and odds.message.startswith(head)
+    assert repr(odds).startswith(f"LaunchOdds({head}") and "success=True" in repr(odds)
     failed = type(odds)(**{**odds.__dict__, "details": {**odds.details, "outcomes": {"completed": 5,
                                                                                       "step_budget": 1}}})
-    assert not failed.success and "1 runs did not end normally (step_budget 1)" in failed.message
+    assert not failed.success and "outcomes: completed 5, step_budget 1" in failed.message
 
 
 def test_bench_launch_runs_quick(tmp_path):

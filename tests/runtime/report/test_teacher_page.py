@@ -64,7 +64,7 @@ def test_air_report_has_the_flight_the_odds_and_the_trim(air):
     odds = fl["odds"]
     lo, hi = odds["probability_ci95"]
     assert lo <= odds["probability"] <= hi and odds["n"] == 200
-    assert "Launch odds:" in text and "Wilson" in text and "What matters most:" in text
+    assert "Launch odds:" in text and "Wilson" in text and "Matters most:" in text
     T = [w["temperature"] for w in fl["mass_windows"]]
     assert T == [12.0, 20.0, 28.0]
     # the magnets weaken as they warm: the masses that hover fall with the temperature
@@ -201,10 +201,12 @@ def test_simulate_animate_writes_an_offline_page_and_save_has_the_spin(tmp_path)
     assert r["animation"] == str(page) and "setup" not in r and "trajectory" not in r
     text = page.read_text()
     assert "<svg" in text and "<script>" in text and "real time" in text
-    names = csv.read_text().splitlines()[0].split(",")
+    units, header = csv.read_text().splitlines()[:2]     # the units' comment line, then the names
+    names = header.split(",")
+    assert units.startswith("# units: t=s, x=m,") and units.endswith(", spin=rad/s")
     assert names[:13] == ["t", "x", "y", "z", "phi", "vartheta", "zeta", "p_x", "p_y", "p_z", "p_phi",
                           "p_vartheta", "p_zeta"] and names[-1] == "spin"
-    table = np.loadtxt(csv, delimiter=",", skiprows=1)
+    table = np.loadtxt(csv, delimiter=",", skiprows=2)
     assert table.shape == (401, len(names))
     # omega_3 = -p_zeta / C (thesis 3.2.9): a second route to the spin column
     C = 1.32e-6
@@ -300,11 +302,13 @@ def test_the_setup_is_drawn_to_scale_with_its_dimensions():
 
 
 def test_a_simulation_shows_its_animation_in_a_notebook():
-    """Study.simulate's Simulation: _repr_html_ is its repr and the animation (inline, offline)."""
+    """Study.simulate's Simulation: _repr_html_ is the table of its plain view and the animation
+    (inline, offline)."""
     import levitron as lev
     sim = lev.load("thesis_stable").simulate(1000.0, t_end=1.0)
     page = sim._repr_html_()
-    assert page.startswith("<pre>Simulation(") and '<div class="levitron-animation"' in page
+    assert page.startswith("<div><table><caption") and "levitating</th><td>yes" in page
+    assert '<div class="levitron-animation"' in page
     assert "<script>" in page and not re.search(r'\b(src|href)="(?!data:|#)', page)
     assert len(page) < 400_000
 
@@ -381,7 +385,7 @@ def test_air_report_leads_with_what_a_maker_decides(air):
     assert 8 < below < 20 < above <= 28            # 28 degC: too heavy, 12 degC: too light (README)
     lo, hi = fl["mass_windows"][1]["mass"]
     summary = fl["summary"]
-    assert summary.startswith("Launch odds ") and "still hover" in summary and "stops hovering" in summary
+    assert summary.startswith("Launch odds: ") and "still hover" in summary and "stops hovering" in summary
     first = text.index(summary.split(";")[0])
     assert first < text.index("The set-up, to scale") and summary.split(";")[0] in text
     assert "the scene's 51.5 g top does not hover" in text

@@ -117,8 +117,9 @@ def test_the_command_line_takes_the_base_tilt_and_saves_it(tmp_path, capsys):
     assert r["inputs"]["base_tilt_azimuth"] == f"uniform:0.0,{2 * math.pi!r}"
     assert list(r["saved"]["columns"])[9:11] == ["base_tilt", "base_tilt_azimuth"]
     assert r["saved"]["columns"]["base_tilt"] == "rad"
-    rows = save.read_text().splitlines()
+    units, *rows = save.read_text().splitlines()         # the units' comment line first
     head = rows[0].split(",")
+    assert ", base_tilt=rad, base_tilt_azimuth=rad, " in units
     tilts = [float(row.split(",")[head.index("base_tilt")]) for row in rows[1:]]
     assert len(tilts) == 8 and all(0 <= t <= 0.0005 for t in tilts) and len(set(tilts)) == 8
     assert main(["launch", SCENE, "--set", "plate.tilt=0", "--base-tilt", "uniform:0,0.0005",

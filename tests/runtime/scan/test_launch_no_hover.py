@@ -25,7 +25,7 @@ def test_launch_of_a_top_too_heavy_to_hover_answers_zero_with_the_reason(capsys)
 def test_the_api_and_the_design_count_it_the_same_way(derived_model):
     odds = lev.load("thesis_air", overrides={"top.mass": 0.06}).launch(n=12)
     assert odds.probability == 0.0 and odds.reason and odds.success
-    assert odds.message.startswith("0% of 12 launches float: no launch can")
+    assert odds.message.startswith("launch odds: 0% of 12 launches float: the top cannot hover")
     model = derived_model("thesis_air")
     scored = odds_at(model.ref, ["top.mass"], [0.06], mc.Request({}, n=12))
     assert scored["probability"] == odds.probability == 0.0
