@@ -64,8 +64,8 @@ def test_the_notebook_runs_top_to_bottom(executed):
         seen["".join(cell.source)] = (text, kinds)
     everything = "".join(text for text, _ in seen.values())
     assert "Study(scene='thesis_stable'" in everything
-    assert "hovers vertically stable at z = 0.106467 m" in everything              # equilibria
-    assert "stable for spin 459.616-2739.85 rad/s" in everything                  # stability
+    assert "10.65 cm (vertically stable)" in everything                           # equilibria
+    assert "stable for spin 459.6-2740 rad/s" in everything                       # stability
     assert "launches float at least 5 s" in everything                            # launch odds, n = 40
     assert "set the top to" in everything                                          # the trim's advice
     launch = next(v for k, v in seen.items() if "study.simulate(" in k)
