@@ -107,8 +107,12 @@ def test_a_parallel_trim_stops_with_its_workers(tmp_path, warm_cache):
 
 
 API_LAUNCH = """
+import signal
 import time
 import levitron as lev
+# Ctrl-C raises KeyboardInterrupt, as in every interactive Python; set here because a child inherits an
+# ignored SIGINT from its parent (a test runner's worker may have one), and then Python installs no handler
+signal.signal(signal.SIGINT, signal.default_int_handler)
 study = lev.load("thesis_air")
 try:
     study.launch(n=30000, t_end=30, workers=2)

@@ -69,7 +69,7 @@ def test_the_notebook_runs_top_to_bottom(executed):
     assert "launches float at least 5 s" in everything                            # launch odds, n = 40
     assert "set the top to" in everything                                          # the trim's advice
     launch = next(v for k, v in seen.items() if "study.simulate(" in k)
-    assert "completed: reached t_end" in launch[0] and "text/html" in launch[1]    # shown as the animation
+    assert "levitating: yes" in launch[0] and "text/html" in launch[1]             # shown as the animation
     last_text, last_kinds = _outputs(code[-1])
     assert "fig = sim.plot()" in "".join(code[-1].source)
     assert "image/png" in last_kinds and "Figure" in last_text, "the last cell shows no restyled Figure"
