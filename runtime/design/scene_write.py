@@ -94,3 +94,14 @@ def write_scene(scene: Scene, path: str | Path, comment: str = "") -> Path:
         if again.params != scene.params:
             raise UserError(f"«write_scene» {path}: the written scene reads back different numbers")
     return p
+
+
+def write_design(scene: Scene, optimum: dict, objective: str, path: str | Path) -> str:
+    """A design's `write_scene` action: the scene at the optimum (each key's shortest decimal within
+    RESOLUTION) written to path, its first line naming the command and the objective."""
+    from levitron.runtime.design.scene_keys import with_values
+    from levitron.runtime.words import render
+    note = (f"levitron optimize {scene.name} «maximize={objective}»: "
+            + ", ".join(f"{k} = {v:.6g}" for k, v in optimum.items()))
+    at = with_values(scene, {k: shortest(v) for k, v in optimum.items()})
+    return str(write_scene(at, path, render(note, "cli")))

@@ -107,13 +107,8 @@ class YieldDesign:
 
     def write_scene(self, path) -> str:
         """Write the scene at the optimum to path (.toml; runtime/design/scene_write.py)."""
-        from levitron.runtime.design.scene_keys import with_values
-        from levitron.runtime.design.scene_write import shortest, write_scene
-        from levitron.runtime.words import render
-        note = (f"levitron optimize {self.scene.name} «maximize=yield»: "
-                + ", ".join(f"{k} = {v:.6g}" for k, v in self.optimum.items()))
-        at = with_values(self.scene, {k: shortest(v) for k, v in self.optimum.items()})
-        return str(write_scene(at, path, render(note, "cli")))
+        from levitron.runtime.design.scene_write import write_design
+        return write_design(self.scene, self.optimum, "yield", path)
 
     @property
     def units(self) -> Units:
