@@ -136,7 +136,10 @@ def _yield(model, hand: mc.Request, production, pool) -> dict:
                           hand.integrator, hand.tol, hand.workers, hand.scheduler)
     except UserError as exc:
         return {"yield": None, "yield_as_shipped": None, "yield_reason": str(exc)}
-    got = production_yield(model, prep.plan, prep.success_time, ld._search_time(model, prep), production, pool)
+    from levitron.runtime.ui import progress
+    with progress.task(f"{model.scene.name}: the yield of {production.kits} kits", total=1, log_every=10.0) as tick:
+        got = production_yield(model, prep.plan, prep.success_time, ld._search_time(model, prep), production, pool)
+        tick()
     return {"yield": got["yield"], "yield_as_shipped": got["as_shipped"]}
 
 
