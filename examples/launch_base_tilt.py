@@ -37,7 +37,7 @@ SPREADS = (("level base", 0.0), ("spirit level, 0.5 mm/m per axis", 7.1e-4),
 def main(n: int, out: Path | None) -> None:
     study = lev.load(SCENE, {"plate.tilt": 0.0})
     # the level tolerance of the scene's own top, as `stability --level-tolerance` gives it (the
-    # field expansion's order raised until the answer holds to 1 %: runtime/physics/truncation.py)
+    # field expansion's order raised until the answer holds to 1 %: runtime/physics/field/truncation.py)
     tol = study.stability(level_tolerance=True).level_tolerance
     runs, tables = [], []
     for label, sd in SPREADS:

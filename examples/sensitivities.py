@@ -1,5 +1,5 @@
 """Exact sensitivities of the hover height and the spin limits to scene keys (CasADi, implicit
-function theorem through the rootfinders of runtime/physics/stability_casadi.py; thesis 3.3).
+function theorem through the rootfinders of runtime/physics/stability/differentiable.py; thesis 3.3).
 
 Run: python examples/sensitivities.py [SCENE]
 """

@@ -18,18 +18,11 @@ scene reader's own (levitron.scene.checks), raised by `load_scene`-level helpers
 """
 from __future__ import annotations
 
-from pathlib import Path as _Path
 from typing import TYPE_CHECKING
 
-# A source checkout keeps scene/, derive/ and runtime/ at its top level, beside this folder; packaging
-# puts them inside it (pyproject.toml, [tool.setuptools.package-dir]). Either way they are
-# levitron.scene, levitron.derive and levitron.runtime: the one import name this package installs.
-_CHECKOUT = _Path(__file__).resolve().parent.parent
-if all((_CHECKOUT / d / "__init__.py").is_file() for d in ("scene", "derive", "runtime")) \
-        and (_CHECKOUT / "pyproject.toml").is_file():
-    __path__.append(str(_CHECKOUT))
-
-from levitron.runtime import lazy_surface as _lazy_surface  # noqa: E402  (needs the path above)
+# levitron.runtime is levitron/runtime/: in a checkout a relative link to the top-level runtime/ (so are scene/,
+# derive/, scenes/ and generated/: docs/INTERFACES.md "Layout"), in a wheel the folder itself
+from levitron.runtime import lazy_surface as _lazy_surface
 
 
 def _version() -> str:

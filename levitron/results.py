@@ -1,8 +1,8 @@
 """Typed results of the public API (SI units, thesis 3.3). Each answer lives beside the code that
-computes it and is re-exported here: Equilibria (runtime/physics/equilibria.py, its Equilibrium
-runtime/physics/equilibrium_report.py's), Simulation (runtime/simulate/simulation.py), Scan
+computes it and is re-exported here: Equilibria (runtime/physics/equilibrium/answer.py, its Equilibrium
+runtime/physics/equilibrium/report.py's), Simulation (runtime/simulate/simulation.py), Scan
 (runtime/scan/scan_answer.py; ScanResult its old name), LaunchOdds (runtime/scan/launch_answer.py),
-Stability (runtime/physics/stability_answer.py), Design (runtime/design/design_answer.py;
+Stability (runtime/physics/stability/answer.py), Design (runtime/design/design_answer.py;
 DesignResult its old name), Fit (runtime/design/fit_answer.py; FitResult its old name), Trim
 (runtime/design/trim_answer.py).
 
@@ -27,9 +27,9 @@ from levitron.runtime.design.trim_answer import Trim
 from levitron.runtime.design.yield_answer import YieldDesign
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.verdict import NO_HOVER
-from levitron.runtime.physics.equilibria import Equilibria
-from levitron.runtime.physics.equilibrium_report import Equilibrium
-from levitron.runtime.physics.stability_answer import Stability
+from levitron.runtime.physics.equilibrium.answer import Equilibria
+from levitron.runtime.physics.equilibrium.report import Equilibrium
+from levitron.runtime.physics.stability.answer import Stability
 from levitron.runtime.scan.launch_answer import LaunchOdds
 from levitron.runtime.scan.scan_answer import Scan, ScanResult
 from levitron.runtime.simulate.simulation import NORMAL_ENDS, Simulation

@@ -8,8 +8,8 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 import numpy.typing as npt
 
-from levitron.runtime.physics import equilibrium as eqm
-from levitron.runtime.physics import stability_casadi as sc
+from levitron.runtime.physics.equilibrium import finder as eqm
+from levitron.runtime.physics.stability import differentiable as diffable
 from levitron.runtime.model.scenes import load_scene
 from levitron.runtime.design.constraints import Constraint
 from levitron.runtime.design.optimize import optimize as _optimize
@@ -30,8 +30,8 @@ _Designs = Design | LaunchDesign | YieldDesign       # what Study.optimize answe
 
 if TYPE_CHECKING:
     from levitron.runtime.integrate.propagator import Propagator
-    from levitron.runtime.physics.modes import Modes
-    from levitron.runtime.physics.rotating_modes import TurningModes
+    from levitron.runtime.physics.stability.modes import Modes
+    from levitron.runtime.physics.stability.rotating_modes import TurningModes
 
 
 def load(scene: str | Path, overrides: Mapping[str, float | str] | None = None, **unknown: object) -> Study:
@@ -52,7 +52,7 @@ class Study:
 
     def __init__(self, model: Model):
         self.model, self.scene, self.overrides = model, model.scene, list(model.scene.overrides)
-        self._cs: sc.CasadiStability | None = None
+        self._cs: diffable.CasadiStability | None = None
 
     def __repr__(self) -> str:
         over = f", overrides={self.overrides}" if self.overrides else ""
@@ -83,7 +83,7 @@ class Study:
     # ---- CasADi
     def functions(self) -> dict[str, Any]:
         """casadi.Functions: the generated ones ((in, p) -> out: onaxis, reduced_rhs, full_jac, ...)
-        and the stability ones of runtime/physics/stability_casadi.py with named inputs and outputs:
+        and the stability ones of runtime/physics/stability/differentiable.py with named inputs and outputs:
         z_s(z_guess, p) -> (z_s, stiffness), z_c(z_guess, p) -> (z_c, max_mass),
         spin(z_guess, sigma_lo_guess, sigma_hi_guess, p) -> (z_s, sigma_lo, sigma_hi),
         band(z_c_guess, z_hi_guess, s_guess, t_guess, p) -> (z_lo, z_hi, m_hi, m_lo, mass_window)."""
@@ -99,9 +99,9 @@ class Study:
         return out
 
     @property
-    def casadi_stability(self) -> sc.CasadiStability:
+    def casadi_stability(self) -> diffable.CasadiStability:
         if self._cs is None:
-            self._cs = sc.CasadiStability(self.model)
+            self._cs = diffable.CasadiStability(self.model)
         return self._cs
 
     def quantities(self) -> list[str]:
@@ -134,13 +134,13 @@ class Study:
     @_in_scene_units
     def equilibria(self) -> Equilibria:
         """Vertical equilibria, z_c, the largest mass and the stable band (thesis 3.3.1-3.3.3):
-        runtime/physics/equilibria.py's answer, the one `levitron equilibrium` prints."""
+        runtime/physics/equilibrium/answer.py's answer, the one `levitron equilibrium` prints."""
         return Equilibria.of(self.model)
 
     @_in_scene_units
     def stability(self, height: Quantity | None = None, *, level_tolerance: bool = False) -> Stability:
         """The spin interval at the hover height, by the exact route (thesis 3.3.9-3.3.16):
-        runtime/physics/stability_answer.py's answer, the one `levitron stability` prints. height
+        runtime/physics/stability/answer.py's answer, the one `levitron stability` prints. height
         (m): instead the top that hovers there, of mass m(z) = -mu Phi_2(z)/g (`mass`). Over a
         tilted base (plate.tilt) by the eigenvalue route at the equilibrium off the axis
         (`equilibrium`: position, axis; stiffness None). level_tolerance: also how level the base
@@ -151,9 +151,9 @@ class Study:
     @_in_scene_units
     def modes(self, spin: Quantity, height: Quantity | None = None) -> Modes | TurningModes:
         """The linear modes at `spin` (rad/s), those `levitron stability --spin` prints: name, frequency,
-        sense and energy (Krein) sign of each (runtime/physics/modes.py's Modes; height (m) as
+        sense and energy (Krein) sign of each (runtime/physics/stability/modes.py's Modes; height (m) as
         `stability` takes it). The resonances: `stability().resonances`. A tilted magnet: rotating_modes.py."""
-        from levitron.runtime.physics.rotating_modes import modes_at
+        from levitron.runtime.physics.stability.rotating_modes import modes_at
         return modes_at(self.model, arg.number(spin, "spin"), None if height is None else arg.number(height, "height"))
 
     @_in_scene_units
@@ -386,7 +386,7 @@ class Study:
         parameter's name, default mu) at which the top hovers at z_star (m): m g + mu Phi_2(z*) = 0
         (thesis eq. 3.3.2; runtime/design/fit_height.py, the answer `optimize --fit-height` prints)."""
         from levitron.runtime.design.fit_height import fit_equilibrium_height
-        from levitron.runtime.physics.level_only import refuse_tilted
+        from levitron.runtime.physics.apparatus.level_only import refuse_tilted
         refuse_tilted(self.model, "fit_height")
         return fit_equilibrium_height(self.model, arg.number(z_star, "z_star"), param)
 

@@ -60,7 +60,7 @@ TOP_KEYS = (
     Key("moment_tilt", "rad", "the angle b between the magnetic moment and the symmetry axis, the "
         "moment fixed in the body (it turns with the spin): mu (cos b n + sin b e1), e1 the body's "
         "first transverse axis (derive/mechanics.py; default: none, the moment along the axis); the "
-        "steady motion is then periodic (runtime/physics/floquet.py) and the scene has no reduced "
+        "steady motion is then periodic (runtime/physics/apparatus/multipliers.py) and the scene has no reduced "
         "model"),
 )
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+# resolve(): imported as levitron.scene.paths, __file__ is levitron/scene/paths.py, through the link to scene/
 ROOT = Path(__file__).resolve().parent.parent      # the checkout, or levitron/ in a wheel
 SCENES_DIR = ROOT / "scenes"
 GENERATED = ROOT / "generated"

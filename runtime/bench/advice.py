@@ -56,7 +56,7 @@ def plate_keys(model, k: int = 2) -> list[str]:
 
 def cases(model, quick: bool) -> dict[str, list[str]]:
     """Each case's command line (module docstring) for this scene."""
-    from levitron.runtime.physics import equilibrium as eqm
+    from levitron.runtime.physics.equilibrium import finder as eqm
     name = str(model.scene.path or model.scene.name)
     sets = [a for s in model.scene.overrides for a in ("--set", s)]
     extra = QUICK_EXTRA if quick else []

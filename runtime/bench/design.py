@@ -1,6 +1,6 @@
 """The design part of the bench: how long one verified design optimisation takes
 (runtime/design/optimize.py: grid of the box by the exact float routes, IPOPT on the exact derivatives of
-runtime/physics/stability_casadi.py, verification at the optimum; thesis 3.3.2-3.3.16).
+runtime/physics/stability/differentiable.py, verification at the optimum; thesis 3.3.2-3.3.16).
 
 Cases (the scene SCENE, default thesis_stable; bounds relative to the scene's own values, so any
 scene with a spin interval works): spin-range over the top's mass (one key), spin-range over the
@@ -58,7 +58,7 @@ def plate_length_key(scene) -> str:
 
 def stiffness_floor(model) -> str:
     """The constraint `stiffness>=K`, K = STIFFNESS_FRACTION times the scene's own stiffness."""
-    from levitron.runtime.physics.equilibrium import hover_height, params_of
+    from levitron.runtime.physics.equilibrium.finder import hover_height, params_of
     k = params_of(model)["mu"] * float(model.onaxis(hover_height(model))[3])
     return f"stiffness>={STIFFNESS_FRACTION * k:.4g}"
 

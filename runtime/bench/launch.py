@@ -20,7 +20,7 @@ from levitron.runtime.ui.atomic import open_text, write_text
 
 
 def measure(model, flight: float, n: int, t_end: float, workers: int, repeats: int) -> dict:
-    from levitron.runtime.physics.stability import stability_of
+    from levitron.runtime.physics.stability.analysis import stability_of
     lo, hi = stability_of(model).spin_interval
     spin = (lo * hi) ** 0.5
     simulate(model, spin=spin, t_end=1.0)                       # warm: compile, load, verify

@@ -32,7 +32,7 @@ def measure(model, n: int, workers: int, **options) -> dict:
     from levitron.runtime.design.launch_design import maximize_launch_odds
     from levitron.runtime.design.scene_keys import Vary
     from levitron.runtime.errors import UserError
-    from levitron.runtime.physics import equilibrium as eqm
+    from levitron.runtime.physics.equilibrium import finder as eqm
     from levitron.runtime.scan import launch_odds as mc
     band = eqm.equilibria_of(model, bands=True).stable_band
     if band is None:

@@ -2,7 +2,7 @@
 integration costs beyond the right-hand-side calls it makes (thesis 3.1-3.3, fig. 3.8).
 
 The map: spin x tilt, N x N points, the spins from SPIN_BELOW times the lower end of the scene's
-linear stability interval to SPIN_ABOVE times its upper end (thesis 3.3, runtime.physics.stability), the
+linear stability interval to SPIN_ABOVE times its upper end (thesis 3.3, runtime.physics.stability.analysis), the
 tilts from MAX_TILT / N to MAX_TILT rad (no tilt-0 row: it would test nothing), each point one run
 of the full model from the hover height z_s over t_end (default: the scan's own, PERIODS slow
 periods; runtime/scan/stability_map.py). It is run serially and on 2 local worker processes
@@ -170,7 +170,7 @@ def heyoka_batch(model, spins, tilts, t_end: float, quick: bool) -> dict:
         return {"note": "heyoka not installed: pip install '.[bench]'"}
     import time
 
-    from levitron.runtime.physics.equilibrium import hover_height
+    from levitron.runtime.physics.equilibrium.finder import hover_height
     from levitron.runtime.scan import stability_map as sc
     from levitron.runtime.scan.points import point_setup
     k = spins.size if quick else min(HEYOKA_N, spins.size)

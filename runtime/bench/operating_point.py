@@ -10,9 +10,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from levitron.runtime.errors import UserError
-from levitron.runtime.physics import equilibrium as eqm
-from levitron.runtime.physics.eigen_route import transverse_matrix
-from levitron.runtime.physics.stability import stability_of
+from levitron.runtime.physics.equilibrium import finder as eqm
+from levitron.runtime.physics.routes.eigen_route import transverse_matrix
+from levitron.runtime.physics.stability.analysis import stability_of
 from levitron.runtime.simulate.start import initial_state, state_scales
 
 DELTA = 0.01            # the perturbation: tilt DELTA rad, offset DELTA z_s, lift 2 DELTA z_s

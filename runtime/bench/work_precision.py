@@ -1,8 +1,8 @@
 """Speed against error (work-precision) for the reduced and the full model (docs/contract.md `bench`).
 
 The run is the scene's own: its top (mass, A, C, moment as the scene gives them), hovering at its
-own height z_s (the lowest vertically stable root of thesis 3.3.2-3.3.3, runtime/physics/equilibrium.py),
-spinning at the geometric mean of its linear stability interval (thesis 3.3, runtime/physics/stability.py),
+own height z_s (the lowest vertically stable root of thesis 3.3.2-3.3.3, runtime/physics/equilibrium/finder.py),
+spinning at the geometric mean of its linear stability interval (thesis 3.3, runtime/physics/stability/analysis.py),
 perturbed by one small dimensionless amplitude DELTA: tilted DELTA rad, offset DELTA z_s, lifted
 2 DELTA z_s. The reduced model (thesis 3.2.12) runs from the same height (a vertical bounce) at the
 same spin (zeta is cyclic there, so the spin does not change the motion). A scene whose full model's
@@ -58,7 +58,7 @@ from pathlib import Path
 
 import numpy as np
 
-from levitron.runtime.physics import equilibrium as eqm
+from levitron.runtime.physics.equilibrium import finder as eqm
 from levitron.runtime.ui import progress
 from levitron.runtime.errors import UserError
 from levitron.runtime.ui.human import Units

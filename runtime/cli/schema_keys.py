@@ -20,7 +20,7 @@ FACE = {
 _ODDS = {"probability": "number", "probability_ci95": ["number"], "n": "integer", "seed": "integer"}
 _INPUTS = "object"      # input -> its spread as text (runtime/scan/launch_inputs.py)
 
-_STABILITY_RESULT = {      # runtime/physics/stability_result.py as_dict: the keys it builds from locals
+_STABILITY_RESULT = {      # runtime/physics/routes/result.py as_dict: the keys it builds from locals
     "spin_interval": "array?", "spin_interval_hz": "array?", "spin_interval_rpm": "array?",
     "~notes": ["string"],
 }
@@ -78,12 +78,12 @@ VARIANTS = {
         "points": [{"r": ["number"], "B": ["number?"], "B_exact": "array?", "~relative_difference": "number?",
                     "~note": "string"}],
         "~exact": "string", "~notes": ["string"]})],
-    "equilibrium": [("equilibrium", ("levitron.runtime.physics.equilibria:Equilibria",), {
+    "equilibrium": [("equilibrium", ("levitron.runtime.physics.equilibrium.answer:Equilibria",), {
         "equilibria": [{"z": "number", "vertically_stable": "boolean"}], "singularities": "array",
         "stable_band": "object?", "adiabatic_band": "object?", "adiabatic_note": "string",
         "reason": "string?", "~plot": "string"})],
-    "stability": [("stability", ("levitron.runtime.physics.stability_answer:Stability",
-                                 "levitron.runtime.physics.stability_result:StabilityResult.as_dict"), {
+    "stability": [("stability", ("levitron.runtime.physics.stability.answer:Stability",
+                                 "levitron.runtime.physics.routes.result:StabilityResult.as_dict"), {
         "mass": "number?", **_STABILITY_RESULT,
         "~modes": "object", "~tilt_tolerance": "object", "~plot": "string"})],
     "optimize": [

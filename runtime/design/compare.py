@@ -144,8 +144,8 @@ def _yield(model, hand: mc.Request, production, pool) -> dict:
 
 
 def _row(model, hand: mc.Request, pool) -> dict:
-    from levitron.runtime.physics import equilibrium as eqm
-    from levitron.runtime.physics.stability import stability_of
+    from levitron.runtime.physics.equilibrium import finder as eqm
+    from levitron.runtime.physics.stability.analysis import stability_of
     m = model.param("m")
     row = {"scene": model.scene.name, "mass": m, "z_s": None, "band_z": None, "band_mass": None,
            "spin_interval": None, "weight_window": None, "best_mass": None, "best_launch_odds": None}

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 
-from levitron.runtime.physics import equilibrium as eqm
+from levitron.runtime.physics.equilibrium import finder as eqm
 from levitron.runtime.errors import UserError
 from levitron.runtime.words import si, si_unit
 
@@ -45,7 +45,7 @@ def warning(stiffness: float, mass: float, g: float, z_s: float, max_mass: float
 def check_bounded(model, p, interval: tuple[float, float], where: str) -> None:
     """UserError when the spin interval, continued from `interval` to the top of mass m(z_c) at z_c
     (parameters p), is unbounded above: the objective then grows without bound towards z_c."""
-    from levitron.runtime.physics.stability import stability_of
+    from levitron.runtime.physics.stability.analysis import stability_of
     P = eqm.params_of(model, p)
     rep = eqm.equilibria_of(model, p)
     if rep.z_c is None or rep.max_mass is None:

@@ -5,7 +5,7 @@
 Each row of the data (CSV: quantity, value, sigma[, overrides]) is one measured quantity of the
 scene with optional overrides of other keys (e.g. the height measured for each of several masses:
 `top.mass=0.05`). A quantity is one of QUANTITIES, evaluated by the CasADi Functions of
-runtime/physics/stability_casadi.py started from the exact float routes at the current x; its exact
+runtime/physics/stability/differentiable.py started from the exact float routes at the current x; its exact
 derivative is d q / d p (implicit function theorem) times d p / d x (runtime/design/scene_keys.py).
 Gauss-Newton with Levenberg-Marquardt damping, in the keys scaled to their box. Standard errors
 from the Jacobian at the optimum, cov = (J^T J)^-1 (J weighted by 1/sigma). A rank-deficient
@@ -20,7 +20,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from levitron.runtime.physics import stability_casadi as sc
+from levitron.runtime.physics.stability import differentiable as diffable
 from levitron.runtime.errors import UserError
 from levitron.runtime.design.fit_answer import Fit, FitResult  # noqa: F401 (FitResult: its old name)
 from levitron.runtime.design.scene_keys import KeyMap, Vary, key_value, with_values
@@ -34,7 +34,7 @@ POOR_P = 1e-3        # a fit is poor when P(chi2_dof >= chi2) < POOR_P
 POOR_SIGMA = 3.0     # ... or, with no degree of freedom left, a residual beyond 3 sigma
 
 
-# the CasADi Function (runtime/physics/stability_casadi.py FUNCTIONS) that gives each quantity
+# the CasADi Function (runtime/physics/stability/differentiable.py FUNCTIONS) that gives each quantity
 FUNCTION_OF = {"z_s": "z_s", "stiffness": "z_s", "z_c": "z_c", "max_mass": "z_c",
                "sigma_lo": "spin", "sigma_hi": "spin"}
 WARM_RESIDUAL = 1e-10   # a warm Newton is accepted when its normalised residual is below this
@@ -57,7 +57,7 @@ class _Problem:
 
     def __init__(self, model, rows: Sequence[Row], varies: Sequence[Vary]):
         self.model, self.rows, self.varies = model, list(rows), list(varies)
-        self.cs = sc.CasadiStability(model)
+        self.cs = diffable.CasadiStability(model)
         keys = {v.key for v in varies}
         self.maps = {}
         for r in self.rows:
@@ -119,7 +119,7 @@ class _Problem:
         rootfinder started from the float routes (as at the first evaluation)."""
         kms = [self.maps[s] for s in self.sites]
         P = np.array([km.exact(x)[1] for km in kms]).T          # len(p) x sites
-        starts: dict[int, sc.Starts] = {}
+        starts: dict[int, diffable.Starts] = {}
         results, missing, self._pending = {}, set(), {}
         hover: dict[int, float] = {}       # site -> z_s from a warm root this evaluation
         for name in ("z_s", "z_c", "spin"):
@@ -150,14 +150,14 @@ class _Problem:
             with progress.task("fit: float-route starts", total=len(new),
                                quiet=len(new) <= PROGRESS_SITES) as tick:
                 for j in new:
-                    starts[j] = sc.starts(self.model, P[:, j])
+                    starts[j] = diffable.starts(self.model, P[:, j])
                     tick()
             cold_js, guesses = [], []
             for j in todo:
                 # the critical spins: the float route's first bounded interval at the hover
                 # height, at a warm z_s too (a warm spin root could follow another interval)
-                g = sc.guesses(name, starts[j]) if j in starts else \
-                    sc.spin_guesses(self.model, P[:, j], hover[j])
+                g = diffable.guesses(name, starts[j]) if j in starts else \
+                    diffable.spin_guesses(self.model, P[:, j], hover[j])
                 if g is None:
                     missing.add((name, j))
                 else:

@@ -5,7 +5,7 @@ given, only the equilibrium heights (thesis 3.3: 7.62 cm and 15.68 cm). Solve
 m g + mu Phi_2(z*; p) = 0 (thesis eq. 3.3.2) for one parameter (by default the top's moment mu, so
 that the product mu*strength is fitted) with a Newton rootfinder on the generated CasADi `onaxis`
 function, whose derivatives CasADi supplies by automatic differentiation. The result is then
-checked by the one equilibrium finder (runtime/physics/equilibrium.py): z* must be among the equilibria at
+checked by the one equilibrium finder (runtime/physics/equilibrium/finder.py): z* must be among the equilibria at
 the fitted value, and a value that is not physical (a mass, inertia or length <= 0) is refused.
 """
 from __future__ import annotations
@@ -18,7 +18,7 @@ import numpy as np
 
 from levitron.scene import plates
 
-from levitron.runtime.physics import equilibrium as eqm
+from levitron.runtime.physics.equilibrium import finder as eqm
 from levitron.runtime.errors import UserError
 from levitron.runtime.ui.answer_lines import worded
 from levitron.runtime.ui.answer_view import html_table, text_repr

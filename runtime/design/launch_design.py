@@ -362,6 +362,6 @@ def what_it_costs(model, varies: Sequence[Vary], request: mc.Request, optimum: d
 
 def worth_the_launches(model) -> bool:
     """Whether a design's launches are worth counting: the scene has air friction or a [launch] table."""
-    from levitron.runtime.physics.friction import has_friction
+    from levitron.runtime.physics.apparatus.friction import has_friction
     return bool(model.scene.data.get("launch")) or (has_friction(model) and model.pvals()["k_spin"] > 0)
 

@@ -11,7 +11,7 @@
                the user's constraints (runtime/design/constraints.py), e.g. stiffness >= 1 N/m
 
 The NLP is over the keys only: z_s, sigma_lo and sigma_hi are the rootfinder Function `spin` of
-runtime/physics/stability_casadi.py, so IPOPT works on exact derivatives (implicit function theorem).
+runtime/physics/stability/differentiable.py, so IPOPT works on exact derivatives (implicit function theorem).
 IPOPT's iterates may step across a critical spin, so the NLP does not rely on tracking: at its
 answer the interval's ends are critical spins with no third one between them, and N(t) has four real
 roots in the middle, so the whole interval is one of linear stability and no larger one contains it.
@@ -25,7 +25,8 @@ where the interval at z_c is unbounded (runtime/design/edge.py). An optimum on a
 reported with a warning too ("at the bound: widen --vary"): the box, not the physics, stopped it.
 
 Every answer is verified before it is reported: (1) a brute-force grid of the box (>= 20 points a
-key) by the exact float routes (re-resolved scene, runtime/physics/equilibrium.py, runtime/physics/ray_algebra.py);
+key) by the exact float routes (re-resolved scene, runtime/physics/equilibrium/finder.py,
+runtime/physics/routes/ray_algebra.py);
 IPOPT starts from its best point and searches the grid cells around it (the objective has cliffs
 where a critical spin enters the interval: a local search from the best cell is what a grid can
 certify); (2) the float routes at the optimum (the re-validated scene)
@@ -49,17 +50,17 @@ import numpy as np
 
 from levitron.runtime.design import edge as design_edge, sharpness
 from levitron.runtime.design.design_notes import barely_moves_note, mass_window_note
-from levitron.runtime.physics import stability_casadi as sc
+from levitron.runtime.physics.stability import differentiable as diffable
 from levitron.runtime.design.constraints import Constraint
 from levitron.runtime.design.design_answer import OBJECTIVES, Design, DesignResult  # noqa: F401 (DesignResult: its old name)
 from levitron.runtime.errors import UserError
-from levitron.runtime.physics.ray_algebra import RayCoefficients, ray_cubic
+from levitron.runtime.physics.routes.ray_algebra import RayCoefficients, ray_cubic
 from levitron.runtime.design.scene_keys import bounds_hit, grid_points, KeyMap, Vary, key_value
 from levitron.runtime.ui.validate import count
 
 BAND_CONSTRAINTS = ("z_s", "stiffness")   # the constraints mass-window takes (the scene's top)
 VERIFY_RTOL = 1e-8
-THIRD_ROOT_MARGIN = 1e-3   # stability_casadi simple_neighbours >= this: the ends are neighbouring simple roots
+THIRD_ROOT_MARGIN = 1e-3   # differentiable.simple_neighbours >= this: the ends are neighbouring simple roots
 MARGIN_SLACK = 1e-8        # the float check's allowance on that normalised margin (IPOPT's tolerance)
 FOUR_REAL_MARGIN = 1e-9    # G > 0, P < 0, D < 0 at the interval's middle, normalised
 GRID_MIN = 20
@@ -104,7 +105,7 @@ def evaluate(model, keymap: KeyMap, x, objective: str, constraints: Sequence[Con
     if objective == "mass-window":
         return evaluate_band(model, keymap, x, constraints, near)
     _, p = keymap.exact(x)
-    st = sc.starts(model, p)
+    st = diffable.starts(model, p)
     x = tuple(float(v) for v in x)
     if st.z_s is None:
         return Point(x, None, None, None, None)
@@ -127,10 +128,10 @@ def evaluate(model, keymap: KeyMap, x, objective: str, constraints: Sequence[Con
 
 def evaluate_band(model, keymap: KeyMap, x, constraints: Sequence[Constraint],
                   near: tuple[float, float] | None = None) -> Point:
-    """mass-window by the exact float route (runtime/physics/bands.py): the widest stable band, or the one
+    """mass-window by the exact float route (runtime/physics/equilibrium/bands.py): the widest stable band, or the one
     containing the middle of the heights `near`; the constraints on the scene's top (z_s,
     stiffness, thesis 3.3.2-3.3.3)."""
-    from levitron.runtime.physics import equilibrium as eqm
+    from levitron.runtime.physics.equilibrium import finder as eqm
     _, p = keymap.exact(x)
     x = tuple(float(v) for v in x)
     rep = eqm.equilibria_of(model, p, bands=True)
@@ -149,13 +150,13 @@ def evaluate_band(model, keymap: KeyMap, x, constraints: Sequence[Constraint],
 
 
 def third_root_margin(model, p, z_s: float, lo: float, hi: float) -> float:
-    """stability_casadi.simple_neighbours of the exact ray cubic (runtime/physics/ray_algebra.py, thesis
+    """differentiable.simple_neighbours of the exact ray cubic (runtime/physics/routes/ray_algebra.py, thesis
     3.3.13) at z_s with s1 = 1/hi^2, s2 = 1/lo^2: the float twin of the NLP's constraint."""
     P = model.pvals(p)
     ph = model.onaxis(z_s, p)
     c = RayCoefficients.from_physics(ph[1], ph[2], ph[3], P["m"], P["A"], P["C"], P["mu"])
     a = [float(v) for v in ray_cubic(c)]
-    return sc.simple_neighbours(a, 1 / hi ** 2, 1 / lo ** 2)
+    return diffable.simple_neighbours(a, 1 / hi ** 2, 1 / lo ** 2)
 
 
 @contextlib.contextmanager
@@ -179,19 +180,19 @@ def _quiet_stderr():
 
 class _Nlp:
     """The NLP (module docstring) over the keys u in [0, 1] of their box: z_s, sigma_lo and
-    sigma_hi are the rootfinder Function `spin` of runtime/physics/stability_casadi.py at p(x), started
+    sigma_hi are the rootfinder Function `spin` of runtime/physics/stability/differentiable.py at p(x), started
     from the grid point's float values (a Newton failure is an evaluation error, after which IPOPT
     shortens its step); their exact derivatives come through the implicit function theorem."""
 
     def __init__(self, model, keymap: KeyMap, objective: str, constraints: Sequence[Constraint],
                  start: Point):
-        sy = sc.symbols(model)
+        sy = diffable.symbols(model)
         n = len(keymap.varies)
         lo = np.array([v.lo for v in keymap.varies])
         span = np.array([v.hi - v.lo for v in keymap.varies])
         u = ca.SX.sym("u", n)
         p = keymap.p_casadi(lo + span * u)
-        z, slo, shi = sc.spin_function(sy, strict=True)(start.z_s, *start.interval, p)
+        z, slo, shi = diffable.spin_function(sy, strict=True)(start.z_s, *start.interval, p)
         w = ca.SX.sym("w", 3)
         g_of = ca.Function("g", [w, sy.p], [ca.vertcat(
             sy.simple_neighbours(1 / w[2] ** 2, 1 / w[1] ** 2, w[0]), (w[2] - w[1]) / w[2],
@@ -210,15 +211,15 @@ class _Nlp:
         # the answer, checked against the float routes afterwards, by the lenient Newton: a root whose
         # residual stalls just above the strict tolerance (rounding in a scene's formula) is reported
         # and verified rather than raised as an evaluation error
-        self.answer = ca.Function("answer", [u], [*sc.spin_function(sy)(start.z_s, *start.interval, p)])
+        self.answer = ca.Function("answer", [u], [*diffable.spin_function(sy)(start.z_s, *start.interval, p)])
         self.lbg, self.ubg, self.lo, self.span, self.n = lbg, ubg, lo, span, n
         self.sy, self.keymap = sy, keymap
 
     def failure_hint(self, start: Point) -> str:
         """How to fix a failed solve: where Newton's strict tolerance lies below the rounding floor of
         the scene's functions at the start (the float routes' roots), no bound or constraint helps."""
-        floor = sc.residual_at(self.sy, "spin", (start.z_s, *start.interval), self.keymap.exact(start.x)[1])
-        tol = sc.NEWTON_STRICT["abstol"]
+        floor = diffable.residual_at(self.sy, "spin", (start.z_s, *start.interval), self.keymap.exact(start.x)[1])
+        tol = diffable.NEWTON_STRICT["abstol"]
         if floor > tol:
             return (f"the hover height and critical spins cannot be solved to Newton's tolerance "
                     f"{tol:g} there: the scene's functions carry rounding errors of {floor:.1g} "
@@ -239,26 +240,26 @@ class _Nlp:
 
 class _BandNlp(_Nlp):
     """mass-window: maximise (m_hi - m_lo) / m_hi with the band's edges the rootfinder Function
-    `band` of runtime/physics/stability_casadi.py (z_c: Phi_3 = 0; z_hi: N(t) with a triple root, thesis
+    `band` of runtime/physics/stability/differentiable.py (z_c: Phi_3 = 0; z_hi: N(t) with a triple root, thesis
     3.3.3, 3.3.11), started from the float band at the grid point; z_s and the stiffness of the
     scene's top (Function `z_s`) for the user's constraints; z_hi >= z_lo."""
 
     def __init__(self, model, keymap: KeyMap, constraints: Sequence[Constraint], start: Point):
-        sy = sc.symbols(model)
+        sy = diffable.symbols(model)
         n = len(keymap.varies)
         lo = np.array([v.lo for v in keymap.varies])
         span = np.array([v.hi - v.lo for v in keymap.varies])
         _, p0 = keymap.exact(start.x)
-        st = sc.starts(model, p0, band=True)
+        st = diffable.starts(model, p0, band=True)
         if st.band is None or st.z_c is None:
             raise UserError(f"no start for the band's edges at {keymap.describe(start.x)}: the float "
                             "band has no upper edge where two critical spins merge")
         u = ca.SX.sym("u", n)
         p = keymap.p_casadi(lo + span * u)
-        z_lo, z_hi, m_hi, m_lo, window = sc.band_function(sy, strict=True)(st.z_c, *st.band, p)
+        z_lo, z_hi, m_hi, m_lo, window = diffable.band_function(sy, strict=True)(st.z_c, *st.band, p)
         rows, lbg, ubg = [(z_hi - z_lo) / z_hi], [0], [ca.inf]
         if constraints:
-            z, k = sc.z_s_function(sy)(start.z_s, p)
+            z, k = diffable.z_s_function(sy)(start.z_s, p)
             quantity = {"z_s": z, "stiffness": k}
             for c in constraints:
                 rows.append(c.margin(quantity[c.name]) / max(abs(c.bound), 1e-300))
@@ -266,7 +267,7 @@ class _BandNlp(_Nlp):
                 ubg.append(ca.inf)
         f = -window / start.value
         self.solver = ca.nlpsol("design", "ipopt", {"x": u, "f": f, "g": ca.vertcat(*rows)}, IPOPT)
-        z_lo, z_hi, m_hi, m_lo, _ = sc.band_function(sy)(st.z_c, *st.band, p)    # lenient: as _Nlp's
+        z_lo, z_hi, m_hi, m_lo, _ = diffable.band_function(sy)(st.z_c, *st.band, p)    # lenient: as _Nlp's
         self.answer = ca.Function("answer", [u], [z_lo, z_hi, m_lo, m_hi])
         self.lbg, self.ubg, self.lo, self.span, self.n = lbg, ubg, lo, span, n
 
@@ -338,7 +339,7 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
                         f"{start.value:.10g}, more than the IPOPT optimum {check.value:.10g}")
     interval = check.interval
     if band:    # the scene's top at the optimum: its spin interval, for the record (None if none)
-        interval = sc.starts(model, keymap.exact(x)[1]).spin
+        interval = diffable.starts(model, keymap.exact(x)[1]).spin
     at_bound = bounds_hit(varies, x)
     warnings = [] if fallback is None else [
         f"{fallback}: the objective has a corner there (the spin limits switch branch), so the optimum is "
@@ -350,7 +351,7 @@ def optimize(model, varies: Sequence[Vary], objective: str, constraints: Sequenc
     if not band and check.stiffness is not None:
         p_opt = keymap.exact(x)[1]
         P = model.pvals(p_opt)
-        from levitron.runtime.physics import equilibrium as eqm
+        from levitron.runtime.physics.equilibrium import finder as eqm
         edge = design_edge.warning(check.stiffness, P["m"], P["g"], check.z_s,
                                    eqm.equilibria_of(model, p_opt).max_mass)
         if edge is not None:

@@ -144,7 +144,7 @@ def owner_curve(model, plan: mc.Plan, search_time: float, seed: int, pool=None) 
     """The scene's odds against the top's mass (module docstring): CURVE_POINTS masses inside the
     stable band, CURVE_N launches each on the same draws, judged at search_time. {"mass", "odds",
     "best"} (kg); None where no mass hovers."""
-    from levitron.runtime.physics import equilibrium as eqm
+    from levitron.runtime.physics.equilibrium import finder as eqm
     band = eqm.equilibria_of(model, bands=True).stable_band
     if band is None:
         return None

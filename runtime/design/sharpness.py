@@ -160,11 +160,11 @@ def ridge(keys: Sequence[str], J) -> dict | None:
 
 def hover_state(model, keys: Sequence[str], x) -> np.ndarray | None:
     """(z_s, sigma_lo, sigma_hi) of the scene re-resolved at the keys' values x, by the exact float
-    routes (stability_casadi.starts); None where the top does not hover with a spin window."""
+    routes (differentiable.starts); None where the top does not hover with a spin window."""
     from levitron.runtime.design.scene_keys import pvector, with_values
-    from levitron.runtime.physics import stability_casadi as sc
+    from levitron.runtime.physics.stability import differentiable as diffable
     p = pvector(model.param_names, with_values(model.scene, dict(zip(keys, map(float, x)))))
-    st = sc.starts(model, p)
+    st = diffable.starts(model, p)
     return None if st.z_s is None or st.spin is None else np.array([st.z_s, *st.spin])
 
 

@@ -22,9 +22,9 @@ from levitron.runtime.design import launch_design as ld
 from levitron.runtime.design.scene_keys import Vary
 from levitron.runtime.design.trim_answer import Trim
 from levitron.runtime.errors import UserError
-from levitron.runtime.physics import equilibrium as eqm
-from levitron.runtime.physics.bands import edge_note
-from levitron.runtime.physics.stability import stability_of
+from levitron.runtime.physics.equilibrium import finder as eqm
+from levitron.runtime.physics.equilibrium.bands import edge_note
+from levitron.runtime.physics.stability.analysis import stability_of
 from levitron.runtime.scan import launch_odds as mc
 from levitron.runtime.ui.human import Units
 from levitron.runtime.words import si, si_span
@@ -89,7 +89,7 @@ def resonance_advice(model, mass: float, spin, success_time: float) -> tuple[str
     In air below it (a top launched above slows down through it), else on the side of the hand's
     mean; the aim keeps the hand's spread (2 sd, or half a uniform's width) clear of it and inside
     the window, else only less wobble is left."""
-    from levitron.runtime.physics.stability_answer import resonances_of
+    from levitron.runtime.physics.stability.answer import resonances_of
     from levitron.runtime.scan.launch_inputs import resonance_warnings
     try:
         res = stability_of(model, mass=mass, eigen=False)

@@ -43,7 +43,7 @@ def past_window(status: str, t_end: float, lower: float | None, spin_end: float 
     """Why a run that reached t_end ("completed") gives no verdict all the same (module docstring),
     or None where its verdict stands: `lower` the lower critical spin of the top (None: no window
     known), `spin_end` the spin at the run's end, `t_cross` the adiabatic prediction of the fall,
-    tau ln(omega_0 / sigma_lo) (runtime/physics/friction.py crossing_time; 0: launched below it)."""
+    tau ln(omega_0 / sigma_lo) (runtime/physics/apparatus/friction.py crossing_time; 0: launched below it)."""
     if status != UP or lower is None or spin_end is None or not abs(spin_end) < lower:
         return None
     when = ("it started below it" if not t_cross else

@@ -26,12 +26,12 @@ from pathlib import Path
 import numpy as np
 
 from levitron.runtime.errors import UserError
-from levitron.runtime.physics import equilibrium as eqm
+from levitron.runtime.physics.equilibrium import finder as eqm
 from levitron.runtime.ui import progress
 from levitron.runtime.ui.human import Units, sig, span
 from levitron.runtime.ui.plain_text import shown
 from levitron.runtime.ui.plotting import band, canvas, in_style, save_figure
-from levitron.runtime.physics.ray_algebra import l_cubic
+from levitron.runtime.physics.routes.ray_algebra import l_cubic
 
 
 class NotDrawn(Exception):
@@ -307,7 +307,7 @@ def figure_3_8(model, path: Path, quick: bool = False) -> Path:
     the lower to 1.25 x the upper end of its linear interval (thesis 3.3), or, where it has none,
     of the interval of the top that hovers in the middle of the stable band (the map then shows
     the scene's top falling there). NotDrawn without a full model or a stable band."""
-    from levitron.runtime.physics.stability import stability_of
+    from levitron.runtime.physics.stability.analysis import stability_of
     from levitron.runtime.scan import stability_map as sc
     from levitron.runtime.scan.physics import slow_period, spins_around
     u = Units.of_scene(model.scene)

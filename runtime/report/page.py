@@ -22,14 +22,14 @@ import numpy as np
 
 from levitron.scene import plates
 
-from levitron.runtime.physics.equilibria import Equilibria
+from levitron.runtime.physics.equilibrium.answer import Equilibria
 from levitron.runtime.report.html_parts import p as _p, png as _png, table as _table
 from levitron.runtime.ui import progress, reference
 from levitron.runtime.ui.atomic import sweep
 from levitron.runtime.ui.human import SI_SYMBOLS, Units, sig, span
 from levitron.runtime.ui.plain_text import shown
 from levitron.runtime.words import render
-from levitron.runtime.physics.stability_answer import Stability
+from levitron.runtime.physics.stability.answer import Stability
 
 MAP_SPINS, MAP_TILTS = 8, 6
 LAUNCH_TILT = 0.01            # rad
@@ -63,7 +63,7 @@ def build(model, provenance: dict | None = None) -> tuple[str, dict]:
     """The page and the facts it shows (SI numbers, for --json); provenance: the block of
     runtime/ui/provenance.py, shown at the foot of the page (its command rebuilds the page). The
     scene's overrides (model.scene.overrides) are listed on the page; workers load model.ref."""
-    from levitron.runtime.physics.friction import has_friction
+    from levitron.runtime.physics.apparatus.friction import has_friction
     from levitron.runtime.report import real_launch, rebuild, setup_drawing
     from levitron.runtime.report.figures import figure_3_5
     from levitron.runtime.simulate.setup_shape import setup_of

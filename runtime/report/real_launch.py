@@ -1,5 +1,5 @@
 """The report's section on a launch in air (a scene with a spin decay time, derive/friction.py):
-the flight against the adiabatic prediction tau ln(omega_0 / sigma_lo) (runtime/physics/friction.py),
+the flight against the adiabatic prediction tau ln(omega_0 / sigma_lo) (runtime/physics/apparatus/friction.py),
 the launch odds with their 95 % Wilson interval and the launch spread used, what matters most
 (runtime/scan/launch_odds.py monte_carlo), and the masses that hover (the stable band's mass window,
 thesis 3.3.2-3.3.3) at the scene's temperature and TEMPERATURE_STEP degC either side, through both
@@ -20,8 +20,8 @@ TEMPERATURE_STEP = 8.0   # degC either side of the scene's temperature
 def mass_windows(model) -> list[dict]:
     """The stable band's mass window at the scene's temperature T and at T -/+ TEMPERATURE_STEP
     (mu scaled by launch_inputs.temperature_factor)."""
-    from levitron.runtime.physics import equilibrium as eqm
-    from levitron.runtime.physics.bands import edge_note
+    from levitron.runtime.physics.equilibrium import finder as eqm
+    from levitron.runtime.physics.equilibrium.bands import edge_note
     from levitron.runtime.scan.launch_inputs import temperature_factor
     from levitron.scene.keys import T_REF
     T0 = float(model.scene.data.get("temperature", T_REF))
@@ -42,7 +42,7 @@ def hover_temperatures(model, step: float = 1.0, reach: float = 40.0) -> tuple[f
     temperature: launch_inputs.temperature_factor), to `step` by a scan then bisection over
     +-`reach`; None where it still hovers at the end of the reach (or has no temperature
     coefficients)."""
-    from levitron.runtime.physics import equilibrium as eqm
+    from levitron.runtime.physics.equilibrium import finder as eqm
     from levitron.runtime.scan.launch_inputs import temperature_factor
     from levitron.scene.keys import T_REF
     T0, mu, m = float(model.scene.data.get("temperature", T_REF)), model.param("mu"), model.param("m")

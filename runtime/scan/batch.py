@@ -84,7 +84,7 @@ def simulate_many(model, spin, tilt=None, offset=0.0, azimuth=None, t_end: float
     error of the call: it is not run, status NO_HOVER ("no_hover_height", the maps' word), reason
     the one line that says why (else None), levitating False, untested False, t_survived 0, z_s and
     final_state NaN."""
-    from levitron.runtime.physics.equilibrium import hover_height
+    from levitron.runtime.physics.equilibrium.finder import hover_height
     from levitron.runtime.scan.chunk_c import drive_runs
     from levitron.runtime.simulate import run as sim, rotations, start
     t_wall = time.perf_counter()

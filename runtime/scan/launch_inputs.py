@@ -42,7 +42,7 @@ def _downhill_default(model):
     """Over an axially symmetric plate the downhill direction matters only relative to the launch's
     own directions (offset along x, velocity along y, the tilt's azimuth): unknown to the person, so
     uniform over the turn. Over a rectangle the plate's sides fix directions: the scene's own."""
-    from levitron.runtime.physics.stability import symmetry
+    from levitron.runtime.physics.stability.analysis import symmetry
     if symmetry(model.scene.data["plate"], model.pvals()).name == "axial":
         return Dist("uniform", 0.0, 2 * math.pi)
     return Dist("fixed", float(model.pvals()["base_tilt_azimuth"]))
@@ -146,10 +146,10 @@ def check_decay_horizon(model, z_s: float, spin: Dist, tau, defaulted: bool) -> 
 def reach_warnings(model, spin: Dist, interval, tau, success_time: float, defaulted: bool) -> list[str]:
     """In air: a one-line warning when a launch at the spin's centre cannot float the success time
     at all by the adiabatic prediction, tau ln(omega_0 / sigma_lo) < success_time (runtime/physics/
-    friction.py: the spin decays as exp(-t/tau) and the top falls where it crosses sigma_lo), so
+    apparatus/friction.py: the spin decays as exp(-t/tau) and the top falls where it crosses sigma_lo), so
     that the odds say more of the spin asked for than of the top (the default spin once flew
     88 s against a default success time of 100 s). [] without air or without a spin interval."""
-    from levitron.runtime.physics.friction import crossing_time
+    from levitron.runtime.physics.apparatus.friction import crossing_time
     from levitron.runtime.ui.human import Units
     if tau is None or not interval:
         return []
@@ -166,12 +166,12 @@ def reach_warnings(model, spin: Dist, interval, tau, success_time: float, defaul
 
 def resonance_warnings(model, res, spin: Dist, tau, success_time: float) -> list[str]:
     """A one-line warning where the hand's spins (the central 95 % of its distribution) include an
-    explosive three-wave resonance inside the window (runtime/physics/resonances.py,
+    explosive three-wave resonance inside the window (runtime/physics/stability/resonances.py,
     docs/resonances.md), or in air pass one while they slow down over the success time (the spin
-    decays as exp(-t/tau), runtime/physics/friction.py): near it a launch tolerates less tilt
+    decays as exp(-t/tau), runtime/physics/apparatus/friction.py): near it a launch tolerates less tilt
     (`stability --tilt-tolerance`). [] where none is crossed or the resonances are not computed
     (no window, the top off the axis). res: the StabilityResult of the scene's top."""
-    from levitron.runtime.physics.stability_answer import resonances_of
+    from levitron.runtime.physics.stability.answer import resonances_of
     from levitron.runtime.words import si
     found = resonances_of(model, res) or ()
     lo, hi = ((spin.a - 2 * spin.b, spin.a + 2 * spin.b) if spin.kind == "normal" else
@@ -205,8 +205,8 @@ def field_reach(model, dists: dict, z_s: float) -> float:
     where the field's own tilt B_r/B_z = r Phi_2 / (2 Phi_1) is theta (thesis eq. 2.2.6: a top whose
     axis follows the field sits there), and the base's tilt m g beta / k_r, with k_r = |mu|
     (Phi_2^2/4 - Phi_1 Phi_3/2) / |Phi_1| the sideways stiffness of |mu| |B| on the axis (the
-    linear shift of runtime/physics/tilted_equilibrium.py). The velocity's reach is left out."""
-    from levitron.runtime.physics import equilibrium as eqm
+    linear shift of runtime/physics/apparatus/tilted_equilibrium.py). The velocity's reach is left out."""
+    from levitron.runtime.physics.equilibrium import finder as eqm
     P = model.pvals()
     _, f1, f2, f3 = (float(v) for v in eqm.model_onaxis(model, model.p)(z_s)[:4])
     tilt = _far(dists.get("tilt")) + _far(dists.get("moment_tilt"))
@@ -245,7 +245,7 @@ def field_order_warnings(model, dists: dict, z_s: float) -> list[str]:
     it; the warning names the «set» that raises the order. [] where the model's field is exact (a
     plain rectangle) or agrees. A check of the field, not of the odds: milliseconds with a closed form."""
     from levitron.runtime.physics.plates import plate_field
-    from levitron.runtime.physics.truncation import RTOL, SCENE_MAX_ORDER, expanded, loader
+    from levitron.runtime.physics.field.truncation import RTOL, SCENE_MAX_ORDER, expanded, loader
     from levitron.runtime.words import si
     scene, n = model.scene, int(model.manifest.field_order)
     if not expanded(scene.data["plate"]):

@@ -26,7 +26,7 @@ a model that has the term (a scene without it is refused with the key that adds 
 Over a tilted base the launch is still aimed where a person aims it: at the level hover point, on
 the plate's axis at the level hover height, the axis along the plate's normal (the top is spun on
 the lifter resting on the base), with the launch's tilt, offset and velocity spreads about that
-point. The person does not know the tilted equilibrium (runtime/physics/tilted_equilibrium.py): the
+point. The person does not know the tilted equilibrium (runtime/physics/apparatus/tilted_equilibrium.py): the
 base's tilt moves it away from the launch point, downhill, and the top must find it.
 
 Each is "normal:MEAN,SD", "uniform:LO,HI" or a number (fixed), given by a flag or the scene's
@@ -34,7 +34,7 @@ Each is "normal:MEAN,SD", "uniform:LO,HI" or a number (fixed), given by a flag o
 dimensionless): the spin normal about the geometric mean of the spin interval with a 10 % spread,
 a tilt up to 0.02 rad, an offset of 1 % of z_s, a velocity of 1 % of sqrt(g z_s), 0.2 % of mass and
 0.5 % of strength. Each sample starts at the hover height of its own mass and strength
-(runtime.physics.equilibrium.hover_height; none: the sample "cannot hover").
+(runtime.physics.equilibrium.finder.hover_height; none: the sample "cannot hover").
 
 Success means floating at least success_time (default: the run length, or in air half the spin
 decay time; without friction and without a run length, runtime/scan/stability_map.py's PERIODS slow periods).
@@ -55,7 +55,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from levitron.runtime.errors import UserError
-from levitron.runtime.physics.friction import has_friction
+from levitron.runtime.physics.apparatus.friction import has_friction
 from levitron.runtime.integrate.verdict import stopped_early
 from levitron.runtime.integrate.methods import DEFAULT, refuse_on_full_model, resolve
 from levitron.runtime.scan.launch_answer import LaunchOdds
@@ -110,7 +110,7 @@ def samples(plan: Plan) -> dict[str, np.ndarray]:
 def run_chunk(plan: Plan, indices) -> dict:
     """The samples `indices` through the C chunk driver: {"points": [{i, t, status}], ...}."""
     from levitron.runtime.simulate import start
-    from levitron.runtime.physics.equilibrium import hover_height
+    from levitron.runtime.physics.equilibrium.finder import hover_height
     from levitron.runtime.scan.chunk_c import drive_runs
     from levitron.runtime.scan.runners import model_for
     from levitron.runtime.integrate.budget import check_options, default_budget
@@ -233,7 +233,7 @@ def monte_carlo(model, given: Mapping[str, object], n: int = 1000,
     """The launch odds of the module docstring (runtime/scan/launch_answer.py's LaunchOdds). given:
     input name -> a distribution spec (flags or the scene's [launch] table, flags first); others
     take `defaults`. workers None: every usable core (runtime/scan/workers.py)."""
-    from levitron.runtime.physics.equilibrium import NoHover
+    from levitron.runtime.physics.equilibrium.finder import NoHover
     try:
         prep = prepare(model, given, n, seed, success_time, t_end, integrator, tol, workers, scheduler)
     except NoHover as exc:          # a design where the top cannot hover is an answer: it floats never
@@ -267,8 +267,8 @@ def prepare(model, given: Mapping[str, object], n: int = 1000,
             scheduler: str | None = None) -> Prepared:
     """monte_carlo's checks, defaults and plan (one-line UserErrors), without running a launch."""
     from levitron.runtime.scan import launch_inputs as li, runners
-    from levitron.runtime.physics.equilibrium import hover_height
-    from levitron.runtime.physics.stability import stability_of
+    from levitron.runtime.physics.equilibrium.finder import hover_height
+    from levitron.runtime.physics.stability.analysis import stability_of
     from levitron.runtime.ui.validate import launch_count, random_seed, run_length, tolerance
     n, seed = launch_count(n, MAX_N), random_seed(seed)
     if "full" not in model.parts:

@@ -9,7 +9,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from levitron.runtime.physics.stability import stability_of
+from levitron.runtime.physics.stability.analysis import stability_of
 from levitron.runtime.simulate.start import slow_period  # noqa: F401 (the map's default run length)
 
 

@@ -46,7 +46,7 @@ def point_setup(model, spin: float, tilt: float = 0.0, height: float = 0.0,
     if site is None:
         pt, pvals = model.part("full"), model.pvals(p)
         if z_s is None:
-            from levitron.runtime.physics.equilibrium import hover_height
+            from levitron.runtime.physics.equilibrium.finder import hover_height
             z_s = hover_height(model, p)
         site = memo[site_key] = (pt, pvals, z_s, start.vertical_stiffness(model, p, z_s, pvals),
                                  start.default_box(pt, z_s))
@@ -65,9 +65,9 @@ def point_setup(model, spin: float, tilt: float = 0.0, height: float = 0.0,
 
 
 def tilted_top(model, p: np.ndarray, z_s: float, memo: dict, site_key):
-    """The site's runtime.physics.tilted_equilibrium.TiltedTop, once per chunk and site (it keeps
+    """The site's runtime.physics.apparatus.tilted_equilibrium.TiltedTop, once per chunk and site (it keeps
     the branch it found: the other spins' equilibria start from it)."""
-    from levitron.runtime.physics.tilted_equilibrium import TiltedTop
+    from levitron.runtime.physics.apparatus.tilted_equilibrium import TiltedTop
     key = (site_key, "tilted")
     if key not in memo:
         memo[key] = TiltedTop(model, p, z_s)

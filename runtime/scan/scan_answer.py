@@ -204,7 +204,7 @@ class Scan:
                 "z_s": [lin["z_s"] for lin in self.linear],
                 "note": ("thesis 3.3 (exact discriminant route)" if "equilibrium" not in self.extra.get("public", {})
                          else "the eigenvalue route at the equilibrium over the tilted base "
-                              "(runtime/physics/tilted_stability.py)")
+                              "(runtime/physics/apparatus/tilted_stability.py)")
                         + f", one entry per value of the {self.axis} axis; null where no spin stabilises",
                 "agreement": self.agreement(),
             },

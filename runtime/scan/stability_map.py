@@ -25,7 +25,7 @@ needed for an unstable transverse mode to grow.
 
 Default run length: ``PERIODS`` (3) periods of the slowest motion at the relative equilibrium, i.e.
 the slowest transverse (precession/wobble) mode of the 8-D linearisation after thesis 3.3.5
-(runtime.physics.eigen_route.transverse_matrix) at a spin inside the linear interval, or the vertical bounce
+(runtime.physics.routes.eigen_route.transverse_matrix) at a spin inside the linear interval, or the vertical bounce
 2 pi sqrt(m / (mu Phi_3)) (thesis 3.3.3) if that is slower. For the thesis plate with a 51.5 g top
 the slow mode is ~1.8 rad/s (3.5 s), so the default is ~10.5 s; a top that is linearly unstable
 typically leaves the box within a few e-folding times, and over three slow periods even weak
@@ -33,7 +33,7 @@ instabilities near the ends of the interval (growth ~0.5/s from a 0.01 rad seed)
 scan takes the median slow period over the masses that some spin stabilises (near the critical
 height z_c the vertical bounce period diverges, so the longest would be unbounded).
 
-The linear stability interval (thesis 3.3, runtime.physics.stability.analyse: exact discriminant route) is
+The linear stability interval (thesis 3.3, runtime.physics.stability.analysis.analyse: exact discriminant route) is
 reported beside the map, per value of the second axis (it changes only with the mass), together
 with the fraction of grid points where the nonlinear run agrees with it.
 
@@ -183,10 +183,10 @@ def _checked(axis: str, spins, others, workers, scheduler, t_end, engine: str, b
 
 
 def _hover_and_linear(model, axis: str, others: np.ndarray):
-    """The hover heights (runtime.physics.equilibrium.hover_height, thesis 3.3.2-3.3.3) and the
+    """The hover heights (runtime.physics.equilibrium.finder.hover_height, thesis 3.3.2-3.3.3) and the
     linear picture per value of the other axis: (linear, hover, the scene's linear, the statuses
     of the columns that are not run: {j: "no_hover_height"})."""
-    from levitron.runtime.physics.equilibrium import hover_height
+    from levitron.runtime.physics.equilibrium.finder import hover_height
     status_pre: dict[int, str] = {}
     if axis != "mass":
         lin = linear_interval(model)
@@ -215,8 +215,8 @@ def tilted_sites(model, axis: str, others: np.ndarray, hover: list, status_pre: 
     `equilibrium`, with `start`), None over a level base."""
     if "base_tilt" not in model.param_names:
         return None
-    from levitron.runtime.physics.equilibrium import hover_height
-    from levitron.runtime.physics.tilted_equilibrium import NoEquilibrium, TiltedTop
+    from levitron.runtime.physics.equilibrium.finder import hover_height
+    from levitron.runtime.physics.apparatus.tilted_equilibrium import NoEquilibrium, TiltedTop
     tilt = model.pvals()["base_tilt"]
     for j, z in enumerate(hover):
         if j in status_pre or z is None:

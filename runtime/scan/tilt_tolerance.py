@@ -2,7 +2,7 @@
 
 Linear stability (thesis 3.3.9-3.3.16) says whether the relative equilibrium holds at a spin; it
 does not say how far from it a launch may start. Inside the window the top is not equally robust:
-where low-order resonances among the linear modes sit (runtime/physics/resonances.py,
+where low-order resonances among the linear modes sit (runtime/physics/stability/resonances.py,
 docs/resonances.md), a launch with a small tilt can feed the modes and fall although every mode is
 linearly stable. This module measures it by simulation, the nonlinear full model (thesis 2.3):
 
@@ -125,7 +125,7 @@ def plain_lines(d: dict, u: Units) -> list[str]:
 def tilt_tolerance(model, window: tuple[float, float], z_s: float, resonances=(), t_end: float | None = None,
                    n: int = N_SPINS) -> TiltTolerance:
     """The curve of the module docstring for the scene's top (its window and hover height z_s)."""
-    from levitron.runtime.physics.friction import without_friction
+    from levitron.runtime.physics.apparatus.friction import without_friction
     from levitron.runtime.scan.batch import simulate_many
     if window is None:
         raise UserError("the top has no spin interval of linear stability, so no spin to tolerate a tilt")

@@ -39,7 +39,7 @@ def draw(t, dz, r, tilt, path, info, u: Units, scene: str = "", ax=None, fig=Non
 @in_style
 def draw_flight(t, dz, w, path, info, u: Units, scene: str = "", ax=None, fig=None):
     """A flight in air: the spin and the height above z_s against time (two panels), with the linear
-    spin limits at z_s and the adiabatic crossing time drawn in (runtime/physics/friction.py; u:
+    spin limits at z_s and the adiabatic crossing time drawn in (runtime/physics/apparatus/friction.py; u:
     runtime/ui/human.py)."""
     given, made = ax, ax is None and fig is None
     fl = info["flight"]

@@ -1,7 +1,7 @@
 """One trajectory of the top from its stable hover height (docs/contract.md `simulate`; thesis 3.1-3.3).
 
 The initial state: the centre of mass at (offset, 0, z_s), where z_s is the vertically stable root
-of m g + mu Phi_2(z) = 0 (thesis eqs. 3.3.2-3.3.3, from levitron.runtime.physics.equilibrium); the symmetry axis
+of m g + mu Phi_2(z) = 0 (thesis eqs. 3.3.2-3.3.3, from levitron.runtime.physics.equilibrium.finder); the symmetry axis
 n tilted by `tilt` rad towards the azimuth `azimuth` (rad from +x towards +y; default pi/2, i.e.
 towards +y), n = (sin tilt cos az, sin tilt sin az, cos tilt) (Tait-Bryan angles of thesis 3.2.2:
 vartheta = asin(sin tilt cos az), phi = atan2(sin tilt sin az, cos tilt); z-x-z Euler angles of
@@ -20,7 +20,7 @@ rad); a launch given exactly on I is run but answers `levitating: null` with the
 
 With air friction (a scene with decay times, derive/friction.py) the run goes on until the top
 falls or t_end (default FRICTION_T_END_TAUS spin decay times), and the answer carries a `flight`
-block (runtime/physics/friction.py): the flight time, the spin at which the top fell and the adiabatic
+block (runtime/physics/apparatus/friction.py): the flight time, the spin at which the top fell and the adiabatic
 prediction tau ln(omega_0 / sigma_lo).
 
 The run stops when the top leaves a box that scales with the hover height (default half-width
@@ -37,7 +37,7 @@ import math
 
 import numpy as np
 
-from levitron.runtime.physics.equilibrium import hover_height
+from levitron.runtime.physics.equilibrium.finder import hover_height
 from levitron.runtime.errors import UserError
 from levitron.runtime.ui.validate import count, real, run_length, tolerance
 from levitron.runtime.integrate.budget import MAX_N_OUT
@@ -45,8 +45,8 @@ from levitron.runtime.integrate.run import Box, Result, integrate
 from levitron.runtime.integrate.methods import AUTO, DEFAULT, Choice, auto_note, default_step, resolve
 from levitron.runtime.integrate.verdict import no_verdict_reason, past_window, verdict
 
-from levitron.runtime.physics import friction as flight
-from levitron.runtime.physics.stability import onaxis_refusal, stability_of
+from levitron.runtime.physics.apparatus import friction as flight
+from levitron.runtime.physics.stability.analysis import onaxis_refusal, stability_of
 from levitron.runtime.simulate.simulation import Simulation
 from levitron.runtime.simulate.invariants import Samples, deviations, spin_rate
 from levitron.runtime.simulate.rotations import DEFAULT_AZIMUTH, coordinates_of
@@ -170,7 +170,7 @@ def summarize(pt, res: Result, x0, p, z_s, bx: Box, spin, tilt, offset, t_end, c
               fl: dict | None = None, ps: Samples | None = None) -> dict:
     """simulate's keys (docs/contract.md); choice: the integrator as resolved (its method, tol, h).
     fl: the flight block of a run in air
-    (runtime/physics/friction.py); there the energy drift is the residual of the energy balance
+    (runtime/physics/apparatus/friction.py); there the energy drift is the residual of the energy balance
     and L.n is compared with its exponential decay. ps: the run's Samples (Samples.of), if computed already."""
     s = list(pt.states)
     X = res.X

@@ -65,7 +65,7 @@ def top_disc(m: float, A: float, C: float) -> tuple[float, float]:
 def setup_of(model, p=None, bands: bool = False) -> dict:
     """The drawing's numbers: base outlines, the top's disc, z_s (None where it cannot hover) and,
     with bands, the stable band and the critical height z_c (thesis 3.3.3)."""
-    from levitron.runtime.physics import equilibrium as eqm
+    from levitron.runtime.physics.equilibrium import finder as eqm
     pv = model.pvals(p)
     r, h = top_disc(pv["m"], pv["A"], pv["C"])
     out = {"base": base_of(model.scene.data["plate"]), "top_radius": r, "top_height": h, "C": pv["C"],

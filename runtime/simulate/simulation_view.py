@@ -12,7 +12,7 @@ from levitron.scene.plates.symmetry import symmetry
 
 def flight_line(r: dict, u: Units) -> list[str]:
     """A flight in air as a person says it: "floats 1 min 57 s; falls at 457 rad/s, 0.8 s after the
-    spin crosses the linear limit" (runtime/physics/friction.py)."""
+    spin crosses the linear limit" (runtime/physics/apparatus/friction.py)."""
     fl = r["flight"]
     iv = fl["spin_interval"]
     if iv is None:

@@ -13,7 +13,7 @@ import numpy as np
 from levitron.runtime.errors import UserError
 from levitron.runtime.words import si, si_unit
 from levitron.runtime.integrate.run import Box
-from levitron.runtime.physics.eigen_route import growth_rate, transverse_matrix
+from levitron.runtime.physics.routes.eigen_route import growth_rate, transverse_matrix
 from levitron.runtime.simulate.invariants import rows_of
 from levitron.runtime.simulate.rotations import (ANGLES, DEFAULT_AZIMUTH, SPIN_ANGLE, body_rate_matrix,
                                         coordinates_of, rotation_bs, rotation_bs_derivatives, tilt_angles)
@@ -164,10 +164,10 @@ def initial_state(part, z_s: float, spin: float, tilt: float = 0.0, offset: floa
 def tilted_start(model, part, z_s: float, spin: float, x0: np.ndarray, p) -> tuple[np.ndarray, str | None]:
     """Over a tilted base (plate.tilt): the launch's perturbation, x0 less the unperturbed launch
     on the axis, applied at the relative equilibrium off the axis with its axis along the field
-    (runtime/physics/tilted_equilibrium.py) at the launch's own spin momentum p_zeta. Returns (the
+    (runtime/physics/apparatus/tilted_equilibrium.py) at the launch's own spin momentum p_zeta. Returns (the
     state, what it did), or (x0, why) where the tilt leaves the top no equilibrium: it starts on the
     axis."""
-    from levitron.runtime.physics.tilted_equilibrium import NoEquilibrium, TiltedTop
+    from levitron.runtime.physics.apparatus.tilted_equilibrium import NoEquilibrium, TiltedTop
     if "p_zeta" not in part.states:
         raise UserError("a run over a tilted base starts at its equilibrium in Tait-Bryan angles: "
                         "set model.coordinates = \"tait-bryan\"")
@@ -276,7 +276,7 @@ def linear_context(model, p, z_s: float, spin: float) -> dict:
     after thesis 3.3.5 (1 / the largest real part of its eigenvalues): how long a tilt takes to
     grow by e. Near a critical spin that time is long, and a run shorter than it cannot show the
     fall."""
-    from levitron.runtime.physics.stability import onaxis_refusal, stability_of
+    from levitron.runtime.physics.stability.analysis import onaxis_refusal, stability_of
     why = onaxis_refusal(model, p)
     if why is not None:              # a two-fold plate: linear theory on the axis says nothing here
         return {"spin_interval": None, "inside": None, "e_folding_time": None, "refused": why}

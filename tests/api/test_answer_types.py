@@ -13,7 +13,7 @@ import levitron as lev
 from levitron.runtime.cli import main as cli
 from levitron.runtime.design.design_answer import Design
 from levitron.runtime.design.fit_answer import Fit
-from levitron.runtime.physics.equilibria import Equilibria
+from levitron.runtime.physics.equilibrium.answer import Equilibria
 from levitron.runtime.scan.launch_answer import LaunchOdds
 from levitron.runtime.scan.scan_answer import Scan
 from levitron.runtime.simulate.simulation import Simulation
@@ -304,9 +304,9 @@ def test_fit_residuals_hold_by_the_equilibrium_route(study, fit_data):
 
 
 def test_stability_is_one_answer_for_the_api_and_the_command_line(study, capsys):
-    """runtime/physics/stability_answer.py: `stability --json` is the answer's as_json(), which
+    """runtime/physics/stability/answer.py: `stability --json` is the answer's as_json(), which
     Study.stability() returns, the stiffness computed once, in the answer."""
-    from levitron.runtime.physics.stability_answer import Stability
+    from levitron.runtime.physics.stability.answer import Stability
     st = study.stability()
     assert type(st) is Stability and lev.Stability is Stability and st.success
     _same(_cli_json(capsys, "stability", SCENE), cli._clean(st.as_json()), skip=("wall_s", "provenance",

@@ -9,8 +9,8 @@ import pytest
 
 import levitron as lev
 from levitron.scene.paths import ROOT
-from levitron.runtime.physics import equilibrium as eqm
-from levitron.runtime.physics.stability import stability_of
+from levitron.runtime.physics.equilibrium import finder as eqm
+from levitron.runtime.physics.stability.analysis import stability_of
 
 EXAMPLES = sorted((ROOT / "examples").glob("*.py"))
 

@@ -221,7 +221,7 @@ def test_a_stability_without_interval_gives_its_height_with_a_unit():
     msg = study.stability().message
     assert "at z_s = 15.74 cm the top is vertically stable" in msg and "0.157391" not in msg
     # the runtime's own sentence carries its SI unit (the JSON's, as every face shows it by default)
-    from levitron.runtime.physics.stability import stability_of
+    from levitron.runtime.physics.stability.analysis import stability_of
     from levitron.runtime.words import in_units, render
     reason = stability_of(study.model).reason
     assert "at z_s = 0.157391 m the top is vertically stable" in in_units(reason), reason

@@ -65,7 +65,7 @@ def test_wall_time_contains_the_c_run(lib):
 
 def test_chunk_memo_gives_the_same_inputs_bit_for_bit(model):
     """point_setup with a chunk's memo equals point_setup alone, for every kind of map axis."""
-    from levitron.runtime.physics.equilibrium import hover_height
+    from levitron.runtime.physics.equilibrium.finder import hover_height
     z_s = hover_height(model)
     lighter = model.with_params({"m": 0.0505})
     z_light = hover_height(model, lighter)

@@ -28,7 +28,7 @@ def test_one_lane_count_on_every_side():
 def _states(model, part, rng, n: int) -> np.ndarray:
     """n states around the scene's hovering point: heights of 0.5..2 plate lengths, angles up to
     +-1.2 rad, momenta of either sign."""
-    from levitron.runtime.physics.equilibrium import scale_of
+    from levitron.runtime.physics.equilibrium.finder import scale_of
     L = scale_of(model)
     X = rng.normal(size=(n, part.nx)) * 1e-3
     for k, name in enumerate(part.states):

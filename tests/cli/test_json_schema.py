@@ -118,7 +118,7 @@ def test_an_undeclared_or_missing_key_fails(capsys):
 def test_keys_and_types_come_from_the_answer_types():
     """Stability.as_json's keys: `scene` a str field, `level_tolerance` written under an `if` (not
     always present), `stiffness` annotated `float | None`; StabilityResult's `notes` only sometimes."""
-    keys = schema.answer_keys("levitron.runtime.physics.stability_answer:Stability")
+    keys = schema.answer_keys("levitron.runtime.physics.stability.answer:Stability")
     assert keys["scene"] == (True, "string")
     assert keys["level_tolerance"] == (False, "object?")
     assert keys["stiffness"] == (True, "number?")

@@ -166,7 +166,7 @@ def test_unconstrained_spin_range_is_solved(capsys):
 def test_optimum_at_vanishing_stiffness_is_reported_with_a_warning(capsys):
     """A box 2e-6 to 4e-6 (relative) below the largest mass that hovers (52.492 g): the top hovers
     just above z_c, the stiffness is 0.7% of m g / z_s, the interval stays bounded (478.7-2533)."""
-    from levitron.runtime.physics import equilibrium as eqm
+    from levitron.runtime.physics.equilibrium import finder as eqm
     from levitron.runtime.cli.commands.common import load
     from levitron.runtime.model.load import load_model
     top = eqm.equilibria_of(load_model(load("thesis_stable"))).max_mass
@@ -258,6 +258,6 @@ def test_stability_at_a_vertically_unstable_height_says_so(capsys):
 
 
 def test_an_unbounded_interval_reads_above():
-    from levitron.runtime.physics.stability_view import interval
+    from levitron.runtime.physics.stability.view import interval
     from levitron.runtime.ui.human import Units
     assert interval([1.2e26, None], Units(si=True)).startswith("above 1.2e26 rad/s")

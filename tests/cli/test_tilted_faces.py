@@ -2,12 +2,12 @@
 `scan` starts every run at the top's relative equilibrium off the axis (as `simulate` does) or
 refuses where there is none; `report` answers for the tilted base and says which of its parts are
 the level base's; `optimize` (fits and interval designs) and `figures` refuse a tilted base in
-one line (runtime/physics/level_only.py).
+one line (runtime/physics/apparatus/level_only.py).
 
 Independent routes: a scan point's initial state is simulate's (runtime/simulate/start.py
 tilted_start) to rounding; the map's verdicts at the tilted base agree with the eigenvalue
 route's interval there; a mass marked "cannot hover" is one where the adiabatic potential's
-stationary point (the second route of runtime/physics/tilted_equilibrium.py) is gone too.
+stationary point (the second route of runtime/physics/apparatus/tilted_equilibrium.py) is gone too.
 """
 from __future__ import annotations
 
@@ -29,7 +29,7 @@ def tilted(derived_model):
 
 
 def test_a_scan_point_starts_where_simulate_starts(tilted):
-    from levitron.runtime.physics.equilibrium import hover_height
+    from levitron.runtime.physics.equilibrium.finder import hover_height
     from levitron.runtime.scan.points import point_setup
     from levitron.runtime.simulate import start
     pt = tilted.part("full")
@@ -47,7 +47,7 @@ def test_a_scan_point_starts_where_simulate_starts(tilted):
 def test_the_tilted_map_agrees_with_the_tilted_interval(capsys):
     """Spins below, inside and above the eigenvalue route's interval at the tilted equilibrium
     (459.1-2645 rad/s at 0.0012 rad): the runs started there stay up exactly inside."""
-    from levitron.runtime.physics.stability import stability_of
+    from levitron.runtime.physics.stability.analysis import stability_of
     from levitron.runtime.model.load import load_model
     from levitron.scene.load import load_scene
     over = ["plate.tilt=0.0012"]
@@ -74,8 +74,8 @@ def test_a_map_beyond_the_fold_is_refused_and_a_mass_without_equilibrium_cannot_
                  "--tilt", "0.005:0.01:2", "--t-end", "2"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "no equilibrium" in err and "level the base" in err
-    from levitron.runtime.physics.equilibrium import hover_height
-    from levitron.runtime.physics.tilted_equilibrium import NoEquilibrium, TiltedTop
+    from levitron.runtime.physics.equilibrium.finder import hover_height
+    from levitron.runtime.physics.apparatus.tilted_equilibrium import NoEquilibrium, TiltedTop
     masses = [0.0505, 0.0514, 0.0523]
     assert main(["scan", SCENE, "--set", "plate.tilt=0.0016", "--spin", "1200:2000:2", "--mass",
                  f"{masses[0]}:{masses[-1]}:3", "--t-end", "3", "--json"]) == 0
@@ -103,7 +103,7 @@ def test_optimize_and_figures_refuse_a_tilted_base(tmp_path, capsys, tilted, der
     assert main(["optimize", SCENE, "--set", "plate.tilt=0.001", "--fit-height", "0.1",
                  "--param", "top.mass"]) == 2
     assert "level base" in capsys.readouterr().err
-    from levitron.runtime.physics.level_only import refuse_tilted
+    from levitron.runtime.physics.apparatus.level_only import refuse_tilted
     with pytest.raises(UserError):
         refuse_tilted(tilted, "x")
     refuse_tilted(derived_model(SCENE, "plate.tilt=0"), "x")      # the level base is answered

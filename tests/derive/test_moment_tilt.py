@@ -123,7 +123,7 @@ def test_a_moment_tilt_has_no_reduced_model_and_bad_values_are_one_line():
 
 
 def test_the_discriminant_route_says_it_applies_to_an_aligned_apparatus_only(askew):
-    from levitron.runtime.physics.stability import stability_of
+    from levitron.runtime.physics.stability.analysis import stability_of
     res = stability_of(askew)
     assert res.discriminant == [] and "level, aligned apparatus only" in res.notes[0]
     assert res.as_dict()["routes"]["floquet"] == list(res.spin_interval)

@@ -12,8 +12,8 @@ import sympy as sp
 
 from tests.helpers import stability_derivation as st
 from levitron.derive.symbols import A, C, Phi, g, m, mu
-from levitron.runtime.physics import eigen_route
-from levitron.runtime.physics import ray_algebra
+from levitron.runtime.physics.routes import eigen_route
+from levitron.runtime.physics.routes import ray_algebra
 
 P1, P2, P3 = st.P1, st.P2, st.P3
 lam, t, l, sigma = st.lam, st.t, st.l, st.sigma
@@ -119,7 +119,7 @@ def test_eq_3_3_12_discriminant():
 
 
 def test_runtime_G_terms_regenerated():
-    """runtime/physics/ray_algebra.py's hard-coded G_TERMS are the derivation's (regenerated here)."""
+    """runtime/physics/routes/ray_algebra.py's hard-coded G_TERMS are the derivation's (regenerated here)."""
     assert [list(r) for r in ray_algebra.G_TERMS] == st.ray_polynomial_terms()
 
 
@@ -247,7 +247,7 @@ def test_runtime_transverse_matrix_matches_derivation():
 
 def test_field_strength_near_axis():
     """|B|^2 = Phi1^2 + r^2 (Phi2^2/4 - Phi1 Phi3/2) + O(r^4) from B = -grad(phi) (2.2.6, 2.2.7),
-    the basis of the adiabatic (Berry-Simon) band in runtime/physics/equilibrium.py."""
+    the basis of the adiabatic (Berry-Simon) band in runtime/physics/equilibrium/finder.py."""
     from levitron.derive import field
     r = sp.Symbol("r", positive=True)
     x, y, z = sp.symbols("x y z", real=True)

@@ -23,7 +23,8 @@ Conventions (DESIGN.md): U = m g z - mu n.B, B = -grad(phi), Phi_k = d^k Phi0/dz
 second order in r is thesis eq. 2.2.7. P1, P2, P3 below stand for Phi_1(z_s), Phi_2(z_s), Phi_3(z_s).
 
 The runtime needs only numbers: `ray_polynomial_terms()` gives the discriminant G as integer
-monomial terms, which runtime/physics/ray_algebra.py hard-codes (tests/derive/test_stability_derivation.py regenerates
+monomial terms, which runtime/physics/routes/ray_algebra.py hard-codes (tests/derive/test_stability_derivation.py
+regenerates
 them from here and asserts equality).
 """
 from __future__ import annotations
@@ -343,7 +344,7 @@ def ray_polynomial_terms() -> list[list[int]]:
     """G(g1, g2, g3) as sorted integer terms [coefficient, e1, e2, e3] (thesis 3.3.12).
 
     Along the spin ray g_i = s c_i (s = 1/sigma^2, c_i = g_i sigma^2), G(s c) = sum over terms of
-    coef c1^e1 c2^e2 c3^e3 s^(e1+e2+e3); runtime/physics/ray_algebra.py hard-codes this list as G_TERMS.
+    coef c1^e1 c2^e2 c3^e3 s^(e1+e2+e3); runtime/physics/routes/ray_algebra.py hard-codes this list as G_TERMS.
     """
     poly = sp.Poly(discriminant_G(), g1, g2, g3)
     return sorted(([int(c), *map(int, e)] for e, c in poly.terms()), key=lambda r: r[1:])

@@ -1,5 +1,5 @@
 """Random states of the full model near a hover: the tests of a tilted base and a tilted moment
-(tests/runtime/physics/test_base_tilt.py, tests/derive/test_moment_tilt.py) evaluate the generated
+(tests/runtime/physics/apparatus/test_base_tilt.py, tests/derive/test_moment_tilt.py) evaluate the generated
 functions there."""
 from __future__ import annotations
 

@@ -29,10 +29,11 @@ SAME_NAME = {
                "and thesis_stable with a tilted moment (test_rotating_equilibrium.py)",
     "circle": "the thesis's circle as a C system (tests/c) and as a Python right-hand side "
               "(tests/runtime/integrate/test_solver_compare.py)",
-    "tilted": "four different tilted set-ups: a plate tilt of 1.2 mrad (cli), of 1 mrad (physics/test_base_tilt.py), "
-              "a tilted moment's Floquet top (physics/test_floquet.py), a Study with a level tilt key (scan)",
-    "toy": "the levitron_toy scene (tests/scene) and its top's numbers (tests/runtime/physics/test_modes.py)",
-    "thesis_report": "the thesis's equilibrium analysis (physics/test_equilibrium.py) and its report "
+    "tilted": "four different tilted set-ups: a plate tilt of 1.2 mrad (cli), of 1 mrad "
+              "(physics/apparatus/test_base_tilt.py), a tilted moment's Floquet top "
+              "(physics/apparatus/test_floquet.py), a Study with a level tilt key (scan)",
+    "toy": "the levitron_toy scene (tests/scene) and its top's numbers (tests/runtime/physics/stability/test_modes.py)",
+    "thesis_report": "the thesis's equilibrium analysis (physics/equilibrium/test_equilibrium.py) and its report "
                      "page (report/test_report.py, also asked for by name through getfixturevalue)",
 }
 

@@ -1,8 +1,9 @@
 """The house's rooms: scene/ (the scene language, pure Python) at the bottom, derive/ (sympy) and
 runtime/ on it, each taking of the other only what is listed; runtime/ in subpackages by idea,
-imports only down the layers, no import cycles (function-level imports counted too), no private
-name across packages, a public API (levitron) that stands on the runtime, not on the command line;
-the input hash covers all of derive/; no module over 400 lines; the tests laid out by room."""
+runtime/physics/ in rooms by idea (PHYSICS_ROOMS), imports only down the layers and the rooms, no
+import cycles (function-level imports counted too), no private name across packages, a public API
+(levitron) that stands on the runtime, not on the command line; the input hash covers all of
+derive/; no module over 400 lines; the tests laid out by room."""
 from __future__ import annotations
 
 import ast
@@ -17,6 +18,10 @@ LAYERS = ("words", "errors", "ui", "model", "integrate", "physics", "simulate", 
           "bench", "cli")
 RANK = {name: i for i, name in enumerate(LAYERS)}
 ROOMS = tuple(n for n in LAYERS if n not in ("words", "errors"))      # the subpackages
+# runtime/physics/ in rooms by idea, bottom to top: a module imports from its own room and the ones below
+# (field: exact fields, truncation; plates: each kind's field; routes: the on-axis stability routes;
+# equilibrium: where the top hovers; apparatus: tilted base, tilted magnet, air; stability: over them all)
+PHYSICS_ROOMS = ("field", "plates", "routes", "equilibrium", "apparatus", "stability")
 TOP_LEVEL = {"__init__.py", "__main__.py", "errors.py", "words.py", "csrc", "__pycache__"}
 
 
@@ -98,6 +103,27 @@ def test_imports_go_only_down_the_layers():
             if lt in RANK and RANK[lt] > RANK[ls]:
                 bad.append(f"{src} -> {t}")
     assert bad == []
+
+
+def physics_room(module: str) -> str | None:
+    parts = module.split(".")
+    return parts[3] if parts[:3] == ["levitron", "runtime", "physics"] and len(parts) > 3 else None
+
+
+def test_physics_is_in_rooms_and_imports_only_go_down_them():
+    """runtime/physics/ holds its rooms and its __init__ alone; a physics module imports from its own
+    room and the rooms below it; in a room no module's name is another's with a suffix (equilibrium,
+    equilibrium_report)."""
+    physics = RUNTIME / "physics"
+    assert sorted(p.name for p in physics.glob("*.py")) == ["__init__.py"], "a flat physics module: move it to its room"
+    assert sorted(p.name for p in physics.iterdir() if p.is_dir() and p.name != "__pycache__") == sorted(PHYSICS_ROOMS)
+    order = {name: i for i, name in enumerate(PHYSICS_ROOMS)}
+    bad = [f"{src} -> {t}" for src, targets in graph().items() if physics_room(src)
+           for t in targets if physics_room(t) and order[physics_room(t)] > order[physics_room(src)]]
+    assert bad == []
+    for room in PHYSICS_ROOMS:
+        stems = sorted(p.stem for p in (physics / room).glob("*.py") if p.name != "__init__.py")
+        assert [(a, b) for a in stems for b in stems if b.startswith(a + "_")] == [], room
 
 
 def test_no_import_cycles():
@@ -271,7 +297,8 @@ def test_every_public_name_of_every_package_resolves():
 
 # The tests' own layout (tests/README.md): a folder per room, what tests share in helpers/.
 TEST_ROOMS = {"scene", "derive", "c", "api", "cli", "battery", "house", "helpers", "tools",
-              *(f"runtime/{name}" for name in ROOMS)}
+              *(f"runtime/{name}" for name in ROOMS if name != "physics"),
+              *(f"runtime/physics/{room}" for room in PHYSICS_ROOMS)}
 
 
 def test_every_test_lives_in_its_rooms_folder():

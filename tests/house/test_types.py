@@ -3,8 +3,8 @@ imported for type checkers too (the same names from the same modules), and `mypy
 the public API (pyproject.toml [tool.mypy]: levitron/__init__.py, study.py, study_options.py), where a
 user's code gets real types: a wrong type or a misspelt option is an error, not Any.
 
-mypy cannot follow pyproject's package-dir mapping (levitron.runtime is the checkout's runtime/), so
-the test lays the wheel's tree out in symlinks and checks that."""
+mypy reads the checkout itself: levitron.runtime is levitron/runtime/, a link to the top-level runtime/
+(docs/INTERFACES.md "Layout"; tests/house/test_import_paths.py)."""
 from __future__ import annotations
 
 import ast
@@ -73,38 +73,30 @@ def test_the_package_says_it_is_typed():
 
 
 @pytest.fixture(scope="module")
-def tree(tmp_path_factory) -> Path:
-    """The wheel's layout of this checkout, in symlinks: levitron/ with runtime/, scene/, ... inside."""
+def scripts(tmp_path_factory) -> Path:
+    """A user's two scripts, outside the checkout (and mypy's cache beside them)."""
     tmp = tmp_path_factory.mktemp("typed")
-    package = tmp / "levitron"
-    package.mkdir()
-    for f in (ROOT / "levitron").iterdir():
-        if f.suffix == ".py" or f.name == "py.typed":
-            (package / f.name).symlink_to(f)
-    mapping = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["package-dir"]
-    for name, folder in mapping.items():
-        if name != "levitron":
-            (package / name.split(".", 1)[1]).symlink_to(ROOT / folder, target_is_directory=True)
     (tmp / "good.py").write_text(GOOD)
     (tmp / "bad.py").write_text(BAD)
     return tmp
 
 
-def mypy(tree: Path, *files: str) -> subprocess.CompletedProcess[str]:
+def mypy(scripts: Path, *files: str) -> subprocess.CompletedProcess[str]:
+    """mypy from the checkout's top: `levitron` is its levitron/ folder (mypy adds the working directory)."""
     return subprocess.run([sys.executable, "-m", "mypy", "--config-file", str(ROOT / "pyproject.toml"),
-                           "--cache-dir", str(tree / ".mypy_cache"), "--no-error-summary", "--hide-error-context",
-                           *files], cwd=tree, capture_output=True, text=True, timeout=300, check=False)
+                           "--cache-dir", str(scripts / ".mypy_cache"), "--no-error-summary", "--hide-error-context",
+                           *files], cwd=ROOT, capture_output=True, text=True, timeout=300, check=False)
 
 
-def test_mypy_strict_passes_on_the_public_api(tree):
+def test_mypy_strict_passes_on_the_public_api(scripts):
     """The public API module and a user's script that uses it as documented type-check under --strict."""
-    run = mypy(tree, *CHECKED, "good.py")
+    run = mypy(scripts, *CHECKED, str(scripts / "good.py"))
     assert run.returncode == 0, run.stdout + run.stderr
 
 
-def test_mypy_sees_the_public_names_and_the_options(tree):
+def test_mypy_sees_the_public_names_and_the_options(scripts):
     """Not Any: a wrong type, a misspelt option and a name the package lacks are each an error."""
-    run = mypy(tree, "bad.py")
+    run = mypy(scripts, str(scripts / "bad.py"))
     assert run.returncode == 1, run.stdout + run.stderr
     errors = [line for line in run.stdout.splitlines() if ": error:" in line]
     assert len(errors) == 3, run.stdout

@@ -1,11 +1,11 @@
 """One import name: the wheel puts `levitron` alone into a fresh venv's site-packages, and the package
 it installs answers a command by itself (its own scenes, generated models and C sources).
 
-The repository keeps scene/, derive/, runtime/, scenes/ and generated/ at its top level; pyproject.toml maps
-them under levitron/. The wheel is built without network (--no-build-isolation: setuptools comes
-from the test extra) and installed without dependencies; the fresh venv borrows numpy, casadi and
-the rest from this one's site-packages through PYTHONPATH, which processes no .pth file, so this
-checkout's editable install cannot leak into it.
+The repository keeps scene/, derive/, runtime/, scenes/ and generated/ at its top level; levitron/ holds
+links to them (docs/INTERFACES.md "Layout"), and the wheel holds their files in levitron/. The wheel is
+built without network (--no-build-isolation: setuptools comes from the test extra) and installed without
+dependencies; the fresh venv borrows numpy, casadi and the rest from this one's site-packages through
+PYTHONPATH, which processes no .pth file, so this checkout's editable install cannot leak into it.
 """
 from __future__ import annotations
 
@@ -23,7 +23,8 @@ ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_the_package_list_is_every_package_of_the_tree():
-    """pyproject's explicit package list (needed for the mapping) names every package there is."""
+    """pyproject's explicit package list (it names scenes/ and generated/, data folders without an
+    __init__.py) names every package there is."""
     config = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
     listed = set(config["packages"])
     on_disk = {"levitron", "levitron.scenes", "levitron.generated"}

@@ -17,7 +17,7 @@ from levitron.derive.plate_fields import build_plate
 from levitron.scene.plates.symmetry import symmetry
 from levitron.scene.load import load_scene
 from levitron.derive.symbols import Z
-from levitron.runtime.physics import equilibrium as eqm
+from levitron.runtime.physics.equilibrium import finder as eqm
 
 Z_MEASURED = 0.032      # m, Simon et al.'s hover height
 

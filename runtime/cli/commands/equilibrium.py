@@ -1,11 +1,11 @@
 """`levitron equilibrium SCENE`: vertical equilibria, z_c, the largest mass, the stable band.
 
-Thesis 3.3.1-3.3.3 and the stable band of docs/contract.md: the answer is runtime/physics/equilibria.py's
+Thesis 3.3.1-3.3.3 and the stable band of docs/contract.md: the answer is runtime/physics/equilibrium/answer.py's
 Equilibria (its as_json(), and `plot` with --plot); beside the band the adiabatic (Berry-Simon) one, never instead.
 """
 from __future__ import annotations
 
-from levitron.runtime.physics.equilibria import Equilibria
+from levitron.runtime.physics.equilibrium.answer import Equilibria
 from levitron.runtime.ui.human import Units, lines
 from levitron.runtime.ui.plotting import check_plot_path
 from levitron.runtime.cli.commands.common import model_of

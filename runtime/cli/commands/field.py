@@ -2,7 +2,7 @@
 
 B is the generated `field` function (the Laplace expansion of thesis eqs. 2.2.6-2.2.7 to the scene's
 order, or the exact 3-D field for a rectangular plate once derive emits it); B_exact is the closed
-form of runtime/physics/plates/<kind>.py and runtime/physics/exact_field.py (current loops by complete elliptic
+form of runtime/physics/plates/<kind>.py and runtime/physics/field/exact_field.py (current loops by complete elliptic
 integrals, ring magnets after Derby & Olbert 2010, rectangles after Furlani 2001), or null where the
 plate has none (expression plates) or the point is singular (on a current filament).
 """

@@ -123,7 +123,7 @@ def _solver_figures_current(outdir: Path, quick: bool) -> list[str] | None:
 
 
 def run(args) -> dict:
-    from levitron.runtime.physics.level_only import refuse_tilted
+    from levitron.runtime.physics.apparatus.level_only import refuse_tilted
     model = model_of(args)
     refuse_tilted(model, "figures redraws the thesis's figures")      # before the folder is made
     outdir = Path(args.out)

@@ -7,7 +7,7 @@ from levitron.scene import plates
 from levitron.scene.plates.symmetry import symmetry
 from levitron.scene.constants import MU0
 
-from levitron.runtime.physics.friction import decay_times, friction_rates, has_friction
+from levitron.runtime.physics.apparatus.friction import decay_times, friction_rates, has_friction
 from levitron.runtime.ui.human import Units, lines, sig
 from levitron.runtime.ui.plain_text import shown
 from levitron.runtime.cli.commands.common import model_of

@@ -14,7 +14,7 @@ import argparse
 
 from levitron.runtime.design.constraints import Constraint
 from levitron.runtime.errors import UserError
-from levitron.runtime.physics.level_only import refuse_tilted
+from levitron.runtime.physics.apparatus.level_only import refuse_tilted
 from levitron.runtime.ui.answer_lines import worded
 from levitron.runtime.ui.human import Units, lines, sig
 from levitron.runtime.design.fit_height import fit_equilibrium_height

@@ -1,17 +1,17 @@
 """`levitron stability SCENE`: the spin interval of linear stability at the stable height.
 
-Two routes (thesis 3.3; runtime/physics/stability.py): "discriminant" (exact rational arithmetic on the ray
+Two routes (thesis 3.3; runtime/physics/stability/analysis.py): "discriminant" (exact rational arithmetic on the ray
 polynomial L and a Sturm count of N(t)) and "eigenvalues" (the generated full model's Jacobian at the
 relative equilibrium). spin_interval is the discriminant route's; both are reported. Rates in rad/s,
 with Hz and rpm beside. Inside the interval, the low-order resonances among the linear modes
-(runtime/physics/resonances.py, docs/resonances.md); with --spin W the linear modes at W
-(runtime/physics/modes.py: frequency, sense, energy sign).
+(runtime/physics/stability/resonances.py, docs/resonances.md); with --spin W the linear modes at W
+(runtime/physics/stability/modes.py: frequency, sense, energy sign).
 """
 from __future__ import annotations
 
 from levitron.runtime.ui.human import Units, lines
 from levitron.runtime.ui.plain_text import shown
-from levitron.runtime.physics.stability_answer import Stability
+from levitron.runtime.physics.stability.answer import Stability
 from levitron.runtime.scan.tilt_tolerance import plain_lines
 from levitron.runtime.errors import UserError
 from levitron.runtime.ui.plotting import check_plot_path
@@ -46,7 +46,7 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> dict:
-    """runtime/physics/stability_answer.py's Stability, its as_json() (and the plot's path)."""
+    """runtime/physics/stability/answer.py's Stability, its as_json() (and the plot's path)."""
     plot = getattr(args, "plot", None)
     level = getattr(args, "level_tolerance", False)     # (a Namespace built by hand may lack it)
     tilts = getattr(args, "tilt_tolerance", False)
@@ -83,17 +83,17 @@ def run(args) -> dict:
 
 def _checked(model, answer: Stability) -> Stability:
     """Over a tilted base or with the magnet tilted: the answer at the field order where it stops
-    moving, with its `truncation` in `equilibrium` (runtime/physics/off_axis_truncation.py)."""
-    from levitron.runtime.physics.off_axis_truncation import checked
+    moving, with its `truncation` in `equilibrium` (runtime/physics/stability/off_axis_truncation.py)."""
+    from levitron.runtime.physics.stability.off_axis_truncation import checked
     return answer.with_record(checked(model, answer.record()))
 
 
 def _modes(model, answer, spin: float) -> dict:
-    """runtime/physics/modes.py's Modes at `spin` for the top analysed (its mass), as JSON; with the
-    magnet tilted over a level axisymmetric base the turning frame's (runtime/physics/rotating_modes.py),
+    """runtime/physics/stability/modes.py's Modes at `spin` for the top analysed (its mass), as JSON; with the
+    magnet tilted over a level axisymmetric base the turning frame's (runtime/physics/stability/rotating_modes.py),
     elsewhere off the axis {"spin", "given": False, "reason"}: the one line why none are given."""
-    from levitron.runtime.physics.modes import Modes
-    from levitron.runtime.physics import rotating_modes as rm
+    from levitron.runtime.physics.stability.modes import Modes
+    from levitron.runtime.physics.stability import rotating_modes as rm
     if not answer.z_s:
         raise UserError("--spin: the top has no stable hover height, so no linear modes")
     p = model.with_params({"m": answer.mass}) if answer.mass else model.p
@@ -113,7 +113,7 @@ def _mode_lines(md: dict, u: Units) -> list[str]:
     if md.get("given") is False:
         return [shown(md["reason"], u)]
     if md.get("frame") == "turning":
-        from levitron.runtime.physics.rotating_modes import lines as turning_lines
+        from levitron.runtime.physics.stability.rotating_modes import lines as turning_lines
         return turning_lines(md, u)
     out = [f"modes at {u.rate(md['spin'])}" + ("" if md["stable"] else " (not all stable)") + ":"]
     for m in md["modes"]:

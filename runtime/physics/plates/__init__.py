@@ -2,7 +2,7 @@
 
 One module per kind (runtime/physics/plates/<kind>.py, the same kinds as scene/plates/) defines
 `field(table, p, points, part_field) -> B (N, 3) | None` (None: no closed form), with the closed
-forms of runtime/physics/exact_field.py. `p` reads the kind's resolved parameters (Scene.params
+forms of runtime/physics/field/exact_field.py. `p` reads the kind's resolved parameters (Scene.params
 `plate_<name>`, compound part i `plate_p<i>_<name>`); `part_field` is `plate_field`, for compound
 plates.
 """

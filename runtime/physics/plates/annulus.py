@@ -1,5 +1,5 @@
-"""Exact field of the thin annulus (thesis eq. 2.2.11): two current loops (runtime/physics/exact_field.py)."""
-from levitron.runtime.physics.exact_field import annulus_field, dipole_density
+"""Exact field of the thin annulus (thesis eq. 2.2.11): two current loops (runtime/physics/field/exact_field.py)."""
+from levitron.runtime.physics.field.exact_field import annulus_field, dipole_density
 
 
 def field(table, p, points, part_field):

@@ -1,5 +1,5 @@
 """Exact field of the thin disk: the annulus without hole, one current loop at the rim."""
-from levitron.runtime.physics.exact_field import annulus_field, dipole_density
+from levitron.runtime.physics.field.exact_field import annulus_field, dipole_density
 
 
 def field(table, p, points, part_field):

@@ -3,7 +3,7 @@ current, Biot-Savart); a centred hole takes away a cylinder (Derby & Olbert 2010
 (its rim loop) of the same magnetisation."""
 from levitron.scene.plates.rectangle import block, holed
 
-from levitron.runtime.physics.exact_field import (
+from levitron.runtime.physics.field.exact_field import (
     annulus_field,
     block_field,
     dipole_density,

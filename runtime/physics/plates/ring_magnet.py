@@ -1,7 +1,7 @@
 """Exact field of an axially magnetised ring / cylinder magnet (Derby & Olbert 2010)."""
 from levitron.scene.plates.ring_magnet import hollow
 
-from levitron.runtime.physics.exact_field import ring_magnet_field
+from levitron.runtime.physics.field.exact_field import ring_magnet_field
 
 
 def field(table, p, points, part_field):

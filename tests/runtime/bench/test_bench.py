@@ -12,9 +12,9 @@ import pytest
 
 from levitron.scene.load import load_scene
 from levitron.scene.paths import SCENES_DIR
-from levitron.runtime.physics import equilibrium as eqm
+from levitron.runtime.physics.equilibrium import finder as eqm
 from levitron.runtime.bench.work_precision import ROW_KEYS
-from levitron.runtime.physics.stability import stability_of
+from levitron.runtime.physics.stability.analysis import stability_of
 
 SCENES = [p.stem for p in sorted(SCENES_DIR.glob("*.toml"))]
 

@@ -86,9 +86,9 @@ def test_objectives_and_their_constraints():
 
 
 def test_mass_window_optimum_is_verified():
-    """mass-window (thesis 3.3.3, 3.3.11; the band's edges by runtime/physics/stability_casadi.py) grows
+    """mass-window (thesis 3.3.3, 3.3.11; the band's edges by runtime/physics/stability/differentiable.py) grows
     with the plate's radius while the scene top's stiffness falls: the optimum sits on the
-    stiffness constraint inside the box, verified by the float band (runtime/physics/bands.py) to 1e-8 and
+    stiffness constraint inside the box, verified by the float band (runtime/physics/equilibrium/bands.py) to 1e-8 and
     by the 20-point grid; just beyond it the constraint fails, just inside the window is smaller."""
     model = load_model(load_scene("thesis_stable"))
     box, floor = Vary.parse("plate.radius=0.06:0.14"), [Constraint.parse("stiffness>=3")]

@@ -10,7 +10,7 @@ from levitron.runtime.design import fit, measurements
 from levitron.runtime.errors import UserError
 from levitron.runtime.model.load import load_model
 from levitron.runtime.design.scene_keys import Vary, pvector, with_values
-from levitron.runtime.physics.stability_casadi import CasadiStability
+from levitron.runtime.physics.stability.differentiable import CasadiStability
 
 
 def _data(model, truth, plan, rng):
@@ -77,8 +77,8 @@ def test_rows_that_share_their_overrides_share_their_work(monkeypatch):
     rows = _data(model, truth, plan, np.random.default_rng(3))
     varies = [Vary.parse("plate.murho=-0.003:-0.0023")]
     calls = []
-    real_starts = fit.sc.starts
-    monkeypatch.setattr(fit.sc, "starts", lambda *a, **k: calls.append(1) or real_starts(*a, **k))
+    real_starts = fit.diffable.starts
+    monkeypatch.setattr(fit.diffable, "starts", lambda *a, **k: calls.append(1) or real_starts(*a, **k))
     prob = fit._Problem(model, rows * 50, varies)
     x = np.array([-0.0026])
     vals, r, J = prob.evaluate(x)
@@ -90,12 +90,12 @@ def test_rows_that_share_their_overrides_share_their_work(monkeypatch):
 
 def _rows_at_masses(model, masses, seed):
     """z_s at most masses, a critical spin at every third (thesis_stable, plate.murho -0.00263)."""
-    from levitron.runtime.physics import stability_casadi as sc
+    from levitron.runtime.physics.stability import differentiable as diffable
     cs, rng, rows = CasadiStability(model), np.random.default_rng(seed), []
     for i, m in enumerate(masses):
         p = pvector(model.param_names, with_values(model.scene, {"plate.murho": -0.00263,
                                                                  "top.mass": float(m)}))
-        v = cs.values(p, sc.starts(model, p))
+        v = cs.values(p, diffable.starts(model, p))
         q = "z_s" if i % 3 else ("sigma_lo" if i % 2 else "sigma_hi")
         s = 1e-4 if q == "z_s" else 2.0
         rows.append(measurements.Row(q, v[q] + s * rng.standard_normal(), s, (("top.mass", float(m)),)))
@@ -114,8 +114,8 @@ def test_warm_started_fit_gives_the_cold_fits_numbers(monkeypatch):
     rows = _rows_at_masses(model, np.linspace(0.0506, 0.0522, 100)[:30:2], 0)
     varies = [Vary.parse("plate.murho=-0.003:-0.0023"), Vary.parse("top.C=1.1e-6:1.5e-6")]
     calls = []
-    real_starts = fit.sc.starts
-    monkeypatch.setattr(fit.sc, "starts", lambda *a, **k: calls.append(1) or real_starts(*a, **k))
+    real_starts = fit.diffable.starts
+    monkeypatch.setattr(fit.diffable, "starts", lambda *a, **k: calls.append(1) or real_starts(*a, **k))
     warm = fit.fit(model, rows, varies)
     n_warm = len(calls)
     calls.clear()

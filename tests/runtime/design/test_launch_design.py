@@ -30,8 +30,8 @@ def test_a_steady_hand_is_advised_the_middle_of_the_masses_that_hold_its_spin(de
     mass (thesis 3.3.11-3.3.16, by the exact route) and 0 elsewhere; the advice is the middle of
     that range of masses. Its lower end is where sigma_lo(m) = SPIN, its upper end the largest mass
     the plate holds (thesis 3.3.2)."""
-    from levitron.runtime.physics.equilibrium import equilibria_of
-    from levitron.runtime.physics.stability import stability_of
+    from levitron.runtime.physics.equilibrium.finder import equilibria_of
+    from levitron.runtime.physics.stability.analysis import stability_of
     model = derived_model("thesis_stable")
 
     def holds(m):

@@ -10,7 +10,7 @@ from levitron.runtime.design import sharpness as sh
 from levitron.runtime.design.launch_design import FRESH, odds_at
 from levitron.runtime.design.scene_keys import Vary
 from levitron.runtime.errors import UserError
-from levitron.runtime.physics.stability import stability_of
+from levitron.runtime.physics.stability.analysis import stability_of
 from levitron.runtime.ui.human import Units
 
 

@@ -108,7 +108,7 @@ def test_scan_auto_equals_the_chosen_method(model):
         assert got.rhs_evals == ref.rhs_evals          # dop853's differ: the same method ran
         assert got.rhs_evals != sc.scan(model, integrator="dop853", engine=engine,
                                         **grid).rhs_evals
-    from levitron.runtime.physics.equilibrium import hover_height
+    from levitron.runtime.physics.equilibrium.finder import hover_height
     from levitron.runtime.scan.runners import Common, run_chunk
     common = Common("thesis", tuple(SET), "tilt", 0.2, AUTO, 1e-6, 0.0, (hover_height(model),))
     assert run_chunk(common, [(0, 0, 600.0, 0.02)])["method"] == "dop853"

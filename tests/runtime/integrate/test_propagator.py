@@ -98,7 +98,7 @@ def test_a_box_stops_a_fall_where_simulates_box_does(study, part):
     state and time of integrate() with the same Box, bit for bit, and no error; the next run, inside
     the box, completes. Without a box the same fall is integrated to t_end."""
     from levitron.runtime.simulate.start import default_box, initial_state
-    from levitron.runtime.physics.equilibrium import hover_height
+    from levitron.runtime.physics.equilibrium.finder import hover_height
     pt = study.model.part(part)
     z_s = hover_height(study.model, study.model.p)
     prop = study.propagator(part, "dop853", 1e-9, spin=1100.0, box=True)
@@ -125,7 +125,7 @@ def test_a_box_stops_a_fall_where_simulates_box_does(study, part):
 def test_a_start_outside_the_box_ends_at_once(study):
     """A sweep gets an answer for every start: outside the box the run ends at t = 0, left_box, with
     the state unchanged (simulate refuses such a start in one line instead)."""
-    from levitron.runtime.physics.equilibrium import hover_height
+    from levitron.runtime.physics.equilibrium.finder import hover_height
     z_s = hover_height(study.model, study.model.p)
     prop = study.propagator("reduced", "dop853", 1e-9, spin=1100.0, box=0.1 * z_s)
     x0 = np.array([0.7 * z_s, 0.0, 0.0, prop.scale[3] * 0.9])

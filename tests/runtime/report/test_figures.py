@@ -55,7 +55,7 @@ def test_scene_independent_figures_are_not_rewritten_for_another_scene(folder, c
 def test_figure_3_6_shows_the_crossings_of_a_new_scene(ring_magnet_model):
     """The range of fig. 3.6 starts below the lowest equilibrium (ring_magnet's 6.09 cm lies below the
     plate scale where the range used to begin)."""
-    from levitron.runtime.physics import equilibrium as eqm
+    from levitron.runtime.physics.equilibrium import finder as eqm
     from levitron.runtime.report.figures import _range_36
     lo, hi = _range_36(ring_magnet_model, eqm.scale_of(ring_magnet_model))
     zs = [e.z for e in eqm.equilibria_of(ring_magnet_model).equilibria]
@@ -67,7 +67,7 @@ def test_figure_3_4_orbits_keep_the_reduced_energy(ring_magnet_model, tmp_path, 
     3.2.12): the curves are level sets of the reduced Hamiltonian, integrated, not sketched."""
     import levitron.runtime.integrate
     from levitron.runtime.integrate.run import integrate
-    from levitron.runtime.physics import equilibrium as eqm
+    from levitron.runtime.physics.equilibrium import finder as eqm
     from levitron.runtime.report.figures import figure_3_4
     runs = []
 
@@ -141,7 +141,7 @@ def test_figure_3_4_draws_a_separatrix_only_through_an_unstable_equilibrium(ring
     cylinder magnet (ring_magnet with r_in = 0: one root, vertically stable) has none, and gets none."""
     from levitron.runtime.model.load import load_model
     from levitron.runtime.model.scenes import load_scene as load_with
-    from levitron.runtime.physics import equilibrium as eqm
+    from levitron.runtime.physics.equilibrium import finder as eqm
     from levitron.runtime.report import figures
     figures.figure_3_4(ring_magnet_model, tmp_path / "with.png")
     assert any("separatrix" in t for t in legend_texts)

@@ -122,7 +122,7 @@ def test_other_scenes_and_the_reduced_model_equal_simulate(scene, options):
 def test_launch_states_are_launch_state_for_each_spin(study):
     """The batch's initial states come from one batched solve per launch position
     (runtime/simulate/start.py launch_states): the states launch_state gives one spin at a time."""
-    from levitron.runtime.physics.equilibrium import hover_height
+    from levitron.runtime.physics.equilibrium.finder import hover_height
     from levitron.runtime.simulate.start import launch, launch_state, launch_states
     pt = study.model.part("full")
     la = launch(pt, hover_height(study.model), 0.07, 0.001, study.model.p, 0.4)

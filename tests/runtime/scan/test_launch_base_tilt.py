@@ -35,7 +35,7 @@ def tilted():
 
 @pytest.fixture(scope="module")
 def max_base_tilt(tilted):
-    from levitron.runtime.physics.tilted_stability import level_tolerance
+    from levitron.runtime.physics.apparatus.tilted_stability import level_tolerance
     tol = level_tolerance(tilted.model, tilted.model.p)
     assert tol["limited_by"] == "fold" and tol["max_base_tilt"] == tol["fold_tilt"]
     return tol["max_base_tilt"]

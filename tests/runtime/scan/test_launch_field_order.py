@@ -14,8 +14,8 @@ from levitron.runtime.scan.spreads import Dist
 
 
 def spreads(model):
-    from levitron.runtime.physics.equilibrium import hover_height
-    from levitron.runtime.physics.stability import stability_of
+    from levitron.runtime.physics.equilibrium.finder import hover_height
+    from levitron.runtime.physics.stability.analysis import stability_of
     from levitron.runtime.scan.launch_odds import defaults
     z = hover_height(model)
     return defaults(model, stability_of(model, z_s=z).spin_interval, z), z

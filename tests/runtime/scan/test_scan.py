@@ -14,12 +14,12 @@ import numpy as np
 import pytest
 
 from levitron.runtime.scan import stability_map as sc
-from levitron.runtime.physics.eigen_route import full_equilibrium_state
+from levitron.runtime.physics.routes.eigen_route import full_equilibrium_state
 from levitron.runtime.errors import UserError
 from levitron.runtime.scan.grid import parse_range
 from levitron.runtime.scan.physics import linear_interval
 from levitron.runtime.scan.points import N_OUT, point_run
-from levitron.runtime.physics.stability import model_callables
+from levitron.runtime.physics.stability.analysis import model_callables
 
 ROOT = Path(__file__).resolve().parents[3]
 SET = ["top.mass=0.0515"]        # the `model` fixture's setting (tests/conftest.py LIGHT_TOP)
@@ -127,7 +127,7 @@ def test_height_axis_is_a_fraction_of_z_s(model):
 def test_point_run_is_simulate(model):
     """The scan's runner, at height 0 with z_s given, is runtime.simulate.run.simulate number for number."""
     from levitron.runtime.simulate.run import simulate
-    from levitron.runtime.physics.equilibrium import hover_height
+    from levitron.runtime.physics.equilibrium.finder import hover_height
     z_s = hover_height(model)
     for spin, tilt in ((1000.0, 0.03), (3000.0, 0.01)):
         a = simulate(model, spin, tilt=tilt, t_end=3.0, n_out=N_OUT)

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from levitron.runtime.integrate.run import integrate
-from levitron.runtime.physics.equilibrium import hover_height
-from levitron.runtime.physics.friction import energy_scale
+from levitron.runtime.physics.equilibrium.finder import hover_height
+from levitron.runtime.physics.apparatus.friction import energy_scale
 from levitron.runtime.simulate.run import simulate
 from levitron.runtime.simulate.start import initial_state, state_scales
 

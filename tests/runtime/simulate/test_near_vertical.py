@@ -18,7 +18,7 @@ import sympy as sp
 from levitron.derive.mechanics import hamiltonian_system, legendre
 from levitron.derive.symbols import PHYSICAL, Phi, Z
 from levitron.runtime.integrate.run import integrate
-from levitron.runtime.physics.equilibrium import hover_height
+from levitron.runtime.physics.equilibrium.finder import hover_height
 from levitron.runtime.simulate.start import initial_state, state_scales
 
 CHARTS = ("tait-bryan", "euler-zxz")

@@ -12,7 +12,7 @@ import pytest
 
 from levitron.scene.load import load_scene
 from levitron.runtime.errors import UserError
-from levitron.runtime.physics.equilibrium import hover_height
+from levitron.runtime.physics.equilibrium.finder import hover_height
 from levitron.runtime.integrate.run import integrate
 from levitron.runtime.model.load import load_model
 from levitron.runtime.simulate.run import simulate
@@ -43,7 +43,7 @@ def zxz_model(tmp_path_factory):
 
 
 def heavy_top(model) -> dict:
-    """Parameters of a top inside the stable band of the thesis plate (runtime.physics.equilibrium: band
+    """Parameters of a top inside the stable band of the thesis plate (runtime.physics.equilibrium.finder: band
     9.95-11.02 cm) that 200 rad/s stabilises: m = 51.4 g, A and C eight times the thesis's."""
     names = model.param_names
     pv = dict(zip(names, model.p))
@@ -105,7 +105,7 @@ def test_simulate_json_contract_and_plot(model, tmp_path):
 
 
 def test_hard_case_top_falls_off_event_stops_cleanly(model):
-    """The thesis top at its hover height is not spin-stabilisable (see runtime.physics.stability): tilted by
+    """The thesis top at its hover height is not spin-stabilisable (see runtime.physics.stability.analysis): tilted by
     0.01 rad it falls within a second; the box event stops the run, and nothing is NaN."""
     out = simulate(model, spin=200.0, tilt=0.01, offset=1e-3, t_end=5.0)
     assert out["levitating"] is False and out["status"] == "left_box"
@@ -352,8 +352,9 @@ def test_linear_context_against_the_generated_jacobian(capsys):
     generated 12-D Jacobian's transverse block at the relative equilibrium (a second route to the
     8-D matrix linear_context uses), to 1e-9; the command prints it with the run's e-foldings."""
     from levitron.runtime.cli.main import main
-    from levitron.runtime.physics import eigen_route, stability
-    from levitron.runtime.physics.equilibrium import hover_height
+    from levitron.runtime.physics.routes import eigen_route
+    from levitron.runtime.physics.stability import analysis as stability
+    from levitron.runtime.physics.equilibrium.finder import hover_height
     from levitron.runtime.simulate.start import linear_context
     m = load_model(load_scene("thesis_stable"))
     z_s = hover_height(m, m.p)

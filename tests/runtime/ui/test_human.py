@@ -146,7 +146,7 @@ def test_tilt_azimuth_turns_the_axis_only():
     import numpy as np
 
     from levitron.scene.load import load_scene
-    from levitron.runtime.physics.equilibrium import hover_height
+    from levitron.runtime.physics.equilibrium.finder import hover_height
     from levitron.runtime.model.load import load_model
     from levitron.runtime.simulate.invariants import angular_momentum_z, tilt_of
     from levitron.runtime.simulate.rotations import ANGLES, coordinates_of, rotation_bs
