@@ -27,11 +27,15 @@ import math
 import numpy as np
 
 from levitron.runtime.errors import UserError
+from levitron.scene.plates import KINDS
 from levitron.scene.plates.compound import MAX_PARTS
 
 # the parts of one compound plate, the derivation budget of scene/plates/compound.py: each source is a
 # part derived and evaluated on its own
 MAX_SOURCES = MAX_PARTS
+# each kind's scene keys that are lengths (the registry's, unit m): the assembly's size, for the
+# tolerance of its one top plane
+_LENGTH_KEYS = {name: {k.name for k in kind.keys if k.unit == "m"} for name, kind in KINDS.items()}
 
 
 def _finite(values, who: str, what: str, size: int | None = None) -> np.ndarray:
@@ -137,8 +141,7 @@ def plate_from_magpylib(collection) -> dict:
         part, top = _part(src, i, magpy)
         parts.append(part)
         tops.append(top)
-    size = max(max(v for k, v in p.items() if k in ("side_x", "side_y", "r_out", "radius", "thickness"))
-               for p in parts)
+    size = max(max(v for k, v in p.items() if k in _LENGTH_KEYS[p["kind"]]) for p in parts)
     highest = max(tops)
     for i, top in enumerate(tops):
         if abs(top - highest) > 1e-12 * size:

@@ -3,9 +3,9 @@ of its own mass and axial moment, the hover height, the stable band and z_c (no 
 
     shape = setup_of(model, p)         # a JSON-able dict, in the scene's lengths (SI: m)
 
-The base: an annulus or disk plate is a thin layer in z = 0 (thesis 2.2.11); a ring magnet or a
-block fills -thickness <= z <= 0 (scene/plates/ring_magnet.py, rectangle.py; a rectangle's hole is
-its r_in); a loop is a wire of
+The base: each plate kind declares its outline beside its keys (scene/plates/<kind>.py `outline`,
+scene/plates/base.py): an annulus or disk plate is a thin layer in z = 0 (thesis 2.2.11); a ring
+magnet or a block fills -thickness <= z <= 0 (a rectangle's hole is its r_in); a loop is a wire of
 its radius in z = 0; a compound plate is its parts; an expression plate has no outline (None).
 The top: a uniform cylinder of the top's mass m with its axial moment C = m r^2 / 2, so
 r = sqrt(2 C / m), and its transverse A = m (3 r^2 + h^2) / 12 for the height h (0 where that
@@ -15,35 +15,28 @@ from __future__ import annotations
 
 import math
 
+from levitron.scene.plates import KINDS
+
 
 def _part(table: dict) -> dict | None:
-    """One plate table's outline: {"kind": "disc"|"ring"|"rect"|"loop", "r_out", "r_in",
-    "half_x", "half_y", "thickness"} (lengths as the scene writes them), or None."""
-    kind = table.get("kind")
+    """One plate table's outline, as its kind declares it (scene/plates/<kind>.py `outline`):
+    {"kind": "disc"|"ring"|"rect"|"loop", "r_out", "r_in", "half_x", "half_y", "thickness"} (lengths
+    as the scene writes them), or None (a kind without an outline)."""
+    kind = _kind(table)
+    return kind.outline(table) if kind is not None and kind.outline is not None else None
 
-    def num(key, default=0.0):
-        v = table.get(key, default)
-        return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else default
 
-    if kind == "annulus":
-        return {"kind": "ring", "r_out": num("radius"), "r_in": num("hole"), "thickness": 0.0}
-    if kind == "disk":
-        return {"kind": "ring", "r_out": num("radius"), "r_in": 0.0, "thickness": 0.0}
-    if kind == "ring_magnet":
-        return {"kind": "ring", "r_out": num("r_out"), "r_in": num("r_in"), "thickness": num("thickness")}
-    if kind == "loop":
-        return {"kind": "loop", "r_out": num("radius"), "r_in": num("radius"), "thickness": 0.0}
-    if kind == "rectangle":
-        side = num("side")
-        return {"kind": "rect", "half_x": 0.5 * num("side_x", side), "half_y": 0.5 * num("side_y", side),
-                "r_in": num("hole"), "thickness": num("thickness")}
-    return None
+def _kind(table: dict):
+    """The registry's PlateKind of a plate table (None for a kind it does not know)."""
+    name = table.get("kind")
+    return KINDS.get(name) if isinstance(name, str) else None
 
 
 def base_of(plate: dict) -> list[dict]:
-    """The base's outlines (a compound plate: one per part, its compound parts' parts included; an
-    expression plate: none)."""
-    if plate.get("kind") == "compound":
+    """The base's outlines (a compound plate: one per part, its compound parts' parts included; a
+    kind without an outline, an expression plate: none)."""
+    kind = _kind(plate)
+    if kind is not None and kind.has_parts:
         return [s for p in plate.get("parts", []) for s in base_of(p)]
     one = _part(plate)
     return [one] if one is not None else []

@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from ..checks import SceneError, number
-from .base import Context, Key, PlateKind, STRENGTH_KEYS, STRENGTH_UNITS, strength_rho
+from .base import Context, Key, PlateKind, STRENGTH_KEYS, STRENGTH_UNITS, drawn_length, strength_rho
 
 
 def resolve(table: dict, ctx: Context) -> dict:
@@ -16,6 +16,12 @@ def resolve(table: dict, ctx: Context) -> dict:
     return {**strength_rho(table, ctx), "a": a, "w": w}
 
 
+def outline(table: dict) -> dict:
+    """A thin ring in z = 0 (thesis 2.2.11)."""
+    return {"kind": "ring", "r_out": drawn_length(table, "radius"), "r_in": drawn_length(table, "hole"),
+            "thickness": 0.0}
+
+
 KIND = PlateKind(
     name="annulus",
     doc="thin magnetised annulus in z = 0 (a dipole layer), thesis eq. 2.2.11",
@@ -26,4 +32,6 @@ KIND = PlateKind(
     length_keys=("a", "w"),
     units=STRENGTH_UNITS,
     example='kind = "annulus"\nradius = 0.10\nhole = 0.03\nmurho = -0.0026',
+    outline=outline,
+    quarter_turn=None,
 )

@@ -12,7 +12,15 @@ A kind is one module of scene/plates/ defining `KIND = PlateKind(...)`:
   so that the input hash (scene/inputs.py) covers it;
 - `length_keys`: the resolved parameters that are lengths (the plate's length scale);
 - `units`: the SI units of its other resolved parameters ("rho": "T m", ...), where they have one;
-- `example`: a TOML [plate] table that validates (tests/scene/test_plate_registry.py checks it).
+- `example`: a TOML [plate] table that validates (tests/scene/test_plate_registry.py checks it);
+- `outline(table) -> dict | None`: the base as the set-up drawing shows it (runtime/simulate/setup_shape.py),
+  {"kind": "ring" | "rect" | "loop", lengths as the scene writes them}, or None: no outline (an
+  expression plate; a compound plate is drawn as its parts'). Every kind says it (no default), so a
+  new kind is never drawn without a base by oversight;
+- `quarter_turn(params, sign) -> (part, turned)`: for a kind without axial symmetry, the part (its
+  resolved parameters, the strengths times `sign`) and what a quarter turn about z makes of it, as
+  comparable tuples (scene/plates/symmetry.py); None: a quarter turn leaves the kind as it is
+  (axisymmetric). Every kind says it too.
 """
 from __future__ import annotations
 
@@ -63,6 +71,8 @@ class PlateKind:
     keys: tuple[Key, ...]
     resolve: Callable[[dict, Context], dict]
     example: str
+    outline: Callable[[dict], dict | None] | None        # the drawn base; None: none (no default)
+    quarter_turn: Callable[[Mapping[str, float], float], tuple] | None   # None: axisymmetric (no default)
     decisions: tuple[Decision, ...] = ()
     length_keys: tuple[str, ...] = ()
     units: Mapping[str, str] = field(default_factory=dict)     # resolved name -> SI unit (not lengths)
@@ -72,6 +82,12 @@ class PlateKind:
     @property
     def allowed(self) -> frozenset[str]:
         return frozenset({"kind"} | {k.name for k in self.keys})
+
+
+def drawn_length(table: dict, key: str, default: float = 0.0) -> float:
+    """A length of a [plate] table as an outline draws it (scene units), `default` where it is absent."""
+    v = table.get(key, default)
+    return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else default
 
 
 # ---------------------------------------------------------------- shared resolvers

@@ -70,4 +70,6 @@ KIND = PlateKind(
     example='kind = "compound"\n\n[[plate.parts]]\nkind = "ring_magnet"\nr_out = 0.06\nr_in = 0.03\n'
             'thickness = 0.02\nremanence = 0.39\n\n[[plate.parts]]\nkind = "loop"\nradius = 0.02\n'
             'current = -50.0',
+    outline=None,          # drawn as its parts' (has_parts)
+    quarter_turn=None,     # its parts' symmetry (has_parts)
 )

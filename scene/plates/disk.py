@@ -2,11 +2,16 @@
 from __future__ import annotations
 
 from ..checks import number
-from .base import Context, Key, PlateKind, STRENGTH_KEYS, STRENGTH_UNITS, strength_rho
+from .base import Context, Key, PlateKind, STRENGTH_KEYS, STRENGTH_UNITS, drawn_length, strength_rho
 
 
 def resolve(table: dict, ctx: Context) -> dict:
     return {**strength_rho(table, ctx), "a": number(table, "radius", ctx.where, positive=True)}
+
+
+def outline(table: dict) -> dict:
+    """A thin ring without a hole in z = 0."""
+    return {"kind": "ring", "r_out": drawn_length(table, "radius"), "r_in": 0.0, "thickness": 0.0}
 
 
 KIND = PlateKind(
@@ -17,4 +22,6 @@ KIND = PlateKind(
     length_keys=("a",),
     units=STRENGTH_UNITS,
     example='kind = "disk"\nradius = 0.10\nmurho = -0.0026',
+    outline=outline,
+    quarter_turn=None,
 )

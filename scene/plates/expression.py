@@ -78,6 +78,8 @@ KIND = PlateKind(
               "inside it, and a band that ends at it says so: it is the formula's end, not physics")),
     resolve=resolve,
     example='kind = "expression"\nphi0 = "b*z/sqrt(z**2 + c**2)"\n\n[plate.params]\nb = 1.0\nc = 0.5',
+    outline=None,          # a formula has no shape to draw
+    quarter_turn=None,     # the Laplace expansion of an on-axis formula is axisymmetric
 )
 
 

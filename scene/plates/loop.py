@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from ..checks import number, one_of
 from ..constants import MU0
-from .base import Context, Key, PlateKind
+from .base import Context, Key, PlateKind, drawn_length
 
 
 def resolve(table: dict, ctx: Context) -> dict:
@@ -17,6 +17,12 @@ def resolve(table: dict, ctx: Context) -> dict:
     return {"a": a, "current": cur}
 
 
+def outline(table: dict) -> dict:
+    """A wire of its radius in z = 0."""
+    a = drawn_length(table, "radius")
+    return {"kind": "loop", "r_out": a, "r_in": a, "thickness": 0.0}
+
+
 KIND = PlateKind(
     name="loop",
     doc="circular current loop of radius a in z = 0 (counter-clockwise seen from +z for I > 0)",
@@ -27,4 +33,6 @@ KIND = PlateKind(
     length_keys=("a",),
     units={"current": "A"},
     example='kind = "loop"\nradius = 0.05\ncurrent = 1000.0',
+    outline=outline,
+    quarter_turn=None,
 )

@@ -2,6 +2,8 @@
 with a centred circular through-hole (the commercial Levitron's base: a ferrite block with a hole)."""
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 from ..checks import SceneError, number
 from .base import (
     STRENGTH_UNITS,
@@ -11,6 +13,7 @@ from .base import (
     Decision,
     Key,
     PlateKind,
+    drawn_length,
     magnetization,
     strength_rho,
 )
@@ -34,6 +37,28 @@ def _hole(table: dict, where: str, sx: float, sy: float) -> dict:
         raise SceneError(f"{where}.hole = {hole} must satisfy 0 <= hole < {min(sx, sy) / 2:g} (half the "
                          "shorter side): make the hole smaller (0 for none)")
     return {"hole": hole} if holed(table) else {}
+
+
+def outline(table: dict) -> dict:
+    """A rectangle with its sides along x and y, filling -thickness <= z <= 0 (0: a thin layer); its
+    hole is r_in."""
+    side = drawn_length(table, "side")
+    return {"kind": "rect", "half_x": 0.5 * drawn_length(table, "side_x", side),
+            "half_y": 0.5 * drawn_length(table, "side_y", side), "r_in": drawn_length(table, "hole"),
+            "thickness": drawn_length(table, "thickness")}
+
+
+_SIDES = ("side_x", "side_y")
+_STRENGTHS = ("magnetization", "rho")     # the parameters its part's sign multiplies
+
+
+def quarter_turn(params: Mapping[str, float], sign: float) -> tuple:
+    """(this rectangle, the one a quarter turn about z makes of it): the sides and the other resolved
+    parameters, the strengths times `sign` (scene/plates/symmetry.py): a quarter turn swaps the sides."""
+    rest = tuple(sorted((k, sign * float(v) if k in _STRENGTHS else float(v))
+                        for k, v in params.items() if k not in _SIDES))
+    sx, sy = float(params["side_x"]), float(params["side_y"])
+    return ((sx, sy), rest), ((sy, sx), rest)
 
 
 def resolve(table: dict, ctx: Context) -> dict:
@@ -88,4 +113,6 @@ KIND = PlateKind(
     length_keys=("side_x", "side_y", "thickness", "hole"),
     units=STRENGTH_UNITS,
     example='kind = "rectangle"\nside = 0.10\nthickness = 0.02\nremanence = 0.39',
+    outline=outline,
+    quarter_turn=quarter_turn,
 )

@@ -2,7 +2,8 @@
 from __future__ import annotations
 
 from ..checks import SceneError, number
-from .base import Context, Decision, Key, MAGNETIZATION_KEYS, PlateKind, STRENGTH_UNITS, magnetization
+from .base import (Context, Decision, Key, MAGNETIZATION_KEYS, PlateKind, STRENGTH_UNITS, drawn_length,
+                   magnetization)
 
 
 def hollow(table: dict) -> bool:
@@ -24,6 +25,12 @@ def resolve(table: dict, ctx: Context) -> dict:
     return out
 
 
+def outline(table: dict) -> dict:
+    """A ring filling -thickness <= z <= 0."""
+    return {"kind": "ring", "r_out": drawn_length(table, "r_out"), "r_in": drawn_length(table, "r_in"),
+            "thickness": drawn_length(table, "thickness")}
+
+
 KIND = PlateKind(
     name="ring_magnet",
     doc="axially magnetised ring (or solid cylinder) magnet, -thickness <= z <= 0",
@@ -37,4 +44,6 @@ KIND = PlateKind(
     length_keys=("r_out", "r_in", "thickness"),
     units=STRENGTH_UNITS,
     example='kind = "ring_magnet"\nr_out = 0.06\nr_in = 0.03\nthickness = 0.02\nremanence = 0.39',
+    outline=outline,
+    quarter_turn=None,
 )

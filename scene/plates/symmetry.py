@@ -19,13 +19,15 @@ with the plate's exact on-axis potential Phi0. What a plate without axial symmet
   (thesis 3.3) does not hold and is refused; the full model (simulate) uses the exact field.
 
 `symmetry(table, params)` decides it from the plate's resolved parameters (Scene.params, or a
-Model's values under --set), since the sides are runtime parameters.
+Model's values under --set), since the sides are runtime parameters; what a quarter turn makes of
+a part is its kind's `quarter_turn` (None: an axisymmetric kind; scene/plates/base.py).
 """
 from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
 
+from . import KINDS
 from .compound import SIGN
 
 
@@ -55,32 +57,33 @@ _SUMMARIES = {
 _CONSERVED = {"axial": ("energy", "L_z", "L.n"), "four-fold": ("energy", "L.n"), "two-fold": ("energy", "L.n")}
 
 
-_STRENGTHS = ("magnetization", "rho")     # a rectangle's parameters that its sign multiplies
-
-
-def _rectangles(table: Mapping, params: Mapping[str, float], prefix: str, sign: float) -> list[tuple]:
-    """(side_x, side_y, the other parameters with the sign applied) of every rectangle in the plate."""
-    if table.get("kind") == "rectangle":
-        sides = (float(params[prefix + "side_x"]), float(params[prefix + "side_y"]))
-        rest = tuple(sorted((k[len(prefix):], sign * float(v) if k[len(prefix):] in _STRENGTHS else float(v))
-                            for k, v in params.items()
-                            if k.startswith(prefix) and k[len(prefix):] not in ("side_x", "side_y", SIGN)))
-        return [(sides, rest)]
-    out = []
-    for i, part in enumerate(table.get("parts") or []):
-        part_prefix = f"{prefix}p{i}_"
-        s = sign * (float(params[part_prefix + SIGN]) if SIGN in part else 1.0)
-        out += _rectangles(part, params, part_prefix, s)
-    return out
+def _turned(table: Mapping, params: Mapping[str, float], prefix: str, sign: float) -> list[tuple]:
+    """(part, part turned a quarter turn) of every part of the plate whose kind is not axisymmetric
+    (its kind's `quarter_turn`, scene/plates/base.py), compound parts' with their signs."""
+    kind = KINDS.get(table.get("kind")) if isinstance(table.get("kind"), str) else None
+    if kind is None:
+        return []
+    if kind.has_parts:
+        out = []
+        for i, part in enumerate(table.get("parts") or []):
+            part_prefix = f"{prefix}p{i}_"
+            s = sign * (float(params[part_prefix + SIGN]) if SIGN in part else 1.0)
+            out += _turned(part, params, part_prefix, s)
+        return out
+    if kind.quarter_turn is None:
+        return []
+    own = {k[len(prefix):]: float(v) for k, v in params.items()
+           if k.startswith(prefix) and k[len(prefix):] != SIGN}
+    return [kind.quarter_turn(own, sign)]
 
 
 def symmetry(table: Mapping, params: Mapping[str, float], prefix: str = "plate_") -> Symmetry:
     """The symmetry the plate `table` (Scene.data["plate"]) leaves with these parameters (module
-    docstring): four-fold when the rectangles, as a set, map onto themselves with x and y swapped."""
-    rects = _rectangles(table, params, prefix, 1.0)
-    if not rects:
+    docstring): four-fold when the parts without axial symmetry (the rectangles), as a set, map onto
+    themselves under a quarter turn."""
+    turned = _turned(table, params, prefix, 1.0)
+    if not turned:
         name = "axial"
     else:
-        swapped = sorted(((sy, sx), rest) for (sx, sy), rest in rects)
-        name = "four-fold" if swapped == sorted(rects) else "two-fold"
+        name = "four-fold" if sorted(t for _, t in turned) == sorted(p for p, _ in turned) else "two-fold"
     return Symmetry(name, _CONSERVED[name], name != "two-fold", _SUMMARIES[name])

@@ -60,6 +60,17 @@ def test_equilibria_satisfy_the_equilibrium_condition_by_hand(study):
     assert eq.max_mass == pytest.approx(-P["mu"] * phi_c[2] / P["g"], rel=1e-12)
 
 
+def test_simulations_is_the_answer_beside_simulate_many(study):
+    """Study.simulate_many's answer lives beside runtime/scan/batch.py simulate_many, re-exported by
+    levitron.results and levitron, and its runs are simulate()'s (tests/runtime/scan/test_batch.py)."""
+    from levitron import results
+    from levitron.runtime.scan.batch_answer import Simulations
+    many = study.simulate_many([RUN["spin"]], tilt=RUN["tilt"], t_end=RUN["t_end"])
+    assert type(many) is Simulations and lev.Simulations is Simulations and results.Simulations is Simulations
+    one = study.simulate(**RUN)
+    assert many.levitating[0] == one.levitating and many.t_survived[0] == one.t_survived
+
+
 def test_a_dimensionless_scene_repr_has_no_si_unit():
     eq = lev.load(SCENE, {"units": "dimensionless"}).equilibria()
     text = repr(eq) + repr(eq.equilibria[0]) + eq.message
