@@ -79,7 +79,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--save", default=None, metavar="FILE",
                         help="write every launch to FILE.csv, .npz or .parquet: its sampled inputs (mass "
                              "in kg and mu as run, strength as the factor 1 + d), hover height, verdict, "
-                             "floats (0/1) and flight time, one row per launch")
+                             "floats (0/1) and flight time, one row per launch; each file names its columns' "
+                             "units (CSV: a first line '# units: ...'; .npz and Parquet: a 'units' entry)")
 
 
 def saved_block(path, rows: int, u: Units, columns) -> dict:

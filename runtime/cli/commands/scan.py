@@ -68,7 +68,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--out", default=None, metavar="FILE.png", help="draw the map to FILE.png")
     parser.add_argument("--save", default=None, metavar="FILE",
                         help="write the map's points to FILE.csv, .npz or .parquet, one row a point: spin, "
-                             "the other axis, levitating, t_survived, status")
+                             "the other axis, levitating, t_survived, status; each file names its columns' "
+                             "units (CSV: a first line '# units: ...'; .npz and Parquet: a 'units' entry)")
 
 
 def run(args) -> dict:

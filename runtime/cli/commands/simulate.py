@@ -47,7 +47,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--plot", default=None, metavar="FILE", help="draw height, radial offset and tilt to FILE.png")
     parser.add_argument("--save", default=None, metavar="FILE",
                         help="write the samples (--n-out of them) to FILE.csv, .npz or .parquet: t, every state, "
-                        "energy, L_z, L_n, tilt and the spin omega_3")
+                        "energy, L_z, L_n, tilt and the spin omega_3; each file names its columns' units "
+                        "(CSV: a first line '# units: t=s, ...'; .npz and Parquet: a 'units' entry)")
     parser.add_argument("--animate", default=None, metavar="FILE",
                         help="an animation of the run: FILE.html (a page that plays offline), .gif or .mp4")
 
