@@ -30,6 +30,7 @@ from .keys import (
 from .overrides import apply_override
 from .paths import SCENES_DIR
 from .plates.base import Key
+from .checks_budget import check_size
 from .quantity import convert_scene
 
 __all__ = ["Scene", "SceneError", "find_scene_file", "load_scene", "validate"]
@@ -277,6 +278,7 @@ def validate(data: dict, path: Path | None = None) -> Scene:
         number(fld, "radius", "field", positive=True)
     else:
         raise SceneError("[field] needs `order` (even, >= 2) or `tolerance` and `radius`")
+    check_size(data["plate"], fld)            # every derivation bounded (scene/checks_budget.py)
 
     model = data["model"]
     check_keys(model, _names(MODEL_KEYS), "model")

@@ -115,7 +115,7 @@ VARIANTS = {
         "fraction_levitating": "number", "spin_interval": "array?",
         # Scan.extra["public"] (runtime/scan/stability_map.py)
         "integrator": "string", "integrator_requested": "string", "tol": "number?", "base_tilt": "number?",
-        "~equilibrium": "object",
+        "~equilibrium": "object", "past_window": {"points": "integer", "reason": "string?"},
         "out": "string?", "~saved": "string"})],      # the command's own (runtime/cli/commands/scan.py)
     "launch": [("launch", ("levitron.runtime.scan.launch_answer:LaunchOdds",), _LAUNCH)],
     "trim": [("trim", ("levitron.runtime.design.trim_answer:Trim",), {

@@ -10,7 +10,9 @@ Nor does a run that reached t_end give a verdict where the physics cannot suppor
 (`past_window`): its spin has left the stable window, below the lower critical spin, so that the
 adiabatic prediction puts the fall before the run's end, and the run ended before the fall showed
 (a top falls some time after its spin crosses the limit): the one test for every run in air
-(runtime/simulate/run.py; a launch's or a map's point passes its spin by the decay law).
+(runtime/simulate/run.py; a launch's or a map's point passes its spin by the decay law). A map's
+point judged so keeps the status PAST_WINDOW: it reached t_end, so it did not stop early, and it is
+no verdict all the same.
 """
 from __future__ import annotations
 
@@ -19,6 +21,7 @@ from levitron.runtime.words import si
 UP, DOWN = "completed", "left_box"
 NO_HOVER = "no_hover_height"       # a map's point with no equilibrium: nothing simulated
 NOT_RUN = (NO_HOVER, "")
+PAST_WINDOW = "past_window"        # a map's point up at t_end, its spin below the window: no verdict
 
 
 def verdict(status: str) -> bool | None:
@@ -29,7 +32,12 @@ def verdict(status: str) -> bool | None:
 def stopped_early(status: str) -> bool:
     """A run that ended before t_end without the top leaving its box (verdict None), not a map's
     point that was never run."""
-    return status not in (UP, DOWN) and status not in NOT_RUN
+    return status not in (UP, DOWN, PAST_WINDOW) and status not in NOT_RUN
+
+
+def no_verdict(status: str) -> bool:
+    """A point that was run and says nothing of the top: it stopped early, or it is PAST_WINDOW."""
+    return status == PAST_WINDOW or stopped_early(status)
 
 
 def no_verdict_reason(status: str, message: str) -> str:

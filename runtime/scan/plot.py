@@ -8,11 +8,12 @@ import numpy as np
 from levitron.runtime.ui.human import Units
 from levitron.runtime.ui.plotting import canvas, finish, in_style
 from levitron.runtime.scan.grid import UNITS
-from levitron.runtime.integrate.verdict import NO_HOVER, stopped_early
+from levitron.runtime.integrate.verdict import NO_HOVER, PAST_WINDOW, stopped_early
 
 
 NO_HOVER_COLOUR = "0.75"          # light grey: outside viridis, which runs from purple to yellow
 NO_VERDICT_COLOUR = "0.35"        # dark grey: a run that stopped early (step budget, ...)
+PAST_WINDOW_COLOUR = "#e8702a"    # orange, outside viridis too: up at t_end, its spin past the window
 
 
 def _edges(v: np.ndarray) -> np.ndarray:
@@ -27,7 +28,8 @@ def _edges(v: np.ndarray) -> np.ndarray:
 def draw(res, path: str | Path | None = None, title: str = "", units: Units | None = None, ax=None):
     """The map (thesis fig. 3.8): colour = t_survived / t_end (1 = levitating, marked with dots;
     light grey where the top cannot hover and nothing was run, dark grey where the run stopped early
-    without a verdict: step budget, non-finite state, step underflow)
+    without a verdict: step budget, non-finite state, step underflow; orange where the top was up at
+    t_end with its spin decayed below the window, past_window: no verdict either)
     over spin (x) and the other axis (y); the linear spin interval as vertical lines (for a mass
     scan, one pair per mass row: it moves with the mass). units: the scene's (runtime/ui/human.py;
     default SI). Into `ax` (an Axes; its colour bar takes room beside it) or a figure of its own,
@@ -56,6 +58,12 @@ def draw(res, path: str | Path | None = None, title: str = "", units: Units | No
                       cmap=ListedColormap([NO_VERDICT_COLOUR]), shading="flat")
         kinds = ", ".join(sorted({st for row in res.status for st in row if stopped_early(st)}))
         extra.append(Patch(color=NO_VERDICT_COLOUR, label=f"no verdict: the run stopped early ({kinds})"))
+    past = np.array([[st == PAST_WINDOW for st in row] for row in res.status], bool).T
+    if past.any():          # up at t_end with the spin below the window: the fall came after the run
+        ax.pcolormesh(_edges(res.spins), _edges(others), np.ma.masked_where(~past, past),
+                      cmap=ListedColormap([PAST_WINDOW_COLOUR]), shading="flat")
+        extra.append(Patch(color=PAST_WINDOW_COLOUR, label="no verdict: up at t_end, its spin decayed "
+                                                           "below the window (the fall comes later)"))
     S, O = np.meshgrid(res.spins, others, indexing="ij")
     # white dots ringed in black: visible on the dark and on the bright end of the colour map
     ax.plot(S[res.levitating], O[res.levitating], "o", ms=5, mfc="w", mec="k", mew=1.0, ls="none",

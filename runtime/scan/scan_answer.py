@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from levitron.runtime.integrate.verdict import NO_HOVER
+from levitron.runtime.integrate.verdict import NO_HOVER, PAST_WINDOW, no_verdict
 from levitron.runtime.integrate.verdict import stopped_early as _early
 from levitron.runtime.scan.grid import UNITS
 from levitron.runtime.ui.answer_lines import worded
@@ -54,23 +54,35 @@ def stopped_early(status) -> list[str]:
     return [s for s in status if _early(s)]
 
 
+PAST = "past the stable window at t_end"    # a PAST_WINDOW point, in the plain view
+
+
+def _undecided(stopped: list[str], past: int, ran: int) -> str:
+    """"2 of 9 runs stopped early (step_budget); 3 of 9 runs past the stable window at t_end": the
+    points of a row without a verdict, by why (runtime/integrate/verdict.py)."""
+    why = ", ".join(sorted(set(stopped)))
+    return "; ".join(([f"{len(stopped)} of {ran} runs stopped early ({why})"] if stopped else [])
+                     + ([f"{past} of {ran} runs {PAST}"] if past else []))
+
+
 def _row(axis: str, v, spins, up, status, u: Units) -> str:
     """One row of the summary: where it stays up, "cannot hover" where no run was made (no
     equilibrium at that mass or height), "falls at every spin" where every run fell, and the runs
-    that stopped early (step budget, ...) apart: no verdict, never "falls"."""
+    without a verdict apart (stopped early: step budget, ...; or up at t_end with the spin past its
+    stable window): no verdict, never "falls" nor "stays up"."""
     skipped = sum(s == NO_HOVER for s in status)
     if skipped == len(spins):
         return f"  {axis} {_axis_value(axis, v, u)}: cannot hover (no equilibrium: not simulated)"
     stopped = stopped_early(status)
+    past = sum(s == PAST_WINDOW for s in status)
     ran = len(spins) - skipped
-    why = ", ".join(sorted(set(stopped)))
     head = f"  {axis} {_axis_value(axis, v, u)}: "
-    if len(stopped) == ran:
-        return head + f"no verdict at any spin: {ran} of {ran} runs stopped early ({why})"
+    if len(stopped) + past == ran:
+        return head + f"no verdict at any spin: {_undecided(stopped, past, ran)}"
     where = (_stays_up(spins, up, u) if any(up) else
-             "falls at every spin" + (" that gave a verdict" if stopped else ""))
-    tail = f"; no verdict: {len(stopped)} of {ran} runs stopped early ({why})" if stopped else ""
-    return head + f"{where} ({sum(up)} of {ran - len(stopped)}){tail}"
+             "falls at every spin" + (" that gave a verdict" if stopped or past else ""))
+    tail = f"; no verdict: {_undecided(stopped, past, ran)}" if stopped or past else ""
+    return head + f"{where} ({sum(up)} of {ran - len(stopped) - past}){tail}"
 
 
 def _tilted_line(eq: dict | None, u: Units) -> str:
@@ -93,11 +105,15 @@ def scan_lines(r: dict, u: Units) -> list[str]:
             for j, v in enumerate(r["grid"][axis])]
     iv = r.get("spin_interval")
     n_stopped = len(stopped_early([s for row in status for s in row]))
+    past = r.get("past_window") or {}
     return [
         f"levitating at {sig(100 * r['fraction_levitating'], 3)}% of {r['points']} points "
         f"(spin x {axis}, {u.time(r['t_end'])} each)"
-        + (f"; {n_stopped} runs stopped early without a verdict (JSON status)" if n_stopped else ""),
+        + (f"; {n_stopped} runs stopped early without a verdict (JSON status)" if n_stopped else "")
+        + (f"; {past['points']} runs {PAST}, without a verdict (JSON status {PAST_WINDOW!r})"
+           if past.get("points") else ""),
         *rows,
+        f"no verdict {PAST}: {past['reason']}" if past.get("reason") else "",
         f"linear spin interval: {u.rate_span(*iv)}" if iv else "linear spin interval: none",
         _tilted_line(r.get("equilibrium"), u),
         f"{duration(r['wall_s'])} of wall time, {r['runner']['kind']} runner",
@@ -111,7 +127,8 @@ class Scan:
     """A stability map (docs/contract.md `scan`): one nonlinear run per point of spins (rad/s) x
     others (the second axis `axis`: tilt in rad, mass in kg, height as a fraction of z_s);
     levitating (bool) and t_survived (s) of shape (spins, others); status per point (the run's end,
-    runtime/integrate/verdict.py; "no_hover_height" where nothing was run); linear: per value of
+    runtime/integrate/verdict.py; "no_hover_height" where nothing was run; "past_window" where the
+    top was up at t_end with its spin decayed below the window: no verdict, not levitating); linear: per value of
     the other axis the linear picture (runtime/scan/physics.py: spin_interval in rad/s, z_s in m);
     t_end (s) and its basis; wall_s, cpu_s (s), rhs_evals; runner (how the grid was shared out);
     extra: the scene's linear interval (a mass map) and the keys the JSON carries as they are."""
@@ -142,13 +159,14 @@ class Scan:
     @property
     def counts(self) -> dict[str, int]:
         """The points by outcome: levitating, fell (a verdict, not up), no_verdict (the run stopped
-        early: step budget, ...) and cannot_hover (no equilibrium: not run); they sum to points."""
+        early: step budget, ...; or it was up at t_end with its spin past the stable window,
+        PAST_WINDOW) and cannot_hover (no equilibrium: not run); they sum to points."""
         flat = [st for row in self.status for st in row]
-        no_verdict = sum(_early(st) for st in flat)
+        undecided = sum(no_verdict(st) for st in flat)
         cannot = sum(st == NO_HOVER for st in flat)
         up = int(self.levitating.sum())
-        return {"levitating": up, "fell": self.points - up - no_verdict - cannot,
-                "no_verdict": no_verdict, "cannot_hover": cannot}
+        return {"levitating": up, "fell": self.points - up - undecided - cannot,
+                "no_verdict": undecided, "cannot_hover": cannot}
 
     @property
     def success(self) -> bool:

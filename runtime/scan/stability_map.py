@@ -58,7 +58,7 @@ import numpy as np
 
 from levitron.runtime.errors import UserError
 from levitron.runtime.integrate.methods import DEFAULT, default_step, refuse_on_full_model
-from levitron.runtime.integrate.verdict import NO_HOVER
+from levitron.runtime.integrate.verdict import NO_HOVER, PAST_WINDOW, past_window
 from levitron.runtime.scan.grid import AXES, MAX_POINTS, check_axis
 from levitron.runtime.scan.scan_answer import Scan
 from levitron.runtime.scan.physics import linear_interval, reference_spin, slow_period
@@ -76,6 +76,7 @@ from levitron.runtime.scan.runners import (
     usable_cores,
 )
 from levitron.runtime.ui.human import Units
+from levitron.runtime.words import si
 from levitron.runtime.ui import validate
 from levitron.runtime.ui.validate import axis_values, real
 from levitron.runtime.scan.workers import auto_workers, dask_errors_as_ours
@@ -143,6 +144,7 @@ def scan(model, spins: np.ndarray, axis: str, others: np.ndarray, t_end: float |
                                        quiet)
     lev, ts, status, rhs = _assemble(spins, others, status_pre,
                                      [r for c in chunk_results for r in c["points"]])
+    past = past_its_window(model, spins, lin, float(t_end), lev, status)
     return Scan(axis, spins, others, lev, ts, status, lin, float(t_end), basis,
                       time.perf_counter() - t_wall, runner, rhs,
                       sum(c["cpu_s"] for c in chunk_results),
@@ -150,6 +152,7 @@ def scan(model, spins: np.ndarray, axis: str, others: np.ndarray, t_end: float |
                              "public": {"integrator": integrator, "integrator_requested": choice.requested,
                                         "tol": tol,
                                         "base_tilt": base_tilt if axis != "tilt" else None,
+                                        "past_window": past,
                                         **({"equilibrium": tilted} if tilted else {})}},
                       units=Units.of_scene(model.scene), scene=model.scene.name)
 
@@ -302,3 +305,28 @@ def _assemble(spins: np.ndarray, others: np.ndarray, status_pre: dict, results: 
         status[r["i"]][r["j"]] = r["status"]
         rhs += int(r["rhs_evals"] or 0)
     return lev, ts, status, rhs
+
+
+def past_its_window(model, spins: np.ndarray, lin: list, t_end: float, lev: np.ndarray, status: list) -> dict:
+    """No verdict without the physics to support it: a point up at t_end whose spin, by the decay law
+    omega_3(t) = omega_3(0) exp(-t / tau) (exact in air: runtime/physics/apparatus/friction.py), ends the run
+    below its column's lower critical spin is past its stable window, the run ended before the fall
+    the adiabatic prediction puts before t_end (runtime/integrate/verdict.py past_window, simulate's
+    own test): its status becomes PAST_WINDOW and it is not levitating (lev and status changed in
+    place). Returns the JSON's `past_window`: {"points": how many, "reason": the first one's, with
+    its spin, or None}."""
+    from levitron.runtime.physics.apparatus.friction import crossing_time, has_friction
+    k = model.pvals().get("k_spin", 0.0) if has_friction(model) else 0.0
+    n, reason = 0, None
+    if not k > 0:
+        return {"points": 0, "reason": None}
+    for i, spin in enumerate(spins):
+        for j, li in enumerate(lin):
+            iv = li.get("spin_interval")
+            lower = iv[0] if iv else None
+            why = past_window(status[i][j], t_end, lower, abs(spin) * math.exp(-k * t_end),
+                              crossing_time(spin, lower, k) if lower else None)
+            if why:
+                status[i][j], lev[i, j], n = PAST_WINDOW, False, n + 1
+                reason = reason or f"spin {si(abs(spin), 'rad/s')} at launch: {why}"
+    return {"points": n, "reason": reason}

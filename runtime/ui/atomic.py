@@ -67,8 +67,12 @@ def temp_beside(path: Path) -> Path:
 
 def target(path) -> Path:
     """Where a write of `path` lands: the path itself, or through symbolic links the file they
-    point to (os.path.realpath), so that a link is written through, never replaced."""
-    return Path(os.path.realpath(path))
+    point to (os.path.realpath), so that a link is written through, never replaced. Links that
+    loop point to no file: an OSError (ELOOP), never the link itself to replace."""
+    real = Path(os.path.realpath(path))
+    if real.is_symlink():           # realpath stops where the links loop
+        raise OSError(errno.ELOOP, os.strerror(errno.ELOOP), str(path))
+    return real
 
 
 def check_target(path, option: str, example: str) -> Path:
@@ -149,8 +153,9 @@ def output(path, option: str, mkdir: bool = True):
     """Yield a temporary beside `path` (through links: beside their target); rename it over that
     target when the block succeeds (module docstring). `option` names the flag or argument in the
     error line. A missing folder is made (every writer alike; `mkdir` is kept for old callers)."""
-    given, path = Path(path), target(path)
+    given = Path(path)
     check_target(given, option, f"file{given.suffix}")   # a writer that checked nothing before its work
+    path = target(given)
     tmp = None
     try:
         path.parent.mkdir(parents=True, exist_ok=True)

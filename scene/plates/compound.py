@@ -3,6 +3,7 @@ compound), optionally with `sign = -1` (the part taken away: a hole is a part of
 from __future__ import annotations
 
 from ..checks import SceneError, check_keys
+from ..checks_budget import check_nesting
 from .base import Context, Key, PlateKind
 
 SIGN = "sign"      # a part's own key beside its kind's: +1 or -1 (the part's field times it)
@@ -29,6 +30,7 @@ def resolve(table: dict, ctx: Context) -> dict:
     parts = table.get("parts")
     if not isinstance(parts, list) or not parts or not all(isinstance(p, dict) for p in parts):
         raise SceneError(f"[{where}] needs a non-empty list of parts: add [[{where}.parts]] tables")
+    check_nesting({**table, "kind": "compound"}, where)      # before leaf_parts' recursion
     n = leaf_parts({**table, "kind": "compound"})
     if n > MAX_PARTS:
         raise SceneError(f"[{where}] has {n} parts (nested compounds' counted), more than the derivation "

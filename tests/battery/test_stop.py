@@ -99,6 +99,15 @@ def test_a_parallel_launch_stops_with_its_workers(sig, tmp_path, warm_cache):
     _assert_stopped(_stopped(LAUNCH, sig, warm_cache, tmp_path, workers=2), sig, workers=2)
 
 
+SCAN = ["scan", "thesis", "--set", "top.mass=0.0515", "--spin", "300:3000:30", "--tilt", "0.01:0.1:30",
+        "--t-end", "60", "--workers", "2"]
+
+
+def test_a_parallel_scan_stops_with_its_workers(tmp_path, warm_cache):
+    """A map's chunks in flight are not waited for either (a new case: held when first tried)."""
+    _assert_stopped(_stopped(SCAN, signal.SIGTERM, warm_cache, tmp_path, workers=2), signal.SIGTERM, workers=2)
+
+
 def test_a_parallel_trim_stops_with_its_workers(tmp_path, warm_cache):
     """The design's kept pool (runtime/scan/runners.py KeptPool) ends with the command."""
     result = _stopped(["trim", "thesis_air", "--workers", "2"], signal.SIGTERM, warm_cache, tmp_path,
