@@ -47,6 +47,9 @@ KINDS = {k.name: k for k in (
     Kind("verdict-tolerance", "levitron.runtime.bench.verdict_tolerance", "the launch odds' verdicts and "
          "CPU time against the integrator tolerance, 1000 launches against tol 1e-10",
          ("thesis_air", "levitron_toy"), "reports/verdict_tolerance/{scene}"),
+    Kind("search-horizon", "levitron.runtime.bench.search_horizon", "when a launch-odds design's search may "
+         "judge its launches: the same launches judged at fractions of the success time, across the band",
+         ("thesis_air", "levitron_toy"), "reports/search_horizon/{scene}"),
     Kind("functions", "levitron.runtime.bench.functions", "ns per call of every generated function",
          ("thesis_stable", "ring_magnet"), "reports/{scene}/functions"),
     Kind("startup", "levitron.runtime.bench.startup", "wall time of warm one-shot commands (the version, the help, "

@@ -49,7 +49,7 @@ _LAUNCH = {                # runtime/scan/launch_odds.py summarize (LaunchOdds.d
     "outcomes": "object", "ranking": [{"input": "string", "effect": "number?"}], "inputs": _INPUTS,
     "defaulted": ["string"], "z_s": "number?", "spin_interval": "array?", "~spin_decay_time": "number?",
     "~integrator": "string", "~tol": "number", "verdicts": ["boolean"], "warnings": ["string"],
-    "~reason": "string",
+    "~reason": "string", "~past_window": {"launches": "integer", "reason": "string?"},
     # the command's own (runtime/cli/commands/launch.py)
     "saved": "object?",
     "out": "string?",

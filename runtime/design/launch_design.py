@@ -17,13 +17,15 @@ runtime/scan/launch_odds.py, estimated as `levitron launch` estimates it:
    first min(n, SEARCH_N) launches of the seed at each point (`search_n`): paired, neighbours
    differ in a few launches in a hundred, which a few hundred launches decide. The search judges
    them at its search time (`searching`): SEARCH_HORIZON of the success time, but at least
-   SEARCH_PERIODS periods of the slowest motion. A launch falls when the hand's disturbance
-   leaves the basin, within the first slow periods (thesis_air, 1000 launches: 221 of its 234
-   falls within 5 s, its slow period 3.6 s; 10 after the search time of 18.75 s, against a
-   success time of 75 s). The late falls, 1 % of the launches, come mostly where the top is
-   weakly unstable (near a band's edge, where a plateau's edge may then sit one bisection step
-   out); so the search ranks its points as the full runs would at about a quarter of their cost
-   (test_paired_odds: the same advice as at the full horizon), and the answer itself is judged
+   SEARCH_PERIODS periods of the slowest motion. The search needs the ranking, not the odds, and
+   the launches that fall between the search time and the success time are about the same share
+   at every point: `levitron bench --kind search-horizon` (runtime/bench/search_horizon.py, 600
+   launches at 7 masses across the band, reports/search_horizon/) finds the odds judged at T/8 and
+   at T/4 within 0.33 points of each other at every mass on thesis_air (whose late falls, after
+   T/8, vary by 2 points across the band) and within 1.3 points on levitron_toy (whose spin decays
+   out of the window: its late falls vary by 66 points across the band, a share no search time
+   short of T sees, so its answer's fresh odds at T are the ones to read). So the search ranks
+   its points at an eighth of their flight as it did at a quarter, and the answer itself is judged
    at the success time (step 4).
 3. **Grid, then zoom.** GRID[k] points a key over the --vary box (from its middle outwards, so
    that a good point is the first to compare with), then the same number over the
@@ -72,8 +74,8 @@ from levitron.runtime.scan.launch_summary import Z95
 from levitron.runtime.ui import progress
 
 GRID = {1: 7, 2: 5, 3: 3}       # points a key of each grid, by the number of keys
-SEARCH_HORIZON = 0.25           # the search judges its launches at this fraction of the success time,
-SEARCH_PERIODS = 5              # but over at least this many of the slowest motion's periods
+SEARCH_HORIZON = 0.125          # the search judges its launches at this fraction of the success time,
+SEARCH_PERIODS = 3              # but over at least this many of the slowest motion's periods
 SEARCH_N = 500                  # the search compares points on the first this many launches of the seed
 ZOOMS = 2
 EDGE_STEPS = 4                  # bisections of each edge of a one-key plateau

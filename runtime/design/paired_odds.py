@@ -40,6 +40,7 @@ import numpy as np
 from levitron.runtime.errors import UserError
 from levitron.runtime.model.scenes import SceneRef
 from levitron.runtime.scan import launch_odds as mc
+from levitron.runtime.scan.launch_window import WindowJudge
 from levitron.runtime.scan.launch_answer import LaunchOdds
 
 BATCHES = 4
@@ -111,10 +112,12 @@ class PairedOdds:
                     "successes": 0, "reason": str(exc)}
         edges = np.linspace(0, n, BATCHES + 1).round().astype(int) if self.early else np.array([0, n])
         results, floats = [], np.zeros(n, bool)
+        judge, spins = WindowJudge(model), mc.samples(prep.plan)["spin"]
         for a, b in zip(edges[:-1], edges[1:]):
             if b <= a:
                 continue
             got = mc.execute(prep, model, range(a, b), quiet=True, pool=self.pool)
+            judge.mark(spins, prep.success_time, got)      # up past its window: no verdict, as in launch
             results += got
             for i, ok in prep.floats(p for g in got for p in g["points"]).items():
                 floats[i] = ok

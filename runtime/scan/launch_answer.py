@@ -79,11 +79,15 @@ def launch_lines(r: dict, u: Units, scene=None, thermal: bool | None = None) -> 
             for e in r["ranking"][:3]]
     outcomes = ", ".join(f"{k} {v}" for k, v in r["outcomes"].items())
     cens = f"; {ft['censored']} still up at the end of the run" if ft["censored"] else ""
+    past = r.get("past_window") or {"launches": 0, "reason": None}
+    stopped = r["no_verdict"] - past["launches"]
     at = lambda t: (">= " if t >= r["t_end"] * (1 - 1e-12) else "") + u.time(t)  # noqa: E731 (censored)
     return [
         f"launch odds: {sig(100 * r['probability'], 3)}% of {r['n'] - r['no_verdict']} launches float at least "
         f"{u.time(r['success_time'])} (95% Wilson interval {sig(100 * lo, 3)}-{sig(100 * hi, 3)}%)",
-        f"{r['no_verdict']} of {r['n']} runs stopped early without a verdict: not counted" if r["no_verdict"] else "",
+        f"{stopped} of {r['n']} runs stopped early without a verdict: not counted" if stopped else "",
+        f"{past['launches']} of {r['n']} launches up at the end past their stable window, without a verdict: not "
+        f"counted; {past['reason']}" if past["launches"] else "",
         *[f"warning: {w}" for w in r.get("warnings", [])],
         f"flight time: median {at(ft['median'])}, quartiles {at(ft['q1'])} - {at(ft['q3'])}"
         f" (runs of {u.time(r['t_end'])}{cens})",

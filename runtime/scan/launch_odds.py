@@ -23,28 +23,27 @@ a model that has the term (a scene without it is refused with the key that adds 
     moment_tilt        the angle of the magnet's moment from the top's axis (rad; moment_tilt,
                        top.moment_tilt): the moment turns with the spin, so the top wobbles
 
-Over a tilted base the launch is still aimed where a person aims it: at the level hover point, on
-the plate's axis at the level hover height, the axis along the plate's normal (the top is spun on
-the lifter resting on the base), with the launch's tilt, offset and velocity spreads about that
-point. The person does not know the tilted equilibrium (runtime/physics/apparatus/tilted_equilibrium.py): the
-base's tilt moves it away from the launch point, downhill, and the top must find it.
+Over a tilted base the launch is aimed where a person aims it: at the level hover point, the axis
+along the plate's normal (spun on the lifter resting on the base), the spreads about that point; the
+tilted equilibrium (runtime/physics/apparatus/tilted_equilibrium.py) lies downhill, for the top to find.
 
 Each is "normal:MEAN,SD", "uniform:LO,HI" or a number (fixed), given by a flag or the scene's
 [launch] table. The defaults scale with the scene (never SI magnitudes: scenes may be
 dimensionless): the spin normal about the geometric mean of the spin interval with a 10 % spread,
 a tilt up to 0.02 rad, an offset of 1 % of z_s, a velocity of 1 % of sqrt(g z_s), 0.2 % of mass and
 0.5 % of strength. Each sample starts at the hover height of its own mass and strength
-(runtime.physics.equilibrium.finder.hover_height; none: the sample "cannot hover").
+(runtime.physics.equilibrium.finder.hover_height; none: the sample "cannot hover"), a chunk of
+launches at a time through runtime/scan/launch_chunk.py.
 
 Success means floating at least success_time (default: the run length, or in air half the spin
 decay time; without friction and without a run length, runtime/scan/stability_map.py's PERIODS slow periods).
 The probability comes with its 95 % Wilson score interval; the flight times with median and
 quartiles; each input's effect is the spread of the success rate over its quintiles.
 
-The samples are drawn once from numpy's PCG64 generator at the seed, in a fixed order, and the
-runs go through the C chunk driver (runtime/scan/chunk_c.py, the lane variants where verified): serial,
-with local processes or on dask (runtime/scan/runners.py), every run is the same arithmetic, so a
-seed gives the same verdicts everywhere.
+The samples are drawn once from PCG64 at the seed, in a fixed order; the runs go through the C chunk
+driver (runtime/scan/chunk_c.py): serial, on local processes or on dask (runtime/scan/runners.py),
+every run is the same arithmetic, so a seed gives the same verdicts everywhere. A launch up at the
+end past its stable window (in air) has no verdict (runtime/scan/launch_window.py).
 """
 from __future__ import annotations
 
@@ -56,12 +55,14 @@ import numpy as np
 
 from levitron.runtime.errors import UserError
 from levitron.runtime.physics.apparatus.friction import has_friction
-from levitron.runtime.integrate.verdict import stopped_early
+from levitron.runtime.integrate.verdict import PAST_WINDOW
 from levitron.runtime.integrate.methods import DEFAULT, refuse_on_full_model, resolve
 from levitron.runtime.scan.launch_answer import LaunchOdds
 from levitron.runtime.scan.launch_summary import cannot_hover, effects, launches, wilson
+from levitron.runtime.scan.launch_chunk import run_chunk, samples  # noqa: F401  (samples: the plan's draws)
+from levitron.runtime.scan.launch_window import WindowJudge, no_verdicts, none_decided
 from levitron.runtime.scan.launch_inputs import (ALL_INPUTS, INPUTS, apparatus_of, check_bounds, reach_warnings,
-                                                  refuse_apparatus, resonance_warnings, temperature_factor)
+                                                  refuse_apparatus, resonance_warnings)
 from levitron.runtime.scan.spreads import Dist, parse_input, spec_text
 from levitron.runtime.scan.workers import auto_workers, dask_errors_as_ours
 from levitron.runtime.ui.validate import count, launch_settings, real, spread_range, temperature
@@ -98,63 +99,6 @@ def defaults(model, interval, z_s: float) -> dict[str, Dist]:
     for a in apparatus_of(model):
         out[a.name] = a.default(model) if a.default else Dist("fixed", float(pv[a.param]))
     return out
-
-
-def samples(plan: Plan) -> dict[str, np.ndarray]:
-    """All n samples of every input, drawn in ALL_INPUTS order from PCG64(seed): the same everywhere
-    (the apparatus inputs come last, so a level scene's draws are those of before)."""
-    rng = np.random.Generator(np.random.PCG64(plan.seed))
-    return {name: d.sample(rng, plan.n) for name, d in plan.dists}
-
-
-def run_chunk(plan: Plan, indices) -> dict:
-    """The samples `indices` through the C chunk driver: {"points": [{i, t, status}], ...}."""
-    from levitron.runtime.simulate import start
-    from levitron.runtime.physics.equilibrium.finder import hover_height
-    from levitron.runtime.scan.chunk_c import drive_runs
-    from levitron.runtime.scan.runners import model_for
-    from levitron.runtime.integrate.budget import check_options, default_budget
-    model = model_for(plan.scene, plan.overrides)
-    S = samples(plan)
-    pt = model.part("full")
-    iy = pt.states.index("p_y")
-    method = plan.integrator
-    rows, points = [], []
-    for i in indices:
-        mu = model.param("mu") * (1 + S["strength"][i]) * temperature_factor(model, S["temperature"][i])
-        m = model.param("m") * (1 + S["mass"][i])
-        used = {"m": float(m), "mu": float(mu)}      # the launch's own top, as run (launches table)
-        if not (m > 0 and math.isfinite(mu)):
-            points.append({"i": int(i), "t": 0.0, "status": "invalid", "z_s": math.nan, **used})
-            continue
-        p = model.with_params({"m": m, "mu": mu, **{a.param: float(S[a.name][i]) for a in apparatus_of(model)}})
-        try:
-            z_s = hover_height(model, p)
-        except UserError:
-            points.append({"i": int(i), "t": 0.0, "status": "cannot_hover", "z_s": math.nan, **used})
-            continue
-        spin = float(S["spin"][i])
-        pv = model.pvals(p)
-        la = start.launch(pt, z_s, float(S["tilt"][i]), float(S["offset"][i]), p, float(S["tilt_azimuth"][i]))
-        x0 = start.launch_state(la, spin)
-        x0[iy] += m * float(S["velocity"][i])
-        T, what = start.fastest_period(spin, pv, start.vertical_stiffness(model, p, z_s, pv))
-        check_options(method, plan.t_end, plan.tol, None, 2, T, what)
-        box = start.default_box(pt, z_s)
-        if box.excess(x0) > 0:
-            points.append({"i": int(i), "t": 0.0, "status": "left_box", "z_s": float(z_s), **used})
-            continue
-        rows.append((int(i), x0, p, start.state_scales(pt, z_s, spin, pv),
-                     (box.z_lo, box.z_hi, box.r_max), default_budget(method, plan.t_end, None, T),
-                     {"z_s": float(z_s), **used}))
-    if rows:
-        res = drive_runs(model, pt, method, plan.t_end, plan.tol, np.array([r[1] for r in rows]),
-                         np.array([r[2] for r in rows]), np.array([r[3] for r in rows]),
-                         np.zeros(len(rows)), np.array([r[4] for r in rows]),
-                         np.array([r[5] for r in rows]))
-        points += [{"i": r[0], "t": float(res["t_final"][k]), "status": res["status"][k], **r[6]}
-                   for k, r in enumerate(rows)]
-    return {"points": points}
 
 
 def table_settings(table: Mapping) -> tuple[dict, dict]:
@@ -239,8 +183,9 @@ def monte_carlo(model, given: Mapping[str, object], n: int = 1000,
     except NoHover as exc:          # a design where the top cannot hover is an answer: it floats never
         return LaunchOdds.of(cannot_hover(n, seed, str(exc), given, success_time, t_end), model)
     results = execute(prep, model, range(prep.plan.n), quiet=quiet, pool=pool)
+    past = WindowJudge(model).mark(samples(prep.plan)["spin"], prep.success_time, results)
     return LaunchOdds.of(summarize(prep.plan, results, prep.success_time, prep.interval, prep.z_s, prep.tau,
-                                   prep.given, prep.warnings), model)
+                                   prep.given, prep.warnings, past), model)
 
 
 @dataclass(frozen=True)
@@ -257,8 +202,8 @@ class Prepared:
     scheduler: str | None
 
     def floats(self, points) -> dict[int, bool]:
-        """Launch index -> floated the success time (summarize's test), for some launches' points."""
-        return {p["i"]: p["t"] >= self.success_time * (1 - 1e-12) for p in points}
+        """Launch index -> floated the success time, not past its window (summarize's test), for some points."""
+        return {p["i"]: p["t"] >= self.success_time * (1 - 1e-12) and p["status"] != PAST_WINDOW for p in points}
 
 
 def prepare(model, given: Mapping[str, object], n: int = 1000,
@@ -306,19 +251,17 @@ def prepare(model, given: Mapping[str, object], n: int = 1000,
     tol = tolerance(tol)
     workers = auto_workers(n) if workers is None else count(workers, "«workers»", low=1)
     if scheduler is not None and not isinstance(scheduler, str):
-        raise UserError(f"«scheduler» {scheduler!r}: give the scheduler's address as text, e.g. "
-                        "tcp://127.0.0.1:8786")
+        raise UserError(f"«scheduler» {scheduler!r}: give the scheduler's address as text, e.g. tcp://127.0.0.1:8786")
     air = has_friction(model) and model.pvals()["k_spin"] > 0
     tau = 1 / model.pvals()["k_spin"] if air else None
     li.check_decay_horizon(model, z_s, dists["spin"], tau, success_time is None and t_end is None)
-    if success_time is None:
-        success_time = t_end if t_end is not None else (0.5 * tau if air else None)
+    success_time = success_time if success_time is not None else t_end if t_end is not None else (
+        0.5 * tau if air else None)
     if success_time is None:          # no friction: a map's run length (runtime/scan/stability_map.py)
         from levitron.runtime.scan.stability_map import PERIODS
         from levitron.runtime.scan.physics import slow_period
         success_time = PERIODS * slow_period(model, model.param("m"), z_s, float(dists["spin"].a))
-    if t_end is None:
-        t_end = success_time
+    t_end = success_time if t_end is None else t_end
     for label, v in (("«success_time»", success_time), ("«t_end»", t_end)):
         if not (math.isfinite(v) and v > 0):
             raise UserError(f"{label} {v} must be a positive time")
@@ -363,19 +306,17 @@ def execute(prep: Prepared, model, indices, quiet: bool = False, pool=None) -> l
 
 
 def summarize(plan: Plan, results, success_time: float, interval, z_s: float, tau,
-              given=(), warnings=()) -> dict:
-    """The answer (docs/contract.md `launch`) from the chunks' points."""
+              given=(), warnings=(), past=None) -> dict:
+    """The answer (docs/contract.md `launch`) from the chunks' points (past: WindowJudge.mark's)."""
     pts = sorted((p for r in results for p in r["points"]), key=lambda p: p["i"])
     t = np.array([p["t"] for p in pts])
     status = [p["status"] for p in pts]
-    ok = t >= success_time * (1 - 1e-12)
-    # a run that stopped early (step budget, ...) short of the success time has no verdict
-    # (runtime/integrate/verdict.py): neither a success nor a fall, left out of the odds
-    undecided = ~ok & np.array([stopped_early(s) and s != "cannot_hover" for s in status], bool)
+    up = t >= success_time * (1 - 1e-12)
+    undecided = no_verdicts(status, up)            # left out of the odds (launch_window.py)
+    ok = up & ~undecided
     decided = plan.n - int(undecided.sum())
     if decided == 0:
-        raise UserError(f"every one of the {plan.n} runs stopped early without a verdict "
-                        f"({', '.join(sorted(set(status)))}): no odds; try a looser «tol» or a shorter «t_end»")
+        raise UserError(none_decided(plan.n, status))
     k = int(ok.sum())
     S = samples(plan)
     lo, hi = wilson(k, decided)
@@ -394,6 +335,7 @@ def summarize(plan: Plan, results, success_time: float, interval, z_s: float, ta
         "z_s": z_s, "spin_interval": list(interval) if interval else None,
         "spin_decay_time": tau, "integrator": plan.integrator, "tol": plan.tol,
         "verdicts": [None if u else bool(v) for v, u in zip(ok, undecided)],
+        "past_window": past or {"launches": 0, "reason": None},
         "launches": launches(S, pts, ok, t),
         "warnings": list(warnings),
     }

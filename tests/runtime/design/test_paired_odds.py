@@ -89,7 +89,8 @@ def test_early_stopping_gives_the_advice_of_the_full_search_with_fewer_launches(
 def test_the_search_at_its_search_time_gives_the_advice_of_the_search_at_the_success_time(derived_model):
     """A steady hand in air (thesis_air, spin 1100 rad/s, small tilts): the launches float over the
     masses its band holds and fall fast outside, the known answer being the band's middle. A
-    search that judges its launches at a quarter of the success time advises the same mass, with
+    search that judges its launches at its search time (an eighth of the success time, at least
+    three slow periods) advises the same mass, with
     the same odds on fresh draws, as one that judges them at the success time; the answer is
     judged at the success time in both."""
     model = derived_model("thesis_air")
