@@ -350,10 +350,10 @@ class Study:
         with constraints such as "stiffness>=1" (runtime/design/optimize.py; IPOPT, verified): a
         Design. Or maximise "launch-odds", the odds that a launch by hand floats
         (runtime/design/launch_design.py): a LaunchDesign; or "yield", the kits of a production run
-        (kit {"strength"|"mass": relative spread}, washers (kg), kits) that float after their owners
-        trim them (runtime/design/yield_design.py): a YieldDesign. Both take their launches as
-        Study.launch does (n, seed, inputs, success_time, t_end, integrator, tol, workers, scheduler;
-        None: the command's default) and no constraint. Each says how sharp it is (`sharpness`)."""
+        (kit {"strength"|"mass"|a scene key: its spread}, washers (kg), kits, over the scene's [production])
+        that float after their owners trim them (runtime/design/yield_design.py): a YieldDesign. Both take
+        their launches as Study.launch does (n, seed, inputs, success_time, t_end, integrator, tol, workers,
+        scheduler; None: the command's default) and no constraint. Each says how sharp it is (`sharpness`)."""
         launch_options = given(success_time=success_time, t_end=t_end, integrator=integrator, tol=tol,
                                workers=workers, scheduler=scheduler)
         names = arg.names(constrain, "constrain")
@@ -367,9 +367,9 @@ class Study:
                                 "already counts as a failure")
             request = Request.of(self.scene.data.get("launch", {}), inputs, n=n, seed=seed, **launch_options)
             if maximize == "yield":
-                from levitron.runtime.design.production import KITS, Production
+                from levitron.runtime.design.production import Production
                 from levitron.runtime.design.yield_design import maximize_yield
-                prod = Production.of(kit, washers or (), KITS if kits is None else kits, request.seed)
+                prod = Production.of(kit, washers, kits, request.seed, self.scene.data.get("production"))
                 return maximize_yield(self.model, varies, request, prod, tolerance=tols)
             from levitron.runtime.design.design_notes import with_launch_notes
             return with_launch_notes(self.model, maximize_launch_odds(self.model, varies, request, tolerance=tols))

@@ -136,6 +136,13 @@ LAUNCH_KEYS = tuple(Key(k, u, d) for k, u, d in (
     ("n", "", "the number of launches"),
     ("seed", "", "the seed of the sampler"),
 ))
+PRODUCTION_KEYS = tuple(Key(k, u, d) for k, u, d in (
+    ("kit", "", "the kits' manufacturing spread, a table: strength and mass relative (\"rel:normal:0,0.02\"), "
+     "any scene key that is a model parameter as a deviation (plate.thickness = \"abs:normal:0,0.0002\", "
+     "plate.remanence = \"rel:normal:0,0.02\"); default strength 2 %, mass 0.3 %"),
+    ("washers", "kg", "the washers in each box, a list of masses (default none)"),
+    ("kits", "", "the kits of the production run, one launch each (default 300)"),
+))
 MODEL_KEYS = (
     Key("needs", "", f"what derive emits, a list drawn from {list(NEEDS)} (default all; "
         "\"linear\" needs \"full\")"),

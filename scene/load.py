@@ -24,8 +24,8 @@ import tomllib
 from . import plates
 from .checks import SceneError, check_keys, number
 from .keys import (
-    ABSOLUTE_ZERO, COORDINATES, FIELD_KEYS, FRICTION_KEYS, KEY_BOUNDS, LAUNCH_KEYS, MODEL_KEYS, NEEDS, REFERENCE_KEYS,
-    SCENE_KEYS, T_REF, TEMPERATURE_KEY, TILT_KEYS_NAMES, TOP_KEYS, UNITS,
+    ABSOLUTE_ZERO, COORDINATES, FIELD_KEYS, FRICTION_KEYS, KEY_BOUNDS, LAUNCH_KEYS, MODEL_KEYS, NEEDS,
+    PRODUCTION_KEYS, REFERENCE_KEYS, SCENE_KEYS, T_REF, TEMPERATURE_KEY, TILT_KEYS_NAMES, TOP_KEYS, UNITS,
 )
 from .overrides import apply_override
 from .paths import SCENES_DIR
@@ -215,11 +215,12 @@ def validate(data: dict, path: Path | None = None) -> Scene:
     """Check every key and resolve the parameters; raises SceneError on the first problem. A value
     with a unit ("51.5 g") becomes its SI number first (scene/quantity.py)."""
     warned = convert_scene(data)
-    check_keys(data, _names(SCENE_KEYS) | {"top", "plate", "field", "model", "reference", "launch"},
+    check_keys(data, _names(SCENE_KEYS) | {"top", "plate", "field", "model", "reference", "launch", "production"},
                "scene")
-    if not isinstance(data.get("launch", {}), dict):
-        raise SceneError("launch = ... is not a section: write [launch] with its keys")
-    check_keys(data.get("launch", {}), _names(LAUNCH_KEYS), "launch")
+    for table, keys in (("launch", LAUNCH_KEYS), ("production", PRODUCTION_KEYS)):
+        if not isinstance(data.get(table, {}), dict):
+            raise SceneError(f"{table} = ... is not a section: write [{table}] with its keys")
+        check_keys(data.get(table, {}), _names(keys), table)
     if data.get("units", "SI") not in UNITS:
         raise SceneError(f"units = {data['units']!r}: use one of {list(UNITS)}")
     ref = data.get("reference", {})

@@ -23,7 +23,8 @@ import re
 from fractions import Fraction
 
 from .checks import SceneError
-from .keys import FIELD_KEYS, LAUNCH_KEYS, REFERENCE_KEYS, SCENE_KEYS, TEMPERATURE_KEY, TILT_KEYS, TOP_KEYS, UNITS
+from .keys import (FIELD_KEYS, LAUNCH_KEYS, PRODUCTION_KEYS, REFERENCE_KEYS, SCENE_KEYS, TEMPERATURE_KEY, TILT_KEYS,
+                   TOP_KEYS, UNITS)
 
 __all__ = ["RELATIVE", "SETTING_UNITS", "SHAPE", "Typed", "convert_scene", "has_unit", "is_si_scene", "setting_value",
            "si_value", "typed_setting"]
@@ -172,7 +173,7 @@ def _tables(data: dict):
         return {k.name: k.unit for k in keys}
     yield "", data, units(SCENE_KEYS), ""
     for section, keys in (("top", TOP_KEYS), ("reference", REFERENCE_KEYS), ("field", FIELD_KEYS),
-                          ("launch", LAUNCH_KEYS)):
+                          ("launch", LAUNCH_KEYS), ("production", PRODUCTION_KEYS)):
         if isinstance(data.get(section), dict):
             yield section, data[section], units(keys), ""
     plate = data.get("plate")

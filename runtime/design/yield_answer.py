@@ -30,6 +30,8 @@ def yield_lines(r: dict, u: Units, scene=None) -> list[str]:
             f"as shipped, no washer: {percent(r['as_shipped'])} at the design, {percent(r['start_as_shipped'])} "
             "as written",
             f"washers the owners put on (kits): {washer_text(used, u.mass)}",
+            *([f"kits spread in scene keys, each at its own parameters: {keyed}"]
+              if (keyed := ", ".join(f"{k} {v}" for k, v in r["production"]["kit"].items() if "." in k)) else []),
             *sharpness_lines(r.get("sharpness"), u, scene, "yield"),
             *(f"warning: {w}" for w in r["warnings"])]
 

@@ -33,6 +33,7 @@ import numpy as np
 
 from levitron.runtime.design import launch_design as ld
 from levitron.runtime.design import sharpness
+from levitron.runtime.design.kits import check_spreads
 from levitron.runtime.design.production import Production, production_yield
 from levitron.runtime.design.scene_keys import Vary, key_value
 from levitron.runtime.design.yield_answer import YieldDesign
@@ -58,6 +59,7 @@ def maximize_yield(model, varies: Sequence[Vary], request: mc.Request, prod: Pro
     if not 1 <= len(varies) <= 3:
         raise UserError("«vary»: give one to three keys for «maximize» yield")
     sharpness.tolerances(model.scene, {v.key: v.lo for v in varies}, tolerance)     # checked before the search
+    check_spreads(model.scene, model.param_names, prod.keys)          # the kits' scene keys, likewise
     with contextlib.ExitStack() as stack:
         pool = pool or ld.kept_pool(stack, request, prod.kits)
         return _maximize(model, varies, request, prod, pool, tolerance)

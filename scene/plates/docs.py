@@ -95,6 +95,22 @@ def render() -> str:
         "",
         *_table(keys.REFERENCE_KEYS),
         "",
+        "## [production] (optional)",
+        "",
+        "The production run of `levitron optimize --maximize yield` (docs/contract.md): flags (`--kit`, "
+        "`--washers`, `--kits`) win over it, a `--kit` key by key.",
+        "",
+        *_table(keys.PRODUCTION_KEYS),
+        "",
+        "```toml",
+        "[production]",
+        "washers = [\"0.2 g\", \"0.4 g\", \"0.8 g\"]",
+        "kits = 300",
+        "[production.kit]",
+        "strength = \"rel:normal:0,0.02\"",
+        "plate.thickness = \"abs:normal:0,0.0002\"",
+        "```",
+        "",
         "## [plate]",
         "",
         "`kind` is one of " + ", ".join(f"`{k}`" for k in KINDS) + "; each kind's keys follow. "
@@ -119,7 +135,8 @@ def render() -> str:
 
 # the sections besides [plate], as `levitron keys` lists them: (section, keys); "" is the top level
 SECTIONS = (("", keys.SCENE_KEYS), ("top", keys.TOP_KEYS), ("field", keys.FIELD_KEYS),
-            ("model", keys.MODEL_KEYS), ("reference", keys.REFERENCE_KEYS), ("launch", keys.LAUNCH_KEYS))
+            ("model", keys.MODEL_KEYS), ("reference", keys.REFERENCE_KEYS), ("launch", keys.LAUNCH_KEYS),
+            ("production", keys.PRODUCTION_KEYS))
 PLATE_COMMON = (keys.TEMPERATURE_KEY, *keys.TILT_KEYS)     # [plate] keys every kind takes
 _DEFAULT = re.compile(r"\bdefault:? ([^;),]+)")
 

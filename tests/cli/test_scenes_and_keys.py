@@ -60,7 +60,7 @@ def test_keys_of_annulus_with_units(capsys):
 def test_keys_without_kind_lists_kinds_and_common_sections(capsys):
     r = _json(capsys, "keys")
     assert list(r["kinds"]) == list(KINDS)
-    assert set(r["sections"]) == {"scene", "top", "field", "model", "reference", "launch"}
+    assert set(r["sections"]) == {"scene", "top", "field", "model", "reference", "launch", "production"}
     top = {k["name"]: k for k in r["sections"]["top"]}
     assert top["mass"] == {**top["mass"], "unit": "kg", "required": True}
     assert not top["moment"]["required"]      # murho in the plate stands in for it

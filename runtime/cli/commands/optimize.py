@@ -220,7 +220,7 @@ def _yield(args, varies, constraints) -> _Yield:
                         "failure")
     scene = scene_of(args)
     request = launch.launch_request(args, scene)
-    prod = production_args.production_of(args, request.seed)
+    prod = production_args.production_of(args, request.seed, scene.data.get("production"))
     model = model_of(args)
     refuse_tilted(model, "optimize fits and designs")
     return _Yield(model, maximize_yield(model, varies, request, prod, tolerance=parse_tolerance(args.tolerance)))

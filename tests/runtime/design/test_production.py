@@ -48,13 +48,17 @@ def test_no_washer_helps_a_top_too_heavy_for_every_kit(derived_model):
     assert r["untrimmable"] == 1.0
 
 
-def test_the_owner_takes_the_washers_whose_equivalent_mass_floats_best():
-    """Equivalent mass (m + w) / s on the curve; ties go to the one nearest the curve's best."""
-    curve = {"mass": [1.0, 2.0, 3.0], "odds": [0.0, 1.0, 1.0], "band": [0.5, 3.5], "best": 2.8}
+def test_the_owner_takes_the_washers_whose_place_in_the_band_floats_best():
+    """The position (m + w - lo_k) / (hi_k - lo_k) in the kit's band on the curve; ties go to the one
+    nearest the curve's best; a kit of strength s has the band s [lo, hi]."""
+    band = np.array([0.5, 3.5])
+    curve = {"position": [(1.0 - 0.5) / 3, 0.5, (3.0 - 0.5) / 3], "odds": [0.0, 1.0, 1.0],
+             "best_position": (2.8 - 0.5) / 3}
     totals = np.array([0.0, 1.0, 2.0])
-    got = pr.owner_choice(curve, np.array([0.5, 1.0, 0.5]), np.array([1.0, 1.0, 0.5]), totals)
+    got = pr.owner_choice(curve, np.array([0.5, 1.0, 0.5]), np.outer([1.0, 1.0, 0.5], band), totals)
     # kit 1: 0.5 + w in {0.5, 1.5, 2.5}, odds {0, 0.5, 1}: w = 2; kit 2: {1, 2, 3}, odds {0, 1, 1},
-    # the tie to 3 (nearest 2.8): w = 2; kit 3 (s = 0.5): {1, 3, 5}, 5 outside the band: w = 1
+    # the tie to 3 (nearest 2.8): w = 2; kit 3 (s = 0.5, band [0.25, 1.75]): 0.5 + w in
+    # {0.5, 1.5, 2.5}, positions {1/6, 5/6, outside}: w = 1
     assert got.tolist() == [2.0, 2.0, 1.0]
 
 
@@ -65,6 +69,7 @@ def test_the_washers_add_each_subset_once():
 
 @pytest.mark.parametrize("kit, washers, kits, words", [
     ({"spin": "rel:1%"}, (), 300, "strength or mass"),
+    ({"plate.hole": "normal:0.03,0.0001"}, (), 300, "deviation from the design"),
     ({"strength": "normal:1,0.02"}, (), 300, "relative"),
     ({}, (-0.001,), 300, "positive"),
     ({}, ("heavy",), 300, "not a mass"),
