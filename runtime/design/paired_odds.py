@@ -112,7 +112,7 @@ class PairedOdds:
                     "successes": 0, "reason": str(exc)}
         edges = np.linspace(0, n, BATCHES + 1).round().astype(int) if self.early else np.array([0, n])
         results, floats = [], np.zeros(n, bool)
-        judge, spins = WindowJudge(model), mc.samples(prep.plan)["spin"]
+        judge, spins = WindowJudge(model, prep.interval), mc.samples(prep.plan)["spin"]
         for a, b in zip(edges[:-1], edges[1:]):
             if b <= a:
                 continue

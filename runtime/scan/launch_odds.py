@@ -107,6 +107,8 @@ def table_settings(table: Mapping) -> tuple[dict, dict]:
     ("[launch] n = 'many' must be a whole number"), for the CLI and the API alike; a flag or an
     argument given by the caller takes precedence over either."""
     inputs = {k: table[k] for k in ALL_INPUTS if k in table}
+    for k, v in inputs.items():          # each spread's spelling, refused as the table's
+        parse_input(k, v, None, table=True)
     checks = {"n": lambda v, label: count(v, label, low=1, high=MAX_N),
               "seed": lambda v, label: count(v, label, low=0),
               "success_time": lambda v, label: real(v, label, positive=True, unit="s", what="time"),
@@ -183,7 +185,7 @@ def monte_carlo(model, given: Mapping[str, object], n: int = 1000,
     except NoHover as exc:          # a design where the top cannot hover is an answer: it floats never
         return LaunchOdds.of(cannot_hover(n, seed, str(exc), given, success_time, t_end), model)
     results = execute(prep, model, range(prep.plan.n), quiet=quiet, pool=pool)
-    past = WindowJudge(model).mark(samples(prep.plan)["spin"], prep.success_time, results)
+    past = WindowJudge(model, prep.interval).mark(samples(prep.plan)["spin"], prep.success_time, results)
     return LaunchOdds.of(summarize(prep.plan, results, prep.success_time, prep.interval, prep.z_s, prep.tau,
                                    prep.given, prep.warnings, past), model)
 
@@ -223,7 +225,7 @@ def prepare(model, given: Mapping[str, object], n: int = 1000,
         raise UserError(f"unknown launch input {unknown[0]!r}: use one of {', '.join(ALL_INPUTS)}")
     refuse_apparatus(model, given)
     z_s = hover_height(model)
-    lin = stability_of(model, z_s=z_s)
+    lin = stability_of(model, z_s=z_s, eigen=False)      # the interval: the exact route alone
     interval = lin.spin_interval
     dists = defaults(model, interval, z_s)
     reference = {"mass": model.param("m"), "strength": 1.0}

@@ -8,11 +8,13 @@ before the fall showed, so it says nothing of whether the top stays up. Its stat
 PAST_WINDOW (runtime/integrate/verdict.py past_window: the test simulate and the stability map
 make too) and the odds leave it out, as they leave out a run that stopped early.
 
-The lower critical spin depends on the launch's own top (its mass, strength and temperature), so
-it is computed per launch by the exact route (discriminant, thesis 3.3.9-3.3.16), a few ms each;
-only for the launches up at the end whose final spin lies below WINDOW_MARGIN times the largest
-lower critical spin at the corners of the launches' (mass, moment) box, the others being clear of
-their window's edge by far more than the edge moves across the box.
+The lower critical spin depends on the launch's own top (its mass, strength and temperature): it is
+computed per launch by the exact route (the discriminant, thesis 3.3.9-3.3.16, at the launch's own
+hover height; about 0.4 ms), for the launches up at the end whose final spin lies below
+WINDOW_MARGIN times the lower critical spin of the scene's top. The spreads of a hand move it by
+about 1 % (thesis_air: 0.5-1.6 % at 3 sd of mass or strength) except near the band's edges, where
+the window closes and a launch's own edge may lie farther: there a launch whose spin ends more than
+WINDOW_MARGIN above the scene's edge and yet below its own keeps its verdict.
 """
 from __future__ import annotations
 
@@ -24,46 +26,32 @@ from levitron.runtime.integrate.verdict import PAST_WINDOW, UP, past_window, sto
 from levitron.runtime.physics.apparatus.friction import crossing_time, has_friction
 from levitron.runtime.words import si
 
-WINDOW_MARGIN = 1.5
+WINDOW_MARGIN = 1.05
 
 
 class WindowJudge:
-    """Marks the launches of one model past their window (module docstring); keeps the lower
-    critical spins at the corners of the launches' (mass, moment) box between calls (a design's
-    batches of one Monte Carlo share them)."""
+    """Marks the launches of one Monte Carlo past their window (module docstring). interval: the
+    scene's top's spin interval (launch_odds.prepare's), None where it has none."""
 
-    def __init__(self, model):
+    def __init__(self, model, interval):
         self.model = model
         self.k = model.pvals().get("k_spin", 0.0) if has_friction(model) else 0.0
-        self.box, self.reach = None, None
-
-    def _reach(self, up: list[dict]) -> float | None:
-        (m0, m1), (u0, u1) = _span(up, "m"), _span(up, "mu")
-        b = self.box
-        if b is None or not (b[0] <= m0 and m1 <= b[1] and b[2] <= u0 and u1 <= b[3]):
-            corners = [_lower(self.model, m, mu, None) for m in (m0, m1) for mu in (u0, u1)]
-            self.box = (m0, m1, u0, u1)
-            self.reach = max((c for c in corners if c is not None), default=None)
-        return self.reach
+        self.near = WINDOW_MARGIN * interval[0] if interval else math.inf
 
     def mark(self, spins: np.ndarray, t_end: float, results: list[dict]) -> dict:
         """Mark the launches past their window at t_end, the success time: their point's status
         becomes PAST_WINDOW, in place. spins: the launches' spins by launch index; results: the
         chunks'. Returns the answer's `past_window`: {"launches": how many, "reason": the first
         one's or None}."""
-        up = [p for r in results for p in r["points"] if p["status"] == UP and "m" in p]
-        if not (self.k > 0 and up):
-            return {"launches": 0, "reason": None}
-        decay = math.exp(-self.k * t_end)
-        reach = self._reach(up)
+        decay = math.exp(-self.k * t_end) if self.k > 0 else 1.0
+        up = [p for r in results for p in r["points"]
+              if p["status"] == UP and "m" in p and abs(spins[p["i"]]) * decay < self.near]
         n, reason = 0, None
-        for p in up:
+        for p in up if self.k > 0 else ():
             spin = spins[p["i"]]
-            end = abs(spin) * decay
-            if reach is not None and end >= WINDOW_MARGIN * reach:
-                continue
-            lower = _lower(self.model, p["m"], p["mu"], p.get("z_s"))
-            why = past_window(p["status"], t_end, lower, end, crossing_time(spin, lower, self.k) if lower else None)
+            lower = _lower(self.model, p["m"], p["mu"], p["z_s"])
+            why = past_window(p["status"], t_end, lower, abs(spin) * decay,
+                              crossing_time(spin, lower, self.k) if lower else None)
             if why:
                 p["status"], n = PAST_WINDOW, n + 1
                 reason = reason or (f"launch {p['i']} (spin {si(abs(spin), 'rad/s')}, judged at the success "
@@ -71,26 +59,16 @@ class WindowJudge:
         return {"launches": n, "reason": reason}
 
 
-def _span(points: list[dict], key: str) -> tuple[float, float]:
-    values = [p[key] for p in points]
-    return min(values), max(values)
-
-
-def _lower(model, m: float, mu: float, z_s: float | None) -> float | None:
-    """The lower critical spin of the top of mass m and moment mu over the model's plate, by the
-    exact route (thesis 3.3.9-3.3.16); None where it has no interval or cannot hover."""
-    from levitron.runtime.errors import UserError
-    from levitron.runtime.physics.equilibrium import finder as eqm
-    from levitron.runtime.physics.stability.analysis import analyse
-    p = model.with_params({"m": m, "mu": mu})
-    P = model.pvals(p)
-    try:
-        z = eqm.hover_height(model, p) if z_s is None or not math.isfinite(z_s) else z_s
-        res = analyse(eqm.model_onaxis(model, p), m, P["g"], P["A"], P["C"], mu, eqm.scale_of(model, p),
-                      z_s=z, eigen=False)
-    except UserError:
-        return None
-    return res.spin_interval[0] if res.spin_interval else None
+def _lower(model, m: float, mu: float, z_s: float) -> float | None:
+    """The lower critical spin of the top of mass m and moment mu hovering at z_s over the model's
+    plate, by the exact route (thesis 3.3.9-3.3.16); None where it has no bounded interval."""
+    from levitron.runtime.physics.equilibrium.finder import model_onaxis
+    from levitron.runtime.physics.routes.ray_algebra import RayCoefficients, spin_intervals_discriminant
+    P = model.pvals()
+    ph = np.asarray(model_onaxis(model)(z_s), float)       # the plate's Phi_k: not the top's
+    bounded = [iv for iv in spin_intervals_discriminant(RayCoefficients.from_physics(
+        ph[1], ph[2], ph[3], m, P["A"], P["C"], mu)) if iv[1] < math.inf and iv[0] > 0]
+    return bounded[0][0] if bounded else None
 
 
 def no_verdicts(status: list[str], up: np.ndarray) -> np.ndarray:

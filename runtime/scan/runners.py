@@ -310,7 +310,7 @@ def dask_client(address: str, timeout: float | None = None):
     wait = timeout + min(CONNECT_GRACE_S, max(1.0, 0.5 * timeout))
     th.join(wait)
     if th.is_alive():
-        raise UserError(f"no dask scheduler answered at {address!r} within {duration(wait)} (is it a "
+        raise UserError(f"no dask scheduler answered at {address!r} within {duration(timeout)} (is it a "
                         "dask scheduler? another service accepts the connection but never answers "
                         "dask's handshake): give the address `dask scheduler` prints, or use «workers» N")
     if isinstance(box.get("error"), MemoryError):      # numpy's _ArrayMemoryError too

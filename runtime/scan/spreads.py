@@ -46,11 +46,13 @@ def typed_text(spec) -> str:
     return repr(spec.strip()) if isinstance(spec, str) else repr(spec)
 
 
-def parse_dist(name: str, spec, typed=None) -> Dist:
+def parse_dist(name: str, spec, typed=None, table: bool = False) -> Dist:
     """ "normal:MEAN,SD" | "uniform:LO,HI" | a number -> Dist (one-line UserError otherwise,
-    quoting `typed`: the input as typed where spec is a part of it, e.g. the body of a rel: spec)."""
-    how = f"write e.g. «{name}» normal:MEAN,SD, uniform:LO,HI or a number"
-    said = f"launch {name} = {typed_text(spec if typed is None else typed)}"
+    quoting `typed`: the input as typed where spec is a part of it, e.g. the body of a rel: spec;
+    table: it came from the scene's [launch] table, and the refusal says so)."""
+    how = (f'write e.g. {name} = "normal:MEAN,SD", "uniform:LO,HI" or a number in the scene\'s [launch] table'
+           if table else f"write e.g. «{name}» normal:MEAN,SD, uniform:LO,HI or a number")
+    said = f"{'[launch]' if table else 'launch'} {name} = {typed_text(spec if typed is None else typed)}"
     if isinstance(spec, bool):
         raise UserError(f"{said} is not a distribution: {how}")
     if isinstance(spec, (int, float)):
@@ -67,7 +69,7 @@ def parse_dist(name: str, spec, typed=None) -> Dist:
     kind, sep, args = text.partition(":")
     if not sep:
         try:
-            return parse_dist(name, number_text(text), spec if typed is None else typed)
+            return parse_dist(name, number_text(text), spec if typed is None else typed, table)
         except ValueError:
             raise UserError(f"{said} is not a distribution: {how}") from None
     kind = kind.strip().lower()
@@ -95,16 +97,17 @@ REL = "rel:"          # a relative spread of mass or strength says so: rel:norma
 RELATIVE = ("mass", "strength")
 
 
-def parse_input(name: str, spec, reference: float = 1.0) -> Dist:
+def parse_input(name: str, spec, reference: float | None = 1.0, table: bool = False) -> Dist:
     """One input's spec -> the Dist monte_carlo samples. Mass and strength are sampled as relative
     deviations d (m (1 + d), mu (1 + d)) but given either way, and the spelling says which:
     "rel:normal:0,0.002", "rel:uniform:-0.01,0.01", "rel:0.2%" (normal, sd 0.2 %) or "rel:-0.001"
     are relative; "normal:0.02135,0.0002" is the mass itself in kg (reference: the scene's mass)
     and "normal:1,0.005" the magnets' strength as a factor (reference 1). An absolute spec whose
     centre is not within a factor 2 of the reference is refused with the relative spelling: a
-    mass spread given as a deviation (normal:0,0.002) is not silently a 0 kg top."""
+    mass spread given as a deviation (normal:0,0.002) is not silently a 0 kg top. reference None:
+    the spelling alone is checked (the scene's [launch] table read before a model, table=True)."""
     if name not in RELATIVE:
-        return parse_dist(name, spec)
+        return parse_dist(name, spec, table=table)
     text = spec.strip() if isinstance(spec, str) else spec
     if isinstance(text, str) and text.lower().startswith(REL):
         body = text[len(REL):].strip()
@@ -121,8 +124,10 @@ def parse_input(name: str, spec, reference: float = 1.0) -> Dist:
                 raise UserError(f"launch {name} = {typed_text(spec)}: the standard deviation {body} is "
                                 "negative; give SD >= 0, e.g. rel:0.2%")
             return Dist("normal", 0.0, sd + 0.0)
-        return parse_dist(name, body, spec)
-    d = parse_dist(name, spec)
+        return parse_dist(name, body, spec, table)
+    d = parse_dist(name, spec, table=table)
+    if reference is None:
+        return d
     centre = 0.5 * (d.a + d.b) if d.kind == "uniform" else d.a
     what = f"the mass in {si_unit('kg')}" if name == "mass" else "the magnets' strength as a factor (1 = the scene's)"
     if not (0.5 * reference < centre < 2 * reference):

@@ -39,6 +39,7 @@ import numpy as np
 
 from levitron.runtime.physics.equilibrium.finder import hover_height
 from levitron.runtime.errors import UserError
+from levitron.runtime.words import si
 from levitron.runtime.ui.validate import count, real, run_length, tolerance
 from levitron.runtime.integrate.budget import MAX_N_OUT
 from levitron.runtime.integrate.run import Box, Result, integrate
@@ -119,6 +120,12 @@ def simulate(model, spin: float, tilt: float | None = None, offset: float = 0.0,
     if part == "full" and "base_tilt" in model.param_names:      # plate.tilt: start off the axis
         x0, tilted_note = tilted_start(model, pt, z_s, spin, x0, p)
     if bx.excess(x0) > 0:
+        z0 = float(x0[pt.states.index("z")]) if "z" in pt.states else z_s
+        if not bx.z_lo <= z0 <= bx.z_hi:            # not the offset: the top's own height (moment_offset)
+            raise UserError(f"the top's centre of mass starts at z = {si(z0, 'm')}, outside the box's heights "
+                            f"{si(bx.z_lo, 'm')} to {si(bx.z_hi, 'm')} about the hover height (top.moment_offset "
+                            f"= {si(pvals.get('moment_offset', 0.0), 'm')}); give a top.moment_offset nearer 0 or "
+                            "a larger «box»")
         raise outside_box(offset, bx.z_hi - z_s)
     scale = state_scales(pt, z_s, spin, pvals)
     air = part == "full" and flight.has_friction(model)

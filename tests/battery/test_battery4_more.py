@@ -103,3 +103,29 @@ def test_a_plate_nested_too_deep_is_one_line(depth):
 
 def test_a_plate_nested_to_the_budget_is_taken():
     assert validate(_scene(_nested(MAX_DEPTH), {"order": 2})).name == "many"
+
+
+@pytest.mark.parametrize("value", ["nan", '"normal:nan,10"', '"sometimes"'])
+def test_a_bad_spread_in_the_launch_table_is_refused_as_the_tables(tmp_path, value):
+    """Words that match what the user typed: a [launch] value is named as the table's, with the
+    table's spelling as the fix, never a flag the user did not type."""
+    from levitron.runtime.errors import UserError
+    from levitron.runtime.scan.launch_odds import table_settings
+    from levitron.runtime.words import render
+    scene = tomllib.loads(f"[launch]\nspin = {value}\n")
+    with pytest.raises(UserError) as exc:
+        table_settings(scene["launch"])
+    words = render(str(exc.value), "cli")
+    assert words.startswith("[launch] spin = ") and "in the scene's [launch] table" in words
+    assert "--spin" not in words and "«" not in str(exc.value)
+
+
+def test_a_top_whose_moment_offset_puts_it_outside_its_box_is_told_so():
+    """A magnet far above the centre of mass (top.moment_offset = -6 cm) starts the top outside the
+    box about its hover height: the refusal names the key, not an offset the user did not give."""
+    import levitron as lev
+    from levitron.runtime.errors import UserError
+    study = lev.load("thesis_stable", {"top.moment_offset": -0.06})
+    with pytest.raises(UserError) as exc:
+        study.simulate(1000.0, t_end=0.1)
+    assert "top.moment_offset" in str(exc.value) and "offset 0" not in str(exc.value)

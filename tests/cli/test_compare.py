@@ -67,3 +67,18 @@ def test_a_dimensionless_scene_is_not_compared_with_si_ones(tmp_path, capsys):
     assert cli.main(["compare", "thesis_stable", str(path), "--n", "16"]) == 2
     err = capsys.readouterr().err
     assert "dimensionless" in err and len(err.strip().splitlines()) == 1
+
+
+def test_the_first_scenes_production_table_is_everyones_under_the_flags(tmp_path, capsys):
+    """As the hand: the production run of every scene's yield is the first scene's [production]
+    table (its washers here), with the flags over it (--kits)."""
+    from pathlib import Path
+
+    import levitron
+    shipped = Path(levitron.__file__).parent / "scenes" / "thesis_air.toml"
+    path = tmp_path / "air_kits.toml"
+    path.write_text(shipped.read_text() + '\n[production]\nwashers = ["0.2 g", "0.4 g"]\nkits = 300\n')
+    argv = ["--n", "8", "--t-end", "1", "--success-time", "1", "--workers", "1", "--kits", "10"]
+    r = _json(["compare", str(path), "thesis_stable", *argv, "--json"], capsys)
+    prod = r["hand"]["production"]
+    assert prod["washers"] == pytest.approx([0.0002, 0.0004]) and prod["kits"] == 10

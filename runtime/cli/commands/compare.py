@@ -30,7 +30,7 @@ def run(args) -> dict:
     scenes = [load(n, args.set) for n in args.scenes]       # validate all before running any
     request = launch.launch_request(args, scenes[0])
     flags = [k for k in ALL_INPUTS if getattr(args, f"dist_{k}") is not None]
-    prod = production_of(args, request.seed)
+    prod = production_of(args, request.seed, scenes[0].data.get("production"))    # the first scene's, as the hand
     return compare([load_model(s) for s in scenes], request, flags, prod).as_json()
 
 
