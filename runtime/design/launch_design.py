@@ -42,12 +42,16 @@ runtime/scan/launch_odds.py, estimated as `levitron launch` estimates it:
    values, so its own estimate is biased upwards; the fresh one is not, and carries its 95 %
    Wilson interval.
 5. **Say how sharp it is.** The odds at +- a maker's tolerance of each key, on the first
-   min(n, SEARCH_N) of the answer's fresh draws, paired with the answer (`paired_side`); for two
-   or three keys the ridge they share (runtime/design/sharpness.py).
+   min(n, SIDE_N) of the answer's fresh draws, paired with the answer (`paired_side`); for two
+   or three keys the ridge they share (runtime/design/sharpness.py). A side reports the answer's
+   odds plus the paired difference, which 250 paired launches measure to 1.1-1.5 points (sd;
+   thesis_air's trim at +-0.1 g: 3-6 % of the launches differ), beside the answer's own 0.75
+   points on 1000 launches; 500 would give 0.9 points (the side's 95 % interval about 2.3 points
+   wide each way instead of 2.9) at twice the cost.
 
 The cost is two Monte Carlos of n launches at the success time (the answer and the start) and at
-most GRID[k]^k (1 + ZOOMS) + 1 + 2 k of min(n, SEARCH_N) launches (the search at its search time,
-the sharpness at the success time), less the launches the paired comparison saves (make bench:
+most GRID[k]^k (1 + ZOOMS) + 1 of min(n, SEARCH_N) launches at the search time and 2 k of
+min(n, SIDE_N) at the success time (the sharpness), less the launches the paired comparison saves (make bench:
 kinds launch-design and advice). With local workers every
 Monte Carlo of the design runs in one kept pool: the workers start once for the whole command.
 """
@@ -77,6 +81,7 @@ GRID = {1: 7, 2: 5, 3: 3}       # points a key of each grid, by the number of ke
 SEARCH_HORIZON = 0.125          # the search judges its launches at this fraction of the success time,
 SEARCH_PERIODS = 3              # but over at least this many of the slowest motion's periods
 SEARCH_N = 500                  # the search compares points on the first this many launches of the seed
+SIDE_N = 250                    # a neighbour of the answer (sharpness, trim's widest): its first this many
 ZOOMS = 2
 EDGE_STEPS = 4                  # bisections of each edge of a one-key plateau
 FRESH = 1                       # the deciding Monte Carlo's seed: the search's seed + FRESH
@@ -123,6 +128,11 @@ class Pinned:
             start = {"defaulted": sorted(set(inputs) - set(request.given))}
             return cls(pinned, start, None if x is None else dict(zip(keys, x)), _search_time(at, prep))
         raise UserError(f"{first} (and at every point of the «vary» box's grid): move or widen the box")
+
+
+def side_n(n: int) -> int:
+    """The launches of a neighbour of the answer (module docstring, step 5): min(n, SIDE_N)."""
+    return min(int(n), SIDE_N)
 
 
 def search_n(n: int) -> int:
@@ -304,8 +314,8 @@ def _search(model, varies, keys, pinned: Pinned, req: mc.Request, box, odds: Pai
         warnings.append(f"the scene as written cannot be launched ({first.get('reason', 'no hover')}); "
                         f"the launch spread's defaults are taken at {where}")
     def fresh_odds(x):              # the sharpness's sides, paired with the answer on its fresh draws
-        odds.tick(search_n(req.n))
-        side = odds_at(model.ref, keys, x, fresh.with_n(search_n(req.n)), odds.pool)
+        odds.tick(side_n(req.n))
+        side = odds_at(model.ref, keys, x, fresh.with_n(side_n(req.n)), odds.pool)
         return paired_side(final, side)["probability"]
     sharp = sharpness.sharpness(fresh_odds, model, varies, dict(zip(keys, best)), final["probability"],
                                 tolerance, launch=True)

@@ -13,7 +13,7 @@ thesis 3.3.13-3.3.19) out from under the launch spread. So, after every design:
 2. **Two evaluations a key** (`probe`): the objective at x - tol e_k and x + tol e_k, the others
    at the optimum; the sensitivity is the central difference (f+ - f-) / (2 tol) (near an
    interior optimum small: the loss, f0 - min(f-, f+), is what the verdict reads). For the launch
-   odds both are Monte Carlos on the first min(n, SEARCH_N) of the design's fresh draws, paired
+   odds both are Monte Carlos on the first min(n, SIDE_N) of the design's fresh draws, paired
    with the optimum's (launch_design.paired_side: the request already pinned, in the design's
    kept pool): 2 per key.
 3. **The verdict** (`knife_edge`): a knife edge where either side loses more than LAUNCH_LOSS

@@ -122,13 +122,13 @@ def resonance_advice(model, mass: float, spin, success_time: float) -> tuple[str
 
 def _widest(model, lo: float, hi: float, design, request: mc.Request, pool) -> tuple[dict, list[dict]]:
     """The widest linear spin window over the band's masses, with its launch odds on the first
-    min(n, SEARCH_N) of the design's fresh draws, paired with the advice's (launch_design.paired_side;
+    min(n, SIDE_N) of the design's fresh draws, paired with the advice's (launch_design.paired_side;
     in `pool`), and the window of every mass."""
     limits = spin_limits(model, np.linspace(lo, hi, LIMIT_POINTS))
     widths = [(r["spin_interval"][1] - r["spin_interval"][0]) if r["spin_interval"] else -np.inf
               for r in limits]
     widest = dict(limits[int(np.argmax(widths))])
-    m = ld.search_n(design.n)
+    m = ld.side_n(design.n)
     fresh = mc.Request(dict(design.inputs), m, design.seed + ld.FRESH, design.success_time,
                        design.t_end, request.integrator, request.tol, request.workers, request.scheduler)
     side = ld.odds_at(model.ref, ["top.mass"], [widest["mass"]], fresh, pool)
