@@ -105,7 +105,7 @@ class PairedOdds:
         try:
             model = model_for(*variant(self.ref, self.keys, x))
             prep = mc.prepare(model, r.given, n, r.seed, r.success_time, r.t_end, r.integrator, r.tol,
-                              r.workers, r.scheduler)
+                              r.workers, r.scheduler, warn=False)     # a point's odds: no one reads its warnings
         except UserError as exc:
             self.tick(n)
             return {"probability": 0.0, "probability_ci95": [0.0, 0.0], "n": n, "seed": r.seed,

@@ -211,8 +211,9 @@ class Prepared:
 def prepare(model, given: Mapping[str, object], n: int = 1000,
             seed: int = 0, success_time: float | None = None, t_end: float | None = None,
             integrator: str = DEFAULT, tol: float = LAUNCH_TOL, workers: int | None = None,
-            scheduler: str | None = None) -> Prepared:
-    """monte_carlo's checks, defaults and plan (one-line UserErrors), without running a launch."""
+            scheduler: str | None = None, warn: bool = True) -> Prepared:
+    """monte_carlo's checks, defaults and plan (one-line UserErrors), without running a launch; warn
+    False: without the warnings (a design's search point, whose warnings nobody reads)."""
     from levitron.runtime.scan import launch_inputs as li, runners
     from levitron.runtime.physics.equilibrium.finder import hover_height
     from levitron.runtime.physics.stability.analysis import stability_of
@@ -270,8 +271,9 @@ def prepare(model, given: Mapping[str, object], n: int = 1000,
     if success_time > t_end:
         raise UserError(f"«success_time={success_time:g}» is longer than «t_end={t_end:g}»: no run "
                         "could succeed; make «t_end» at least the success time")
-    warnings = reach_warnings(model, dists["spin"], interval, tau, success_time, "spin" not in given) \
-        + resonance_warnings(model, lin, dists["spin"], tau, success_time) + li.field_order_warnings(model, dists, z_s)
+    warnings = (reach_warnings(model, dists["spin"], interval, tau, success_time, "spin" not in given)
+                + resonance_warnings(model, lin, dists["spin"], tau, success_time)
+                + li.field_order_warnings(model, dists, z_s)) if warn else []
     choice = resolve(integrator, tol, None)
     method = choice.name
     refuse_on_full_model(method, "launch")
