@@ -348,8 +348,10 @@ def repo_copy(tmp_path):
     can only ever damage the copy."""
     repo = tmp_path / "repo"
     for name in ("levitron", "scene", "derive", "runtime", "scenes"):
-        shutil.copytree(ROOT / name, repo / name, ignore=shutil.ignore_patterns("__pycache__"))
-    shutil.copy2(ROOT / "pyproject.toml", repo)      # levitron/__init__ maps a checkout by it
+        # symlinks=True: levitron/ holds relative links to the top-level folders (docs/INTERFACES.md
+        # "Layout"), which the copy keeps as links, not as second copies of the code
+        shutil.copytree(ROOT / name, repo / name, ignore=shutil.ignore_patterns("__pycache__"), symlinks=True)
+    shutil.copy2(ROOT / "pyproject.toml", repo)
     shutil.copytree(ROOT / "generated" / SCENE, repo / "generated" / SCENE)
     return repo
 
