@@ -28,7 +28,7 @@ the design's light edge, after checking that the design's band opens at z_c and 
 stable at EDGE_CHECKS heights from its z_c to the bracket (about 0.1 s); where a check fails, the
 full band scan (equilibria_of(bands=True), about 0.5 s).
 
-**A kit's launch** (`kit_verdicts`): the launch of runtime/scan/launch_odds.py run_chunk, each at
+**A kit's launch** (`kit_points`): the launch of runtime/scan/launch_chunk.py run_chunk, each at
 the kit's own parameter vector (its mass with the washers on, its moment times its strength) with
 the hand's deviations on top, through the same C chunk driver and workers.
 """
@@ -255,9 +255,10 @@ def run_kit_chunk(kp: KitPlan, indices) -> dict:
     return run_chunk(kp.plan, indices, base=lambda i: kp.rows[i])
 
 
-def kit_verdicts(model, plan, rows: np.ndarray, success_time: float, pool, workers: int) -> np.ndarray:
+def kit_points(model, plan, rows: np.ndarray, pool, workers: int) -> list[dict]:
     """The launches of `plan` (its dists each launch's draws) at the parameter vectors rows (n, P),
-    run to plan.t_end: floats or not (as production._verdicts, on `workers` local workers in pool)."""
+    run to plan.t_end: their points by launch (production._verdicts judges them), on `workers`
+    local workers in pool."""
     from levitron.runtime.scan import runners
     kp = KitPlan(plan, tuple(tuple(float(v) for v in r) for r in rows))
     n = len(rows)
@@ -268,4 +269,4 @@ def kit_verdicts(model, plan, rows: np.ndarray, success_time: float, pool, worke
     else:
         got = runners.run_serial(kp, chunks, True, fn=run_kit_chunk, what="launch")
     pts = sorted((p for r in got for p in r["points"]), key=lambda p: p["i"])
-    return np.array([p["t"] >= success_time * (1 - 1e-12) for p in pts])
+    return pts

@@ -41,10 +41,12 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from levitron.runtime.design.kits import KeySpread, kit_bands, kit_vectors, kit_verdicts, parse_spread
+from levitron.runtime.design.kits import KeySpread, kit_bands, kit_points, kit_vectors, parse_spread
+from levitron.runtime.integrate.verdict import PAST_WINDOW
 from levitron.runtime.errors import UserError
 from levitron.runtime.scan import launch_odds as mc
 from levitron.runtime.scan.launch_summary import wilson
+from levitron.runtime.scan.launch_window import WindowJudge
 from levitron.runtime.scan.spreads import Dist, parse_input
 from levitron.runtime.ui.validate import count
 from levitron.runtime.words import si
@@ -178,11 +180,28 @@ def _verdicts(model, plan: mc.Plan, draws: Mapping[str, np.ndarray], success_tim
     n = len(next(iter(draws.values())))
     each = replace(plan, dists=tuple((k, Each(draws[k])) for k, _ in plan.dists), n=n)
     if rows is not None:
-        return kit_verdicts(model, each, rows, success_time, pool, plan_workers(n))
-    prep = mc.Prepared(each, success_time, None, math.nan, None, {}, (), plan_workers(n), None)
-    pts = sorted((p for r in mc.execute(prep, model, range(n), quiet=True, pool=pool) for p in r["points"]),
-                 key=lambda p: p["i"])
-    return np.array([p["t"] >= success_time * (1 - 1e-12) for p in pts])
+        pts = kit_points(model, each, rows, pool, plan_workers(n))
+    else:
+        prep = mc.Prepared(each, success_time, None, math.nan, None, {}, (), plan_workers(n), None)
+        pts = sorted((p for r in mc.execute(prep, model, range(n), quiet=True, pool=pool) for p in r["points"]),
+                     key=lambda p: p["i"])
+    # a launch up past its window floats no more than in `launch` (runtime/scan/launch_window.py)
+    WindowJudge(model, _interval(model), None if rows is None else rows.__getitem__).mark(
+        draws["spin"], success_time, [{"points": pts}])
+    return np.array([p["t"] >= success_time * (1 - 1e-12) and p["status"] != PAST_WINDOW for p in pts])
+
+
+def _interval(model):
+    """The scene's top's spin interval (the exact route), None where it has none or no friction
+    asks for it."""
+    from levitron.runtime.physics.apparatus.friction import has_friction
+    from levitron.runtime.physics.stability.analysis import stability_of
+    if not has_friction(model):
+        return None
+    try:
+        return stability_of(model, eigen=False).spin_interval
+    except UserError:
+        return None
 
 
 def plan_workers(n: int) -> int:

@@ -31,10 +31,11 @@ WINDOW_MARGIN = 1.05
 
 class WindowJudge:
     """Marks the launches of one Monte Carlo past their window (module docstring). interval: the
-    scene's top's spin interval (launch_odds.prepare's), None where it has none."""
+    scene's top's spin interval (launch_odds.prepare's), None where it has none; base(i): launch i's
+    parameter vector where it has its own plate (a production run's kit, runtime/design/kits.py)."""
 
-    def __init__(self, model, interval):
-        self.model = model
+    def __init__(self, model, interval, base=None):
+        self.model, self.base = model, base
         self.k = model.pvals().get("k_spin", 0.0) if has_friction(model) else 0.0
         self.near = WINDOW_MARGIN * interval[0] if interval else math.inf
 
@@ -49,7 +50,7 @@ class WindowJudge:
         n, reason = 0, None
         for p in up if self.k > 0 else ():
             spin = spins[p["i"]]
-            lower = _lower(self.model, p["m"], p["mu"], p["z_s"])
+            lower = _lower(self.model, p["m"], p["mu"], p["z_s"], None if self.base is None else self.base(p["i"]))
             why = past_window(p["status"], t_end, lower, abs(spin) * decay,
                               crossing_time(spin, lower, self.k) if lower else None)
             if why:
@@ -59,13 +60,14 @@ class WindowJudge:
         return {"launches": n, "reason": reason}
 
 
-def _lower(model, m: float, mu: float, z_s: float) -> float | None:
+def _lower(model, m: float, mu: float, z_s: float, base=None) -> float | None:
     """The lower critical spin of the top of mass m and moment mu hovering at z_s over the model's
-    plate, by the exact route (thesis 3.3.9-3.3.16); None where it has no bounded interval."""
+    plate (base: the parameter vector of its own plate, if not the scene's), by the exact route
+    (thesis 3.3.9-3.3.16); None where it has no bounded interval."""
     from levitron.runtime.physics.equilibrium.finder import model_onaxis
     from levitron.runtime.physics.routes.ray_algebra import RayCoefficients, spin_intervals_discriminant
     P = model.pvals()
-    ph = np.asarray(model_onaxis(model)(z_s), float)       # the plate's Phi_k: not the top's
+    ph = np.asarray(model_onaxis(model, base)(z_s), float)       # the plate's Phi_k: not the top's
     bounded = [iv for iv in spin_intervals_discriminant(RayCoefficients.from_physics(
         ph[1], ph[2], ph[3], m, P["A"], P["C"], mu)) if iv[1] < math.inf and iv[0] > 0]
     return bounded[0][0] if bounded else None

@@ -80,3 +80,17 @@ def test_a_production_run_is_checked_in_one_line(kit, washers, kits, words):
     with pytest.raises(UserError) as err:
         pr.Production.of(kit, washers, kits)
     assert words in str(err.value) and "\n" not in str(err.value)
+
+
+def test_a_kit_launch_past_its_window_does_not_float(derived_model):
+    """As in `launch` (runtime/scan/launch_window.py): a kit's launch still up at the success time
+    whose spin has decayed below its window floats no more (thesis_air, 8 s decay time, 1750 rad/s:
+    454 rad/s at 10.8 s, below 459.6); at 5 s its spin is twice the edge and the verdicts stand."""
+    from levitron.runtime.design import production
+    from levitron.runtime.scan import launch_odds as mc
+    model = derived_model("thesis_air", "top.spin_decay_time=8")
+    hand = {"spin": "normal:1750,1", "tilt": "uniform:0,0.002", "offset": "0", "velocity": "0"}
+    for success_time, some in ((10.8, False), (5.0, True)):
+        prep = mc.prepare(model, hand, n=8, success_time=success_time, workers=1)
+        floats = production._verdicts(model, prep.plan, mc.samples(prep.plan), success_time, None)
+        assert floats.any() == some
