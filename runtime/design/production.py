@@ -193,15 +193,17 @@ def _verdicts(model, plan: mc.Plan, draws: Mapping[str, np.ndarray], success_tim
 
 def _interval(model):
     """The scene's top's spin interval (the exact route), None where it has none or no friction
-    asks for it."""
+    asks for it; kept on the model (a design asks it of one model for every curve and kit run)."""
     from levitron.runtime.physics.apparatus.friction import has_friction
     from levitron.runtime.physics.stability.analysis import stability_of
     if not has_friction(model):
         return None
-    try:
-        return stability_of(model, eigen=False).spin_interval
-    except UserError:
-        return None
+    if "_window_interval" not in model.__dict__:
+        try:
+            model.__dict__["_window_interval"] = stability_of(model, eigen=False).spin_interval
+        except UserError:
+            model.__dict__["_window_interval"] = None
+    return model.__dict__["_window_interval"]
 
 
 def plan_workers(n: int) -> int:
