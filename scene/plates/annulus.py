@@ -34,4 +34,5 @@ KIND = PlateKind(
     example='kind = "annulus"\nradius = 0.10\nhole = 0.03\nmurho = -0.0026',
     outline=outline,
     quarter_turn=None,
+    exact_field=None,
 )

@@ -73,6 +73,9 @@ class PlateKind:
     example: str
     outline: Callable[[dict], dict | None] | None        # the drawn base; None: none (no default)
     quarter_turn: Callable[[Mapping[str, float], float], tuple] | None   # None: axisymmetric (no default)
+    # the model's field of a table of this kind is exact (no expansion about the axis, thesis eq. 2.2.6,
+    # to truncate); None: always the expansion (no default)
+    exact_field: Callable[[dict], bool] | None
     decisions: tuple[Decision, ...] = ()
     length_keys: tuple[str, ...] = ()
     units: Mapping[str, str] = field(default_factory=dict)     # resolved name -> SI unit (not lengths)

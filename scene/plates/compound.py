@@ -74,4 +74,5 @@ KIND = PlateKind(
             'current = -50.0',
     outline=None,          # drawn as its parts' (has_parts)
     quarter_turn=None,     # its parts' symmetry (has_parts)
+    exact_field=None,      # its parts' (has_parts)
 )

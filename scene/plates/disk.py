@@ -24,4 +24,5 @@ KIND = PlateKind(
     example='kind = "disk"\nradius = 0.10\nmurho = -0.0026',
     outline=outline,
     quarter_turn=None,
+    exact_field=None,
 )

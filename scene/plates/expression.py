@@ -80,6 +80,7 @@ KIND = PlateKind(
     example='kind = "expression"\nphi0 = "b*z/sqrt(z**2 + c**2)"\n\n[plate.params]\nb = 1.0\nc = 0.5',
     outline=None,          # a formula has no shape to draw
     quarter_turn=None,     # the Laplace expansion of an on-axis formula is axisymmetric
+    exact_field=None,      # the expansion of its on-axis formula
 )
 
 

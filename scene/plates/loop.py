@@ -35,4 +35,5 @@ KIND = PlateKind(
     example='kind = "loop"\nradius = 0.05\ncurrent = 1000.0',
     outline=outline,
     quarter_turn=None,
+    exact_field=None,
 )

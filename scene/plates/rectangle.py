@@ -115,4 +115,5 @@ KIND = PlateKind(
     example='kind = "rectangle"\nside = 0.10\nthickness = 0.02\nremanence = 0.39',
     outline=outline,
     quarter_turn=quarter_turn,
+    exact_field=lambda table: not holed(table),     # the block's exact 3-D field; a hole's is expanded
 )

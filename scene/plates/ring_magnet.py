@@ -46,4 +46,5 @@ KIND = PlateKind(
     example='kind = "ring_magnet"\nr_out = 0.06\nr_in = 0.03\nthickness = 0.02\nremanence = 0.39',
     outline=outline,
     quarter_turn=None,
+    exact_field=None,
 )

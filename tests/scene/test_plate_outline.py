@@ -13,7 +13,7 @@ from levitron.scene.plates import docs
 from levitron.scene.plates.base import PlateKind
 from levitron.scene.load import validate
 
-DECLARED = ("outline", "quarter_turn")
+DECLARED = ("outline", "quarter_turn", "exact_field")
 SHAPES = {"disc", "ring", "rect", "loop"}
 
 
@@ -32,6 +32,7 @@ def test_every_registered_kind_has_an_outline_or_says_it_has_none(kind):
     k = plates.KINDS[kind]
     assert k.outline is None or callable(k.outline)
     assert k.quarter_turn is None or callable(k.quarter_turn)
+    assert k.exact_field is None or callable(k.exact_field)
     table = tomllib.loads(docs.example_scene(k))["plate"]
     if k.outline is None:
         return

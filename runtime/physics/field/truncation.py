@@ -94,15 +94,14 @@ def relative_difference(lower, higher) -> float | None:
 
 
 def expanded(plate: dict) -> bool:
-    """Whether a plate's field in the model is (in part) the expansion about the axis: every kind's
-    but a rectangle's, whose exact 3-D field the model uses (its hole's field is expanded), and a
+    """Whether a plate's field in the model is (in part) the expansion about the axis: as its kind
+    declares (scene/plates/base.py `exact_field`: a rectangle without a hole is exact), and a
     compound's where one of its parts is (Scene.data["plate"], derive/plate_fields/plate.py)."""
-    from levitron.scene.plates.rectangle import holed
-    if plate.get("kind") == "rectangle":
-        return holed(plate)
-    if plate.get("parts"):
-        return any(expanded(part) for part in plate["parts"])
-    return True
+    from levitron.scene.plates import KINDS
+    kind = KINDS.get(plate.get("kind"))
+    if kind is not None and kind.has_parts:
+        return any(expanded(part) for part in plate.get("parts") or ())
+    return kind is None or kind.exact_field is None or not kind.exact_field(plate)
 
 
 def loader(model) -> Callable[[int], object]:
