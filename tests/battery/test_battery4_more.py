@@ -129,3 +129,11 @@ def test_a_top_whose_moment_offset_puts_it_outside_its_box_is_told_so():
     with pytest.raises(UserError) as exc:
         study.simulate(1000.0, t_end=0.1)
     assert "top.moment_offset" in str(exc.value) and "offset 0" not in str(exc.value)
+
+
+def test_a_level_base_is_not_called_tilted():
+    """A magnet far above the centre of mass (moment_offset = -z_s) has no stable spin: the reason
+    speaks of the level base it is over, not of a base tilted by 0 rad."""
+    import levitron as lev
+    st = lev.load("thesis_stable", {"top.moment_offset": -0.10646745880103986}).stability()
+    assert st.spin_interval is None and "on the level base" in st.reason and "tilted by 0" not in st.reason

@@ -115,7 +115,8 @@ def tilted_analysis(model, p: np.ndarray, top: TiltedTop | None = None) -> Stabi
     bounded = [iv for iv in eig if iv[1] < math.inf and iv[0] > 0]
     reason = None
     if not bounded:
-        reason = (f"on the base tilted by {tilt:.6g} rad no spin rate makes the top linearly stable "
+        where = "on the level base" if tilt == 0 else f"on the base tilted by {tilt:.6g} rad"
+        reason = (f"{where} no spin rate makes the top linearly stable "
                   "at its equilibrium (eigenvalues of the generated Jacobian)")
     elif len(bounded) > 1:
         (_, a), (b, _) = bounded[0], bounded[1]
