@@ -138,7 +138,8 @@ def _yield(model, hand: mc.Request, production, pool) -> dict:
         return {"yield": None, "yield_as_shipped": None, "yield_reason": str(exc)}
     from levitron.runtime.ui import progress
     with progress.task(f"{model.scene.name}: the yield of {production.kits} kits", total=1, log_every=10.0) as tick:
-        got = production_yield(model, prep.plan, prep.success_time, ld._search_time(model, prep), production, pool)
+        got = production_yield(model, prep.plan, prep.success_time, ld._search_time(model, prep), production, pool,
+                               scheduler=prep.scheduler)
         tick()
     return {"yield": got["yield"], "yield_as_shipped": got["as_shipped"]}
 

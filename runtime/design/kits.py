@@ -255,16 +255,24 @@ def run_kit_chunk(kp: KitPlan, indices) -> dict:
     return run_chunk(kp.plan, indices, base=lambda i: kp.rows[i])
 
 
-def kit_points(model, plan, rows: np.ndarray, pool, workers: int) -> list[dict]:
+def kit_points(model, plan, rows: np.ndarray, pool, workers: int, scheduler: str | None = None) -> list[dict]:
     """The launches of `plan` (its dists each launch's draws) at the parameter vectors rows (n, P),
     run to plan.t_end: their points by launch (production._verdicts judges them), on `workers`
-    local workers in pool."""
+    local workers in pool, or on the dask scheduler at `scheduler` (as launch_odds.execute)."""
     from levitron.runtime.scan import runners
     kp = KitPlan(plan, tuple(tuple(float(v) for v in r) for r in rows))
     n = len(rows)
     chunks = runners.split(list(range(n)), workers * 4 if workers > 1 else max(1, min(50, n // 20)))
     runners.remember(kp, model)
-    if workers > 1:
+    if scheduler:
+        from levitron.runtime.scan.workers import dask_errors_as_ours
+        with dask_errors_as_ours():
+            client = runners.dask_client(scheduler)
+            try:
+                got = runners.run_dask(kp, chunks, client, True, fn=run_kit_chunk, what="launch")
+            finally:
+                client.close()
+    elif workers > 1:
         got = runners.run_processes(kp, chunks, workers, True, fn=run_kit_chunk, what="launch", pool=pool)
     else:
         got = runners.run_serial(kp, chunks, True, fn=run_kit_chunk, what="launch")

@@ -174,15 +174,15 @@ def _hand(plan: mc.Plan, n: int, rng) -> dict[str, np.ndarray]:
 
 
 def _verdicts(model, plan: mc.Plan, draws: Mapping[str, np.ndarray], success_time: float, pool,
-              rows: np.ndarray | None = None) -> np.ndarray:
+              rows: np.ndarray | None = None, scheduler: str | None = None) -> np.ndarray:
     """The launches `draws` (every input launch by launch) run to plan.t_end: floats or not. rows
     (n, P): each launch at its own parameter vector, mass and strength deviating from its (kits.py)."""
     n = len(next(iter(draws.values())))
     each = replace(plan, dists=tuple((k, Each(draws[k])) for k, _ in plan.dists), n=n)
     if rows is not None:
-        pts = kit_points(model, each, rows, pool, plan_workers(n))
+        pts = kit_points(model, each, rows, pool, plan_workers(n), scheduler)
     else:
-        prep = mc.Prepared(each, success_time, None, math.nan, None, {}, (), plan_workers(n), None)
+        prep = mc.Prepared(each, success_time, None, math.nan, None, {}, (), plan_workers(n), scheduler)
         pts = sorted((p for r in mc.execute(prep, model, range(n), quiet=True, pool=pool) for p in r["points"]),
                      key=lambda p: p["i"])
     # a launch up past its window floats no more than in `launch` (runtime/scan/launch_window.py)
@@ -218,7 +218,8 @@ def scene_band(model):
     return eqm.equilibria_of(model, bands=True).stable_band
 
 
-def owner_curve(model, plan: mc.Plan, search_time: float, seed: int, pool=None, band=None) -> dict:
+def owner_curve(model, plan: mc.Plan, search_time: float, seed: int, pool=None, band=None,
+                scheduler: str | None = None) -> dict:
     """The scene's odds against the top's place in its stable band (module docstring): CURVE_POINTS
     masses inside the band (band: scene_band's, computed where None), CURVE_N launches each on the
     same draws, judged at search_time. {"mass" (kg), "position" in the band, "odds", "best" (kg),
@@ -233,7 +234,7 @@ def owner_curve(model, plan: mc.Plan, search_time: float, seed: int, pool=None, 
     m0 = model.param("m")
     draws = {k: np.tile(v, CURVE_POINTS) for k, v in hand.items()}
     draws["mass"] = np.repeat(masses / m0, CURVE_N) * (1 + draws["mass"]) - 1
-    ok = _verdicts(model, replace(plan, t_end=search_time), draws, search_time, pool)
+    ok = _verdicts(model, replace(plan, t_end=search_time), draws, search_time, pool, scheduler=scheduler)
     odds = ok.reshape(CURVE_POINTS, CURVE_N).mean(axis=1)
     top = masses[odds >= odds.max()]
     best = 0.5 * float(top.min() + top.max())
@@ -276,18 +277,18 @@ def draw_kits(model, prod: Production, band) -> dict:
 
 
 def production_yield(model, plan: mc.Plan, success_time: float, search_time: float, prod: Production,
-                     pool=None, as_shipped: bool = True) -> dict:
+                     pool=None, as_shipped: bool = True, scheduler: str | None = None) -> dict:
     """The yield of the module docstring at the loaded model (a design point): {"yield": the answer
     block (probability, probability_ci95, kits, seed, successes), "as_shipped" (the same kits and
     launches with no washer; as_shipped False: not run), "untrimmable" (the fraction of kits no
     washer total puts in their band's odds), "washers_used" {total: kits}, "curve", "verdicts" (each
     kit's launch, in order: the pairing of two designs)}; where no mass hovers over the model,
-    yield 0 with the reason."""
+    yield 0 with the reason. scheduler: a dask scheduler's address the launches run on (as launch's)."""
     if prod.keys:
         from levitron.runtime.design.kits import check_spreads
         check_spreads(model.scene, model.param_names, prod.keys)
     band = scene_band(model)
-    curve = owner_curve(model, plan, search_time, prod.seed, pool, band) if band is not None else None
+    curve = owner_curve(model, plan, search_time, prod.seed, pool, band, scheduler) if band is not None else None
     n = prod.kits
     if curve is None or max(curve["odds"]) <= 0:
         reason = ("no mass hovers over this design (no stable band)" if curve is None else
@@ -311,10 +312,10 @@ def production_yield(model, plan: mc.Plan, success_time: float, search_time: flo
         if kits["rows"] is not None:        # each kit at its own parameters, the hand's deviations on top
             rows = kits["rows"].copy()
             rows[:, model.param_names.index("m")] = mass + added
-            return _verdicts(model, plan, draws, success_time, pool, rows)
+            return _verdicts(model, plan, draws, success_time, pool, rows, scheduler)
         draws["mass"] = (mass + added) / m0 * (1 + hand["mass"]) - 1
         draws["strength"] = kits["strength"] * (1 + hand["strength"]) - 1
-        return _verdicts(model, plan, draws, success_time, pool)
+        return _verdicts(model, plan, draws, success_time, pool, scheduler=scheduler)
 
     def block(ok):
         k = int(ok.sum())

@@ -82,7 +82,7 @@ def _maximize(model, varies, request, prod: Production, pool, tolerance=None) ->
         here = ld._model_at(model.ref, keys, x)
         plan = replace(prep.plan, scene=here.ref[0], overrides=tuple(here.ref[1]))
         return production_yield(here, plan, prep.success_time, pinned.search_time or prep.success_time, p,
-                                pool, as_shipped)
+                                pool, as_shipped, prep.scheduler)
     with progress.task(f"yield design over {', '.join(keys)}: evaluations", total=n_grid + n_zoom + 2 + 2 * len(keys),
                        log_every=10.0) as tick:
         for grid in (_points(box, GRID[len(keys)]), None):

@@ -94,3 +94,22 @@ def test_a_kit_launch_past_its_window_does_not_float(derived_model):
         prep = mc.prepare(model, hand, n=8, success_time=success_time, workers=1)
         floats = production._verdicts(model, prep.plan, mc.samples(prep.plan), success_time, None)
         assert floats.any() == some
+
+
+@pytest.mark.parametrize("kit", [KIT, {**KIT, "plate.hole": "abs:normal:0,0.0001"}], ids=["strength", "plate_key"])
+def test_a_production_run_on_a_dask_scheduler_is_the_local_one(derived_model, kit, monkeypatch):
+    """«scheduler» as launch takes it: the kits' launches (each at its own parameters where a scene
+    key is spread) run on a real dask.distributed cluster and give the local run's verdicts."""
+    distributed = pytest.importorskip("dask.distributed", reason="the test extra installs dask[distributed]")
+    from levitron.runtime.scan import runners
+    on_dask, real = [], runners.run_dask
+    monkeypatch.setattr(runners, "run_dask", lambda *a, **k: on_dask.append(1) or real(*a, **k))
+    pinned = derived_model("thesis_stable", "top.mass=0.0515")
+    prep = mc.prepare(pinned, STEADY, 12, 0, t_end=1.0)
+    prod = pr.Production.of(kit, WASHERS, 12)
+    local = pr.production_yield(pinned, prep.plan, prep.success_time, prep.success_time, prod)
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False, host="127.0.0.1",
+                                  protocol="tcp", dashboard_address=None) as cluster:
+        remote = pr.production_yield(pinned, prep.plan, prep.success_time, prep.success_time, prod,
+                                     scheduler=cluster.scheduler_address)
+    assert on_dask and remote["verdicts"] == local["verdicts"] and remote["yield"] == local["yield"]
