@@ -92,7 +92,21 @@ class Production:
         washers positive masses (at most MAX_WASHERS), kits a whole number >= 10; washers and kits
         None: the table's, else none and KITS. table: the scene's [production] (kit, washers, kits)."""
         t = table_settings(table)
-        specs = {**KIT_SPREAD, **t.get("kit", {}), **dict(kit or {})}
+        tabled = {f"«kit» {k}" for k in set(t.get("kit", {})) - set(kit or {})} | \
+            ({"«washers»"} if washers is None and "washers" in t else set()) | \
+            ({"«kits»"} if kits is None and "kits" in t else set())
+        try:
+            return cls._of(dict(kit or {}), washers, kits, seed, t)
+        except UserError as exc:       # a value of the scene's table is refused as the table's
+            said = str(exc)
+            if not any(said.startswith(m) for m in tabled):
+                raise
+            raise UserError(said.replace("«kit» ", "[production.kit] ").replace("«washers»", "[production] washers")
+                            .replace("«kits»", "[production] kits")) from None
+
+    @classmethod
+    def _of(cls, kit: Mapping[str, str], washers, kits, seed: int, t: Mapping) -> Production:
+        specs = {**KIT_SPREAD, **t.get("kit", {}), **kit}
         washers = t.get("washers", ()) if washers is None else washers
         kits = t.get("kits", KITS) if kits is None else kits
         unknown = sorted(k for k in set(specs) - set(KIT_SPREAD) if "." not in str(k))

@@ -113,3 +113,21 @@ def test_a_production_run_on_a_dask_scheduler_is_the_local_one(derived_model, ki
         remote = pr.production_yield(pinned, prep.plan, prep.success_time, prep.success_time, prod,
                                      scheduler=cluster.scheduler_address)
     assert on_dask and remote["verdicts"] == local["verdicts"] and remote["yield"] == local["yield"]
+
+
+@pytest.mark.parametrize("table, words", [
+    ({"kit": {"plate.radius": "abs:normal:0,-1"}}, "[production.kit] plate.radius"),
+    ({"kit": {"strength": "normal:1,0.02"}}, "[production.kit] strength"),
+    ({"washers": [-0.001]}, "[production] washers")])
+def test_a_bad_value_of_the_production_table_is_refused_as_the_tables(table, words):
+    """Words that match what the user typed: a value of the scene's [production] table is named as
+    the table's, never as a flag the user did not type; the same value as a flag names the flag."""
+    from levitron.runtime.words import render
+    with pytest.raises(UserError) as exc:
+        pr.Production.of(table=table)
+    said = render(str(exc.value), "cli")
+    assert said.startswith(words) and "--kit" not in said and "--washers" not in said
+    if "kit" in table:
+        with pytest.raises(UserError) as flag:
+            pr.Production.of(kit=table["kit"], table=table)
+        assert render(str(flag.value), "cli").startswith("--kit ")
