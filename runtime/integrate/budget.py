@@ -102,46 +102,47 @@ def check_options(method: str, t_end: float, tol: float | None = None, h: float 
             raise UserError(f"integrator {method} takes a fixed step; pass a step h > 0 («step»; "
                             f"«tol» is not used by {method})", param="step", value=None, unit="s")
         if not _positive(h):
-            raise UserError(f"step h={h} must be positive and finite; pass e.g. «step=1e-4»",
+            raise UserError(f"«step» {h} must be positive and finite; pass e.g. «step=1e-4»",
                             param="step", value=h, unit="s")
         if h > t_end:
-            raise UserError(f"step h={_s(h)} is longer than the run t_end={_s(t_end)}; pass h <= t_end",
+            raise UserError(f"«step» {_s(h)} is longer than the run «t_end» {_s(t_end)}; pass «step» <= «t_end»",
                             param="step", value=h, unit="s")
         if time_scale is not None:
             if h > time_scale:
-                raise UserError(f"step h={_s(h)} is longer than {what} ({_s(time_scale)}), which it "
-                                f"cannot resolve; pass h <= {_s(time_scale / 20)}", param="step", value=h, unit="s")
+                raise UserError(f"«step» {_s(h)} is longer than {what} ({_s(time_scale)}), which it "
+                                f"cannot resolve; pass «step» <= {_s(time_scale / 20)}", param="step", value=h,
+                                unit="s")
             if h < MIN_STEP_FRACTION * time_scale:
-                raise UserError(f"step h={_s(h)} is below {MIN_STEP_FRACTION:g} of {what} "
-                                f"({_s(time_scale)}); pass h >= {_s(MIN_STEP_FRACTION * time_scale)}",
+                raise UserError(f"«step» {_s(h)} is below {MIN_STEP_FRACTION:g} of {what} "
+                                f"({_s(time_scale)}); pass «step» >= {_s(MIN_STEP_FRACTION * time_scale)}",
                                 param="step", value=h, unit="s")
         n = fixed_steps(t_end, h)
         if n > cap:
-            raise UserError(f"t_end={_s(t_end)} at step h={_s(h)} takes {n:.3g} steps, above the budget "
-                            f"cap of {cap:.0e} for {method}; pass t_end <= {_s(cap * h)} or a "
+            raise UserError(f"«t_end» {_s(t_end)} at «step» {_s(h)} takes {n:.3g} steps, above the budget "
+                            f"cap of {cap:.0e} for {method}; pass «t_end» <= {_s(cap * h)} or a "
                             "larger step", param="t_end", value=t_end, unit="s",
-                            hint=f"pass t_end <= {_s(cap * h)} or a larger step")
+                            hint=f"pass «t_end» <= {_s(cap * h)} or a larger step")
         return
     refuse_step(method, h)
     tolerance(tol)
     if tol > TOL_MAX:
-        raise UserError(f"tolerance tol={tol:g} is too loose to trust a verdict; pass tol <= {TOL_MAX:g}",
-                        param="tol", value=tol, hint=f"pass tol <= {TOL_MAX:g}")
+        raise UserError(f"«tol» {tol:g} is too loose to trust a verdict; pass «tol» <= {TOL_MAX:g}",
+                        param="tol", value=tol, hint=f"pass «tol» <= {TOL_MAX:g}")
     if tol < TOL_MIN:
-        raise UserError(f"tolerance tol={tol:g} is below double precision; pass tol >= {TOL_MIN:g}",
-                        param="tol", value=tol, hint=f"pass tol >= {TOL_MIN:g}")
+        raise UserError(f"«tol» {tol:g} is below double precision; pass «tol» >= {TOL_MIN:g}",
+                        param="tol", value=tol, hint=f"pass «tol» >= {TOL_MIN:g}")
     if time_scale is None:
         return
     resolvable = RESOLUTION_ULPS * sys.float_info.epsilon * t_end * STEPS_PER_PERIOD
     if time_scale < resolvable:
         raise UserError(f"{what} ({_s(time_scale)}) is below what the time variable resolves over "
-                        f"t_end={_s(t_end)} (at least {_s(resolvable)}); pass a shorter «t_end» or a "
+                        f"«t_end» {_s(t_end)} (at least {_s(resolvable)}); pass a shorter «t_end» or a "
                         "slower spin", param="t_end", value=t_end, unit="s",
                         hint="pass a shorter «t_end» or a slower spin")
     need = STEPS_PER_PERIOD * t_end / time_scale
     if need > cap:
-        raise UserError(f"t_end={_s(t_end)} spans {t_end / time_scale:.3g} times {what} "
+        raise UserError(f"«t_end» {_s(t_end)} spans {t_end / time_scale:.3g} times {what} "
                         f"({_s(time_scale)}): about {need:.3g} steps, above the budget cap of "
-                        f"{cap:.0e} for {method}; pass t_end <= {_s(cap * time_scale / STEPS_PER_PERIOD)}",
+                        f"{cap:.0e} for {method}; pass «t_end» <= {_s(cap * time_scale / STEPS_PER_PERIOD)}",
                         param="t_end", value=t_end, unit="s",
-                        hint=f"pass t_end <= {_s(cap * time_scale / STEPS_PER_PERIOD)}")
+                        hint=f"pass «t_end» <= {_s(cap * time_scale / STEPS_PER_PERIOD)}")

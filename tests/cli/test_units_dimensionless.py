@@ -171,7 +171,7 @@ ERRORS = {       # a refusal on a dimensionless scene, and what its one line mus
 @pytest.mark.parametrize("name", list(ERRORS))
 def test_no_si_unit_in_a_dimensionless_scenes_refusals(name, scene, capsys):
     """Every refusal speaks the scene's units: its quantities are markers (runtime/words.py) that
-    the command line shows in them ("step h=10 time units", "in scene units"; before, "in metres")."""
+    the command line shows in them ("--step 10 time units", "in scene units"; before, "in metres")."""
     argv, says = ERRORS[name]
     assert cli.main([argv[0], scene, *argv[1:]]) == 2
     err = capsys.readouterr().err

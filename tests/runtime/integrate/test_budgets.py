@@ -103,7 +103,7 @@ def test_default_budget_lets_a_normal_run_finish(casadi_osc, method):
     ({"method": "rk4", "h": 1e-12}, "below 1e-09", "step"),
     ({"method": "rk4", "h": 2.0}, "cannot resolve", "step"),
     ({"method": "rk4", "h": 1e-6, "t_end": 1e5}, "budget cap", "t_end"),
-    ({"method": "dop853", "tol": 1e-9, "t_end": 1e9}, "t_end <= ", "t_end"),
+    ({"method": "dop853", "tol": 1e-9, "t_end": 1e9}, "spans .* above the budget cap", "t_end"),
     ({"method": "dop853", "tol": 1e-9, "time_scale": 1e-14}, "resolves", "t_end"),
     ({"method": "dop853", "tol": 1e-9, "n_out": 10**9}, "n_out", "n_out"),
     ({"method": "dop853", "tol": 1e-9, "h": 1e-3}, "adaptive", "step"),
@@ -123,18 +123,18 @@ def test_unreasonable_options_are_refused_with_the_reason(kwargs, words, param):
 
 def test_the_budgets_sentences_carry_their_time_unit():
     """A refused step or run length says its times as quantities in s (runtime/words.py), shown in
-    s in an SI scene and in time units in a dimensionless one: 'step h=1 s is longer than the run
-    t_end=0.5 s', not bare numbers."""
+    s in an SI scene and in time units in a dimensionless one: '--step 1 s is longer than the run
+    --t-end 0.5 s' (each setting named as the face spells it), not bare numbers."""
     from levitron.runtime.errors import UserError
     from levitron.runtime.integrate.budget import budget_message, check_options
     from levitron.runtime.ui.human import Units
     from levitron.runtime.words import in_units
     with pytest.raises(UserError) as exc:
         check_options("rk4", 0.5, h=1.0)
-    assert "step h=1 s is longer than the run t_end=0.5 s" in exc.value.words("cli"), exc.value
-    assert "step h=1 time units is longer than the run t_end=0.5 time units" in \
+    assert "--step 1 s is longer than the run --t-end 0.5 s" in exc.value.words("cli"), exc.value
+    assert "step 1 time units is longer than the run t_end 0.5 time units" in \
         exc.value.words("api", Units(si=False)), exc.value
     with pytest.raises(UserError) as exc:
         check_options("rk4", 1.0, h=0.1, time_scale=0.01)
-    assert "(0.01 s), which it cannot resolve; pass h <= 0.0005 s" in exc.value.words("cli"), exc.value
+    assert "(0.01 s), which it cannot resolve; pass --step <= 0.0005 s" in exc.value.words("cli"), exc.value
     assert "at t = 0.25 s before t_end" in in_units(budget_message(100, 0.25))
