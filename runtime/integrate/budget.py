@@ -79,6 +79,21 @@ def _positive(x) -> bool:
     return x is not None and math.isfinite(x) and x > 0
 
 
+def check_tolerance(method: str, tol) -> None:
+    """An adaptive method's tolerance, checked before any model is loaded (a fixed-step method
+    takes none; None: the default, nothing to check): positive, finite and within [TOL_MIN,
+    TOL_MAX], with check_options's refusals."""
+    if lookup(method).fixed_step or tol is None:
+        return
+    tol = tolerance(tol)
+    if tol > TOL_MAX:
+        raise UserError(f"«tol» {tol:g} is too loose to trust a verdict; pass «tol» <= {TOL_MAX:g}",
+                        param="tol", value=tol, hint=f"pass «tol» <= {TOL_MAX:g}")
+    if tol < TOL_MIN:
+        raise UserError(f"«tol» {tol:g} is below double precision; pass «tol» >= {TOL_MIN:g}",
+                        param="tol", value=tol, hint=f"pass «tol» >= {TOL_MIN:g}")
+
+
 def check_options(method: str, t_end: float, tol: float | None = None, h: float | None = None,
                   n_out: int = 1, time_scale: float | None = None, what: str = "the fastest period",
                   max_steps: int | None = None) -> None:
@@ -105,8 +120,8 @@ def check_options(method: str, t_end: float, tol: float | None = None, h: float 
             raise UserError(f"«step» {h} must be positive and finite; pass e.g. «step=1e-4»",
                             param="step", value=h, unit="s")
         if h > t_end:
-            raise UserError(f"«step» {_s(h)} is longer than the run «t_end» {_s(t_end)}; pass «step» <= «t_end»",
-                            param="step", value=h, unit="s")
+            raise UserError(f"«step» {_s(h)} is longer than the run «t_end» {_s(t_end)}; pass «step» <= "
+                            "«t_end»", param="step", value=h, unit="s")
         if time_scale is not None:
             if h > time_scale:
                 raise UserError(f"«step» {_s(h)} is longer than {what} ({_s(time_scale)}), which it "
@@ -124,13 +139,7 @@ def check_options(method: str, t_end: float, tol: float | None = None, h: float 
                             hint=f"pass «t_end» <= {_s(cap * h)} or a larger step")
         return
     refuse_step(method, h)
-    tolerance(tol)
-    if tol > TOL_MAX:
-        raise UserError(f"«tol» {tol:g} is too loose to trust a verdict; pass «tol» <= {TOL_MAX:g}",
-                        param="tol", value=tol, hint=f"pass «tol» <= {TOL_MAX:g}")
-    if tol < TOL_MIN:
-        raise UserError(f"«tol» {tol:g} is below double precision; pass «tol» >= {TOL_MIN:g}",
-                        param="tol", value=tol, hint=f"pass «tol» >= {TOL_MIN:g}")
+    check_tolerance(method, tolerance(tol))
     if time_scale is None:
         return
     resolvable = RESOLUTION_ULPS * sys.float_info.epsilon * t_end * STEPS_PER_PERIOD

@@ -9,6 +9,7 @@ from levitron.runtime.scan import stability_map as sc
 from levitron.runtime.errors import UserError
 from levitron.runtime.ui.answer_lines import worded
 from levitron.runtime.ui.human import Units, lines
+from levitron.runtime.integrate.budget import check_tolerance
 from levitron.runtime.integrate.methods import DEFAULT, FULL_MODEL_METHODS, lookup
 from levitron.runtime.simulate import trajectory_file
 from levitron.runtime.ui.plotting import check_plot_path
@@ -82,6 +83,7 @@ def run(args) -> dict:
     others = parse_range(spec, axis)
     check_axis(axis, others)
     lookup(args.integrator)   # an unknown name is a one-line UserError
+    check_tolerance(args.integrator, args.tol)      # before the model: no compile to wait for first
     if args.out is not None:
         check_plot_path(args.out, "--out")
     if args.save is not None:
