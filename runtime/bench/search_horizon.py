@@ -56,10 +56,14 @@ def bench(model, out: Path, quick: bool) -> dict:
     pinned = Pinned.at_start(model, request, [Vary("top.mass", lo, hi)])     # the hand, as a design pins it
     T, given, search = pinned.request.success_time, dict(pinned.request.given), pinned.search_time
     masses = np.linspace(lo, hi, o.get("masses", MASSES) + 2)[1:-1]
-    c0 = time.process_time()
-    rows = [{"mass": float(m), **{f"odds_{h:g}": v for h, v in
-                                  _odds_at_horizons(model, float(m), given, o["n"], T, **extra).items()}}
-            for m in masses]
+    from levitron.runtime.ui import progress
+    c0, rows = time.process_time(), []
+    with progress.task(f"search horizon: launches at {len(masses)} masses", total=len(masses) * o["n"],
+                       log_every=10.0) as tick:
+        for m in masses:
+            odds = _odds_at_horizons(model, float(m), given, o["n"], T, **extra)
+            rows.append({"mass": float(m), **{f"odds_{h:g}": v for h, v in odds.items()}})
+            tick(o["n"])
     cpu = time.process_time() - c0
     spread = {}
     for h in HORIZONS:

@@ -13,6 +13,7 @@ import pytest
 from levitron.scene.load import load_scene
 from levitron.runtime.ui.human import Units
 from tests.helpers.dimensionless import SCENE, si_units
+from tests.helpers.trims import trim_with
 
 SI, DL = Units(si=True), Units(si=False)
 
@@ -29,20 +30,6 @@ def _odds(p: float = 0.6, units: Units = SI):
                "warnings": ["the launches reach ‹0.00651|m› off the axis"]}
     return LaunchOdds(p, (p - 0.1, p + 0.1), 40, 10.0, {"median": 7.5, "q1": 4.0, "q3": 10.0},
                       [("tilt", 0.3)], details, units, {}, "annulus", False)
-
-
-def _trim_with(start_ci, p):
-    """A trim whose best mass floats `p`, the mass as written within `start_ci` (95 %)."""
-    from levitron.runtime.design.launch_design_answer import LaunchDesign
-    from levitron.runtime.design.trim_answer import Trim
-    odds = {"probability": p, "probability_ci95": [p - 0.03, p + 0.03], "n": 1000, "seed": 1,
-            "successes": int(1000 * p)}
-    start = {"probability": sum(start_ci) / 2, "probability_ci95": list(start_ci), "n": 1000, "seed": 1,
-             "successes": int(500 * sum(start_ci))}
-    design = LaunchDesign({"top.mass": 0.05102}, {"top.mass": 0.0510}, odds, start, p, [], {}, 75.0, 75.0, 0,
-                          1000, 1.0)
-    return Trim(0.0510, (0.0503, 0.0525), design, [], {"mass": 0.0504, "z_s": 0.1, "spin_interval": None,
-                                                       "launch_odds": start})
 
 
 @pytest.fixture(scope="module")
@@ -78,7 +65,7 @@ def test_a_launch_answers_field_changes_its_plain_view_message_and_report_senten
 
 def test_a_trims_field_changes_its_plain_view_and_message_together():
     from levitron.runtime.cli.commands.trim import human
-    trim = _trim_with((0.20, 0.26), 0.545)
+    trim = trim_with((0.20, 0.26), 0.545)
     moved = dataclasses.replace(trim, mass=0.0500)
     for t in (trim, moved):
         first = human(t.as_json()).splitlines()[0]
@@ -96,7 +83,7 @@ def _answers(scene, units: Units) -> dict:
     from levitron.runtime.design.production import Production
     from levitron.runtime.design.yield_answer import YieldDesign
     from levitron.runtime.scan.scan_answer import Scan
-    trim = _trim_with((0.20, 0.26), 0.545)
+    trim = trim_with((0.20, 0.26), 0.545)
     design = dataclasses.replace(trim.design, scene=scene, inputs={"offset": "normal:0,0.001"})
     block = {"probability": 0.5, "probability_ci95": [0.4, 0.6], "n": 100, "seed": 1, "successes": 50}
     shipped = {"yield": block, "as_shipped": block, "untrimmable": 0.1, "washers_used": {0.0: 50, 0.0004: 30},

@@ -11,6 +11,7 @@ from levitron.runtime.cli.main import main
 from levitron.runtime.design.optimize import optimize
 from levitron.runtime.design.scene_keys import Vary
 from levitron.runtime.design.trim import LIMIT_POINTS
+from tests.helpers.trims import trim_with
 
 # the thesis's annulus scaled to g = 1, lengths of 10 cm, masses of 50 g; murho by `optimize
 # --fit-height 1.065 --param plate.murho` (the thesis top's 10.65 cm): a stable band 1.007-1.05
@@ -154,28 +155,15 @@ def test_a_corner_ipopt_cannot_climb_is_found_by_the_bounded_search(derived_mode
     assert ratio.optimum["top.mass"] == pytest.approx(width.optimum["top.mass"], rel=1e-7)
 
 
-def _trim_with(start_ci, p):
-    from levitron.runtime.design.launch_design_answer import LaunchDesign
-    from levitron.runtime.design.trim_answer import Trim
-    odds = {"probability": p, "probability_ci95": [p - 0.03, p + 0.03], "n": 1000, "seed": 1,
-            "successes": int(1000 * p)}
-    start = {"probability": sum(start_ci) / 2, "probability_ci95": list(start_ci), "n": 1000, "seed": 1,
-             "successes": int(500 * sum(start_ci))}
-    design = LaunchDesign({"top.mass": 0.05102}, {"top.mass": 0.0510}, odds, start, p, [], {}, 75.0, 75.0, 0,
-                          1000, 1.0)
-    widest = {"mass": 0.0504, "z_s": 0.1, "spin_interval": None, "launch_odds": start}
-    return Trim(0.0510, (0.0503, 0.0525), design, [], widest)
-
-
 def test_a_change_whose_odds_lie_inside_the_interval_as_written_is_no_change():
     """'add 0.018 g: 55.5 % -> 54.5 %' was advice inside its own noise: the best mass's odds inside
     the 95 % interval of the odds as written read "no change" (the best mass kept as data)."""
     from levitron.runtime.cli.commands.trim import human
-    inside = _trim_with((0.524, 0.586), 0.545)
+    inside = trim_with((0.524, 0.586), 0.545)
     assert inside.no_change and inside.message.startswith("no change: the best mass (add 0.02 g")
     r = inside.as_json()
     assert r["no_change"] is True and r["advice"] == 0.05102
     assert human({**r, "out": None}).splitlines()[0].startswith("no change: the best mass (add 0.02 g")
-    outside = _trim_with((0.20, 0.26), 0.545)
+    outside = trim_with((0.20, 0.26), 0.545)
     assert not outside.no_change and outside.message.startswith("add 0.02 g (to 51.02 g): launch odds")
     assert human({**outside.as_json(), "out": None}).startswith("add 0.02 g")

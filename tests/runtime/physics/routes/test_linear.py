@@ -241,18 +241,24 @@ def _simulate(model, p, states, x0, t_end, tol, box, n_out):
                                n_out=n_out)
 
 
-def test_nonlinear_top_stays_up_inside_the_interval(thesis_model):
-    """Started 5 % inside the interval (both ends) with a tilt of 1e-3 rad and an offset of 1e-3 z_s,
-    the full nonlinear model keeps the top up for 20 s (no exit from the box |z - z_s| < z_s/2,
-    r < z_s/2) and the offset stays small (< 5 % of z_s)."""
+def _thesis_top(thesis_model):
+    """The thesis's 51.5 g top: (p, its parameters, the Jacobian, the states, its spin interval,
+    z_s, the box |z - z_s| < z_s/2, r < z_s/2 a run must stay in)."""
     from levitron.runtime.integrate import run as integrate
     p, P = _with_mass(thesis_model, 0.0515)
     on, jac, states = stability.model_callables(thesis_model, p)
     res = stability.analyse(on, P["m"], P["g"], P["A"], P["C"], P["mu"], A_PLATE, jac, states)
-    lo, hi = res.spin_interval
     z_s = res.z_s
-    ix, iy, iz = states.index("x"), states.index("y"), states.index("z")
-    box = integrate.Box(iz, 0.5 * z_s, 1.5 * z_s, ix, iy, 0.5 * z_s)
+    box = integrate.Box(states.index("z"), 0.5 * z_s, 1.5 * z_s, states.index("x"), states.index("y"), 0.5 * z_s)
+    return p, P, jac, states, res.spin_interval, z_s, box
+
+
+def test_nonlinear_top_stays_up_inside_the_interval(thesis_model):
+    """Started 5 % inside the interval (both ends) with a tilt of 1e-3 rad and an offset of 1e-3 z_s,
+    the full nonlinear model keeps the top up for 20 s (no exit from the box |z - z_s| < z_s/2,
+    r < z_s/2) and the offset stays small (< 5 % of z_s)."""
+    p, P, jac, states, (lo, hi), z_s, box = _thesis_top(thesis_model)
+    ix, iy = states.index("x"), states.index("y")
     for sig in (1.05 * lo, 0.95 * hi):
         x0 = eigen_route.full_equilibrium_state(states, z_s, P["C"], sig)
         x0[ix] = 1e-3 * z_s
@@ -266,14 +272,8 @@ def test_nonlinear_growth_rate_outside_the_interval(thesis_model):
     """Outside the interval (10 % below and above) an offset of 1e-9 z_s grows at the rate of the
     largest real part of the Jacobian's eigenvalues, within 20 % (fit of log r(t) while r grows
     from 1e2 to 1e5 times its start; measured within 0.2 %)."""
-    from levitron.runtime.integrate import run as integrate
-    p, P = _with_mass(thesis_model, 0.0515)
-    on, jac, states = stability.model_callables(thesis_model, p)
-    res = stability.analyse(on, P["m"], P["g"], P["A"], P["C"], P["mu"], A_PLATE, jac, states)
-    lo, hi = res.spin_interval
-    z_s = res.z_s
-    ix, iy, iz = states.index("x"), states.index("y"), states.index("z")
-    box = integrate.Box(iz, 0.5 * z_s, 1.5 * z_s, ix, iy, 0.5 * z_s)
+    p, P, jac, states, (lo, hi), z_s, box = _thesis_top(thesis_model)
+    ix, iy = states.index("x"), states.index("y")
     for sig in (0.9 * lo, 1.1 * hi):
         x_eq = eigen_route.full_equilibrium_state(states, z_s, P["C"], sig)
         gamma = eigen_route.growth_rate(eigen_route.transverse_block(jac(x_eq), states))
