@@ -57,12 +57,16 @@ def ignore_interrupts() -> None:
 def end_pool(executor) -> None:
     """End a concurrent.futures ProcessPoolExecutor's workers at once (SIGKILL): on an interruption
     or an error the command does not wait behind the chunks in flight (shutdown(wait=True) would, a
-    minute and more), and no worker runs on. (Python 3.14's kill_workers; ._processes before it.)"""
+    minute and more), and no worker runs on. (Python 3.14's kill_workers; ._processes before it.)
+    Before 3.14 it also waits (at most a second) for the pool's manager thread: it closes its wake-up
+    pipe as it ends, and an exit racing that close printed "Exception ignored ... Bad file
+    descriptor" from concurrent.futures' exit hook (CPython fixed the race in 3.12's lock)."""
     kill = getattr(executor, "kill_workers", None)
     if kill is not None:
         kill()
         return
     workers = list((getattr(executor, "_processes", None) or {}).values())
+    manager = getattr(executor, "_executor_manager_thread", None)    # shutdown(wait=False) drops it
     for proc in workers:
         with contextlib.suppress(OSError, ValueError):
             proc.kill()
@@ -70,6 +74,8 @@ def end_pool(executor) -> None:
     for proc in workers:
         with contextlib.suppress(OSError, ValueError, AssertionError):
             proc.join(1.0)
+    if manager is not None and manager is not threading.current_thread():
+        manager.join(1.0)
 
 
 def ending_on_error(executor, then=None):
