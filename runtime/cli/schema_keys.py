@@ -17,7 +17,8 @@ FACE = {
     "success": "boolean",
 }
 
-_ODDS = {"probability": "number", "probability_ci95": ["number"], "n": "integer", "seed": "integer"}
+_ODDS = {"probability": "number", "probability_ci95": ["number"], "n": "integer", "seed": "integer",
+         "~paired_with": "string"}
 _INPUTS = "object"      # input -> its spread as text (runtime/scan/launch_inputs.py)
 
 _STABILITY_RESULT = {      # runtime/physics/routes/result.py as_dict: the keys it builds from locals

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 
 from levitron.scene.load import Scene
 
-from levitron.runtime.design.launch_design_answer import knife_edges, odds_text, warning_lines
+from levitron.runtime.design.launch_design_answer import knife_edges, odds_text, start_text, warning_lines
 from levitron.runtime.design.sharpness import sharpness_lines
 from levitron.runtime.ui.answer_lines import as_written, keep_said, worded
 from levitron.runtime.ui.answer_view import html_table, text_repr
@@ -28,8 +28,8 @@ def cost_lines(r: dict, u: Units) -> list[str]:
         return []
     best = r["launch_odds_optimum"]
     where = ", ".join(f"{k} = {u.mass(v) if k == 'top.mass' else sig(v, 6)}" for k, v in best["optimum"].items())
-    return [f"launch odds at this optimum: {odds_text(r['launch_odds'])}; "
-            f"as written {odds_text(r['start_launch_odds'])}; "
+    start = start_text(r["start_launch_odds"], "the launch-odds optimum's")
+    return [f"launch odds at this optimum: {odds_text(r['launch_odds'])}; as written {start}; "
             f"the launch-odds optimum ({where}) {odds_text(best['launch_odds'])}"]
 
 

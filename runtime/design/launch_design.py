@@ -29,30 +29,37 @@ runtime/scan/launch_odds.py, estimated as `levitron launch` estimates it:
    at the success time (step 4).
 3. **Grid, then zoom.** GRID[k] points a key over the --vary box (from its middle outwards, so
    that a good point is the first to compare with), then the same number over the
-   two grid cells around the best point, ZOOMS times. Where several points are level with the
+   two grid cells around the best point, ZOOMS times, but not once the zoom would step every
+   key finer than its maker's tolerance (step 5's; thesis_air's mass: 0.1 g, so a box of 2.1 g
+   zooms once, to steps of 0.12 g): no one sets a key closer than that, and the sharpness then
+   says what +- the tolerance does. Where several points are level with the
    best, launch by launch (a plateau: a spread small against the band gives 100 % over a range;
    a broad optimum whose points differ by single launches), the answer is the middle of the
    plateau, the design farthest from both cliffs; for one key each edge of the plateau is first
-   bisected EDGE_STEPS times on the same draws.
+   bisected on the same draws, at most EDGE_STEPS times and not once it is known to within the
+   key's tolerance.
    Each point is compared launch by launch with the best so far and stopped once it is clearly
    worse; a point within a float step of one already run is not run again
    (runtime/design/paired_odds.py).
-4. **Decide on fresh numbers.** The odds of the answer and of the start (the scene as written)
-   are estimated again with a fresh seed (seed + 1): the search picked the best of many noisy
-   values, so its own estimate is biased upwards; the fresh one is not, and carries its 95 %
-   Wilson interval.
+4. **Decide on fresh numbers.** The odds of the answer are estimated again with a fresh seed
+   (seed + 1), all n launches: the search picked the best of many noisy values, so its own
+   estimate is biased upwards; the fresh one is not, and carries its 95 % Wilson interval. The
+   start (the scene as written) runs on the same fresh draws, paired with the answer, and stops
+   once the paired difference decides (runtime/design/paired_fresh.py `start_odds`): a change
+   the search found shows on a few hundred launches; where none decides it runs all n. Where
+   the answer is the start, its odds are the answer's.
 5. **Say how sharp it is.** The odds at +- a maker's tolerance of each key, on the first
-   min(n, SIDE_N) of the answer's fresh draws, paired with the answer (`paired_side`); for two
+   min(n, SIDE_N) of the answer's fresh draws, paired with the answer (paired_fresh.py `paired_side`); for two
    or three keys the ridge they share (runtime/design/sharpness.py). A side reports the answer's
    odds plus the paired difference, which 250 paired launches measure to 1.1-1.5 points (sd;
    thesis_air's trim at +-0.1 g: 3-6 % of the launches differ), beside the answer's own 0.75
    points on 1000 launches; 500 would give 0.9 points (the side's 95 % interval about 2.3 points
    wide each way instead of 2.9) at twice the cost.
 
-The cost is two Monte Carlos of n launches at the success time (the answer and the start) and at
-most GRID[k]^k (1 + ZOOMS) + 1 of min(n, SEARCH_N) launches at the search time and 2 k of
-min(n, SIDE_N) at the success time (the sharpness), less the launches the paired comparison saves (make bench:
-kinds launch-design and advice). With local workers every
+The cost is a Monte Carlo of n launches at the success time (the answer), the start's paired
+launches (n/BATCHES to n), at most GRID[k]^k (1 + ZOOMS) + 1 of min(n, SEARCH_N) launches at the
+search time and 2 k of min(n, SIDE_N) at the success time (the sharpness), less the launches the
+paired comparison saves (make bench: kinds launch-design and advice). With local workers every
 Monte Carlo of the design runs in one kept pool: the workers start once for the whole command.
 """
 from __future__ import annotations
@@ -65,7 +72,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from levitron.runtime.design import sharpness
+from levitron.runtime.design import paired_fresh, sharpness
 from levitron.runtime.design.launch_design_answer import LaunchDesign
 from levitron.runtime.design.paired_odds import PairedOdds, variant
 from levitron.runtime.design.scene_keys import Vary, key_value
@@ -74,7 +81,6 @@ from levitron.runtime.words import si
 from levitron.runtime.model.scenes import SceneRef
 from levitron.runtime.scan import launch_odds as mc
 from levitron.runtime.scan import spreads
-from levitron.runtime.scan.launch_summary import Z95
 from levitron.runtime.ui import progress
 
 GRID = {1: 7, 2: 5, 3: 3}       # points a key of each grid, by the number of keys
@@ -91,7 +97,8 @@ HALF = 0.5                      # other objectives warn below this fraction of t
 def odds_dict(r: dict) -> dict:
     """The JSON's launch_odds block of one Monte Carlo."""
     return {"probability": r["probability"], "probability_ci95": list(r["probability_ci95"]),
-            "n": r["n"], "seed": r["seed"], "successes": r["successes"]}
+            "n": r["n"], "seed": r["seed"], "successes": r["successes"],
+            **({"paired_with": r["paired_with"]} if r.get("paired_with") else {})}
 
 
 @dataclass
@@ -255,6 +262,7 @@ def _maximize(model, varies: Sequence[Vary], request: mc.Request, pinned: Pinned
 def _search(model, varies, keys, pinned: Pinned, req: mc.Request, box, odds: PairedOdds, where: str,
             t0: float, tolerance: dict | None = None) -> LaunchDesign:
     n_axis = GRID[len(varies)]
+    tols = list(sharpness.tolerances(model.scene, {v.key: 0.5 * (v.lo + v.hi) for v in varies}, tolerance).values())
     evaluated: dict[tuple[float, ...], float] = {}
     rows = []
 
@@ -273,6 +281,8 @@ def _search(model, varies, keys, pinned: Pinned, req: mc.Request, box, odds: Pai
         if len(varies) == 1 and sum(map(odds.level, evaluated)) > 1:
             break                       # 1 key, a plateau: its edges are bisected below
         cells = [(hi - lo) / (n_axis - 1) for lo, hi in box]
+        if all(2 * c / (n_axis - 1) < t for c, t in zip(cells, tols)):
+            break                       # a zoom would step finer than a maker sets the keys
         box = [(max(v.lo, b - c), min(v.hi, b + c)) for v, b, c in zip(varies, best, cells)]
 
     if len(varies) == 1 and sum(map(odds.level, evaluated)) > 1:
@@ -281,7 +291,7 @@ def _search(model, varies, keys, pinned: Pinned, req: mc.Request, box, odds: Pai
             inside = [x for x in xs if odds.level(x)]
             for edge, step in ((inside[0], -1), (inside[-1], 1)):
                 k = xs.index(edge) + step
-                if 0 <= k < len(xs):
+                if 0 <= k < len(xs) and abs(xs[k][0] - edge[0]) > tols[0]:    # known to within it: done
                     mid = (0.5 * (edge[0] + xs[k][0]),)
                     if mid not in evaluated:
                         run(mid)
@@ -301,8 +311,11 @@ def _search(model, varies, keys, pinned: Pinned, req: mc.Request, box, odds: Pai
     final = odds_at(model.ref, keys, best, fresh, odds.pool)
     odds.tick(req.n)
     start_x = [key_value(model.scene.data, k) for k in keys]
-    first = odds_at(model.ref, keys, start_x, fresh, odds.pool)
-    odds.tick(req.n)
+    if odds.key(start_x) == odds.key(best):        # no change: the answer is the start, run once
+        first = final
+        odds.tick(req.n)
+    else:
+        first = paired_fresh.start_odds(model.ref, keys, start_x, final, fresh, odds.pool, odds.tick)
     warnings = list(final.get("warnings", []))     # the launches' own at the optimum (reach, resonances)
     for v, b in zip(varies, best):
         span = v.hi - v.lo
@@ -316,7 +329,7 @@ def _search(model, varies, keys, pinned: Pinned, req: mc.Request, box, odds: Pai
     def fresh_odds(x):              # the sharpness's sides, paired with the answer on its fresh draws
         odds.tick(side_n(req.n))
         side = odds_at(model.ref, keys, x, fresh.with_n(side_n(req.n)), odds.pool)
-        return paired_side(final, side)["probability"]
+        return paired_fresh.paired_side(final, side)["probability"]
     sharp = sharpness.sharpness(fresh_odds, model, varies, dict(zip(keys, best)), final["probability"],
                                 tolerance, launch=True)
     return LaunchDesign(dict(zip(keys, best)), dict(zip(keys, map(float, start_x))), odds_dict(final),
@@ -324,31 +337,6 @@ def _search(model, varies, keys, pinned: Pinned, req: mc.Request, box, odds: Pai
                         req.t_end, req.seed, req.n, time.perf_counter() - t0, warnings,
                         list(pinned.start.get("defaulted", [])), model.scene, dict(odds.counts), sharp,
                         {"probability_ci95": final["probability_ci95"], "verdicts": final.get("verdicts", ())})
-
-
-def paired_side(answer: dict, side: dict) -> dict:
-    """A neighbour's odds from its first m launches on the answer's fresh draws (module docstring,
-    step 5): the answer's odds plus the paired difference (b - c) / m over those m launches (b float
-    at the neighbour only, c at the answer only). Unbiased, and far less noisy than m launches
-    alone: the two differ in the launches the step between them decides. Its 95 % interval joins
-    the answer's Wilson interval and the difference's normal one in quadrature. answer: a Monte
-    Carlo's answer (probability, probability_ci95, verdicts); side: the neighbour's (or a refusal
-    with its reason: probability 0)."""
-    m = side["n"]
-    if side.get("reason"):
-        return {"probability": 0.0, "probability_ci95": [0.0, 0.0], "n": m, "seed": side["seed"],
-                "reason": side["reason"]}
-    here = np.array([bool(v) for v in side["verdicts"][:m]])
-    there = np.array([bool(v) for v in answer["verdicts"][:m]])
-    b, c = int(np.sum(here & ~there)), int(np.sum(~here & there))
-    d = (b - c) / m
-    sd = np.sqrt(max(0.0, (b + c) / m - d * d) / m)
-    p = float(min(1.0, max(0.0, answer["probability"] + d)))
-    lo, hi = answer["probability_ci95"]
-    down = float(np.hypot(answer["probability"] - lo, Z95 * sd))
-    up = float(np.hypot(hi - answer["probability"], Z95 * sd))
-    return {"probability": p, "probability_ci95": [max(0.0, p - down), min(1.0, p + up)], "n": m,
-            "seed": side["seed"], "paired_with": "the answer's first launches"}
 
 
 def what_it_costs(model, varies: Sequence[Vary], request: mc.Request, optimum: dict[str, float], objective: str,

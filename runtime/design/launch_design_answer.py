@@ -36,6 +36,15 @@ def odds_text(block: dict) -> str:
     return f"{sig(100 * block['probability'], 3)} % ({sig(100 * lo, 3)}-{sig(100 * hi, 3)} %)"
 
 
+def start_text(block: dict, whose: str = "the answer's") -> str:
+    """The start's odds (odds_text), and where they are paired with the answer's first launches
+    (runtime/design/paired_fresh.py start_odds), on how many: "76 % (67-84 %) on the answer's
+    first 250 launches, paired"."""
+    if not block.get("paired_with"):
+        return odds_text(block)
+    return f"{odds_text(block)} on {whose} first {block['n']} launches, paired"
+
+
 def change_text(key: str, start: float, to: float, u: Units) -> str:
     """"take 1.2 g off" / "add 0.3 g" for the top's mass; "set KEY from A to B" for any key."""
     if key == "top.mass":
@@ -59,9 +68,10 @@ def launch_odds_lines(r: dict, u: Units, scene=None) -> list[str]:
             "optimum: " + ", ".join(f"{k} = {u.mass(v) if k == 'top.mass' else sig(v, 6)}"
                                     for k, v in r["optimum"].items())
             + f": {odds_text(b)} of {b['n']} launches float at least {u.time(r['success_time'])} (seed {b['seed']})",
-            f"as written: {odds_text(a)} (the same seed)",
+            f"as written: {start_text(a)} (the same seed)",
             launches_line(r, u, scene),
-            f"searched: {search['evaluations']} designs of {search['n']} launches each on common random "
+            f"searched: {search['evaluations']} designs of {search.get('launches_per_point', search['n'])} launches "
+            "each on common random "
             f"numbers (seed {search['seed']}), the best at {sig(100 * search['best_search_odds'], 3)} % (biased "
             f"upwards: the best of {search['evaluations']}); decided on the fresh seed {b['seed']}"]
 

@@ -19,6 +19,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from levitron.runtime.design import launch_design as ld
+from levitron.runtime.design import paired_fresh
 from levitron.runtime.design.scene_keys import Vary
 from levitron.runtime.design.trim_answer import Trim
 from levitron.runtime.errors import UserError
@@ -122,7 +123,7 @@ def resonance_advice(model, mass: float, spin, success_time: float) -> tuple[str
 
 def _widest(model, lo: float, hi: float, design, request: mc.Request, pool) -> tuple[dict, list[dict]]:
     """The widest linear spin window over the band's masses, with its launch odds on the first
-    min(n, SIDE_N) of the design's fresh draws, paired with the advice's (launch_design.paired_side;
+    min(n, SIDE_N) of the design's fresh draws, paired with the advice's (paired_fresh.paired_side;
     in `pool`), and the window of every mass."""
     limits = spin_limits(model, np.linspace(lo, hi, LIMIT_POINTS))
     widths = [(r["spin_interval"][1] - r["spin_interval"][0]) if r["spin_interval"] else -np.inf
@@ -132,5 +133,5 @@ def _widest(model, lo: float, hi: float, design, request: mc.Request, pool) -> t
     fresh = mc.Request(dict(design.inputs), m, design.seed + ld.FRESH, design.success_time,
                        design.t_end, request.integrator, request.tol, request.workers, request.scheduler)
     side = ld.odds_at(model.ref, ["top.mass"], [widest["mass"]], fresh, pool)
-    widest["launch_odds"] = ld.paired_side({**design.launch_odds, **design.paired}, side)
+    widest["launch_odds"] = paired_fresh.paired_side({**design.launch_odds, **design.paired}, side)
     return widest, limits

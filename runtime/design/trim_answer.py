@@ -8,7 +8,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
-from levitron.runtime.design.launch_design_answer import LaunchDesign, change_text, odds_text, warning_lines
+from levitron.runtime.design.launch_design_answer import (LaunchDesign, change_text, odds_text, start_text,
+                                                           warning_lines)
 from levitron.runtime.ui.answer_lines import as_written, keep_said, worded
 from levitron.runtime.ui.answer_view import html_table, text_repr
 from levitron.runtime.ui.human import Units
@@ -26,10 +27,11 @@ def trim_lines(r: dict, u: Units, scene=None) -> list[str]:
     iv = w["spin_interval"]
     change = f"{change_text('top.mass', r['mass'], r['advice'], u)} (to {u.mass(r['advice'])})"
     first = (f"{change}: launch odds {odds_text(a)} -> {odds_text(b)} of {b['n']} launches floating at least "
-             f"{u.time(r['success_time'])}")
+             f"{u.time(r['success_time'])}" + (f" (as written on the first {a['n']}, paired)"
+                                                if a.get("paired_with") else ""))
     if r.get("no_change"):
         first = (f"no change: the best mass ({change}) floats {odds_text(b)}, inside the interval of the "
-                 f"mass as written, {odds_text(a)}, of {b['n']} launches floating at least "
+                 f"mass as written, {start_text(a)}, of {b['n']} launches floating at least "
                  f"{u.time(r['success_time'])}")
     return [
         first,

@@ -14,7 +14,7 @@ owners with the washers in the box, float a launch by hand (runtime/design/produ
    next seed's kits and launches, with their Wilson intervals, and the same kits as shipped (no
    washer) beside them: the search's own best is biased upwards, the fresh one is not.
 4. **Say how sharp it is.** The yield at +- a maker's tolerance of each key on the answer's fresh
-   kits, paired with the answer (launch_design.paired_side), and for two or three keys the ridge
+   kits, paired with the answer (paired_fresh.paired_side), and for two or three keys the ridge
    (runtime/design/sharpness.py).
 
 The cost: (GRID[k]^k + ZOOM_GRID^k) evaluations of CURVE_POINTS x CURVE_N launches at the search
@@ -32,7 +32,7 @@ from dataclasses import replace
 import numpy as np
 
 from levitron.runtime.design import launch_design as ld
-from levitron.runtime.design import sharpness
+from levitron.runtime.design import paired_fresh, sharpness
 from levitron.runtime.design.kits import check_spreads
 from levitron.runtime.design.production import Production, production_yield
 from levitron.runtime.design.scene_keys import Vary, key_value
@@ -109,7 +109,7 @@ def _maximize(model, varies, request, prod: Production, pool, tolerance=None) ->
         def side(x):            # the sharpness's sides, paired with the answer on its fresh kits
             tick()
             got = run(x, fresh)
-            return ld.paired_side({**final["yield"], "verdicts": final["verdicts"]},
+            return paired_fresh.paired_side({**final["yield"], "verdicts": final["verdicts"]},
                                   {**got["yield"], "n": got["yield"]["kits"], "verdicts": got["verdicts"],
                                    **({"reason": got["reason"]} if got.get("reason") else {})})["probability"]
         sharp = sharpness.sharpness(side, model, varies, dict(zip(keys, best)), final["yield"]["probability"],

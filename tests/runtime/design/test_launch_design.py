@@ -98,3 +98,20 @@ def test_a_design_on_two_workers_in_one_kept_pool_is_the_serial_design(derived_m
     kept = maximize_launch_odds(model, box, mc.Request(given, n=8, t_end=2.0, workers=2))
     assert kept.optimum == serial.optimum and kept.launch_odds == serial.launch_odds
     assert [e["probability"] for e in kept.evaluations] == [e["probability"] for e in serial.evaluations]
+
+
+def test_the_search_steps_no_finer_than_a_maker_sets_the_key(derived_model):
+    """The zoom and the plateau's edges stop once a step would be finer than the key's tolerance
+    (runtime/design/launch_design.py step 3): with a tolerance wider than the grid's cell the search
+    is the grid alone (and the middle of its plateau); with a fine one it zooms and bisects, and
+    both advise a mass inside the other's tolerance of the answer."""
+    model = derived_model("thesis_stable")
+    box = [Vary("top.mass", 0.0504, 0.0530)]
+    request = mc.Request(STEADY, n=4, t_end=30.0)
+    coarse = maximize_launch_odds(model, box, request, tolerance={"top.mass": 0.0005})
+    fine = maximize_launch_odds(model, box, request, tolerance={"top.mass": 1e-6})
+    cell = (0.0530 - 0.0504) / 6
+    assert coarse.work["evaluations"] <= 8 < fine.work["evaluations"]
+    masses = sorted(row["top.mass"] for row in coarse.evaluations)
+    assert min(b - a for a, b in zip(masses, masses[1:])) >= 0.5 * cell * (1 - 1e-9)   # the grid and its middle
+    assert abs(coarse.optimum["top.mass"] - fine.optimum["top.mass"]) <= 0.0005
