@@ -21,13 +21,12 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from levitron.runtime.design.paired_odds import BATCHES, MIN_DISCORDANT, Z_STOP, variant
+from levitron.runtime.design.paired_odds import BATCHES, MIN_DISCORDANT, Z_STOP, in_batches, variant
 from levitron.runtime.errors import UserError
 from levitron.runtime.model.scenes import SceneRef
 from levitron.runtime.scan import launch_odds as mc
 from levitron.runtime.scan.launch_answer import LaunchOdds
 from levitron.runtime.scan.launch_summary import Z95
-from levitron.runtime.scan.launch_window import WindowJudge
 
 
 def paired_side(answer: dict, side: dict) -> dict:
@@ -81,23 +80,14 @@ def start_odds(ref: SceneRef, keys: Sequence[str], x, answer: dict, request: mc.
         return {"probability": 0.0, "probability_ci95": [0.0, 0.0], "n": n, "seed": r.seed,
                 "successes": 0, "reason": str(exc)}
     there = np.array([bool(v) for v in answer["verdicts"][:n]])
-    edges = np.linspace(0, n, BATCHES + 1).round().astype(int)
-    results, floats = [], np.zeros(n, bool)
-    judge, spins = WindowJudge(model, prep.interval), mc.samples(prep.plan)["spin"]
-    for a, b in zip(edges[:-1], edges[1:]):
-        if b <= a:
-            continue
-        got = mc.execute(prep, model, range(a, b), quiet=True, pool=pool)
-        judge.mark(spins, prep.success_time, got)      # up past its window: no verdict, as in launch
-        results += got
-        for i, ok in prep.floats(p for g in got for p in g["points"]).items():
-            floats[i] = ok
-        tick(int(b - a))
+    results, a = [], 0
+    for b, floats in in_batches(prep, model, BATCHES, results, pool):
+        tick(b - a)
+        a = b
         if b < n and decided(floats[:b], there[:b]):
-            tick(int(n - b))
-            side = paired_side(answer, {"n": int(b), "seed": r.seed, "verdicts": floats[:b]})
-            return {**side, "successes": int(floats[:b].sum()),
-                    "paired_with": f"the answer's first {int(b)} launches"}
+            tick(n - b)
+            side = paired_side(answer, {"n": b, "seed": r.seed, "verdicts": floats[:b]})
+            return {**side, "successes": int(floats[:b].sum()), "paired_with": f"the answer's first {b} launches"}
     try:
         odds = LaunchOdds.of(mc.summarize(prep.plan, results, prep.success_time, prep.interval, prep.z_s,
                                           prep.tau, prep.given, prep.warnings), model)

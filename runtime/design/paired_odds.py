@@ -55,6 +55,27 @@ def variant(ref: SceneRef, keys: Sequence[str], x) -> SceneRef:
     return ref.with_overrides(f"{k}={float(v)!r}" for k, v in zip(keys, x))
 
 
+def in_batches(prep: mc.Prepared, model, batches: int, results: list, pool=None):
+    """Run a prepared Monte Carlo's launches in `batches` batches (indices in order), appending the
+    chunks' results to `results` and yielding after each batch (launches done, floats so far:
+    launch index -> floated, False for those not yet run); a launch up past its window is no
+    verdict, as in launch. The caller stops when its paired test decides (the module docstring;
+    paired_fresh.py)."""
+    n = prep.plan.n
+    edges = np.linspace(0, n, batches + 1).round().astype(int)
+    floats = np.zeros(n, bool)
+    judge, spins = WindowJudge(model, prep.interval), mc.samples(prep.plan)["spin"]
+    for a, b in zip(edges[:-1], edges[1:]):
+        if b <= a:
+            continue
+        got = mc.execute(prep, model, range(a, b), quiet=True, pool=pool)
+        judge.mark(spins, prep.success_time, got)
+        results += got
+        for i, ok in prep.floats(p for g in got for p in g["points"]).items():
+            floats[i] = ok
+        yield int(b), floats
+
+
 class PairedOdds:
     """The odds of design points on one launch request (common random numbers), each run against
     the incumbent as the module docstring says. `__call__(x)` -> the answer dict of a Monte Carlo
@@ -110,23 +131,15 @@ class PairedOdds:
             self.tick(n)
             return {"probability": 0.0, "probability_ci95": [0.0, 0.0], "n": n, "seed": r.seed,
                     "successes": 0, "reason": str(exc)}
-        edges = np.linspace(0, n, BATCHES + 1).round().astype(int) if self.early else np.array([0, n])
-        results, floats = [], np.zeros(n, bool)
-        judge, spins = WindowJudge(model, prep.interval), mc.samples(prep.plan)["spin"]
-        for a, b in zip(edges[:-1], edges[1:]):
-            if b <= a:
-                continue
-            got = mc.execute(prep, model, range(a, b), quiet=True, pool=self.pool)
-            judge.mark(spins, prep.success_time, got)      # up past its window: no verdict, as in launch
-            results += got
-            for i, ok in prep.floats(p for g in got for p in g["points"]).items():
-                floats[i] = ok
-            self.counts["launches_run"] += int(b - a)
-            self.tick(int(b - a))
-            if b < n and self._worse(floats, int(b), n):
+        results, floats, a = [], np.zeros(n, bool), 0
+        for b, floats in in_batches(prep, model, BATCHES if self.early else 1, results, self.pool):
+            self.counts["launches_run"] += b - a
+            self.tick(b - a)
+            a = b
+            if b < n and self._worse(floats, b, n):
                 self.counts["stopped_early"] += 1
-                self.tick(int(n - b))
-                return self._stopped(floats, int(b), n)
+                self.tick(n - b)
+                return self._stopped(floats, b, n)
         odds = LaunchOdds.of(mc.summarize(prep.plan, results, prep.success_time, prep.interval, prep.z_s,
                                              prep.tau, prep.given, prep.warnings), model)
         out = {name: odds[name] for name in ("probability", "probability_ci95", "n", "seed", "successes")}
