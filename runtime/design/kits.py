@@ -17,10 +17,15 @@ hovers under moment mu where one of m / s hovers under mu / s (m g = -mu Phi_2, 
 the band's masses are those of the kit's plate and inertia at the design's moment, times
 mu_kit s / mu (the light edge also moves with mu beyond that: on reports/maker/myring.toml by
 1e-5 of the mass for 2 % of strength, which the owner's curve cannot resolve). The plate's part
-is a quadratic in each key's deviation through 2 k + 1 exact bands (k keys; `band_model`: at the
-spreads' centre and +- NODE_SDS sd of each key alone; no cross terms): on myring.toml within 3e-5
-of the band's width for a 0.2 mm thickness spread, 4e-3 for 1 mm (against each kit's own scan, from
--3 to +3 sd), where the owner's curve has 9 points across the band. Where a node has no band (a
+is a quadratic in each key's deviation, with a bilinear term for each pair of keys, through
+2 k + 1 + k (k - 1) / 2 exact bands (k keys; `band_model`: at the spreads' centre, at +- NODE_SDS sd
+of each key alone and at + NODE_SDS sd of each pair together): on myring.toml within 3e-5 of the
+band's width for a 0.2 mm thickness spread, 4e-3 for 1 mm (against each kit's own scan, from -3 to
++3 sd), where the owner's curve has 9 points across the band. Two keys at once (thesis_stable, a
+0.3 mm bore and a 0.5 mm radius spread): within 9e-4 of the width on the kits whose deviations
+multiply most, 1.9e-2 without the pair's term; a 1 % radius and a 2 % remanence (plate.murho)
+spread, 2.7e-4 against 1.7e-2 (one key changes what the other does: the remanence scales the shift
+the radius gives the band). Where a node has no band (a
 spread that wide) every kit's band is computed. An exact band opens at z_c, the heaviest hovering
 mass (thesis 3.3.3; bands.py), so it is the plate's max_mass and its light edge, found by bisection
 of bands.spin_stabilisable between z_c + half the design's band width and EDGE_BRACKET widths above
@@ -34,6 +39,7 @@ the hand's deviations on top, through the same C chunk driver and workers.
 """
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -157,25 +163,34 @@ NODE_SDS = 2.0       # the nodes of a key's band model: its spread's centre and 
 
 
 def band_model(model, spreads, deviations: dict, band) -> np.ndarray | None:
-    """(n, 2) the kits' plate bands at the design's moment from 2 k + 1 exact bands (k keys): at
-    the spreads' centre and at +- NODE_SDS sd of each key alone, a quadratic in each key's deviation
-    (no cross terms); None where a node has no band (then every kit's is computed)."""
+    """(n, 2) the kits' plate bands at the design's moment from 2 k + 1 + k (k - 1) / 2 exact bands
+    (k keys): at the spreads' centre, at +- NODE_SDS sd of each key alone and at + NODE_SDS sd of
+    each pair of keys together: a quadratic in each key's deviation and a bilinear term for each
+    pair; None where a node has no band (then every kit's is computed)."""
     centre = {s.key: (0.5 * (s.dist.a + s.dist.b) if s.dist.kind == "uniform" else s.dist.a) for s in spreads}
     half = {s.key: (0.5 * (s.dist.b - s.dist.a) if s.dist.kind == "uniform" else
                     NODE_SDS * s.dist.b if s.dist.kind == "normal" else 0.0) for s in spreads}
+    pairs = list(itertools.combinations(range(len(spreads)), 2))
     nodes = [dict(centre)] + [{**centre, s.key: centre[s.key] + sign * half[s.key]}
                               for s in spreads for sign in (-1, 1)]
+    nodes += [{**centre, spreads[i].key: centre[spreads[i].key] + half[spreads[i].key],
+               spreads[j].key: centre[spreads[j].key] + half[spreads[j].key]} for i, j in pairs]
     rows = kit_vectors(model, spreads, {s.key: np.array([nd[s.key] for nd in nodes]) for s in spreads})
     got = [_band_at(model, q, band) for q in _at_design_top(model, rows)]
     if any(np.isnan(g).any() for g in got):
         return None
     n = len(deviations[spreads[0].key])
     out = np.tile(got[0], (n, 1))
+    t, slope, curve = [], [], []
     for j, s in enumerate(spreads):
         lo, hi = got[1 + 2 * j], got[2 + 2 * j]
-        t = (deviations[s.key] - centre[s.key]) / half[s.key] if half[s.key] > 0 else np.zeros(n)
-        slope, curve = 0.5 * (hi - lo), 0.5 * (hi + lo) - got[0]
-        out += t[:, None] * slope + (t * t)[:, None] * curve
+        t.append((deviations[s.key] - centre[s.key]) / half[s.key] if half[s.key] > 0 else np.zeros(n))
+        slope.append(0.5 * (hi - lo))
+        curve.append(0.5 * (hi + lo) - got[0])
+        out += t[j][:, None] * slope[j] + (t[j] * t[j])[:, None] * curve[j]
+    for k, (i, j) in enumerate(pairs):      # the corner (+h_i, +h_j) less what the keys alone give there
+        cross = got[1 + 2 * len(spreads) + k] - got[0] - slope[i] - curve[i] - slope[j] - curve[j]
+        out += (t[i] * t[j])[:, None] * cross
     return out
 
 
