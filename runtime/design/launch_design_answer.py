@@ -46,7 +46,10 @@ def start_text(block: dict, whose: str = "the answer's") -> str:
 
 
 def change_text(key: str, start: float, to: float, u: Units) -> str:
-    """"take 1.2 g off" / "add 0.3 g" for the top's mass; "set KEY from A to B" for any key."""
+    """"take 1.2 g off" / "add 0.3 g" for the top's mass; "set KEY from A to B" for any key; "keep
+    KEY at A" where the design is the scene as written."""
+    if to == start:
+        return f"keep the mass at {u.mass(start)}" if key == "top.mass" else f"keep {key} at {sig(start, 6)}"
     if key == "top.mass":
         d = to - start
         return f"take {u.mass(-d)} off" if d < 0 else f"add {u.mass(d)}"

@@ -25,7 +25,8 @@ def trim_lines(r: dict, u: Units, scene=None) -> list[str]:
     a, b, w = r["start_launch_odds"], r["launch_odds"], r["widest_window"]
     lo, hi = r["band_mass"]
     iv = w["spin_interval"]
-    change = f"{change_text('top.mass', r['mass'], r['advice'], u)} (to {u.mass(r['advice'])})"
+    change = change_text("top.mass", r["mass"], r["advice"], u)
+    change += f" (to {u.mass(r['advice'])})" if r["advice"] != r["mass"] else ""
     first = (f"{change}: launch odds {odds_text(a)} -> {odds_text(b)} of {b['n']} launches floating at least "
              f"{u.time(r['success_time'])}" + (f" (as written on the first {a['n']}, paired)"
                                                 if a.get("paired_with") else ""))

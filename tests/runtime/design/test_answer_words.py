@@ -144,3 +144,16 @@ def test_every_launch_and_design_answer_shows_a_table_in_the_scenes_display_unit
     si = _answers(load_scene("thesis_stable"), SI)
     assert all(si_units(_table_text(si[k]._repr_html_())) for k in ("LaunchOdds", "Scan", "Trim", "Design",
                                                                      "HeightFit", "Comparison"))
+
+
+@pytest.mark.parametrize("key, start, to, words", [
+    ("top.mass", 0.0515, 0.0519, "add 0.4 g"),
+    ("top.mass", 0.0515, 0.0505, "take 1 g off"),
+    ("top.mass", 0.0515, 0.0515, "keep the mass at 51.5 g"),
+    ("plate.hole", 0.012, 0.0125, "set plate.hole from 0.012 to 0.0125"),
+    ("plate.hole", 0.012, 0.012, "keep plate.hole at 0.012"),
+])
+def test_a_change_is_worded_and_no_change_is_a_keep(key, start, to, words):
+    """A design that lands on the scene as written says keep, not "set KEY from A to A"."""
+    from levitron.runtime.design.launch_design_answer import change_text
+    assert change_text(key, start, to, SI) == words
