@@ -335,7 +335,8 @@ def _search(model, varies, keys, pinned: Pinned, req: mc.Request, box, odds: Pai
     return LaunchDesign(dict(zip(keys, best)), dict(zip(keys, map(float, start_x))), odds_dict(final),
                         odds_dict(first), evaluated[best], rows, dict(req.given), req.success_time,
                         req.t_end, req.seed, req.n, time.perf_counter() - t0, warnings,
-                        list(pinned.start.get("defaulted", [])), model.scene, dict(odds.counts), sharp,
+                        list(pinned.start.get("defaulted", [])), model.scene,
+                        {**odds.counts, "search_time": odds.request.success_time}, sharp,
                         {"probability_ci95": final["probability_ci95"], "verdicts": final.get("verdicts", ())})
 
 

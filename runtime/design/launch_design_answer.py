@@ -74,9 +74,18 @@ def launch_odds_lines(r: dict, u: Units, scene=None) -> list[str]:
             f"as written: {start_text(a)} (the same seed)",
             launches_line(r, u, scene),
             f"searched: {search['evaluations']} designs of {search.get('launches_per_point', search['n'])} launches "
-            "each on common random "
-            f"numbers (seed {search['seed']}), the best at {sig(100 * search['best_search_odds'], 3)} % (biased "
-            f"upwards: the best of {search['evaluations']}); decided on the fresh seed {b['seed']}"]
+            f"each on common random numbers (seed {search['seed']}){_judged(search, r['success_time'], u)}, the best "
+            f"at {sig(100 * search['best_search_odds'], 3)} % (biased upwards: the best of {search['evaluations']}); "
+            f"decided on the fresh seed {b['seed']}"]
+
+
+def _judged(search: dict, success_time: float, u: Units) -> str:
+    """When the search judged its launches, where earlier than the success time: its odds rank the
+    designs, the answer's are the ones to read (runtime/design/launch_design.py step 2)."""
+    t = search.get("search_time")
+    if t is None or t >= success_time * (1 - 1e-12):
+        return ""
+    return f", judged at {u.time(t)} of the {u.time(success_time)} flight (to rank them, not for their odds)"
 
 
 def launch_design_lines(r: dict, u: Units, scene=None) -> list[str]:

@@ -115,3 +115,13 @@ def test_the_search_steps_no_finer_than_a_maker_sets_the_key(derived_model):
     masses = sorted(row["top.mass"] for row in coarse.evaluations)
     assert min(b - a for a, b in zip(masses, masses[1:])) >= 0.5 * cell * (1 - 1e-9)   # the grid and its middle
     assert abs(coarse.optimum["top.mass"] - fine.optimum["top.mass"]) <= 0.0005
+
+
+def test_the_search_says_when_it_judged_its_launches(derived_model):
+    """The search ranks its designs at its search time, before the success time: its best odds are
+    not the answer's, and the plain view says when they were judged (the JSON's search_time)."""
+    model = derived_model("thesis_stable")
+    res = maximize_launch_odds(model, [Vary("top.mass", 0.0512, 0.0518)], mc.Request(STEADY, n=4, t_end=30.0))
+    t = res.as_json()["search"]["search_time"]
+    assert 0 < t < res.success_time == 30.0
+    assert f"judged at {t:.3g} s of the 30 s flight (to rank them, not for their odds)" in res.message
