@@ -28,10 +28,11 @@ def trim_lines(r: dict, u: Units, scene=None) -> list[str]:
     change = change_text("top.mass", r["mass"], r["advice"], u)
     change += f" (to {u.mass(r['advice'])})" if r["advice"] != r["mass"] else ""
     first = (f"{change}: launch odds {odds_text(a)} -> {odds_text(b)} of {b['n']} launches floating at least "
-             f"{u.time(r['success_time'])}" + (f" (as written on the first {a['n']}, paired)"
-                                                if a.get("paired_with") else ""))
+             f"{u.time(r['success_time'])}" + (f" (as written on the first {a['n']}, paired: enough to decide "
+                                                "the difference)" if a.get("paired_with") else ""))
     if r.get("no_change"):
-        first = (f"no change: the best mass ({change}) floats {odds_text(b)}, inside the interval of the "
+        than = "no more often than" if a.get("paired_with") else "inside the interval of"
+        first = (f"no change: the best mass ({change}) floats {odds_text(b)}, {than} the "
                  f"mass as written, {start_text(a)}, of {b['n']} launches floating at least "
                  f"{u.time(r['success_time'])}")
     return [
@@ -84,10 +85,16 @@ class Trim:
 
     @property
     def no_change(self) -> bool:
-        """The best mass's odds lie inside the 95 % interval of the odds as written (both on the
-        fresh draws): the search cannot tell the change from its own noise, so the advice is to
-        change nothing (the best mass stays in `advice`, as data)."""
-        lo, hi = self.design.start_launch_odds["probability_ci95"]
+        """Whether the advice is to change nothing (the best mass stays in `advice`, as data). The
+        mass as written runs paired with the best on the same fresh draws and stops once McNemar's
+        test decides their difference (runtime/design/paired_fresh.py): then the change is real, and
+        it is advised where the best floats more often. Where nothing decided it (all n run), the
+        search cannot tell the change from its own noise when the best mass's odds lie inside the
+        95 % interval of the odds as written."""
+        start = self.design.start_launch_odds
+        if start.get("paired_with"):
+            return self.probability <= start["probability"]
+        lo, hi = start["probability_ci95"]
         return lo <= self.probability <= hi
 
     @property

@@ -167,3 +167,18 @@ def test_a_change_whose_odds_lie_inside_the_interval_as_written_is_no_change():
     outside = trim_with((0.20, 0.26), 0.545)
     assert not outside.no_change and outside.message.startswith("add 0.02 g (to 51.02 g): launch odds")
     assert human({**outside.as_json(), "out": None}).startswith("add 0.02 g")
+
+
+def test_a_change_the_paired_launches_decided_is_advised_even_inside_the_interval_as_written():
+    """The mass as written, paired with the best on the fresh draws, stopped because McNemar's test
+    decided their difference: the change is real even where the best's odds lie inside the start's
+    interval (that interval also holds the best's own noise, which the pairing cancels), and is
+    advised where the best floats more often; a decided difference the other way is no change."""
+    better = trim_with((0.225, 0.294), 0.291, paired=True)
+    assert not better.no_change
+    assert better.message.startswith("add 0.02 g (to 51.02 g): launch odds 25.9 % (22.5-29.4 %) -> 29.1 %")
+    assert "(as written on the first 250, paired: enough to decide the difference)" in better.message
+    worse = trim_with((0.30, 0.36), 0.291, paired=True)
+    assert worse.no_change and worse.message.startswith(
+        "no change: the best mass (add 0.02 g (to 51.02 g)) floats 29.1 % (26.1-32.1 %), no more often than the "
+        "mass as written, 33 % (30-36 %) on the answer's first 250 launches, paired")
