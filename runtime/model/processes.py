@@ -60,7 +60,8 @@ def end_pool(executor) -> None:
     minute and more), and no worker runs on. (Python 3.14's kill_workers; ._processes before it.)
     Before 3.14 it also waits (at most a second) for the pool's manager thread: it closes its wake-up
     pipe as it ends, and an exit racing that close printed "Exception ignored ... Bad file
-    descriptor" from concurrent.futures' exit hook (CPython fixed the race in 3.12's lock)."""
+    descriptor" from concurrent.futures' exit hook (3.11 has no lock there; CPython added one
+    later, gh-125451)."""
     kill = getattr(executor, "kill_workers", None)
     if kill is not None:
         kill()
